@@ -1,0 +1,43 @@
+"""Entry point of the ``cadcog`` command.
+
+Each subcommand lives in its own module with two functions: ``add_parser(subparsers)`` declares
+its arguments and ``run(args)`` does the work by calling the library; no maths happens here.
+User errors (:class:`cadcog.errors.CadcogError`) print one line on stderr and exit with status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from cadcog import __version__
+from cadcog.cli import parts
+from cadcog.errors import CadcogError
+
+#: Exit status for bad input (same as argparse's usage errors).
+EXIT_USAGE = 2
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="cadcog",
+        description="Centre of gravity of small spacecraft from CAD and from a double-suspension "
+        "inclinometer measurement.",
+    )
+    parser.add_argument("--version", action="version", version=f"cadcog {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    parts.add_parser(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI with ``argv`` (default: ``sys.argv[1:]``) and return the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        status: int = args.func(args)
+    except CadcogError as exc:
+        print(f"cadcog: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    return status

@@ -1,0 +1,163 @@
+"""Strict, typed reading of TOML parameter files.
+
+Parameter files are data: they are parsed with :mod:`tomllib` and never evaluated. A
+:class:`TableReader` hands out typed values by key, records which keys were read, and
+:meth:`TableReader.finish` rejects any key left over, so a misspelt key is an error instead of a
+silently ignored value. Every error names the file and the dotted key.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from cadcog.errors import ParameterFileError
+
+
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """Parse a TOML file, turning I/O and syntax errors into :class:`ParameterFileError`."""
+    p = Path(path)
+    try:
+        with p.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise ParameterFileError(p, "", "file not found") from None
+    except IsADirectoryError:
+        raise ParameterFileError(p, "", "is a directory, expected a TOML file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterFileError(p, "", f"invalid TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise ParameterFileError(p, "", f"not UTF-8 text: {exc}") from None
+
+
+def _type_name(value: object) -> str:
+    if isinstance(value, bool):
+        return f"boolean {str(value).lower()}"
+    if isinstance(value, dict):
+        return "a table"
+    if isinstance(value, list):
+        return "an array"
+    if isinstance(value, str):
+        return f"string {value!r}"
+    return f"{type(value).__name__} {value!r}"
+
+
+class TableReader:
+    """Typed, exhaustive access to one TOML table.
+
+    Parameters
+    ----------
+    data : dict
+        The parsed table.
+    path : Path
+        The file it came from (for messages).
+    prefix : str
+        Dotted key path of this table inside the file ('' for the root).
+    """
+
+    def __init__(self, data: dict[str, Any], path: Path, prefix: str = "") -> None:
+        self._data = data
+        self._path = path
+        self._prefix = prefix
+        self._used: set[str] = set()
+
+    @property
+    def path(self) -> Path:
+        return self._path
+
+    def key(self, name: str) -> str:
+        """Dotted path of ``name`` inside the file."""
+        return f"{self._prefix}.{name}" if self._prefix else name
+
+    def error(self, name: str, message: str) -> ParameterFileError:
+        """An error about key ``name`` of this table."""
+        return ParameterFileError(self._path, self.key(name), message)
+
+    def has(self, name: str) -> bool:
+        return name in self._data
+
+    def _get(self, name: str) -> Any:
+        self._used.add(name)
+        if name not in self._data:
+            raise self.error(name, "missing required key")
+        return self._data[name]
+
+    def number(self, name: str, *, positive: bool = False, nonnegative: bool = False) -> float:
+        """A finite real number (TOML integer or float, not boolean)."""
+        value = self._get(name)
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise self.error(name, f"expected a number, got {_type_name(value)}")
+        x = float(value)
+        if not math.isfinite(x):
+            raise self.error(name, f"expected a finite number, got {value!r}")
+        if positive and not x > 0.0:
+            raise self.error(name, f"expected a positive number, got {value!r}")
+        if nonnegative and x < 0.0:
+            raise self.error(name, f"expected a number >= 0, got {value!r}")
+        return x
+
+    def vector(self, name: str, length: int = 3, *, positive: bool = False) -> tuple[float, ...]:
+        """An array of ``length`` finite numbers."""
+        value = self._get(name)
+        if not isinstance(value, list) or len(value) != length:
+            raise self.error(
+                name, f"expected an array of {length} numbers, got {_type_name(value)}"
+            )
+        out = []
+        for i, item in enumerate(value):
+            if isinstance(item, bool) or not isinstance(item, (int, float)):
+                raise self.error(name, f"element {i}: expected a number, got {_type_name(item)}")
+            x = float(item)
+            if not math.isfinite(x):
+                raise self.error(name, f"element {i}: expected a finite number, got {item!r}")
+            if positive and not x > 0.0:
+                raise self.error(name, f"element {i}: expected a positive number, got {item!r}")
+            out.append(x)
+        return tuple(out)
+
+    def string(self, name: str, *, choices: Sequence[str] | None = None) -> str:
+        """A non-empty string, optionally one of ``choices``."""
+        value = self._get(name)
+        if not isinstance(value, str) or not value.strip():
+            raise self.error(name, f"expected a non-empty string, got {_type_name(value)}")
+        if choices is not None and value not in choices:
+            raise self.error(name, f"expected one of {', '.join(choices)}; got {value!r}")
+        return value
+
+    def integer(self, name: str, *, minimum: int | None = None) -> int:
+        """A TOML integer (not boolean)."""
+        value = self._get(name)
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise self.error(name, f"expected an integer, got {_type_name(value)}")
+        if minimum is not None and value < minimum:
+            raise self.error(name, f"expected an integer >= {minimum}, got {value}")
+        return value
+
+    def table(self, name: str) -> TableReader:
+        """A sub-table."""
+        value = self._get(name)
+        if not isinstance(value, dict):
+            raise self.error(name, f"expected a table, got {_type_name(value)}")
+        return TableReader(value, self._path, self.key(name))
+
+    def tables(self, name: str, *, min_count: int = 1) -> list[TableReader]:
+        """An array of tables (``[[name]]``) with at least ``min_count`` entries."""
+        value = self._get(name)
+        if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+            raise self.error(
+                name, f"expected an array of tables ([[{name}]]), got {_type_name(value)}"
+            )
+        if len(value) < min_count:
+            raise self.error(name, f"expected at least {min_count} entries, got {len(value)}")
+        return [TableReader(v, self._path, f"{self.key(name)}[{i}]") for i, v in enumerate(value)]
+
+    def finish(self) -> None:
+        """Raise if the table holds keys nobody asked for."""
+        unknown = sorted(set(self._data) - self._used)
+        if unknown:
+            raise self.error(
+                unknown[0], f"unknown key (known keys here: {', '.join(sorted(self._used))})"
+            )

@@ -1,0 +1,37 @@
+"""Every numerical tolerance cadcog uses, in one documented place.
+
+Lengths are in mm, relative values are dimensionless. Change a value here, not at the call site.
+"""
+
+#: Distance within which a point counts as lying on a plane or face (mm). Parameter files give
+#: positions to 1e-3 mm at best; 1e-6 mm only absorbs floating-point round-off.
+ON_SURFACE_MM = 1e-6
+
+#: Overlap depth below which two boxes are considered touching rather than intersecting (mm).
+CONTACT_MM = 1e-6
+
+#: Relative accuracy requested from OCCT's adaptive Gauss integration of volume properties
+#: (``BRepGProp.VolumeProperties_s`` with ``Eps``). Planar and cylindrical faces integrate
+#: exactly, so the achieved error is usually far smaller; the achieved estimate is reported.
+OCCT_INTEGRATION_EPS = 1e-9
+
+#: Chordal deflection used when tessellating B-rep solids for STL export (mm, absolute). The
+#: volume between a curved face and its inscribed tessellation is at most this deflection times
+#: the face area, which is how the STL cross-check's tolerance is derived.
+STL_DEFLECTION_MM = 1e-3
+
+#: Angular deflection for tessellation (degrees).
+STL_ANGULAR_DEFLECTION_DEG = 5.0
+
+#: Relative agreement expected between exact B-rep integration and the closed forms.
+CLOSED_FORM_RTOL = 1e-9
+
+#: Significant digits kept when writing floats to ground-truth JSON. Fifteen digits round-trip
+#: every value OCCT computes to well within its integration error, and drop the last-bit noise
+#: that differs between platforms, so golden files stay byte-stable.
+JSON_SIGNIFICANT_DIGITS = 15
+
+#: Entries of a vector or matrix smaller than this fraction of its largest entry are round-off
+#: (OCCT's integration leaves ~1e-13 relative residue in products of inertia that are exactly
+#: zero by symmetry) and are written to ground truth as 0.
+ROUNDOFF_RELATIVE = 1e-11

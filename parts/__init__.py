@@ -1,0 +1,1 @@
+"""Rig parameter files shipped with cadcog (installed as ``cadcog._rigs``)."""
