@@ -37,3 +37,11 @@ class ParameterFileError(CadcogError, ValueError):
 
 class DegenerateGeometryError(CadcogError, ArithmeticError):
     """A geometric computation has no meaningful answer (e.g. parallel lines)."""
+
+
+class IllConditionedError(DegenerateGeometryError):
+    """Plumb lines too close to parallel for their intersection to mean anything."""
+
+
+class ReadingsError(CadcogError, ValueError):
+    """A readings file is malformed; the message names the file and line."""

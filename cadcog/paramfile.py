@@ -85,8 +85,18 @@ class TableReader:
             raise self.error(name, "missing required key")
         return self._data[name]
 
-    def number(self, name: str, *, positive: bool = False, nonnegative: bool = False) -> float:
-        """A finite real number (TOML integer or float, not boolean)."""
+    def number(
+        self,
+        name: str,
+        *,
+        positive: bool = False,
+        nonnegative: bool = False,
+        default: float | None = None,
+    ) -> float:
+        """A finite real number (TOML integer or float, not boolean); ``default`` if absent."""
+        if default is not None and name not in self._data:
+            self._used.add(name)
+            return default
         value = self._get(name)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise self.error(name, f"expected a number, got {_type_name(value)}")
@@ -127,13 +137,25 @@ class TableReader:
             raise self.error(name, f"expected one of {', '.join(choices)}; got {value!r}")
         return value
 
-    def integer(self, name: str, *, minimum: int | None = None) -> int:
-        """A TOML integer (not boolean)."""
+    def integer(
+        self,
+        name: str,
+        *,
+        minimum: int | None = None,
+        choices: Sequence[int] | None = None,
+        default: int | None = None,
+    ) -> int:
+        """A TOML integer (not boolean); ``default`` if absent."""
+        if default is not None and name not in self._data:
+            self._used.add(name)
+            return default
         value = self._get(name)
         if isinstance(value, bool) or not isinstance(value, int):
             raise self.error(name, f"expected an integer, got {_type_name(value)}")
         if minimum is not None and value < minimum:
             raise self.error(name, f"expected an integer >= {minimum}, got {value}")
+        if choices is not None and value not in choices:
+            raise self.error(name, f"expected one of {', '.join(map(str, choices))}; got {value}")
         return value
 
     def table(self, name: str) -> TableReader:

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from cadcog.geometry import FloatArray, IdealReading, face_normal, ideal_reading
+from cadcog.inclinometer import InclinometerConfig
 from cadcog.massprops import MassProperties, box_properties, combine, cylinder_properties
 
 
@@ -102,7 +103,11 @@ class Rig:
     holes: HoleSpec
     suspension_points: tuple[SuspensionPoint, ...]
     me_volumes: tuple[MEVolume, ...]
-    inclinometer_range_deg: float
+    inclinometer: InclinometerConfig
+
+    @property
+    def inclinometer_range_deg(self) -> float:
+        return self.inclinometer.range_deg
 
     # --- derived geometry -------------------------------------------------------------------
     @property
@@ -156,6 +161,18 @@ class Rig:
     def analytic_me(self) -> MassProperties:
         """Closed-form mass properties of the whole measurement equipment."""
         return combine(self.analytic_me_volume(v) for v in self.me_volumes)
+
+    @property
+    def me_cog_cov_mm2(self) -> FloatArray:
+        """Covariance of the ME CoG from the sub-volumes' uniform uncertainty cubes (mm²).
+
+        ``e_ME = Σ (m_k/m_ME) U_k`` with ``U_k`` uniform in a cube of edge ``a_k``: independent
+        axes, each of variance ``Σ (m_k/m_ME)² a_k²/12``.
+        """
+        m = np.array([v.mass_kg for v in self.me_volumes])
+        a = np.array([v.cog_uncertainty_cube_mm for v in self.me_volumes])
+        var = float(np.sum((m / m.sum()) ** 2 * a**2 / 12.0))
+        return var * np.eye(3)
 
     @cached_property
     def analytic_assembly(self) -> MassProperties:

@@ -19,6 +19,7 @@ import numpy as np
 
 from cadcog import tolerances
 from cadcog.geometry import AXIS_NAMES, FACES, face_plane_mm
+from cadcog.inclinometer import InclinometerConfig, SensorModel
 from cadcog.paramfile import TableReader, read_toml
 from cadcog.rig import HoleSpec, MEVolume, ProofMass, Rig, SuspensionPoint
 
@@ -103,11 +104,7 @@ def load_rig(path: str | Path) -> Rig:
         t.finish()
     me_t.finish()
 
-    inc_t = root.table("inclinometer")
-    range_deg = inc_t.number("range_deg", positive=True)
-    if range_deg > 90.0:
-        raise inc_t.error("range_deg", f"expected at most 90 degrees, got {range_deg}")
-    inc_t.finish()
+    inclinometer = _inclinometer(root.table("inclinometer"))
     root.finish()
 
     _check_unique(point_tables, [p.id for p in points], "id")
@@ -118,10 +115,34 @@ def load_rig(path: str | Path) -> Rig:
     _check_holes(holes_t, point_tables, proof_mass, holes, points)
     _check_me(volume_tables, proof_mass, volumes)
     _check_points_clear_of_me(point_tables, holes, points, volumes)
-    rig = Rig(name, path, proof_mass, holes, tuple(points), tuple(volumes), range_deg)
+    rig = Rig(name, path, proof_mass, holes, tuple(points), tuple(volumes), inclinometer)
     if not rig.proof_mass_volume_mm3 > 0.0:  # pragma: no cover - excluded by the hole checks
         raise pm_t.error("size_mm", "the holes remove the whole proof mass")
     return rig
+
+
+def _inclinometer(t: TableReader) -> InclinometerConfig:
+    """The ``[inclinometer]`` table: range required, the rest defaulting to the paper's rig."""
+    d, ds = InclinometerConfig(), SensorModel()
+    range_deg = t.number("range_deg", positive=True)
+    if range_deg > 90.0:
+        raise t.error("range_deg", f"expected at most 90 degrees, got {range_deg}")
+    config = InclinometerConfig(
+        range_deg=range_deg,
+        accuracy_deg=t.number("accuracy_deg", nonnegative=True, default=d.accuracy_deg),
+        sign_x=t.integer("sign_x", choices=(1, -1), default=d.sign_x),
+        sign_y=t.integer("sign_y", choices=(1, -1), default=d.sign_y),
+        sensor=SensorModel(
+            adc_bits=t.integer("adc_bits", minimum=1, default=ds.adc_bits),
+            adc_reference_v=t.number("adc_reference_v", positive=True, default=ds.adc_reference_v),
+            sensitivity_v_per_deg=t.number(
+                "sensitivity_v_per_deg", positive=True, default=ds.sensitivity_v_per_deg
+            ),
+            zero_v=t.number("zero_v", default=ds.zero_v),
+        ),
+    )
+    t.finish()
+    return config
 
 
 def _name(t: TableReader, key: str) -> str:

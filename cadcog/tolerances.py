@@ -35,3 +35,13 @@ JSON_SIGNIFICANT_DIGITS = 15
 #: (OCCT's integration leaves ~1e-13 relative residue in products of inertia that are exactly
 #: zero by symmetry) and are written to ground truth as 0.
 ROUNDOFF_RELATIVE = 1e-11
+
+#: Smallest angle between two plumb lines for their closest approach to be trusted (degrees).
+#: The estimate's sensitivity to a lateral error of either line grows as 1/sin(angle): ×11.5 at
+#: 5°. Pairs below this raise :class:`cadcog.errors.IllConditionedError`; the joint estimator
+#: skips them in its pair diagnostics. Configurable per call.
+MIN_PAIR_ANGLE_DEG = 5.0
+
+#: Probability below which a suspension's residual (squared distance of its line from the joint
+#: estimate over its variance, ~χ² with 2 degrees of freedom) flags it as inconsistent.
+OUTLIER_PROBABILITY = 0.003

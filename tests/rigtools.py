@@ -60,3 +60,25 @@ def to_toml(data: dict[str, Any]) -> str:
 def write_rig(path: Path, data: dict[str, Any]) -> Path:
     path.write_text(to_toml(data), encoding="utf-8")
     return path
+
+
+HEADER = "point_id,x_mm,y_mm,z_mm,inc_x_deg,inc_y_deg,top_face_up"
+
+
+def ideal_rows(rig: Any) -> list[str]:
+    """One noise-free readings row per suspension point of ``rig`` (assembly CoG)."""
+    readings = rig.ideal_readings()
+    rows = []
+    for p in rig.suspension_points:
+        w = rig.wire_exit_mm(p)
+        r = readings[p.id]
+        rows.append(
+            f"{p.id},{float(w[0])!r},{float(w[1])!r},{float(w[2])!r},{r.inc_x_deg!r},{r.inc_y_deg!r},"
+            f"{str(r.top_face_up).lower()}"
+        )
+    return rows
+
+
+def write_csv(path: Path, rows: list[str], header: str = HEADER) -> Path:
+    path.write_text("\n".join([header, *rows]) + "\n", encoding="utf-8")
+    return path

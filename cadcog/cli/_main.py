@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from cadcog import __version__
-from cadcog.cli import parts
+from cadcog.cli import estimate, parts
 from cadcog.errors import CadcogError
 
 #: Exit status for bad input (same as argparse's usage errors).
@@ -28,6 +28,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"cadcog {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     parts.add_parser(sub)
+    estimate.add_parser(sub)
     return parser
 
 

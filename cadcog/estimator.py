@@ -1,0 +1,446 @@
+"""The double-suspension estimator (METHOD.md §2-3).
+
+Each suspension gives a plumb line in the body frame: through the suspension point ``p``, along
+the upward vertical ``u``; the CoG lies on it, below ``p``. Two lines give the CoG as the
+midpoint of their shortest segment (eq. 8); N ≥ 2 lines give it as the weighted least-squares
+point of all lines, with a covariance. The measurement equipment is then compensated (eq. 10)
+with its error propagated (eq. 16).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from itertools import combinations
+
+import numpy as np
+import numpy.typing as npt
+from scipy import stats
+
+from cadcog import tolerances
+from cadcog.errors import DegenerateGeometryError, IllConditionedError
+from cadcog.geometry import angle_between_lines_deg, ideal_reading
+from cadcog.units import deg_to_rad
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class PlumbLine:
+    """A suspension's plumb line.
+
+    Attributes
+    ----------
+    id : str
+        Suspension point id.
+    point_mm : ndarray, shape (3,)
+        Suspension point (where the wire leaves the object), body frame, mm.
+    vertical : ndarray, shape (3,)
+        Upward unit vertical, body components.
+    sigma_mm : float
+        Standard deviation of the line's lateral position near the CoG, per lateral axis (mm);
+        sets its weight in :func:`joint_estimate`.
+    """
+
+    id: str
+    point_mm: FloatArray
+    vertical: FloatArray
+    sigma_mm: float = 1.0
+
+    def __post_init__(self) -> None:
+        p = np.array(self.point_mm, dtype=float)
+        u = np.array(self.vertical, dtype=float)
+        if p.shape != (3,) or u.shape != (3,):
+            raise ValueError("point_mm and vertical must have shape (3,)")
+        norm = np.linalg.norm(u)
+        if not norm > 0:
+            raise ValueError(f"suspension {self.id}: zero vertical")
+        if not self.sigma_mm > 0:
+            raise ValueError(f"suspension {self.id}: sigma_mm must be positive")
+        object.__setattr__(self, "point_mm", p)
+        object.__setattr__(self, "vertical", u / norm)
+
+    def distance_mm(self, x_mm: npt.ArrayLike) -> float:
+        """Distance of a point from the line."""
+        d = np.asarray(x_mm, dtype=float) - self.point_mm
+        return float(np.linalg.norm(d - np.dot(d, self.vertical) * self.vertical))
+
+
+@dataclass(frozen=True)
+class PairEstimate:
+    """Closest approach of two plumb lines (eq. 8).
+
+    Attributes
+    ----------
+    a, b : str
+        Ids of the two suspensions.
+    foot_a_mm, foot_b_mm : ndarray, shape (3,)
+        Feet of the shortest segment on each line.
+    midpoint_mm : ndarray, shape (3,)
+        The estimate: midpoint of the shortest segment.
+    gap_mm : float
+        Length of the shortest segment (0 if the lines meet).
+    angle_deg : float
+        Acute angle between the lines.
+    """
+
+    a: str
+    b: str
+    foot_a_mm: FloatArray
+    foot_b_mm: FloatArray
+    midpoint_mm: FloatArray
+    gap_mm: float
+    angle_deg: float
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "a": self.a,
+            "b": self.b,
+            "midpoint_mm": self.midpoint_mm.tolist(),
+            "gap_mm": self.gap_mm,
+            "angle_deg": self.angle_deg,
+        }
+
+
+def pair_estimate(
+    line_a: PlumbLine,
+    line_b: PlumbLine,
+    min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+) -> PairEstimate:
+    """Midpoint of the shortest segment between two plumb lines (eqs. 6-8).
+
+    With ``n = u_a × u_b`` and ``d = p_b − p_a``: ``t_a = ((d × u_b)·n)/|n|²``,
+    ``t_b = ((d × u_a)·n)/|n|²``, feet ``p_a + t_a u_a`` and ``p_b + t_b u_b``.
+
+    Raises
+    ------
+    IllConditionedError
+        If the lines meet at less than ``min_angle_deg`` (parallel or nearly so).
+
+    Examples
+    --------
+    >>> a = PlumbLine("A", [0, 0, 10], [0, 0, 1])
+    >>> b = PlumbLine("B", [10, 0, 10], [1, 0, 1])
+    >>> e = pair_estimate(a, b)
+    >>> e.midpoint_mm.tolist(), round(e.gap_mm, 12), round(e.angle_deg, 9)
+    ([0.0, 0.0, 0.0], 0.0, 45.0)
+    """
+    angle = angle_between_lines_deg(line_a.vertical, line_b.vertical)
+    if angle < min_angle_deg:
+        raise IllConditionedError(
+            f"suspensions {line_a.id} and {line_b.id}: their plumb lines meet at {angle:.3g}°, "
+            f"below {min_angle_deg:g}°; the points and the CoG are nearly collinear, so the "
+            "intersection is ill-conditioned"
+        )
+    ua, ub = line_a.vertical, line_b.vertical
+    n = np.cross(ua, ub)
+    n2 = float(np.dot(n, n))
+    d = line_b.point_mm - line_a.point_mm
+    ta = float(np.dot(np.cross(d, ub), n)) / n2
+    tb = float(np.dot(np.cross(d, ua), n)) / n2
+    fa = line_a.point_mm + ta * ua
+    fb = line_b.point_mm + tb * ub
+    return PairEstimate(
+        line_a.id, line_b.id, fa, fb, 0.5 * (fa + fb), float(np.linalg.norm(fb - fa)), angle
+    )
+
+
+@dataclass(frozen=True)
+class LineResidual:
+    """How well one suspension's line agrees with the others.
+
+    Attributes
+    ----------
+    id : str
+    distance_mm : float
+        Distance of the line from the joint estimate.
+    normalized : float
+        Square root of the leave-one-out χ² statistic (in "sigmas").
+    p_value : float
+        Tail probability of that statistic.
+    inconsistent : bool
+        ``p_value`` below the outlier probability.
+    """
+
+    id: str
+    distance_mm: float
+    normalized: float
+    p_value: float
+    inconsistent: bool
+
+
+@dataclass(frozen=True)
+class JointEstimate:
+    """Weighted least-squares point of N ≥ 2 plumb lines.
+
+    Attributes
+    ----------
+    cog_mm : ndarray, shape (3,)
+    cov_mm2 : ndarray, shape (3, 3)
+        Covariance from the lines' ``sigma_mm`` (lateral errors independent, isotropic).
+    residuals : tuple of LineResidual
+    pairs : tuple of PairEstimate
+        Every well-conditioned pair's closest approach (diagnostics).
+    skipped_pairs : tuple of (str, str, float)
+        Pairs below the angle threshold: ids and angle (degrees).
+    """
+
+    cog_mm: FloatArray
+    cov_mm2: FloatArray
+    residuals: tuple[LineResidual, ...]
+    pairs: tuple[PairEstimate, ...]
+    skipped_pairs: tuple[tuple[str, str, float], ...]
+
+
+def least_squares_point(
+    points_mm: npt.ArrayLike, verticals: npt.ArrayLike, weights: npt.ArrayLike
+) -> tuple[FloatArray, FloatArray]:
+    """Point minimising ``Σ w_i · dist(x, line_i)²`` and the normal matrix ``Σ w_i P_i``.
+
+    ``x = (Σ w_i P_i)⁻¹ Σ w_i P_i p_i`` with ``P_i = I − u_i u_iᵀ`` (METHOD.md §2).
+
+    Parameters
+    ----------
+    points_mm : array_like, shape (n, 3)
+    verticals : array_like, shape (n, 3)
+        Unit directions.
+    weights : array_like, shape (n,)
+
+    Raises
+    ------
+    DegenerateGeometryError
+        If all lines are parallel (singular normal matrix).
+    """
+    p = np.asarray(points_mm, dtype=float)
+    u = np.asarray(verticals, dtype=float)
+    w = np.asarray(weights, dtype=float)
+    proj = np.eye(3)[None, :, :] - u[:, :, None] * u[:, None, :]
+    a = np.einsum("n,nij->ij", w, proj)
+    b = np.einsum("n,nij,nj->i", w, proj, p)
+    eig = np.linalg.eigvalsh(a)
+    if eig[0] <= 1e-12 * eig[-1]:
+        raise DegenerateGeometryError("the plumb lines are all parallel: no common point")
+    return np.linalg.solve(a, b), a
+
+
+def joint_estimate(
+    lines: Sequence[PlumbLine],
+    min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+    outlier_probability: float = tolerances.OUTLIER_PROBABILITY,
+) -> JointEstimate:
+    """CoG from N ≥ 2 plumb lines by weighted least squares, with covariance and residuals.
+
+    Weights are ``1/sigma_mm²``. With two lines of equal sigma the result is eq. 8's midpoint.
+    The covariance is ``(Σ P_i / σ_i²)⁻¹``. A line whose leave-one-out residual has a tail
+    probability below ``outlier_probability`` is flagged inconsistent (see :func:`_residuals`).
+
+    Raises
+    ------
+    ValueError
+        With fewer than two lines or duplicate ids.
+    IllConditionedError
+        If every pair of lines is below ``min_angle_deg``.
+    """
+    if len(lines) < 2:
+        raise ValueError(f"need at least two suspensions, got {len(lines)}")
+    ids = [ln.id for ln in lines]
+    if len(set(ids)) != len(ids):
+        raise ValueError(f"duplicate suspension ids in {ids}")
+    pairs, skipped = [], []
+    for a, b in combinations(lines, 2):
+        try:
+            pairs.append(pair_estimate(a, b, min_angle_deg))
+        except IllConditionedError:
+            skipped.append((a.id, b.id, angle_between_lines_deg(a.vertical, b.vertical)))
+    if not pairs:
+        worst = max(s[2] for s in skipped)
+        raise IllConditionedError(
+            f"every pair of plumb lines meets at less than {min_angle_deg:g}° (largest "
+            f"{worst:.3g}°): the suspension points and the CoG are nearly collinear; "
+            "suspend from points that spread around the CoG"
+        )
+    sigma = np.array([ln.sigma_mm for ln in lines])
+    x, normal = least_squares_point(
+        [ln.point_mm for ln in lines], [ln.vertical for ln in lines], 1.0 / sigma**2
+    )
+    cov = np.linalg.inv(normal)
+    cov = 0.5 * (cov + cov.T)
+    residuals = _residuals(lines, x, sigma, outlier_probability)
+    return JointEstimate(x, cov, tuple(residuals), tuple(pairs), tuple(skipped))
+
+
+#: Default standard deviation of a suspension point's position, per axis (mm): the paper's
+#: uncertainty volume is a uniform 1 mm cube around the measured point, σ = 1/√12 mm.
+POINT_SIGMA_MM = 1.0 / np.sqrt(12.0)
+
+
+def line_sigma_mm(distance_mm: float, angle_sigma_deg: float, point_sigma_mm: float) -> float:
+    """Lateral standard deviation of a plumb line at ``distance_mm`` from its suspension point.
+
+    A direction error of σ_θ moves the line by ``L·σ_θ`` at distance L; the point's own error
+    adds in quadrature.
+
+    Examples
+    --------
+    >>> round(line_sigma_mm(100.0, float(np.rad2deg(0.001)), 0.0), 12)
+    0.1
+    """
+    return float(np.hypot(point_sigma_mm, distance_mm * float(deg_to_rad(angle_sigma_deg))))
+
+
+def weighted_estimate(
+    lines: Sequence[PlumbLine],
+    *,
+    angle_sigma_deg: float,
+    point_sigma_mm: float = POINT_SIGMA_MM,
+    min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+) -> JointEstimate:
+    """:func:`joint_estimate` with each line weighted by its own lateral uncertainty.
+
+    A first, equally weighted pass gives each suspension point's distance L to the CoG; each
+    line then gets ``sigma_mm = line_sigma_mm(L, angle_sigma_deg, point_sigma_mm)`` and the
+    estimate is recomputed.
+    """
+    first = joint_estimate(
+        [PlumbLine(ln.id, ln.point_mm, ln.vertical, 1.0) for ln in lines], min_angle_deg
+    )
+    weighted = [
+        PlumbLine(
+            ln.id,
+            ln.point_mm,
+            ln.vertical,
+            line_sigma_mm(
+                float(np.linalg.norm(ln.point_mm - first.cog_mm)), angle_sigma_deg, point_sigma_mm
+            ),
+        )
+        for ln in lines
+    ]
+    return joint_estimate(weighted, min_angle_deg)
+
+
+def _residuals(
+    lines: Sequence[PlumbLine], x: FloatArray, sigma: FloatArray, outlier_probability: float
+) -> list[LineResidual]:
+    """Per-line consistency: each line against the estimate from the *other* lines.
+
+    A plain residual from the joint estimate hides an outlier, which drags the estimate towards
+    itself; the leave-one-out residual does not. Its lateral part, with covariance
+    ``σ_i² P_i + P_i C₋ᵢ P_i``, gives a χ² statistic with 2 degrees of freedom. One outlier
+    still biases every other line's leave-one-out estimate, so lines are flagged one at a time:
+    the worst significant line is flagged and set aside, and the rest are tested again.
+
+    With two lines there is no "other" estimate: their gap is tested against ``σ_a² + σ_b²``
+    (1 degree of freedom) and both lines share the verdict, since either may be at fault.
+    """
+    n = len(lines)
+    if n == 2:
+        stat = pair_gap_statistic(lines[0], lines[1])
+        p_value = float(stats.chi2.sf(stat, df=1))
+        bad = p_value < outlier_probability
+        return [
+            LineResidual(ln.id, ln.distance_mm(x), float(np.sqrt(stat)), p_value, bad)
+            for ln in lines
+        ]
+    points = np.array([ln.point_mm for ln in lines])
+    verticals = np.array([ln.vertical for ln in lines])
+    active = list(range(n))
+    verdict: dict[int, tuple[float, float, bool]] = {}
+    while True:
+        current = {i: _loo_statistic(points, verticals, sigma, active, i) for i in active}
+        worst = max(active, key=lambda i: current[i])
+        p_worst = float(stats.chi2.sf(current[worst], df=2))
+        if p_worst < outlier_probability and len(active) > 3:
+            verdict[worst] = (current[worst], p_worst, True)
+            active.remove(worst)
+            continue
+        for i in active:
+            p_i = float(stats.chi2.sf(current[i], df=2))
+            verdict[i] = (current[i], p_i, p_i < outlier_probability and i == worst)
+        break
+    return [
+        LineResidual(ln.id, ln.distance_mm(x), float(np.sqrt(verdict[i][0])), *verdict[i][1:])
+        for i, ln in enumerate(lines)
+    ]
+
+
+def _loo_statistic(
+    points: FloatArray, verticals: FloatArray, sigma: FloatArray, active: list[int], i: int
+) -> float:
+    """χ²₂ statistic of line ``i`` against the estimate of the other ``active`` lines."""
+    others = [j for j in active if j != i]
+    try:
+        x_loo, normal_loo = least_squares_point(
+            points[others], verticals[others], 1.0 / sigma[others] ** 2
+        )
+    except DegenerateGeometryError:
+        return 0.0
+    proj = np.eye(3) - np.outer(verticals[i], verticals[i])
+    r = proj @ (x_loo - points[i])
+    s_mat = sigma[i] ** 2 * proj + proj @ np.linalg.inv(normal_loo) @ proj
+    return float(r @ np.linalg.pinv(s_mat, hermitian=True) @ r)
+
+
+def pair_gap_statistic(a: PlumbLine, b: PlumbLine) -> float:
+    """``gap² / (σ_a² + σ_b²)`` for two plumb lines (χ² with 1 degree of freedom)."""
+    return pair_estimate(a, b, 0.0).gap_mm ** 2 / (a.sigma_mm**2 + b.sigma_mm**2)
+
+
+@dataclass(frozen=True)
+class Compensation:
+    """Object CoG from the assembly CoG by removing the ME (eqs. 10 and 16)."""
+
+    cog_mm: FloatArray
+    cov_mm2: FloatArray
+    object_mass_kg: float
+    me_mass_kg: float
+    me_cog_mm: FloatArray
+
+
+def compensate_me(
+    assembly_cog_mm: npt.ArrayLike,
+    assembly_cov_mm2: npt.ArrayLike,
+    *,
+    object_mass_kg: float,
+    me_mass_kg: float,
+    me_cog_mm: npt.ArrayLike,
+    me_cog_cov_mm2: npt.ArrayLike | None = None,
+) -> Compensation:
+    """Remove the measurement equipment from an assembly CoG (eq. 10), propagating errors (eq. 16).
+
+    ``r_obj = ((m_obj + m_ME) r_est − m_ME r_ME) / m_obj`` and
+    ``cov_obj = (1 + m_ME/m_obj)² cov_est + (m_ME/m_obj)² cov_ME``.
+
+    Examples
+    --------
+    >>> c = compensate_me([1.0, 0, 0], np.zeros((3, 3)), object_mass_kg=9.0, me_mass_kg=1.0,
+    ...                   me_cog_mm=[10.0, 0, 0])
+    >>> c.cog_mm.tolist()  # (10·1 − 1·10) / 9
+    [0.0, 0.0, 0.0]
+    """
+    if not object_mass_kg > 0 or not me_mass_kg >= 0:
+        raise ValueError("object mass must be positive and ME mass non-negative")
+    ratio = me_mass_kg / object_mass_kg
+    r_est = np.asarray(assembly_cog_mm, dtype=float)
+    r_me = np.asarray(me_cog_mm, dtype=float)
+    cog = (1.0 + ratio) * r_est - ratio * r_me
+    cov_me = np.zeros((3, 3)) if me_cog_cov_mm2 is None else np.asarray(me_cog_cov_mm2, float)
+    cov = (1.0 + ratio) ** 2 * np.asarray(assembly_cov_mm2, dtype=float) + ratio**2 * cov_me
+    return Compensation(cog, cov, object_mass_kg, me_mass_kg, r_me)
+
+
+def out_of_range(
+    points_mm: dict[str, npt.ArrayLike], cog_mm: npt.ArrayLike, range_deg: float
+) -> list[tuple[str, float, float]]:
+    """Suspensions whose ideal readings leave ``±range_deg``: (id, X_deg, Y_deg) for each.
+
+    Examples
+    --------
+    >>> out_of_range({"A": [0, 0, 10], "B": [10, 0, 1]}, [0, 0, 0], 60.0)
+    [('B', 84.28940686250037, 0.0)]
+    """
+    bad = []
+    for pid, p in points_mm.items():
+        r = ideal_reading(p, cog_mm)
+        if not r.in_range(range_deg):
+            bad.append((pid, r.inc_x_deg, r.inc_y_deg))
+    return bad

@@ -1,0 +1,132 @@
+"""``cadcog estimate`` in-process: JSON contract, compensation sources, errors."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+
+import numpy as np
+import pytest
+
+from cadcog.cli import main
+from tests.rigtools import ideal_rows, paper_rig_dict, write_csv, write_rig
+
+
+def _run_json(capsys, *argv):
+    assert main(["estimate", *argv, "--json"]) == 0
+    captured = capsys.readouterr()
+    return json.loads(captured.out), captured.err
+
+
+def test_rig_compensation_recovers_the_proof_mass_cog(tmp_path, capsys, paper_rig):
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    out, _ = _run_json(capsys, str(csv), "--rig", str(paper_rig.source))
+    assert set(out) >= {"assembly_cog_mm", "cog_mm", "cov_mm2", "pairs", "warnings"}
+    np.testing.assert_allclose(
+        out["assembly_cog_mm"], paper_rig.analytic_assembly.cog_mm, atol=1e-9
+    )
+    np.testing.assert_allclose(out["cog_mm"], paper_rig.analytic_proof_mass.cog_mm, atol=1e-9)
+    assert len(out["pairs"]) == 15
+    assert {"a", "b", "midpoint_mm", "gap_mm", "angle_deg"} <= set(out["pairs"][0])
+    assert out["compensation"]["applied"] is True
+    assert out["warnings"] == []
+    cov = np.array(out["cov_mm2"])
+    assert cov.shape == (3, 3) and np.all(np.linalg.eigvalsh(cov) > 0)
+    # The compensated covariance includes the ME's (m_ME/m)² · 1.67² share.
+    assert np.all(np.diag(cov) > np.diag(out["assembly_cov_mm2"]))
+
+
+def test_direct_me_values_equal_the_rig_path(tmp_path, capsys, paper_rig):
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    me = paper_rig.analytic_me
+    cog = ",".join(repr(float(c)) for c in me.cog_mm)
+    out, _ = _run_json(
+        capsys,
+        str(csv),
+        "--object-mass-kg",
+        "9.2",
+        "--me-mass-kg",
+        repr(me.mass_kg),
+        "--me-cog-mm",
+        cog,
+    )
+    np.testing.assert_allclose(out["cog_mm"], paper_rig.analytic_proof_mass.cog_mm, atol=1e-9)
+
+
+def test_without_me_data_the_result_says_so(tmp_path, capsys, paper_rig):
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    out, err = _run_json(capsys, str(csv))
+    assert out["cog_mm"] == out["assembly_cog_mm"]
+    assert out["compensation"] == {"applied": False}
+    assert any("not compensated" in w for w in out["warnings"])
+    assert "not compensated" in err
+
+
+def test_table_output(tmp_path, capsys, paper_rig):
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    assert main(["estimate", str(csv), "--rig", str(paper_rig.source)]) == 0
+    out = capsys.readouterr().out
+    assert "object CoG (ME removed)" in out and "S1-S2" in out
+
+
+def test_sign_flip_in_the_rig_file(tmp_path, capsys, paper_rig):
+    data = paper_rig_dict()
+    data["inclinometer"]["sign_x"] = -1
+    rig = write_rig(tmp_path / "flipped.toml", data)
+    rows = []
+    for row in ideal_rows(paper_rig):
+        f = row.split(",")
+        f[4] = repr(-float(f[4]))  # a device whose x axis reads reversed
+        rows.append(",".join(f))
+    out, _ = _run_json(capsys, str(write_csv(tmp_path / "r.csv", rows)), "--rig", str(rig))
+    np.testing.assert_allclose(out["cog_mm"], paper_rig.analytic_proof_mass.cog_mm, atol=1e-9)
+
+
+def test_normalisation_is_warned_and_counted(tmp_path, capsys, paper_rig):
+    rows = ideal_rows(paper_rig)
+    rows.append("S9,100,0,0,50,50,true")
+    out, _ = _run_json(capsys, str(write_csv(tmp_path / "r.csv", rows)))
+    assert out["n_normalized"] == 1
+    assert any("S9" in w and "normalised" in w for w in out["warnings"])
+
+
+def test_outlier_suspension_is_flagged(tmp_path, capsys, paper_rig):
+    rows = ideal_rows(paper_rig)
+    f = rows[2].split(",")
+    f[4] = repr(float(f[4]) + 3.0)  # 3° off on one suspension
+    rows[2] = ",".join(f)
+    out, err = _run_json(capsys, str(write_csv(tmp_path / "r.csv", rows)))
+    flagged = [s["id"] for s in out["suspensions"] if s["inconsistent"]]
+    assert flagged == ["S3"]
+    assert "S3" in err and "inconsistent" in err
+
+
+@pytest.mark.parametrize(
+    ("rows", "message"),
+    [
+        (
+            ["S1,0,0,100,10,5,true", "S2,100,0,0,-30,0,false", "S1,0,0,1,10,5,true"],
+            "line 4: point S1 at",
+        ),
+        (["S1,0,0,100,10,5,true"], "needs at least two"),
+        (["S1,0,0,100,0,0,true", "S2,0,0,-100,0,0,false"], "every pair of plumb lines"),
+        (["S1,0,0,100,10,5,true", "S2,0,0,-100,nan,0,false"], "line 3: column inc_x_deg"),
+    ],
+    ids=["two positions", "one point", "all pairs parallel", "nan"],
+)
+def test_errors_exit_2_with_message_and_leave_input_alone(tmp_path, capsys, rows, message):
+    csv = write_csv(tmp_path / "r.csv", rows)
+    before = hashlib.sha256(csv.read_bytes()).hexdigest()
+    assert main(["estimate", str(csv)]) == 2
+    captured = capsys.readouterr()
+    assert message in captured.err
+    assert captured.out == ""
+    assert hashlib.sha256(csv.read_bytes()).hexdigest() == before
+
+
+def test_inconsistent_options(tmp_path, capsys, paper_rig):
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    assert main(["estimate", str(csv), "--me-mass-kg", "0.2"]) == 2
+    assert "go together" in capsys.readouterr().err
+    assert main(["estimate", str(csv), "--rig", str(paper_rig.source), "--me-mass-kg", "1"]) == 2
+    assert "either --rig" in capsys.readouterr().err
