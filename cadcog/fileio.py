@@ -67,3 +67,18 @@ def round_floats(value: Any, digits: int = tolerances.JSON_SIGNIFICANT_DIGITS) -
 def dumps_json(data: Any) -> str:
     """Deterministic JSON text: floats rounded, two-space indent, trailing newline."""
     return json.dumps(round_floats(data), indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+
+
+@contextmanager
+def staged_file(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary path beside ``path`` (same suffix) that replaces ``path`` on success."""
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.replace(tmp, target)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)

@@ -128,8 +128,13 @@ class TableReader:
             out.append(x)
         return tuple(out)
 
-    def string(self, name: str, *, choices: Sequence[str] | None = None) -> str:
-        """A non-empty string, optionally one of ``choices``."""
+    def string(
+        self, name: str, *, choices: Sequence[str] | None = None, default: str | None = None
+    ) -> str:
+        """A non-empty string, optionally one of ``choices``; ``default`` if absent."""
+        if default is not None and name not in self._data:
+            self._used.add(name)
+            return default
         value = self._get(name)
         if not isinstance(value, str) or not value.strip():
             raise self.error(name, f"expected a non-empty string, got {_type_name(value)}")

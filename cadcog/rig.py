@@ -11,12 +11,13 @@ expectation the CAD's exact B-rep integration is tested against.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
+from cadcog.errormodel import ErrorOptions
 from cadcog.geometry import FloatArray, IdealReading, face_normal, ideal_reading
 from cadcog.inclinometer import InclinometerConfig
 from cadcog.massprops import MassProperties, box_properties, combine, cylinder_properties
@@ -104,6 +105,7 @@ class Rig:
     suspension_points: tuple[SuspensionPoint, ...]
     me_volumes: tuple[MEVolume, ...]
     inclinometer: InclinometerConfig
+    error_options: ErrorOptions = field(default_factory=ErrorOptions)
 
     @property
     def inclinometer_range_deg(self) -> float:

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from cadcog import tolerances
+from cadcog.errormodel import ErrorOptions
 from cadcog.geometry import AXIS_NAMES, FACES, face_plane_mm
 from cadcog.inclinometer import InclinometerConfig, SensorModel
 from cadcog.paramfile import TableReader, read_toml
@@ -105,6 +106,7 @@ def load_rig(path: str | Path) -> Rig:
     me_t.finish()
 
     inclinometer = _inclinometer(root.table("inclinometer"))
+    error_options = _error_options(root.table("error_model")) if root.has("error_model") else None
     root.finish()
 
     _check_unique(point_tables, [p.id for p in points], "id")
@@ -115,7 +117,16 @@ def load_rig(path: str | Path) -> Rig:
     _check_holes(holes_t, point_tables, proof_mass, holes, points)
     _check_me(volume_tables, proof_mass, volumes)
     _check_points_clear_of_me(point_tables, holes, points, volumes)
-    rig = Rig(name, path, proof_mass, holes, tuple(points), tuple(volumes), inclinometer)
+    rig = Rig(
+        name,
+        path,
+        proof_mass,
+        holes,
+        tuple(points),
+        tuple(volumes),
+        inclinometer,
+        error_options or ErrorOptions(),
+    )
     if not rig.proof_mass_volume_mm3 > 0.0:  # pragma: no cover - excluded by the hole checks
         raise pm_t.error("size_mm", "the holes remove the whole proof mass")
     return rig
@@ -143,6 +154,37 @@ def _inclinometer(t: TableReader) -> InclinometerConfig:
     )
     t.finish()
     return config
+
+
+def _error_options(t: TableReader) -> ErrorOptions:
+    """The optional ``[error_model]`` table; absent keys take the paper's values."""
+    d = ErrorOptions()
+    options = ErrorOptions(
+        samples=t.integer("samples_per_suspension", minimum=1, default=d.samples),
+        inclinometer_model=t.string(  # type: ignore[arg-type]
+            "inclinometer_model", choices=("paper", "conservative"), default=d.inclinometer_model
+        ),
+        dither_noise_deg=t.number("dither_noise_deg", nonnegative=True, default=d.dither_noise_deg),
+        play_mm=t.number("play_mm", nonnegative=True, default=d.play_mm),
+        wire_model=t.string(  # type: ignore[arg-type]
+            "wire_model", choices=("paper", "elastica"), default=d.wire_model
+        ),
+        wire_offset_max_mm=t.number(
+            "wire_offset_max_mm", nonnegative=True, default=d.wire_offset_max_mm
+        ),
+        wire_bending_stiffness_n_mm2=t.number(
+            "wire_bending_stiffness_n_mm2", positive=True, default=d.wire_bending_stiffness_n_mm2
+        ),
+        wire_stiffness_rel_uncertainty=t.number(
+            "wire_stiffness_rel_uncertainty",
+            nonnegative=True,
+            default=d.wire_stiffness_rel_uncertainty,
+        ),
+    )
+    if options.wire_stiffness_rel_uncertainty >= 1.0:
+        raise t.error("wire_stiffness_rel_uncertainty", "expected a fraction below 1")
+    t.finish()
+    return options
 
 
 def _name(t: TableReader, key: str) -> str:

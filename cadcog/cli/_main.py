@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from cadcog import __version__
-from cadcog.cli import estimate, parts
+from cadcog.cli import budget, estimate, parts, simulate
 from cadcog.errors import CadcogError
 
 #: Exit status for bad input (same as argparse's usage errors).
@@ -29,6 +29,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     parts.add_parser(sub)
     estimate.add_parser(sub)
+    budget.add_parser(sub)
+    simulate.add_parser(sub)
     return parser
 
 

@@ -1,0 +1,437 @@
+"""Monte Carlo of the double-suspension method (METHOD.md §5), vectorised and streamed.
+
+For a group of suspension points (a pair, or all points for the joint estimator) every trial
+draws the error sources of :mod:`cadcog.errormodel`, hangs the object physically (the true
+virtual suspension points and the true assembly CoG give the true verticals), reads the
+inclinometer with its errors, estimates the CoG from the *nominal* points as a user would,
+compensates the ME with its CAD CoG, and compares with the true proof-mass CoG.
+
+Reproducibility: trials come in blocks of :data:`BLOCK_TRIALS`; block ``b`` of group ``g`` draws
+from its own generator seeded by ``SeedSequence(seed, spawn_key=(g, b))``. Results are therefore
+identical whatever the chunk size (blocks per vectorised batch) or the number of workers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from itertools import combinations
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.errormodel import STANDARD_GRAVITY_M_S2, ErrorModel, elastica_length_mm, wire_offset_mm
+from cadcog.geometry import FACES, face_normal, face_plane_mm, ideal_reading
+from cadcog.rig import Rig
+from cadcog.units import deg_to_rad, rad_to_deg
+
+FloatArray = npt.NDArray[np.float64]
+
+#: Trials per independently seeded block.
+BLOCK_TRIALS = 4096
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """The physical set-up: nominal suspension points and the true mass properties.
+
+    Attributes
+    ----------
+    ids : tuple of str
+    points_mm : ndarray, shape (n, 3)
+        Nominal suspension points (where the wire leaves the object).
+    normals : ndarray, shape (n, 3)
+        Outward unit normals (bolt axes).
+    pm_cog_mm : ndarray, shape (3,)
+        True CoG of the object (proof mass), from the CAD ground truth.
+    pm_mass_kg, me_mass_kg : float
+    me_cog_mm : ndarray, shape (3,)
+        CAD CoG of the measurement equipment.
+    """
+
+    ids: tuple[str, ...]
+    points_mm: FloatArray
+    normals: FloatArray
+    pm_cog_mm: FloatArray
+    pm_mass_kg: float
+    me_mass_kg: float
+    me_cog_mm: FloatArray
+
+    @property
+    def total_mass_kg(self) -> float:
+        return self.pm_mass_kg + self.me_mass_kg
+
+    @property
+    def assembly_cog_mm(self) -> FloatArray:
+        return np.asarray(
+            (self.pm_mass_kg * self.pm_cog_mm + self.me_mass_kg * self.me_cog_mm)
+            / self.total_mass_kg
+        )
+
+    @property
+    def weight_n(self) -> float:
+        return self.total_mass_kg * STANDARD_GRAVITY_M_S2
+
+    def with_points(
+        self, ids: Sequence[str], points_mm: npt.ArrayLike, normals: npt.ArrayLike
+    ) -> Scenario:
+        return Scenario(
+            tuple(ids),
+            np.asarray(points_mm, dtype=float),
+            np.asarray(normals, dtype=float),
+            self.pm_cog_mm,
+            self.pm_mass_kg,
+            self.me_mass_kg,
+            self.me_cog_mm,
+        )
+
+    @classmethod
+    def from_rig(cls, rig: Rig) -> Scenario:
+        """The rig's own suspension points; masses and CoGs from its CAD closed forms."""
+        pts = [rig.wire_exit_mm(p) for p in rig.suspension_points]
+        return cls(
+            tuple(p.id for p in rig.suspension_points),
+            np.array(pts),
+            np.array([p.normal for p in rig.suspension_points]),
+            rig.analytic_proof_mass.cog_mm,
+            rig.proof_mass.mass_kg,
+            rig.analytic_me.mass_kg,
+            rig.analytic_me.cog_mm,
+        )
+
+
+@dataclass(frozen=True)
+class EstimatorOptions:
+    """How the simulated user estimates.
+
+    Attributes
+    ----------
+    wire_correction : bool
+        Move each nominal point along its bolt axis by the expected wire offset (the model's
+        mean: half the paper's bound, or the elastica's Δ(θ) at the measured θ).
+    """
+
+    wire_correction: bool = False
+
+
+def _tangents(normals: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Two unit vectors spanning each face plane (normals are axis-aligned or general)."""
+    helper = np.where(np.abs(normals[:, [0]]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
+    t1 = np.cross(normals, helper)
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    return t1, np.cross(normals, t1)
+
+
+def _unit(v: FloatArray) -> FloatArray:
+    return np.asarray(v / np.linalg.norm(v, axis=-1, keepdims=True))
+
+
+def _measured_verticals(u_true: FloatArray, err_x: FloatArray, err_y: FloatArray) -> FloatArray:
+    """Readings of the true verticals plus errors, back through eq. 2 (with normalisation)."""
+    sx = np.sin(np.arcsin(np.clip(u_true[..., 0], -1, 1)) + deg_to_rad(err_x))
+    sy = np.sin(np.arcsin(np.clip(u_true[..., 1], -1, 1)) + deg_to_rad(err_y))
+    r2 = sx * sx + sy * sy
+    over = r2 > 1.0
+    scale = np.where(over, 1.0 / np.sqrt(np.where(over, r2, 1.0)), 1.0)
+    sx, sy = sx * scale, sy * scale
+    sign = np.where(u_true[..., 2] > 0, 1.0, -1.0)
+    sz = np.where(over, 0.0, sign * np.sqrt(np.clip(1.0 - sx * sx - sy * sy, 0.0, None)))
+    return np.stack([sx, sy, sz], axis=-1)
+
+
+def _pair_midpoints(p: FloatArray, u: FloatArray) -> FloatArray:
+    """Eq. 8 for many pairs at once: p, u of shape (n, 2, 3)."""
+    ua, ub = u[:, 0], u[:, 1]
+    n = np.cross(ua, ub)
+    n2 = np.sum(n * n, axis=1)
+    d = p[:, 1] - p[:, 0]
+    ta = np.sum(np.cross(d, ub) * n, axis=1) / n2
+    tb = np.sum(np.cross(d, ua) * n, axis=1) / n2
+    return np.asarray(0.5 * (p[:, 0] + ta[:, None] * ua + p[:, 1] + tb[:, None] * ub))
+
+
+def _lsq_points(p: FloatArray, u: FloatArray) -> FloatArray:
+    """Equal-weight least-squares point of k lines for many trials: p, u of shape (n, k, 3)."""
+    proj = np.eye(3) - u[..., :, None] * u[..., None, :]
+    a = proj.sum(axis=1)
+    b = np.einsum("nkij,nkj->ni", proj, p)
+    return np.asarray(np.linalg.solve(a, b[..., None])[..., 0])
+
+
+@dataclass(frozen=True)
+class Perturbations:
+    """Random draws of one batch of trials for a group of k suspensions.
+
+    Attributes
+    ----------
+    me_mm : ndarray, shape (n, 3)
+        ME CoG error.
+    play_mm : ndarray, shape (n, k, 2)
+        Suspension-point play along the two face tangents.
+    wire : ndarray, shape (n, k)
+        Paper wire model: the offset along the bolt axis (mm). Elastica: the factor on λ.
+    reading_deg : ndarray, shape (2, n, k)
+        X and Y reading errors.
+    """
+
+    me_mm: FloatArray
+    play_mm: FloatArray
+    wire: FloatArray
+    reading_deg: FloatArray
+
+
+def draw_perturbations(
+    model: ErrorModel, rng: np.random.Generator, n: int, k: int
+) -> Perturbations:
+    """Draw every enabled error source for ``n`` trials of ``k`` suspensions (others are 0)."""
+    me = model.sample_me_errors(rng, n)
+    if "point_play" in model.sources and model.play_mm > 0:
+        h = 0.5 * model.play_mm
+        play = rng.uniform(-h, h, (n, k, 2))
+    else:
+        play = np.zeros((n, k, 2))
+    if "wire_offset" not in model.sources:
+        wire = np.zeros((n, k)) if model.wire_model == "paper" else np.ones((n, k))
+    elif model.wire_model == "paper":
+        wire = rng.uniform(0.0, model.wire_offset_max_mm, (n, k))
+    else:
+        rel = model.wire_stiffness_rel_uncertainty
+        wire = np.sqrt(1.0 + rng.uniform(-rel, rel, (n, k)))
+    return Perturbations(me, play, wire, model.sample_reading_errors(rng, (2, n, k)))
+
+
+def propagate(
+    scenario: Scenario,
+    model: ErrorModel,
+    group: Sequence[int],
+    pert: Perturbations,
+    options: EstimatorOptions = EstimatorOptions(),
+) -> FloatArray:
+    """CoG errors (estimated − true, mm), shape (n, 3), for given perturbations.
+
+    Deterministic: the physics and the estimator, with no random draws. A group of two uses
+    eq. 8; a larger group the equal-weight least-squares point of all its lines.
+    """
+    idx = np.asarray(group)
+    k = len(idx)
+    n = pert.me_mm.shape[0]
+    ratio = scenario.me_mass_kg / scenario.total_mass_kg
+    g_true = scenario.assembly_cog_mm + ratio * pert.me_mm  # (n, 3)
+    p = scenario.points_mm[idx]
+    nrm = scenario.normals[idx]
+    t1, t2 = _tangents(nrm)
+    q = p + pert.play_mm[..., 0:1] * t1 + pert.play_mm[..., 1:2] * t2  # (n, k, 3)
+    lam_nominal = elastica_length_mm(model.wire_bending_stiffness_n_mm2, scenario.weight_n)
+    if model.wire_model == "paper":
+        delta = pert.wire
+    elif "wire_offset" in model.sources:
+        lam = lam_nominal * pert.wire
+        delta = lam.copy()
+        for _ in range(3):  # θ depends on the offset only weakly: a fixed point converges
+            u0 = _unit(q + delta[..., None] * nrm - g_true[:, None, :])
+            theta = rad_to_deg(np.arccos(np.clip(np.sum(u0 * nrm, axis=-1), -1, 1)))
+            delta = wire_offset_mm(theta, lam)
+    else:
+        delta = np.zeros((n, k))
+    u_true = _unit(q + delta[..., None] * nrm - g_true[:, None, :])
+    u = _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
+    p_est = np.broadcast_to(p, (n, k, 3))
+    if options.wire_correction and "wire_offset" in model.sources:
+        if model.wire_model == "paper":
+            p_est = p_est + 0.5 * model.wire_offset_max_mm * nrm
+        else:
+            theta = rad_to_deg(np.arccos(np.clip(np.sum(u * nrm, axis=-1), -1, 1)))
+            p_est = p_est + wire_offset_mm(theta, lam_nominal)[..., None] * nrm
+    r_est = _pair_midpoints(p_est, u) if k == 2 else _lsq_points(p_est, u)
+    r_pm = (scenario.total_mass_kg * r_est - scenario.me_mass_kg * scenario.me_cog_mm) / (
+        scenario.pm_mass_kg
+    )
+    return np.asarray(r_pm - scenario.pm_cog_mm)
+
+
+def simulate_block(
+    scenario: Scenario,
+    model: ErrorModel,
+    group: Sequence[int],
+    n: int,
+    rng: np.random.Generator,
+    options: EstimatorOptions = EstimatorOptions(),
+) -> FloatArray:
+    """CoG errors of ``n`` random trials suspending from ``group``; shape (n, 3)."""
+    pert = draw_perturbations(model, rng, n, len(group))
+    return propagate(scenario, model, group, pert, options)
+
+
+@dataclass
+class SimulationResult:
+    """Streamed results: error norms of every trial, per-axis moments, per-group summaries.
+
+    Attributes
+    ----------
+    norms_mm : ndarray, shape (n_trials,)
+        |e| of every trial, groups in order.
+    axis_sum_mm, axis_sumsq_mm2 : ndarray, shape (3,)
+        Running sums of the error components and of their squares.
+    groups : list of tuple of str
+    group_q95_mm, group_mean_mm : list of float
+    """
+
+    norms_mm: FloatArray
+    axis_sum_mm: FloatArray
+    axis_sumsq_mm2: FloatArray
+    groups: list[tuple[str, ...]] = field(default_factory=list)
+    group_q95_mm: list[float] = field(default_factory=list)
+    group_mean_mm: list[float] = field(default_factory=list)
+
+    @property
+    def n_trials(self) -> int:
+        return int(self.norms_mm.size)
+
+    @property
+    def axis_mean_mm(self) -> FloatArray:
+        return np.asarray(self.axis_sum_mm / self.n_trials)
+
+    @property
+    def axis_std_mm(self) -> FloatArray:
+        n = self.n_trials
+        var = (self.axis_sumsq_mm2 - self.axis_sum_mm**2 / n) / (n - 1)
+        return np.asarray(np.sqrt(np.maximum(var, 0.0)))
+
+
+def _run_group(
+    args: tuple[Scenario, ErrorModel, EstimatorOptions, int, tuple[int, ...], int, int, int],
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    scenario, model, options, g, group, trials, seed, chunk_blocks = args
+    n_blocks = -(-trials // BLOCK_TRIALS)
+    norms = np.empty(trials)
+    s1 = np.zeros(3)
+    s2 = np.zeros(3)
+    for start in range(0, n_blocks, chunk_blocks):
+        blocks = range(start, min(start + chunk_blocks, n_blocks))
+        errors = []
+        for b in blocks:
+            n = min(BLOCK_TRIALS, trials - b * BLOCK_TRIALS)
+            rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(g, b)))
+            errors.append(simulate_block(scenario, model, group, n, rng, options))
+        e = np.concatenate(errors)
+        lo = blocks[0] * BLOCK_TRIALS
+        norms[lo : lo + len(e)] = np.sqrt(np.einsum("ij,ij->i", e, e))
+        s1 += e.sum(axis=0)
+        s2 += np.einsum("ij,ij->j", e, e)
+    return norms, s1, s2
+
+
+def simulate(
+    scenario: Scenario,
+    model: ErrorModel,
+    groups: Sequence[Sequence[int]],
+    trials_per_group: int,
+    seed: int,
+    options: EstimatorOptions = EstimatorOptions(),
+    *,
+    chunk_blocks: int = 8,
+    workers: int = 1,
+    progress: Callable[[int], None] | None = None,
+) -> SimulationResult:
+    """Run ``trials_per_group`` trials for each group of suspension indices.
+
+    Parameters
+    ----------
+    scenario, model, options
+    groups : sequence of sequences of int
+        Indices into ``scenario``'s points: pairs for eq. 8, or larger groups (joint estimate).
+    trials_per_group : int
+    seed : int
+        Root seed; the results depend on it, not on ``chunk_blocks`` or ``workers``.
+    chunk_blocks : int
+        Blocks of :data:`BLOCK_TRIALS` trials processed per vectorised batch (memory ∝ this).
+    workers : int
+        Processes to spread the groups over.
+    progress : callable, optional
+        Called with the number of trials finished after each group.
+    """
+    if trials_per_group < 2:
+        raise ValueError("trials_per_group must be at least 2")
+    if seed < 0:
+        raise ValueError("seed must be non-negative")
+    jobs = [
+        (scenario, model, options, g, tuple(group), trials_per_group, seed, chunk_blocks)
+        for g, group in enumerate(groups)
+    ]
+    result = SimulationResult(np.empty(len(jobs) * trials_per_group), np.zeros(3), np.zeros(3))
+    if workers > 1:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            outputs = pool.map(_run_group, jobs, chunksize=max(1, len(jobs) // (4 * workers)))
+            _collect(result, scenario, jobs, outputs, trials_per_group, progress)
+    else:
+        _collect(result, scenario, jobs, map(_run_group, jobs), trials_per_group, progress)
+    return result
+
+
+def _collect(result, scenario, jobs, outputs, trials, progress) -> None:  # type: ignore[no-untyped-def]
+    for j, (norms, s1, s2) in enumerate(outputs):
+        result.norms_mm[j * trials : (j + 1) * trials] = norms
+        result.axis_sum_mm += s1
+        result.axis_sumsq_mm2 += s2
+        result.groups.append(tuple(scenario.ids[i] for i in jobs[j][4]))
+        result.group_q95_mm.append(float(np.quantile(norms, 0.95)))
+        result.group_mean_mm.append(float(norms.mean()))
+        if progress is not None:
+            progress(trials)
+
+
+def all_pairs(n_points: int) -> list[tuple[int, int]]:
+    return list(combinations(range(n_points), 2))
+
+
+def draw_points(
+    rig: Rig, n_points: int, rng: np.random.Generator, max_tries: int = 100_000
+) -> Scenario:
+    """Scenario with ``n_points`` suspension points uniform over the proof-mass surface.
+
+    A candidate is kept if its hole fits on its face, it is off the ME footprint (on +z), it keeps
+    the clearance of one hole diameter from the points already drawn, and hanging from it keeps
+    both inclinometer axes within range.
+    """
+    base = Scenario.from_rig(rig)
+    size = np.asarray(rig.proof_mass.size_mm)
+    faces = list(FACES)
+    areas = np.array([np.prod(np.delete(size, FACES[f][0])) for f in faces])
+    r = rig.hole_radius_mm
+    h = rig.holes.wire_exit_height_mm
+    g = rig.analytic_assembly.cog_mm
+    ids: list[str] = []
+    pts: list[FloatArray] = []
+    nrms: list[FloatArray] = []
+    faces_used: list[str] = []
+    for _ in range(max_tries):
+        if len(pts) == n_points:
+            break
+        f = faces[rng.choice(len(faces), p=areas / areas.sum())]
+        axis, _ = FACES[f]
+        pos = rng.uniform(0.0, size)
+        pos[axis] = face_plane_mm(f, size)
+        other = [j for j in range(3) if j != axis]
+        if np.any(pos[other] < r) or np.any(pos[other] > size[other] - r):
+            continue
+        if f == "+z" and any(
+            np.all(pos[:2] + r > v.min_mm[:2]) and np.all(pos[:2] - r < v.max_mm[:2])
+            for v in rig.me_volumes
+        ):
+            continue
+        if any(
+            fu == f and np.linalg.norm(pos - (pp - h * face_normal(fu))) < 2 * rig.holes.diameter_mm
+            for fu, pp in zip(faces_used, pts, strict=True)
+        ):
+            continue
+        exit_mm = pos + h * face_normal(f)
+        if not ideal_reading(exit_mm, g).in_range(rig.inclinometer_range_deg):
+            continue
+        ids.append(f"R{len(pts) + 1}")
+        pts.append(exit_mm)
+        nrms.append(face_normal(f))
+        faces_used.append(f)
+    if len(pts) < n_points:
+        raise ValueError(f"found only {len(pts)} admissible suspension points in {max_tries} tries")
+    return base.with_points(ids, pts, nrms)

@@ -1,0 +1,165 @@
+"""``cadcog simulate``: the paper's Monte Carlo over random suspension points, with fits.
+
+Draws suspension points over the proof mass (:func:`cadcog.montecarlo.draw_points`), forms the
+groups the chosen estimator uses (every pair, optionally screened by conditioning, or groups of
+K points for the joint estimator), runs :func:`cadcog.montecarlo.simulate` and fits the error
+norms (:mod:`cadcog.fits`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from itertools import combinations
+from math import comb
+from typing import Any
+
+import numpy as np
+
+from cadcog.errormodel import ErrorModel
+from cadcog.fits import NormFits, fit_norms
+from cadcog.geometry import angle_between_lines_deg
+from cadcog.montecarlo import (
+    EstimatorOptions,
+    Scenario,
+    SimulationResult,
+    draw_points,
+    simulate,
+)
+from cadcog.rig import Rig
+
+#: Largest number of K-point groups simulated for the joint estimator (random subset beyond).
+MAX_GROUPS = 300
+
+
+@dataclass(frozen=True)
+class SimulationSettings:
+    """What to simulate.
+
+    Attributes
+    ----------
+    points : int
+        Random suspension points (0: the rig's own points).
+    trials_per_group : int
+    seed : int
+    group_size : int
+        2 for pairs (eq. 8); K > 2 for the joint estimator over K points.
+    min_angle_deg : float
+        Pair screening: pairs (or groups) whose best-conditioned pair of lines meets at less
+        than this are not used.
+    wire_correction : bool
+    """
+
+    points: int = 25
+    trials_per_group: int = 1000
+    seed: int = 0
+    group_size: int = 2
+    min_angle_deg: float = 0.0
+    wire_correction: bool = False
+
+
+@dataclass(frozen=True)
+class SimulationReport:
+    settings: SimulationSettings
+    scenario: Scenario
+    groups: list[tuple[int, ...]]
+    group_angle_deg: list[float]
+    result: SimulationResult
+    fits: NormFits
+
+    def worst_groups(self, count: int = 5) -> list[dict[str, Any]]:
+        order = np.argsort(self.result.group_q95_mm)[::-1][:count]
+        return [
+            {
+                "points": list(self.result.groups[i]),
+                "q95_mm": self.result.group_q95_mm[i],
+                "mean_mm": self.result.group_mean_mm[i],
+                "angle_deg": self.group_angle_deg[i],
+            }
+            for i in order
+        ]
+
+    def to_dict(self) -> dict[str, Any]:
+        s = self.settings
+        return {
+            **self.fits.to_dict(),
+            "per_axis_bias_mm": self.result.axis_mean_mm.tolist(),
+            "per_axis_std_mm": self.result.axis_std_mm.tolist(),
+            "n_points": len(self.scenario.ids),
+            "n_groups": len(self.groups),
+            "group_size": s.group_size,
+            "trials_per_group": s.trials_per_group,
+            "seed": s.seed,
+            "min_angle_deg": s.min_angle_deg,
+            "wire_correction": s.wire_correction,
+            "points": {
+                pid: p.tolist()
+                for pid, p in zip(self.scenario.ids, self.scenario.points_mm, strict=True)
+            },
+            "worst_groups": self.worst_groups(),
+        }
+
+
+def _conditioning_deg(scenario: Scenario, group: tuple[int, ...]) -> float:
+    """Largest angle between two of the group's plumb lines (the pair's angle for a pair)."""
+    g = scenario.assembly_cog_mm
+    return max(
+        angle_between_lines_deg(scenario.points_mm[a] - g, scenario.points_mm[b] - g)
+        for a, b in combinations(group, 2)
+    )
+
+
+def select_groups(
+    scenario: Scenario, settings: SimulationSettings, rng: np.random.Generator
+) -> tuple[list[tuple[int, ...]], list[float]]:
+    """Groups of point indices to simulate, and each group's conditioning angle (degrees).
+
+    For a pair this is the angle between its two plumb lines; for a larger group, the largest
+    such angle among its pairs (the joint estimate is as good as its best-spread pair allows).
+    """
+    n = len(scenario.ids)
+    k = settings.group_size
+    if not 2 <= k <= n:
+        raise ValueError(f"group size must be between 2 and the number of points ({n}), got {k}")
+    if comb(n, k) <= MAX_GROUPS or k == 2:
+        groups = list(combinations(range(n), k))
+    else:
+        seen: set[tuple[int, ...]] = set()
+        while len(seen) < MAX_GROUPS:
+            seen.add(tuple(sorted(rng.choice(n, size=k, replace=False).tolist())))
+        groups = sorted(seen)
+    angles = [_conditioning_deg(scenario, g) for g in groups]
+    kept = [(g, a) for g, a in zip(groups, angles, strict=True) if a >= settings.min_angle_deg]
+    if not kept:
+        raise ValueError(f"no group is conditioned better than {settings.min_angle_deg:g}°")
+    return [g for g, _ in kept], [a for _, a in kept]
+
+
+def run_simulation(
+    rig: Rig,
+    settings: SimulationSettings,
+    model: ErrorModel | None = None,
+    *,
+    workers: int = 1,
+    progress: Callable[[int], None] | None = None,
+) -> SimulationReport:
+    """Monte Carlo of ``rig`` under ``settings``; the error model defaults to the rig's."""
+    model = model or ErrorModel.from_rig(rig)
+    ss = np.random.SeedSequence(settings.seed)
+    points_seed, groups_seed, trials_seed = ss.generate_state(3)
+    if settings.points > 0:
+        scenario = draw_points(rig, settings.points, np.random.default_rng(points_seed))
+    else:
+        scenario = Scenario.from_rig(rig)
+    groups, angles = select_groups(scenario, settings, np.random.default_rng(groups_seed))
+    result = simulate(
+        scenario,
+        model,
+        groups,
+        settings.trials_per_group,
+        int(trials_seed),
+        EstimatorOptions(wire_correction=settings.wire_correction),
+        workers=workers,
+        progress=progress,
+    )
+    return SimulationReport(settings, scenario, groups, angles, result, fit_norms(result.norms_mm))
