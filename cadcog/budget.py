@@ -84,10 +84,10 @@ def _parameters(model: ErrorModel) -> list[tuple[str, str, tuple[int, ...], floa
     out: list[tuple[str, str, tuple[int, ...], float, float]] = []
     w = np.asarray(model.me_masses_kg) / sum(model.me_masses_kg) * np.asarray(model.me_edges_mm)
     for axis in range(3):
-        out.append(("me_cog", "me_mm", (0, axis), 0.0, float(np.sum(w**2) / 12.0)))
+        out.append(("me_cog", "me_mm", (axis, 0), 0.0, float(np.sum(w**2) / 12.0)))
     for j in range(2):
         for t in range(2):
-            out.append(("point_play", "play_mm", (0, j, t), 0.0, model.play_mm**2 / 12.0))
+            out.append(("point_play", "play_mm", (t, 0, j), 0.0, model.play_mm**2 / 12.0))
         if model.wire_model == "paper":
             m = model.wire_offset_max_mm
             out.append(("wire_offset", "wire", (0, j), 0.5 * m, m * m / 12.0))
@@ -104,7 +104,7 @@ def _parameters(model: ErrorModel) -> list[tuple[str, str, tuple[int, ...], floa
 def _nominal(model: ErrorModel) -> Perturbations:
     wire0 = 0.5 * model.wire_offset_max_mm if model.wire_model == "paper" else 1.0
     return Perturbations(
-        np.zeros((1, 3)), np.zeros((1, 2, 2)), np.full((1, 2), wire0), np.zeros((2, 1, 2))
+        np.zeros((3, 1)), np.zeros((2, 1, 2)), np.full((1, 2), wire0), np.zeros((2, 1, 2))
     )
 
 

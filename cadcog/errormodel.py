@@ -255,10 +255,10 @@ class ErrorModel:
         return bias + rng.uniform(-q, q, shape)
 
     def sample_me_errors(self, rng: np.random.Generator, n: int) -> FloatArray:
-        """ME CoG errors (mm), shape (n, 3): ``Σ w_k U_k`` per axis."""
+        """ME CoG errors (mm), shape (3, n): ``Σ w_k U_k`` per axis."""
         if "me_cog" not in self.sources:
-            return np.zeros((n, 3))
+            return np.zeros((3, n))
         m = np.asarray(self.me_masses_kg)
         widths = m / m.sum() * np.asarray(self.me_edges_mm)
-        u = rng.random((n, 3, len(widths))) - 0.5
-        return np.asarray(u @ widths)
+        u = rng.random((len(widths), 3 * n))
+        return np.asarray((widths @ u - 0.5 * widths.sum()).reshape(3, n))

@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
+from functools import cached_property
 from itertools import combinations
 
 import numpy as np
@@ -24,7 +25,7 @@ import numpy.typing as npt
 from cadcog.errormodel import STANDARD_GRAVITY_M_S2, ErrorModel, elastica_length_mm, wire_offset_mm
 from cadcog.geometry import FACES, face_normal, face_plane_mm, ideal_reading
 from cadcog.rig import Rig
-from cadcog.units import deg_to_rad, rad_to_deg
+from cadcog.units import rad_to_deg
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -73,6 +74,11 @@ class Scenario:
     def weight_n(self) -> float:
         return self.total_mass_kg * STANDARD_GRAVITY_M_S2
 
+    @cached_property
+    def tangents(self) -> tuple[FloatArray, FloatArray]:
+        """Two unit vectors spanning each point's face plane, each of shape (n, 3)."""
+        return _tangents(self.normals)
+
     def with_points(
         self, ids: Sequence[str], points_mm: npt.ArrayLike, normals: npt.ArrayLike
     ) -> Scenario:
@@ -116,47 +122,74 @@ class EstimatorOptions:
 
 
 def _tangents(normals: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Two unit vectors spanning each face plane (normals are axis-aligned or general)."""
+    """Two unit vectors spanning each face plane; normals of shape (k, 3)."""
     helper = np.where(np.abs(normals[:, [0]]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
     t1 = np.cross(normals, helper)
     t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
     return t1, np.cross(normals, t1)
 
 
+# The vectorised kernels below hold vectors as components first, shape (3, ...): each component
+# is then a contiguous array, which makes the element-wise maths several times faster than on
+# (..., 3) arrays.
+
+
+def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Cross product of component-first arrays, shape (3, ...)."""
+    return np.stack(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
+
+
+def _dot(a: FloatArray, b: FloatArray) -> FloatArray:
+    """Dot product of component-first arrays, shape (3, ...) → (...)."""
+    return np.asarray(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+
+
 def _unit(v: FloatArray) -> FloatArray:
-    return np.asarray(v / np.linalg.norm(v, axis=-1, keepdims=True))
+    return np.asarray(v / np.sqrt(_dot(v, v)))
 
 
 def _measured_verticals(u_true: FloatArray, err_x: FloatArray, err_y: FloatArray) -> FloatArray:
-    """Readings of the true verticals plus errors, back through eq. 2 (with normalisation)."""
-    sx = np.sin(np.arcsin(np.clip(u_true[..., 0], -1, 1)) + deg_to_rad(err_x))
-    sy = np.sin(np.arcsin(np.clip(u_true[..., 1], -1, 1)) + deg_to_rad(err_y))
+    """Readings of the true verticals plus errors (degrees), back through eq. 2.
+
+    ``u_true`` is component-first, shape (3, ...). ``sin(asin(u) + e)`` is evaluated as
+    ``u cos e + √(1 − u²) sin e``, which avoids the arcsine.
+    """
+    ex = np.deg2rad(err_x)
+    ey = np.deg2rad(err_y)
+    ux, uy = u_true[0], u_true[1]
+    sx = ux * np.cos(ex) + np.sqrt(np.maximum(1.0 - ux * ux, 0.0)) * np.sin(ex)
+    sy = uy * np.cos(ey) + np.sqrt(np.maximum(1.0 - uy * uy, 0.0)) * np.sin(ey)
     r2 = sx * sx + sy * sy
     over = r2 > 1.0
-    scale = np.where(over, 1.0 / np.sqrt(np.where(over, r2, 1.0)), 1.0)
-    sx, sy = sx * scale, sy * scale
-    sign = np.where(u_true[..., 2] > 0, 1.0, -1.0)
-    sz = np.where(over, 0.0, sign * np.sqrt(np.clip(1.0 - sx * sx - sy * sy, 0.0, None)))
-    return np.stack([sx, sy, sz], axis=-1)
+    if np.any(over):  # the paper's normalisation, rare: only near the horizontal
+        scale = np.where(over, 1.0 / np.sqrt(np.where(over, r2, 1.0)), 1.0)
+        sx, sy = sx * scale, sy * scale
+        r2 = np.where(over, 1.0, r2)
+    sz = np.copysign(np.sqrt(np.maximum(1.0 - r2, 0.0)), u_true[2])
+    return np.stack([sx, sy, sz])
 
 
 def _pair_midpoints(p: FloatArray, u: FloatArray) -> FloatArray:
-    """Eq. 8 for many pairs at once: p, u of shape (n, 2, 3)."""
-    ua, ub = u[:, 0], u[:, 1]
-    n = np.cross(ua, ub)
-    n2 = np.sum(n * n, axis=1)
-    d = p[:, 1] - p[:, 0]
-    ta = np.sum(np.cross(d, ub) * n, axis=1) / n2
-    tb = np.sum(np.cross(d, ua) * n, axis=1) / n2
-    return np.asarray(0.5 * (p[:, 0] + ta[:, None] * ua + p[:, 1] + tb[:, None] * ub))
+    """Eq. 8 for many pairs at once: p, u component-first, shape (3, n, 2) → (3, n)."""
+    ua, ub = u[:, :, 0], u[:, :, 1]
+    n = _cross(ua, ub)
+    n2 = _dot(n, n)
+    d = p[:, :, 1] - p[:, :, 0]
+    ta = _dot(_cross(d, ub), n) / n2
+    tb = _dot(_cross(d, ua), n) / n2
+    return np.asarray(0.5 * (p[:, :, 0] + ta * ua + p[:, :, 1] + tb * ub))
 
 
 def _lsq_points(p: FloatArray, u: FloatArray) -> FloatArray:
-    """Equal-weight least-squares point of k lines for many trials: p, u of shape (n, k, 3)."""
-    proj = np.eye(3) - u[..., :, None] * u[..., None, :]
+    """Equal-weight least-squares point of k lines per trial: p, u shape (3, n, k) → (3, n)."""
+    pt = np.moveaxis(p, 0, -1)  # (n, k, 3)
+    ut = np.moveaxis(u, 0, -1)
+    proj = np.eye(3) - ut[..., :, None] * ut[..., None, :]
     a = proj.sum(axis=1)
-    b = np.einsum("nkij,nkj->ni", proj, p)
-    return np.asarray(np.linalg.solve(a, b[..., None])[..., 0])
+    b = np.einsum("nkij,nkj->ni", proj, pt)
+    return np.asarray(np.linalg.solve(a, b[..., None])[..., 0].T)
 
 
 @dataclass(frozen=True)
@@ -165,9 +198,9 @@ class Perturbations:
 
     Attributes
     ----------
-    me_mm : ndarray, shape (n, 3)
-        ME CoG error.
-    play_mm : ndarray, shape (n, k, 2)
+    me_mm : ndarray, shape (3, n)
+        ME CoG error (component-first, like every array here).
+    play_mm : ndarray, shape (2, n, k)
         Suspension-point play along the two face tangents.
     wire : ndarray, shape (n, k)
         Paper wire model: the offset along the bolt axis (mm). Elastica: the factor on λ.
@@ -188,9 +221,9 @@ def draw_perturbations(
     me = model.sample_me_errors(rng, n)
     if "point_play" in model.sources and model.play_mm > 0:
         h = 0.5 * model.play_mm
-        play = rng.uniform(-h, h, (n, k, 2))
+        play = rng.uniform(-h, h, (2, n, k))
     else:
-        play = np.zeros((n, k, 2))
+        play = np.zeros((2, n, k))
     if "wire_offset" not in model.sources:
         wire = np.zeros((n, k)) if model.wire_model == "paper" else np.ones((n, k))
     elif model.wire_model == "paper":
@@ -214,14 +247,12 @@ def propagate(
     eq. 8; a larger group the equal-weight least-squares point of all its lines.
     """
     idx = np.asarray(group)
-    k = len(idx)
-    n = pert.me_mm.shape[0]
     ratio = scenario.me_mass_kg / scenario.total_mass_kg
-    g_true = scenario.assembly_cog_mm + ratio * pert.me_mm  # (n, 3)
-    p = scenario.points_mm[idx]
-    nrm = scenario.normals[idx]
-    t1, t2 = _tangents(nrm)
-    q = p + pert.play_mm[..., 0:1] * t1 + pert.play_mm[..., 1:2] * t2  # (n, k, 3)
+    g_true = (scenario.assembly_cog_mm[:, None] + ratio * pert.me_mm)[:, :, None]  # (3, n, 1)
+    p = scenario.points_mm[idx].T[:, None, :]  # (3, 1, k)
+    nrm = scenario.normals[idx].T[:, None, :]
+    t1, t2 = (t[idx].T[:, None, :] for t in scenario.tangents)
+    q = p + pert.play_mm[0] * t1 + pert.play_mm[1] * t2  # (3, n, k)
     lam_nominal = elastica_length_mm(model.wire_bending_stiffness_n_mm2, scenario.weight_n)
     if model.wire_model == "paper":
         delta = pert.wire
@@ -229,22 +260,22 @@ def propagate(
         lam = lam_nominal * pert.wire
         delta = lam.copy()
         for _ in range(3):  # θ depends on the offset only weakly: a fixed point converges
-            u0 = _unit(q + delta[..., None] * nrm - g_true[:, None, :])
-            theta = rad_to_deg(np.arccos(np.clip(np.sum(u0 * nrm, axis=-1), -1, 1)))
+            u0 = _unit(q + delta * nrm - g_true)
+            theta = rad_to_deg(np.arccos(np.clip(_dot(u0, nrm), -1, 1)))
             delta = wire_offset_mm(theta, lam)
     else:
-        delta = np.zeros((n, k))
-    u_true = _unit(q + delta[..., None] * nrm - g_true[:, None, :])
+        delta = np.zeros(pert.wire.shape)
+    u_true = _unit(q + delta * nrm - g_true)
     u = _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
-    p_est = np.broadcast_to(p, (n, k, 3))
+    p_est = np.broadcast_to(p, u.shape)
     if options.wire_correction and "wire_offset" in model.sources:
         if model.wire_model == "paper":
             p_est = p_est + 0.5 * model.wire_offset_max_mm * nrm
         else:
-            theta = rad_to_deg(np.arccos(np.clip(np.sum(u * nrm, axis=-1), -1, 1)))
-            p_est = p_est + wire_offset_mm(theta, lam_nominal)[..., None] * nrm
-    r_est = _pair_midpoints(p_est, u) if k == 2 else _lsq_points(p_est, u)
-    r_pm = (scenario.total_mass_kg * r_est - scenario.me_mass_kg * scenario.me_cog_mm) / (
+            theta = rad_to_deg(np.arccos(np.clip(_dot(u, nrm), -1, 1)))
+            p_est = p_est + wire_offset_mm(theta, lam_nominal) * nrm
+    r_est = _pair_midpoints(p_est, u) if len(idx) == 2 else _lsq_points(p_est, u)
+    r_pm = (scenario.total_mass_kg * r_est.T - scenario.me_mass_kg * scenario.me_cog_mm) / (
         scenario.pm_mass_kg
     )
     return np.asarray(r_pm - scenario.pm_cog_mm)
@@ -301,7 +332,8 @@ class SimulationResult:
 
 def _run_group(
     args: tuple[Scenario, ErrorModel, EstimatorOptions, int, tuple[int, ...], int, int, int],
-) -> tuple[FloatArray, FloatArray, FloatArray]:
+) -> tuple[FloatArray, FloatArray, FloatArray, float]:
+    """Simulate one group: its norms, axis sums, axis sums of squares and 95 % quantile."""
     scenario, model, options, g, group, trials, seed, chunk_blocks = args
     n_blocks = -(-trials // BLOCK_TRIALS)
     norms = np.empty(trials)
@@ -319,7 +351,7 @@ def _run_group(
         norms[lo : lo + len(e)] = np.sqrt(np.einsum("ij,ij->i", e, e))
         s1 += e.sum(axis=0)
         s2 += np.einsum("ij,ij->j", e, e)
-    return norms, s1, s2
+    return norms, s1, s2, _quantile_of_sorted(np.sort(norms), 0.95)
 
 
 def simulate(
@@ -370,15 +402,23 @@ def simulate(
 
 
 def _collect(result, scenario, jobs, outputs, trials, progress) -> None:  # type: ignore[no-untyped-def]
-    for j, (norms, s1, s2) in enumerate(outputs):
+    for j, (norms, s1, s2, q95) in enumerate(outputs):
         result.norms_mm[j * trials : (j + 1) * trials] = norms
         result.axis_sum_mm += s1
         result.axis_sumsq_mm2 += s2
         result.groups.append(tuple(scenario.ids[i] for i in jobs[j][4]))
-        result.group_q95_mm.append(float(np.quantile(norms, 0.95)))
+        result.group_q95_mm.append(q95)
         result.group_mean_mm.append(float(norms.mean()))
         if progress is not None:
             progress(trials)
+
+
+def _quantile_of_sorted(x: FloatArray, q: float) -> float:
+    """``np.quantile(x, q)`` (linear interpolation) for an already sorted array, faster."""
+    pos = q * (x.size - 1)
+    lo = int(np.floor(pos))
+    hi = min(lo + 1, x.size - 1)
+    return float(x[lo] + (pos - lo) * (x[hi] - x[lo]))
 
 
 def all_pairs(n_points: int) -> list[tuple[int, int]]:

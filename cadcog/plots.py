@@ -34,13 +34,27 @@ def error_histogram(norms_mm: np.ndarray, fits: NormFits, path: Path, title: str
         r,
         stats.rayleigh.pdf(r, scale=fits.rayleigh_sigma_mm),
         "C1",
-        label=f"Rayleigh σ={fits.rayleigh_sigma_mm:.3f} mm (KS {fits.ks_rayleigh:.3f})",
+        label=f"Rayleigh, ML σ={fits.rayleigh_sigma_mm:.3f} mm (KS {fits.ks_rayleigh:.3f})",
     )
     ax.plot(
         r,
         stats.maxwell.pdf(r, scale=fits.maxwell_a_mm),
         "C2",
-        label=f"Maxwell a={fits.maxwell_a_mm:.3f} mm (KS {fits.ks_maxwell:.3f})",
+        label=f"Maxwell, ML a={fits.maxwell_a_mm:.3f} mm (KS {fits.ks_maxwell:.3f})",
+    )
+    ax.plot(
+        r,
+        stats.rayleigh.pdf(r, scale=fits.rayleigh_sigma_median_mm),
+        "C1--",
+        label=f"Rayleigh, median fit σ={fits.rayleigh_sigma_median_mm:.3f} mm "
+        f"(KS {fits.ks_rayleigh_median:.3f})",
+    )
+    ax.plot(
+        r,
+        stats.maxwell.pdf(r, scale=fits.maxwell_a_median_mm),
+        "C2--",
+        label=f"Maxwell, median fit a={fits.maxwell_a_median_mm:.3f} mm "
+        f"(KS {fits.ks_maxwell_median:.3f})",
     )
     ax.axvline(fits.q95_mm, color="k", ls="--", lw=1, label=f"95 %: {fits.q95_mm:.2f} mm")
     ax.set_xlabel("CoG error norm |e| (mm)")

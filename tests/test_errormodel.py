@@ -41,8 +41,8 @@ def test_paper_rig_me_pdf_is_close_to_normal_and_matches_sampling():
     assert pdf.max_cdf_difference_from_normal < 0.05
     model = ErrorModel(PAPER_MASSES, (10.0,) * 4)
     samples = model.sample_me_errors(np.random.default_rng(3), 200_000)
-    assert np.std(samples, axis=0) == pytest.approx([pdf.sigma_mm] * 3, rel=0.01)
-    cdf = np.interp(np.sort(samples[:, 0]), pdf.x_mm, pdf.cdf)
+    assert np.std(samples, axis=1) == pytest.approx([pdf.sigma_mm] * 3, rel=0.01)
+    cdf = np.interp(np.sort(samples[0]), pdf.x_mm, pdf.cdf)
     ks = np.max(np.abs(cdf - np.arange(1, cdf.size + 1) / cdf.size))
     assert ks < 0.005
 

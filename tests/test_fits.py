@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from cadcog.fits import fit_norms, ks_statistic
+from cadcog.fits import fit_norms, ks_statistic, maxwell_cdf, rayleigh_cdf
 
 
 def test_rayleigh_samples():
@@ -15,6 +15,8 @@ def test_rayleigh_samples():
     assert f.rayleigh_sigma_mm == pytest.approx(0.8, rel=0.01)
     assert f.ks_rayleigh < 0.01 < f.ks_maxwell
     assert f.q95_mm == pytest.approx(0.8 * np.sqrt(-2 * np.log(0.05)), rel=0.02)
+    assert f.rayleigh_sigma_median_mm == pytest.approx(0.8, rel=0.02)
+    assert f.ks_rayleigh_median < 0.01
 
 
 def test_maxwell_samples_from_isotropic_3d_normal():
@@ -33,3 +35,19 @@ def test_ks_statistic_matches_scipy():
 def test_fit_needs_samples():
     with pytest.raises(ValueError, match="at least two"):
         fit_norms([1.0])
+
+
+def test_median_fit_resists_a_heavy_tail():
+    rng = np.random.default_rng(4)
+    body = stats.rayleigh.rvs(scale=0.5, size=99_000, random_state=rng)
+    tail = rng.uniform(20, 80, 1_000)  # 1 % of wild values, as from near-parallel pairs
+    f = fit_norms(np.concatenate([body, tail]))
+    assert f.rayleigh_sigma_mm > 2 * 0.5  # maximum likelihood is dragged away
+    assert f.rayleigh_sigma_median_mm == pytest.approx(0.5, rel=0.03)
+    assert f.ks_rayleigh_median < f.ks_rayleigh
+
+
+def test_closed_form_cdfs_match_scipy():
+    r = np.linspace(0, 10, 1001)
+    np.testing.assert_allclose(rayleigh_cdf(r, 1.3), stats.rayleigh.cdf(r, scale=1.3), atol=1e-14)
+    np.testing.assert_allclose(maxwell_cdf(r, 0.7), stats.maxwell.cdf(r, scale=0.7), atol=1e-14)

@@ -135,8 +135,13 @@ def print_report(report: SimulationReport) -> None:
     )
     print(f"|e| median {f.q50_mm:.3f} mm, 95 % {f.q95_mm:.3f} mm")
     print(
-        f"Rayleigh fit σ = {f.rayleigh_sigma_mm:.3f} mm (KS {f.ks_rayleigh:.3f}); "
-        f"Maxwell fit a = {f.maxwell_a_mm:.3f} mm (KS {f.ks_maxwell:.3f})"
+        f"maximum likelihood: Rayleigh σ = {f.rayleigh_sigma_mm:.3f} mm (KS {f.ks_rayleigh:.3f}), "
+        f"Maxwell a = {f.maxwell_a_mm:.3f} mm (KS {f.ks_maxwell:.3f})"
+    )
+    print(
+        f"median-matched:     Rayleigh σ = {f.rayleigh_sigma_median_mm:.3f} mm "
+        f"(KS {f.ks_rayleigh_median:.3f}), Maxwell a = {f.maxwell_a_median_mm:.3f} mm "
+        f"(KS {f.ks_maxwell_median:.3f})"
     )
     axes = ", ".join(
         f"{b:+.3f} ± {sd:.3f}" for b, sd in zip(r.axis_mean_mm, r.axis_std_mm, strict=True)
