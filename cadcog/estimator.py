@@ -135,6 +135,11 @@ def pair_estimate(
     ua, ub = line_a.vertical, line_b.vertical
     n = np.cross(ua, ub)
     n2 = float(np.dot(n, n))
+    if n2 == 0.0:
+        raise IllConditionedError(
+            f"suspensions {line_a.id} and {line_b.id}: their plumb lines are parallel, "
+            "ill-conditioned: they have no closest point"
+        )
     d = line_b.point_mm - line_a.point_mm
     ta = float(np.dot(np.cross(d, ub), n)) / n2
     tb = float(np.dot(np.cross(d, ua), n)) / n2

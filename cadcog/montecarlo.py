@@ -234,6 +234,35 @@ def draw_perturbations(
     return Perturbations(me, play, wire, model.sample_reading_errors(rng, (2, n, k)))
 
 
+def hang(
+    scenario: Scenario, model: ErrorModel, group: Sequence[int], pert: Perturbations
+) -> FloatArray:
+    """True upward verticals when hanging from each point of ``group``: shape (3, n, k).
+
+    The object hangs from the *true* virtual suspension point (nominal point + play + wire
+    offset along the bolt axis) and its true assembly CoG (CAD + the ME's CoG error).
+    """
+    idx = np.asarray(group)
+    ratio = scenario.me_mass_kg / scenario.total_mass_kg
+    g_true = (scenario.assembly_cog_mm[:, None] + ratio * pert.me_mm)[:, :, None]  # (3, n, 1)
+    p = scenario.points_mm[idx].T[:, None, :]  # (3, 1, k)
+    nrm = scenario.normals[idx].T[:, None, :]
+    t1, t2 = (t[idx].T[:, None, :] for t in scenario.tangents)
+    q = p + pert.play_mm[0] * t1 + pert.play_mm[1] * t2  # (3, n, k)
+    if model.wire_model == "paper":
+        delta = pert.wire
+    elif "wire_offset" in model.sources:
+        lam = elastica_length_mm(model.wire_bending_stiffness_n_mm2, scenario.weight_n) * pert.wire
+        delta = lam.copy()
+        for _ in range(3):  # θ depends on the offset only weakly: a fixed point converges
+            u0 = _unit(q + delta * nrm - g_true)
+            theta = rad_to_deg(np.arccos(np.clip(_dot(u0, nrm), -1, 1)))
+            delta = wire_offset_mm(theta, lam)
+    else:
+        delta = np.zeros(pert.wire.shape)
+    return _unit(q + delta * nrm - g_true)
+
+
 def propagate(
     scenario: Scenario,
     model: ErrorModel,
@@ -247,25 +276,10 @@ def propagate(
     eq. 8; a larger group the equal-weight least-squares point of all its lines.
     """
     idx = np.asarray(group)
-    ratio = scenario.me_mass_kg / scenario.total_mass_kg
-    g_true = (scenario.assembly_cog_mm[:, None] + ratio * pert.me_mm)[:, :, None]  # (3, n, 1)
     p = scenario.points_mm[idx].T[:, None, :]  # (3, 1, k)
     nrm = scenario.normals[idx].T[:, None, :]
-    t1, t2 = (t[idx].T[:, None, :] for t in scenario.tangents)
-    q = p + pert.play_mm[0] * t1 + pert.play_mm[1] * t2  # (3, n, k)
     lam_nominal = elastica_length_mm(model.wire_bending_stiffness_n_mm2, scenario.weight_n)
-    if model.wire_model == "paper":
-        delta = pert.wire
-    elif "wire_offset" in model.sources:
-        lam = lam_nominal * pert.wire
-        delta = lam.copy()
-        for _ in range(3):  # θ depends on the offset only weakly: a fixed point converges
-            u0 = _unit(q + delta * nrm - g_true)
-            theta = rad_to_deg(np.arccos(np.clip(_dot(u0, nrm), -1, 1)))
-            delta = wire_offset_mm(theta, lam)
-    else:
-        delta = np.zeros(pert.wire.shape)
-    u_true = _unit(q + delta * nrm - g_true)
+    u_true = hang(scenario, model, group, pert)
     u = _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
     p_est = np.broadcast_to(p, u.shape)
     if options.wire_correction and "wire_offset" in model.sources:

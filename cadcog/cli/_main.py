@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from cadcog import __version__
-from cadcog.cli import budget, estimate, parts, simulate
+from cadcog.cli import budget, campaign, estimate, parts, simulate, validate
 from cadcog.errors import CadcogError
 
 #: Exit status for bad input (same as argparse's usage errors).
@@ -31,6 +31,8 @@ def build_parser() -> argparse.ArgumentParser:
     estimate.add_parser(sub)
     budget.add_parser(sub)
     simulate.add_parser(sub)
+    campaign.add_parser(sub)
+    validate.add_parser(sub)
     return parser
 
 

@@ -1,0 +1,34 @@
+"""``cadcog campaign`` and ``cadcog validate`` in-process."""
+
+from __future__ import annotations
+
+import json
+
+from cadcog.cli import main
+from tests.rigtools import write_csv
+
+
+def test_campaign_then_validate(tmp_path, capsys):
+    csv = tmp_path / "campaign.csv"
+    assert main(["campaign", "--seed", "3", "--samples", "5", "--out", str(csv)]) == 0
+    assert "30 samples of 6 hangs" in capsys.readouterr().out
+    assert main(["validate", str(csv), "--trials-per-pair", "2000", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert [w["eps_mm"] for w in out["windows"]] == [0.5, 1.0, 1.5, 2.0, 3.0]
+    for w in out["windows"]:
+        assert set(w) >= {"eps_mm", "F", "k", "n", "p_hat", "ci_low", "ci_high", "consistent"}
+        assert w["n"] == 15 and w["ci_low"] <= w["p_hat"] <= w["ci_high"]
+    assert main(["validate", str(csv), "--trials-per-pair", "2000", "--windows", "1,2"]) == 0
+    assert "consistent" in capsys.readouterr().out
+
+
+def test_validate_needs_three_points(tmp_path, capsys):
+    csv = write_csv(tmp_path / "two.csv", ["S1,45,20,82,-50,-14,true", "S2,155,55,82,50,14,true"])
+    assert main(["validate", str(csv)]) == 2
+    assert "3 or more suspension points" in capsys.readouterr().err
+
+
+def test_campaign_rejects_bad_samples(tmp_path, capsys):
+    assert main(["campaign", "--samples", "0", "--out", str(tmp_path / "c.csv")]) == 2
+    assert "samples" in capsys.readouterr().err
+    assert not (tmp_path / "c.csv").exists()
