@@ -87,7 +87,7 @@ def test_two_lines_with_equal_weights_give_eq8(p1, p2, noise, s1, s2):
     wb = PlumbLine("B", b.point_mm, b.vertical, s2)
     x = joint_estimate([wa, wb]).cog_mm
     seg = pair.foot_b_mm - pair.foot_a_mm
-    if np.linalg.norm(seg) > 1e-9:
+    if np.linalg.norm(seg) > 1e-5:  # shorter segments leave t to round-off
         t = np.dot(x - pair.foot_a_mm, seg) / np.dot(seg, seg)
         np.testing.assert_allclose(x, pair.foot_a_mm + t * seg, atol=1e-7)
         assert t == pytest.approx(s1**2 / (s1**2 + s2**2), abs=1e-6)
