@@ -6,13 +6,14 @@ weighted joint estimate of the assembly CoG (METHOD.md §2) → ME compensation 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from cadcog import tolerances
+from cadcog.errormodel import STANDARD_GRAVITY_M_S2, elastica_length_mm, wire_offset_mm
 from cadcog.estimator import (
     POINT_SIGMA_MM,
     Compensation,
@@ -48,6 +49,54 @@ class MEData:
         return cls(
             rig.proof_mass.mass_kg, me.mass_kg, me.cog_mm, rig.me_cog_cov_mm2, f"rig {rig.source}"
         )
+
+
+def rig_point_sigma_mm(rig: Rig) -> float:
+    """Per-axis suspension-point uncertainty implied by the rig's error model (mm).
+
+    The play (uniform over ``play_mm``) and the spread of the wire offset (uniform over
+    ``wire_offset_max_mm`` for the paper's model, ±``wire_stiffness_rel_uncertainty`` of λ for
+    the elastica) added in quadrature: a deliberately isotropic, slightly conservative figure.
+    """
+    o = rig.error_options
+    if o.wire_model == "paper":
+        wire = o.wire_offset_max_mm
+    else:
+        weight = (rig.proof_mass.mass_kg + rig.analytic_me.mass_kg) * STANDARD_GRAVITY_M_S2
+        wire = elastica_length_mm(o.wire_bending_stiffness_n_mm2, weight) * (
+            o.wire_stiffness_rel_uncertainty
+        )
+    return float(np.hypot(o.play_mm, wire) / np.sqrt(12.0))
+
+
+def wire_corrections(rig: Rig, suspensions: Sequence[Suspension]) -> dict[str, FloatArray]:
+    """Expected offset of each virtual suspension point along its bolt axis (mm, vectors).
+
+    The paper's model: half of ``wire_offset_max_mm``. The elastica: ``Δ(θ) = λ/cos(θ/2)`` with
+    θ between the bolt axis (the outward normal of the face the point sits on) and the measured
+    vertical.
+    """
+    from cadcog.validation import face_normal_of
+
+    o = rig.error_options
+    v = verticals_from_readings(
+        [s.inc_x_deg for s in suspensions],
+        [s.inc_y_deg for s in suspensions],
+        [s.top_face_up for s in suspensions],
+        rig.inclinometer,
+    ).u
+    weight = (rig.proof_mass.mass_kg + rig.analytic_me.mass_kg) * STANDARD_GRAVITY_M_S2
+    lam = elastica_length_mm(o.wire_bending_stiffness_n_mm2, weight)
+    out = {}
+    for s, u in zip(suspensions, v, strict=True):
+        n = face_normal_of(s.position_mm, rig.proof_mass.size_mm)
+        if o.wire_model == "paper":
+            delta = 0.5 * o.wire_offset_max_mm
+        else:
+            theta_deg = float(np.rad2deg(np.arccos(np.clip(np.dot(u, n), -1.0, 1.0))))
+            delta = float(wire_offset_mm(theta_deg, lam))
+        out[s.id] = delta * n
+    return out
 
 
 @dataclass(frozen=True)
@@ -135,6 +184,7 @@ def estimate_cog(
     angle_sigma_deg: float | None = None,
     point_sigma_mm: float = POINT_SIGMA_MM,
     min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+    point_offsets_mm: Mapping[str, FloatArray] | None = None,
 ) -> CogEstimate:
     """Compensated CoG of an object from its averaged suspensions.
 
@@ -152,6 +202,8 @@ def estimate_cog(
         Per-axis suspension-point uncertainty.
     min_angle_deg : float
         Pairs of plumb lines closer to parallel are left out of the pair diagnostics.
+    point_offsets_mm : mapping of id → ndarray (3,), optional
+        Corrections added to the suspension points (see :func:`wire_corrections`).
 
     Raises
     ------
@@ -183,8 +235,9 @@ def estimate_cog(
                 f"suspension {s.id}: {', '.join(beyond)} beyond the inclinometer's "
                 f"±{cfg.range_deg:g}° range; the reading may be saturated"
             )
+    offsets = point_offsets_mm or {}
     lines = [
-        PlumbLine(s.id, np.array(s.position_mm), u, 1.0)
+        PlumbLine(s.id, np.array(s.position_mm) + offsets.get(s.id, 0.0), u, 1.0)
         for s, u in zip(suspensions, v.u, strict=True)
     ]
     joint = weighted_estimate(

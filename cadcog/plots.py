@@ -7,16 +7,15 @@ from pathlib import Path
 import numpy as np
 
 from cadcog.fits import NormFits
+from cadcog.rig import Rig
+from cadcog.validation import Validation
 
 
 def error_histogram(norms_mm: np.ndarray, fits: NormFits, path: Path, title: str) -> None:
     """Histogram of |e| with the fitted Rayleigh and Maxwell PDFs and the 95 % quantile."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from scipy import stats
 
+    plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.2), dpi=120)
     # Near-collinear pairs give a long tail: show the body, say how much lies beyond.
     top = min(float(np.quantile(norms_mm, 0.999)), 3.0 * fits.q95_mm)
@@ -61,6 +60,124 @@ def error_histogram(norms_mm: np.ndarray, fits: NormFits, path: Path, title: str
     ax.set_ylabel("density (1/mm)")
     ax.set_title(title)
     ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def _pyplot():  # type: ignore[no-untyped-def]
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _box_edges(lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    corners = np.array(
+        [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+    )
+    edges = []
+    for i in range(8):
+        for j in range(i + 1, 8):
+            if np.count_nonzero(corners[i] != corners[j]) == 1:
+                edges.append((corners[i], corners[j]))
+    return edges
+
+
+def rig_view(rig: Rig, cog_mm: np.ndarray, path: Path) -> None:
+    """3-D view of the proof mass, the ME boxes, the suspension points and their plumb lines."""
+    plt = _pyplot()
+    fig = plt.figure(figsize=(7.5, 5.2), dpi=120)
+    ax = fig.add_subplot(projection="3d")
+    size = np.asarray(rig.proof_mass.size_mm)
+    for a, b in _box_edges(np.zeros(3), size):
+        ax.plot(*zip(a, b, strict=True), color="#555", lw=1.2)
+    for k, v in enumerate(rig.me_volumes):
+        for a, b in _box_edges(v.min_mm, v.max_mm):
+            ax.plot(*zip(a, b, strict=True), color=f"C{k + 2}", lw=0.9)
+        ax.text(*v.max_mm, v.name, fontsize=6, color=f"C{k + 2}")
+    for p in rig.suspension_points:
+        w = rig.wire_exit_mm(p)
+        u = (w - cog_mm) / np.linalg.norm(w - cog_mm)
+        far = w - 1.6 * np.linalg.norm(w - cog_mm) * u
+        ax.plot(*zip(w + 25 * u, far, strict=True), color="C0", lw=0.8, alpha=0.8)
+        ax.scatter(*w, color="C3", s=14)
+        ax.text(*(w + 6 * p.normal), p.id, fontsize=8, color="C3")
+    ax.scatter(*cog_mm, color="k", s=40, marker="*", label="assembly CoG")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_zlabel("z (mm)")
+    ax.set_box_aspect((size[0], size[1], size[2] + 60))
+    ax.view_init(elev=22, azim=-58)
+    ax.legend(loc="upper left", fontsize=8)
+    ax.set_title("plumb lines from the suspension points meet at the CoG", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def validation_plot(simulated_mm: np.ndarray, validation: Validation, path: Path) -> None:
+    """Simulated CDF, measured empirical CDF, and p̂ with its interval at each window."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4), dpi=120)
+    sim = np.sort(simulated_mm)
+    top = max(3.0 * float(np.quantile(sim, 0.95)), float(validation.measured_norms_mm.max()) * 1.1)
+    ax.plot(sim, np.arange(1, sim.size + 1) / sim.size, color="C0", label="simulated F(ε)")
+    m = np.sort(validation.measured_norms_mm)
+    ax.step(
+        m,
+        np.arange(1, m.size + 1) / m.size,
+        where="post",
+        color="C1",
+        label=f"measured ({m.size} pairs)",
+    )
+    for w in validation.windows:
+        ax.errorbar(
+            w.eps_mm,
+            w.p_hat,
+            yerr=[[w.p_hat - w.ci_low], [w.ci_high - w.p_hat]],
+            fmt="o",
+            color="C3" if not w.consistent else "C2",
+            capsize=4,
+        )
+    ax.set_xlim(0, top)
+    ax.set_xlabel("error window ε (mm)")
+    ax.set_ylabel("P(|e| < ε)")
+    ax.set_title("p̂ = k/n with 95 % Clopper-Pearson intervals against F(ε)", fontsize=10)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def ellipse_plot(
+    cog_mm: np.ndarray, cov_mm2: np.ndarray, truth_mm: np.ndarray | None, path: Path
+) -> None:
+    """The estimate with its 1-σ and 95 % uncertainty ellipses in the three body planes."""
+    from scipy import stats
+
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(10, 3.4), dpi=120)
+    k95 = float(np.sqrt(stats.chi2.ppf(0.95, df=3)))  # 95 % of a 3-D normal: the ellipsoid
+    names = "xyz"
+    t = np.linspace(0, 2 * np.pi, 200)
+    for ax, (i, j) in zip(axes, [(0, 1), (0, 2), (1, 2)], strict=True):
+        sub = cov_mm2[np.ix_([i, j], [i, j])]
+        vals, vecs = np.linalg.eigh(sub)
+        circle = np.stack([np.cos(t), np.sin(t)])
+        for scale, style, label in ((1.0, "-", "1 σ"), (k95, "--", "95 % ellipsoid")):
+            pts = vecs @ (np.sqrt(np.maximum(vals, 0))[:, None] * circle) * scale
+            ax.plot(cog_mm[i] + pts[0], cog_mm[j] + pts[1], "C0" + style, label=label)
+        ax.plot(cog_mm[i], cog_mm[j], "C0+", ms=10, label="estimate")
+        if truth_mm is not None:
+            ax.plot(truth_mm[i], truth_mm[j], "k*", ms=9, label="CAD truth")
+        ax.set_xlabel(f"{names[i]} (mm)")
+        ax.set_ylabel(f"{names[j]} (mm)")
+        ax.set_aspect("equal", adjustable="datalim")
+    axes[0].legend(fontsize=7)
+    fig.suptitle("compensated CoG and its uncertainty (projections of the ellipsoid)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)

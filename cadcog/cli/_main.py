@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from cadcog import __version__
-from cadcog.cli import budget, campaign, estimate, parts, simulate, validate
+from cadcog.cli import budget, campaign, estimate, parts, report, simulate, validate
 from cadcog.errors import CadcogError
 
 #: Exit status for bad input (same as argparse's usage errors).
@@ -33,6 +33,7 @@ def build_parser() -> argparse.ArgumentParser:
     simulate.add_parser(sub)
     campaign.add_parser(sub)
     validate.add_parser(sub)
+    report.add_parser(sub)
     return parser
 
 

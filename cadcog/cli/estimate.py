@@ -15,8 +15,15 @@ from cadcog.errors import CadcogError
 from cadcog.estimator import POINT_SIGMA_MM
 from cadcog.fileio import round_floats
 from cadcog.inclinometer import InclinometerConfig
-from cadcog.measurement import CogEstimate, MEData, estimate_cog
+from cadcog.measurement import (
+    CogEstimate,
+    MEData,
+    estimate_cog,
+    rig_point_sigma_mm,
+    wire_corrections,
+)
 from cadcog.readings import read_readings
+from cadcog.rig import Rig
 from cadcog.rigfile import load_rig
 
 
@@ -61,8 +68,8 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--point-sigma-mm",
         type=float,
-        default=POINT_SIGMA_MM,
-        help=f"per-axis suspension point uncertainty (default {POINT_SIGMA_MM:.3f}, 1 mm cube)",
+        help=f"per-axis suspension point uncertainty (default {POINT_SIGMA_MM:.3f}, a 1 mm cube; "
+        "with --wire-correction, from the rig's play and wire model)",
     )
     p.add_argument(
         "--min-angle-deg",
@@ -71,19 +78,27 @@ def add_parser(sub: Any) -> None:
         help="pairs of plumb lines meeting at less than this are ill-conditioned "
         f"(default {tolerances.MIN_PAIR_ANGLE_DEG:g})",
     )
+    p.add_argument(
+        "--wire-correction",
+        action="store_true",
+        help="with --rig: move each point along its bolt axis by the wire offset the rig's error "
+        "model expects, and take the point uncertainty from that model",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
 
-def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfig]:
+def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfig, Rig | None]:
     direct = (args.object_mass_kg, args.me_mass_kg, args.me_cog_mm)
     if args.rig is not None:
         if any(v is not None for v in direct):
             raise CadcogError("give either --rig or --object-mass-kg/--me-mass-kg/--me-cog-mm")
         rig = load_rig(args.rig)
-        return MEData.from_rig(rig), rig.inclinometer
+        return MEData.from_rig(rig), rig.inclinometer, rig
+    if args.wire_correction:
+        raise CadcogError("--wire-correction needs --rig (the wire model lives in the rig file)")
     if all(v is None for v in direct):
-        return None, InclinometerConfig()
+        return None, InclinometerConfig(), None
     if any(v is None for v in direct):
         raise CadcogError("--object-mass-kg, --me-mass-kg and --me-cog-mm go together")
     if not args.object_mass_kg > 0 or not args.me_mass_kg >= 0:
@@ -97,23 +112,33 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
         args.me_cog_sigma_mm**2 * np.eye(3),
         "command line",
     )
-    return me, InclinometerConfig()
+    return me, InclinometerConfig(), None
 
 
 def run(args: argparse.Namespace) -> int:
-    me, config = _me_data(args)
+    me, config, rig = _me_data(args)
     for name in ("angle_sigma_deg", "point_sigma_mm", "min_angle_deg"):
         value = getattr(args, name)
         if value is not None and not value > 0:
             raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
     suspensions = read_readings(args.readings, config)
+    offsets = None
+    point_sigma = args.point_sigma_mm
+    if args.wire_correction and rig is not None:
+        try:
+            offsets = wire_corrections(rig, suspensions)
+        except ValueError as exc:
+            raise CadcogError(f"{args.readings}: {exc}") from None
+        if point_sigma is None:
+            point_sigma = rig_point_sigma_mm(rig)
     result = estimate_cog(
         suspensions,
         config,
         me,
         angle_sigma_deg=args.angle_sigma_deg,
-        point_sigma_mm=args.point_sigma_mm,
+        point_sigma_mm=POINT_SIGMA_MM if point_sigma is None else point_sigma,
         min_angle_deg=args.min_angle_deg,
+        point_offsets_mm=offsets,
     )
     if args.json:
         print(json.dumps(round_floats(result.to_dict()), indent=2))
