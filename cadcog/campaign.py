@@ -17,6 +17,7 @@ import numpy as np
 
 from cadcog.errormodel import ErrorModel
 from cadcog.fileio import staged_file
+from cadcog.inclinometer import InclinometerConfig
 from cadcog.montecarlo import Scenario, draw_perturbations, hang
 from cadcog.rig import Rig
 from cadcog.units import rad_to_deg
@@ -44,22 +45,39 @@ def virtual_campaign(
     model: ErrorModel | None = None,
 ) -> list[CampaignRow]:
     """Rows of a simulated campaign over the rig's suspension points (``samples`` per point)."""
+    return simulated_readings(
+        Scenario.from_rig(rig),
+        model or ErrorModel.from_rig(rig),
+        rig.inclinometer,
+        seed,
+        samples,
+        noise_deg,
+    )
+
+
+def simulated_readings(
+    scenario: Scenario,
+    model: ErrorModel,
+    inclinometer: InclinometerConfig,
+    seed: int,
+    samples: int = 10,
+    noise_deg: float = DEFAULT_NOISE_DEG,
+) -> list[CampaignRow]:
+    """One simulated hang per point of ``scenario``, ``samples`` raw ADC readings each."""
     if samples < 1:
         raise ValueError("samples must be at least 1")
     if noise_deg < 0:
         raise ValueError("noise_deg must be non-negative")
-    model = model or ErrorModel.from_rig(rig)
     rng = np.random.default_rng(seed)
-    scenario = Scenario.from_rig(rig)
     k = len(scenario.ids)
     pert = draw_perturbations(model.only("me_cog", "point_play", "wire_offset"), rng, 1, k)
     u = hang(scenario, model, range(k), pert)[:, 0, :]  # (3, k)
-    cfg = rig.inclinometer
-    sensor = cfg.sensor
-    a = cfg.accuracy_deg if "inclinometer" in model.sources else 0.0
+    sensor = inclinometer.sensor
+    a = inclinometer.accuracy_deg if "inclinometer" in model.sources else 0.0
     rows = []
     for j, pid in enumerate(scenario.ids):
-        true_deg = rad_to_deg(np.arcsin(np.clip(u[:2, j], -1, 1))) * (cfg.sign_x, cfg.sign_y)
+        signs = (inclinometer.sign_x, inclinometer.sign_y)
+        true_deg = rad_to_deg(np.arcsin(np.clip(u[:2, j], -1, 1))) * signs
         bias = rng.uniform(-a, a, 2)
         noisy = true_deg + bias + rng.normal(0.0, noise_deg, (samples, 2))
         counts = np.clip(np.floor(sensor.deg_to_counts(noisy) + 0.5), 0, sensor.max_counts)

@@ -79,6 +79,13 @@ class TableReader:
     def has(self, name: str) -> bool:
         return name in self._data
 
+    def keys(self) -> list[str]:
+        """Every key of this table, in file order."""
+        return list(self._data)
+
+    def is_string(self, name: str) -> bool:
+        return isinstance(self._data.get(name), str)
+
     def _get(self, name: str) -> Any:
         self._used.add(name)
         if name not in self._data:
@@ -141,6 +148,19 @@ class TableReader:
         if choices is not None and value not in choices:
             raise self.error(name, f"expected one of {', '.join(choices)}; got {value!r}")
         return value
+
+    def strings(self, name: str, *, choices: Sequence[str] | None = None) -> list[str]:
+        """A non-empty array of strings, each optionally one of ``choices``."""
+        value = self._get(name)
+        if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+            raise self.error(
+                name, f"expected a non-empty array of strings, got {_type_name(value)}"
+            )
+        if choices is not None:
+            bad = [v for v in value if v not in choices]
+            if bad:
+                raise self.error(name, f"expected values from {', '.join(choices)}; got {bad}")
+        return list(value)
 
     def integer(
         self,

@@ -12,7 +12,17 @@ import sys
 from collections.abc import Sequence
 
 from cadcog import __version__
-from cadcog.cli import budget, campaign, estimate, parts, report, simulate, validate
+from cadcog.cli import (
+    budget,
+    campaign,
+    estimate,
+    massprops,
+    parts,
+    plan,
+    report,
+    simulate,
+    validate,
+)
 from cadcog.errors import CadcogError
 
 #: Exit status for bad input (same as argparse's usage errors).
@@ -34,6 +44,8 @@ def build_parser() -> argparse.ArgumentParser:
     campaign.add_parser(sub)
     validate.add_parser(sub)
     report.add_parser(sub)
+    massprops.add_parser(sub)
+    plan.add_parser(sub)
     return parser
 
 

@@ -50,6 +50,12 @@ def add_parser(sub: Any) -> None:
         type=Path,
         help="rig file: object mass, ME mass and CoG (and its uncertainty), inclinometer set-up",
     )
+    p.add_argument(
+        "--setup",
+        type=Path,
+        help="spacecraft set-up file: masses and ME from its CAD, the CAD comparison and the "
+        "CubeSat envelope check",
+    )
     p.add_argument("--object-mass-kg", type=float, help="mass of the object without the ME")
     p.add_argument("--me-mass-kg", type=float, help="mass of the measurement equipment")
     p.add_argument("--me-cog-mm", type=_vector3, help="ME CoG in the body frame, X,Y,Z")
@@ -116,6 +122,8 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.setup is not None:
+        return run_setup(args)
     me, config, rig = _me_data(args)
     for name in ("angle_sigma_deg", "point_sigma_mm", "min_angle_deg"):
         value = getattr(args, name)
@@ -179,3 +187,61 @@ def print_estimate(result: CogEstimate) -> None:
             f"object CoG (ME removed):    {_fmt(c.cog_mm)} mm  ± {_fmt(sigma)} mm  "
             f"(object {c.object_mass_kg:g} kg, ME {c.me_mass_kg:g} kg at {_fmt(c.me_cog_mm, 0, 2)})"
         )
+
+
+def run_setup(args: argparse.Namespace) -> int:
+    """``--setup``: a spacecraft's compensated CoG compared with its CAD."""
+    if args.rig is not None or args.object_mass_kg is not None or args.me_mass_kg is not None:
+        raise CadcogError("--setup already gives the masses and the ME: drop --rig/--*-mass-kg")
+    from cadcog.spacecraft import compare_with_cad, load_setup
+
+    setup = load_setup(args.setup)
+    suspensions = read_readings(args.readings, setup.rig.inclinometer)
+    me = MEData(
+        setup.mass.mass_kg,
+        setup.me_mass_kg,
+        setup.me_cog_mm,
+        setup.me_cog_cov_mm2,
+        f"setup {args.setup}",
+    )
+    result = estimate_cog(
+        suspensions,
+        setup.rig.inclinometer,
+        me,
+        angle_sigma_deg=args.angle_sigma_deg,
+        point_sigma_mm=args.point_sigma_mm or rig_point_sigma_mm(setup.rig),
+        min_angle_deg=args.min_angle_deg,
+    )
+    comparison = compare_with_cad(setup, result.cog_mm, result.cov_mm2)
+    if args.json:
+        print(
+            json.dumps(
+                round_floats({**result.to_dict(), "cad": comparison}), indent=2, ensure_ascii=False
+            )
+        )
+    else:
+        print_estimate(result)
+        d, s = comparison["difference_mm"], comparison["difference_sigma"]
+        print(
+            "measured − CAD: ["
+            + ", ".join(f"{v:+.3f}" for v in d)
+            + "] mm = ["
+            + ", ".join(f"{v:+.1f}" for v in s)
+            + "] σ"
+        )
+        cs = comparison.get("cubesat")
+        if cs is not None:
+            verdict = ("within" if cs["within"] else "OUTSIDE") + " the envelope"
+            if cs["within"] and not cs["within_at_95"]:
+                verdict += ", but not with 95 % confidence"
+            print(
+                f"{cs['form_factor']} CoG offset from the geometric centre: ["
+                + ", ".join(f"{v:+.2f}" for v in cs["offset_mm"])
+                + "] mm, limits ±["
+                + ", ".join(f"{v:g}" for v in cs["limits_mm"])
+                + f"] mm: {verdict} "
+                f"({cs['source']})"
+            )
+    for w in result.warnings:
+        print(f"cadcog: warning: {w}", file=sys.stderr)
+    return 0

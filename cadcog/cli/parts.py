@@ -28,6 +28,20 @@ def add_parser(sub: Any) -> None:
         "--out", type=Path, default=Path("build"), help="output directory (default: build/)"
     )
     build.set_defaults(func=run_build)
+    cubesat = parts_sub.add_parser(
+        "cubesat",
+        help="build the example CubeSat: STEP with named parts and its materials file",
+    )
+    cubesat.add_argument(
+        "spec", nargs="?", type=Path, help="CubeSat spec (TOML); default parts/cubesat_3u.toml"
+    )
+    cubesat.add_argument(
+        "--out",
+        type=Path,
+        default=Path("build/cubesat"),
+        help="output directory (default build/cubesat)",
+    )
+    cubesat.set_defaults(func=run_cubesat)
 
 
 def _fmt(values: Any) -> str:
@@ -60,4 +74,26 @@ def run_build(args: argparse.Namespace) -> int:
     print_ground_truth(result.ground_truth)
     error = result.ground_truth["integration"]["estimated_relative_error"]
     print(f"wrote {len(result.files)} files to {result.out_dir}/ (integration error {error:.1g})")
+    return 0
+
+
+def run_cubesat(args: argparse.Namespace) -> int:
+    from importlib import resources
+
+    import build123d as bd
+
+    from cadcog.cad.cubesat import build_cubesat, load_cubesat, materials_toml
+    from cadcog.cad.export import _timestamp
+    from cadcog.fileio import staged_output_dir
+
+    spec_path = args.spec or Path(str(resources.files("cadcog._rigs").joinpath("cubesat_3u.toml")))
+    spec = load_cubesat(spec_path)
+    asm, materials = build_cubesat(spec)
+    with staged_output_dir(args.out) as stage:
+        bd.export_step(asm, stage / f"{spec.name}.step", timestamp=_timestamp())
+        (stage / f"{spec.name}_materials.toml").write_text(materials_toml(materials), "utf-8")
+    print(
+        f"wrote {args.out / (spec.name + '.step')} ({len(materials)} solids) and "
+        f"{args.out / (spec.name + '_materials.toml')}"
+    )
     return 0

@@ -1,0 +1,77 @@
+"""``cadcog plan``: which suspensions will work on a spacecraft, and which set to use."""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+from cadcog.errors import CadcogError
+from cadcog.fileio import round_floats
+
+
+def add_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "plan",
+        help="plan the suspension test of a spacecraft from its CAD",
+        description="For each candidate suspension point: is the inclinometer in range? For "
+        "each pair: conditioning and simulated 95 %% error. Then the set of suspensions with the "
+        "smallest predicted error. See docs/spacecraft.md.",
+    )
+    p.add_argument("setup", type=Path, help="set-up file (TOML)")
+    p.add_argument("--trials", type=int, default=2000, help="Monte Carlo trials per pair/set")
+    p.add_argument("--max-set", type=int, default=4, help="largest set of hangs to consider")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from cadcog.spacecraft import load_setup, plan_test
+
+    if args.trials < 2 or args.max_set < 2 or args.seed < 0:
+        raise CadcogError("--trials ≥ 2, --max-set ≥ 2, --seed ≥ 0")
+    setup = load_setup(args.setup)
+    plan = plan_test(setup, trials=args.trials, max_set=args.max_set, seed=args.seed)
+    if args.json:
+        out = {
+            "mass_kg": setup.mass.mass_kg,
+            "cad_cog_mm": setup.mass.cog_mm.tolist(),
+            "me_mass_kg": setup.me_mass_kg,
+            "me_share": setup.me_mass_kg / setup.mass.mass_kg,
+            **plan.to_dict(),
+        }
+        print(json.dumps(round_floats(out), indent=2, ensure_ascii=False))
+        return 0
+    m = setup.mass
+    print(
+        f"{setup.name}: {m.mass_kg:.4f} kg, CAD CoG {[round(c, 3) for c in m.cog_mm]} mm; "
+        f"ME {setup.me_mass_kg:.3f} kg (m_ME/m = {setup.me_mass_kg / m.mass_kg:.3f})"
+    )
+    bad = [c for c in plan.checks if not c.usable]
+    print(
+        f"{len(plan.checks) - len(bad)} of {len(plan.checks)} candidates keep the "
+        "inclinometer in range"
+    )
+    for c in bad:
+        print(f"  {c.id}: cannot work: {c.reason}")
+    print("\nbest pairs (eq. 8):")
+    for p in plan.pairs[:5]:
+        print(
+            f"  {p['a']} + {p['b']}: lines at {p['angle_deg']:.1f}°, 95 % error "
+            f"{p['q95_mm']:.3f} mm"
+        )
+    print("\nbest set of each size (joint estimate):")
+    for s in plan.best_sets:
+        print(
+            f"  {len(s['points'])} hangs: {', '.join(s['points'])}: 95 % error {s['q95_mm']:.3f} mm"
+        )
+    if plan.recommended is None:
+        print("\nno usable pair: add candidates or move the ME")
+        return 0
+    print(
+        f"\nrecommended: hang from {', '.join(plan.recommended['points'])} "
+        f"(predicted 95 % error {plan.recommended['q95_mm']:.3f} mm)"
+    )
+    return 0
