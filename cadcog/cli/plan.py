@@ -45,8 +45,9 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(round_floats(out), indent=2, ensure_ascii=False))
         return 0
     m = setup.mass
+    cog = ", ".join(f"{c:.3f}" for c in m.cog_mm)
     print(
-        f"{setup.name}: {m.mass_kg:.4f} kg, CAD CoG {[round(c, 3) for c in m.cog_mm]} mm; "
+        f"{setup.name}: {m.mass_kg:.4f} kg, CAD CoG [{cog}] mm; "
         f"ME {setup.me_mass_kg:.3f} kg (m_ME/m = {setup.me_mass_kg / m.mass_kg:.3f})"
     )
     bad = [c for c in plan.checks if not c.usable]

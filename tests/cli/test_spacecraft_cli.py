@@ -1,0 +1,99 @@
+"""The example spacecraft end to end: build, massprops, plan, campaign, estimate vs CAD."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from scipy import stats
+
+pytest.importorskip("build123d")
+
+from cadcog.cli import main
+from cadcog.rigfile import default_rig_path
+
+SETUP = default_rig_path().parent / "cubesat_3u_setup.toml"
+
+
+@pytest.fixture(scope="module")
+def setup():
+    from cadcog.spacecraft import load_setup
+
+    return load_setup(SETUP)
+
+
+def test_build_then_massprops_of_the_step(tmp_path, capsys, setup):
+    out = tmp_path / "cubesat"
+    assert main(["parts", "cubesat", "--out", str(out)]) == 0
+    capsys.readouterr()
+    step, mats = out / "cubesat_3u.step", out / "cubesat_3u_materials.toml"
+    assert main(["massprops", str(step), "--materials", str(mats), "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert set(res) >= {"mass_kg", "cog_mm", "inertia_kg_mm2", "volume_mm3", "solids"}
+    assert res["mass_kg"] == pytest.approx(setup.mass.mass_kg, rel=1e-9)
+    np.testing.assert_allclose(res["cog_mm"], setup.mass.cog_mm, atol=1e-8)
+    assert {s["name"] for s in res["solids"]} >= {"battery_pack", "rail_1", "payload_camera"}
+    battery = next(s for s in res["solids"] if s["name"] == "battery_pack")
+    assert battery["material"] == "Li-ion cell (18650)"
+    assert main(["massprops", str(step)]) == 2
+    assert "--materials" in capsys.readouterr().err
+
+
+def test_plan_campaign_estimate_recovers_the_cad_cog(tmp_path, capsys, setup):
+    assert main(["plan", str(SETUP), "--trials", "500", "--max-set", "3", "--json"]) == 0
+    plan = json.loads(capsys.readouterr().out)
+    assert all(c["usable"] for c in plan["candidates"])
+    rec = plan["recommended"]
+    assert len(rec["points"]) >= 2 and rec["q95_mm"] < 2.0
+    assert plan["me_share"] == pytest.approx(setup.me_mass_kg / setup.mass.mass_kg)
+    csv = tmp_path / "readings.csv"
+    assert (
+        main(
+            [
+                "campaign",
+                "--setup",
+                str(SETUP),
+                "--points",
+                ",".join(rec["points"]),
+                "--seed",
+                "5",
+                "--out",
+                str(csv),
+            ]
+        )
+        == 0
+    )
+    capsys.readouterr()
+    assert main(["estimate", str(csv), "--setup", str(SETUP), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    cad = out["cad"]
+    np.testing.assert_allclose(cad["cad_cog_mm"], setup.mass.cog_mm)
+    # Within the predicted uncertainty: a 99.9 % ellipsoid of the reported covariance.
+    assert cad["mahalanobis"] < np.sqrt(stats.chi2.ppf(0.999, df=3))
+    assert cad["cubesat"]["within"] and cad["cubesat"]["limits_mm"] == [20.0, 20.0, 70.0]
+
+
+def test_candidate_out_of_range_says_why(setup):
+    from cadcog.spacecraft import Candidate, plan_test
+
+    far = Candidate(
+        "edge", np.array([50.0, 0.0, setup.assembly_cog_mm[2] + 5.0]), np.array([1.0, 0.0, 0.0])
+    )
+    plan = plan_test(replace(setup, candidates=(far, *setup.candidates[:3])), trials=200)
+    check = plan.checks[0]
+    assert not check.usable and "X = " in check.reason and "beyond the ±60° range" in check.reason
+
+
+def test_cubesat_envelope_with_uncertainty(setup):
+    from cadcog.spacecraft import compare_with_cad
+
+    centre = setup.geometric_center_mm
+    cov = np.eye(3) * 1.0
+    inside = compare_with_cad(setup, centre + np.array([19.0, 0.0, 0.0]), cov)["cubesat"]
+    assert inside["within"] and not inside["within_at_95"]  # 19 mm + 1.96 σ > 20 mm
+    outside = compare_with_cad(setup, centre + np.array([0.0, 21.0, 0.0]), cov)["cubesat"]
+    assert not outside["within"]
+    clear = compare_with_cad(setup, centre + np.array([0.0, 0.0, 60.0]), cov)["cubesat"]
+    assert clear["within"] and clear["within_at_95"]
