@@ -21,6 +21,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy import stats
 
+from cadcog.inclinometer import InclinometerConfig, SensorModel
 from cadcog.units import deg_to_rad
 
 if TYPE_CHECKING:
@@ -187,16 +188,17 @@ class ErrorModel:
 
     me_masses_kg: tuple[float, ...]
     me_edges_mm: tuple[float, ...]
-    accuracy_deg: float = 0.1
-    lsb_deg: float = 5.0 / 1024 * 30.0
-    samples: int = 10
-    inclinometer_model: InclinometerModel = "paper"
-    dither_noise_deg: float = 0.0
-    play_mm: float = 1.0
-    wire_model: WireModel = "paper"
-    wire_offset_max_mm: float = 1.0
-    wire_bending_stiffness_n_mm2: float = 30.0
-    wire_stiffness_rel_uncertainty: float = 0.5
+    accuracy_deg: float = InclinometerConfig.accuracy_deg
+    lsb_deg: float = SensorModel().lsb_deg
+    # The rest default to the rig file's [error_model] defaults.
+    samples: int = ErrorOptions.samples
+    inclinometer_model: InclinometerModel = ErrorOptions.inclinometer_model
+    dither_noise_deg: float = ErrorOptions.dither_noise_deg
+    play_mm: float = ErrorOptions.play_mm
+    wire_model: WireModel = ErrorOptions.wire_model
+    wire_offset_max_mm: float = ErrorOptions.wire_offset_max_mm
+    wire_bending_stiffness_n_mm2: float = ErrorOptions.wire_bending_stiffness_n_mm2
+    wire_stiffness_rel_uncertainty: float = ErrorOptions.wire_stiffness_rel_uncertainty
     sources: tuple[str, ...] = SOURCES
 
     @classmethod

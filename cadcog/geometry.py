@@ -59,6 +59,33 @@ def face_plane_mm(face: str, size_mm: npt.ArrayLike) -> float:
     return float(np.asarray(size_mm, dtype=float)[axis]) if sign > 0 else 0.0
 
 
+def face_normal_of_point(
+    point_mm: npt.ArrayLike, lo_mm: npt.ArrayLike, hi_mm: npt.ArrayLike
+) -> FloatArray:
+    """Outward normal of the face of the box ``[lo, hi]`` a point sits on or above.
+
+    The face is the one the point lies furthest outside of.
+
+    Raises
+    ------
+    ValueError
+        If the point is inside the box.
+
+    Examples
+    --------
+    >>> face_normal_of_point([45, 20, 82], [0, 0, 0], [200, 75, 78]).tolist()
+    [0.0, 0.0, 1.0]
+    """
+    p = np.asarray(point_mm, dtype=float)
+    outside = np.concatenate([p - np.asarray(hi_mm, float), np.asarray(lo_mm, float) - p])
+    i = int(np.argmax(outside))
+    if outside[i] < -1e-9:
+        raise ValueError(f"point {p.tolist()} lies inside the body, not on a face")
+    n = np.zeros(3)
+    n[i % 3] = 1.0 if i < 3 else -1.0
+    return n
+
+
 @dataclass(frozen=True)
 class IdealReading:
     """What a perfect inclinometer reads when the body hangs from a point.

@@ -22,7 +22,7 @@ from cadcog.estimator import (
     compensate_me,
     weighted_estimate,
 )
-from cadcog.geometry import FloatArray
+from cadcog.geometry import FloatArray, face_normal_of_point
 from cadcog.inclinometer import InclinometerConfig, verticals_from_readings
 from cadcog.readings import Suspension
 from cadcog.rig import Rig
@@ -76,8 +76,6 @@ def wire_corrections(rig: Rig, suspensions: Sequence[Suspension]) -> dict[str, F
     θ between the bolt axis (the outward normal of the face the point sits on) and the measured
     vertical.
     """
-    from cadcog.validation import face_normal_of
-
     o = rig.error_options
     v = verticals_from_readings(
         [s.inc_x_deg for s in suspensions],
@@ -89,7 +87,7 @@ def wire_corrections(rig: Rig, suspensions: Sequence[Suspension]) -> dict[str, F
     lam = elastica_length_mm(o.wire_bending_stiffness_n_mm2, weight)
     out = {}
     for s, u in zip(suspensions, v, strict=True):
-        n = face_normal_of(s.position_mm, rig.proof_mass.size_mm)
+        n = face_normal_of_point(s.position_mm, np.zeros(3), rig.proof_mass.size_mm)
         if o.wire_model == "paper":
             delta = 0.5 * o.wire_offset_max_mm
         else:

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from cadcog.errormodel import ErrorOptions
+from cadcog.errormodel import ErrorOptions, me_cog_sigma_mm
 from cadcog.geometry import FloatArray, IdealReading, face_normal, ideal_reading
 from cadcog.inclinometer import InclinometerConfig
 from cadcog.massprops import MassProperties, box_properties, combine, cylinder_properties
@@ -94,6 +94,18 @@ class MEVolume:
         return np.asarray(self.center_mm) + 0.5 * np.asarray(self.size_mm)
 
 
+def me_cog_cov_mm2(volumes: tuple[MEVolume, ...]) -> FloatArray:
+    """Covariance of the ME CoG from the sub-volumes' uniform uncertainty cubes (mm²).
+
+    ``e_ME = Σ (m_k/m_ME) U_k`` with ``U_k`` uniform in a cube of edge ``a_k``: independent
+    axes, each of variance ``Σ (m_k/m_ME)² a_k²/12``.
+    """
+    sigma = me_cog_sigma_mm(
+        [v.mass_kg for v in volumes], [v.cog_uncertainty_cube_mm for v in volumes]
+    )
+    return np.asarray(sigma**2 * np.eye(3))
+
+
 @dataclass(frozen=True)
 class Rig:
     """A validated rig. Build one with :func:`cadcog.rigfile.load_rig`."""
@@ -166,15 +178,8 @@ class Rig:
 
     @property
     def me_cog_cov_mm2(self) -> FloatArray:
-        """Covariance of the ME CoG from the sub-volumes' uniform uncertainty cubes (mm²).
-
-        ``e_ME = Σ (m_k/m_ME) U_k`` with ``U_k`` uniform in a cube of edge ``a_k``: independent
-        axes, each of variance ``Σ (m_k/m_ME)² a_k²/12``.
-        """
-        m = np.array([v.mass_kg for v in self.me_volumes])
-        a = np.array([v.cog_uncertainty_cube_mm for v in self.me_volumes])
-        var = float(np.sum((m / m.sum()) ** 2 * a**2 / 12.0))
-        return var * np.eye(3)
+        """Covariance of the ME CoG (mm²), see :func:`me_cog_cov_mm2`."""
+        return me_cog_cov_mm2(self.me_volumes)
 
     @cached_property
     def analytic_assembly(self) -> MassProperties:

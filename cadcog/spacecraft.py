@@ -22,11 +22,17 @@ import numpy.typing as npt
 from cadcog import tolerances
 from cadcog.errormodel import ErrorModel
 from cadcog.errors import CadcogError
-from cadcog.geometry import FACES, angle_between_lines_deg, face_normal, ideal_reading
+from cadcog.geometry import (
+    FACES,
+    angle_between_lines_deg,
+    face_normal,
+    face_normal_of_point,
+    ideal_reading,
+)
 from cadcog.massprops import MassProperties
 from cadcog.montecarlo import Scenario, simulate
 from cadcog.paramfile import TableReader, read_toml
-from cadcog.rig import MEVolume, Rig
+from cadcog.rig import MEVolume, Rig, me_cog_cov_mm2
 from cadcog.rigfile import default_rig_path, load_rig
 
 FloatArray = npt.NDArray[np.float64]
@@ -83,9 +89,7 @@ class Setup:
 
     @property
     def me_cog_cov_mm2(self) -> FloatArray:
-        m = np.array([v.mass_kg for v in self.me_volumes])
-        a = np.array([v.cog_uncertainty_cube_mm for v in self.me_volumes])
-        return float(np.sum((m / m.sum()) ** 2 * a**2 / 12.0)) * np.eye(3)
+        return me_cog_cov_mm2(self.me_volumes)
 
     @property
     def assembly_cog_mm(self) -> FloatArray:
@@ -146,7 +150,7 @@ def _model_mass(t: TableReader, base: Path) -> tuple[Any, tuple[Any, ...]]:
 
 def load_setup(path: str | Path) -> Setup:
     """Read a set-up file, compute the model's mass properties and the candidates."""
-    from cadcog.cad.stepmass import _bbox
+    from cadcog.cad.stepmass import bounding_box_mm
 
     p = Path(path)
     base = p.parent
@@ -161,7 +165,7 @@ def load_setup(path: str | Path) -> Setup:
         limits = np.array(root.vector("cog_limits_mm", positive=True))
     elif form is not None:
         limits = np.array(CDS_COG_LIMITS_MM[form])
-    boxes = [_bbox(e.shape) for e in entries]
+    boxes = [bounding_box_mm(e.shape) for e in entries]
     lo = np.min([b[0] for b in boxes], axis=0)
     hi = np.max([b[1] for b in boxes], axis=0)
 
@@ -186,7 +190,7 @@ def load_setup(path: str | Path) -> Setup:
     if cand_t.has("points"):
         for t in cand_t.tables("points"):
             pos = np.array(t.vector("position_mm"))
-            cands.append(Candidate(t.string("id"), pos, _face_normal_of_box(pos, lo, hi)))
+            cands.append(Candidate(t.string("id"), pos, face_normal_of_point(pos, lo, hi)))
             t.finish()
     cand_t.finish()
     root.finish()
@@ -229,14 +233,6 @@ def _grid(
             pos[others[0]], pos[others[1]] = a, b
             out.append(Candidate(f"{face}_{a:g}_{b:g}", pos, face_normal(face)))
     return out
-
-
-def _face_normal_of_box(p: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
-    d = np.concatenate([p - hi, lo - p])
-    i = int(np.argmax(d))
-    n = np.zeros(3)
-    n[i % 3] = 1.0 if i < 3 else -1.0
-    return n
 
 
 # --- planning -------------------------------------------------------------------------------------

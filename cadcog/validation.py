@@ -25,6 +25,7 @@ from scipy import stats
 from cadcog.errormodel import ErrorModel
 from cadcog.errors import IllConditionedError
 from cadcog.estimator import PlumbLine, compensate_me, pair_estimate
+from cadcog.geometry import face_normal_of_point
 from cadcog.inclinometer import InclinometerConfig, verticals_from_readings
 from cadcog.montecarlo import Scenario, simulate
 from cadcog.readings import Suspension
@@ -190,22 +191,6 @@ def pair_errors(
     return labels, np.array(norms)
 
 
-def face_normal_of(point_mm: npt.ArrayLike, size_mm: npt.ArrayLike) -> FloatArray:
-    """Outward normal of the proof-mass face a suspension point sits on (or above).
-
-    The face is the one the point lies furthest outside of; a point inside the box is an error.
-    """
-    p = np.asarray(point_mm, dtype=float)
-    size = np.asarray(size_mm, dtype=float)
-    outside = np.concatenate([p - size, -p])  # distances beyond the +x,+y,+z and -x,-y,-z faces
-    i = int(np.argmax(outside))
-    if outside[i] < -1e-9:
-        raise ValueError(f"suspension point {p.tolist()} lies inside the proof mass")
-    n = np.zeros(3)
-    n[i % 3] = 1.0 if i < 3 else -1.0
-    return n
-
-
 @dataclass(frozen=True)
 class CampaignValidation:
     """A campaign checked against the Monte Carlo of the same rig and suspension points."""
@@ -256,7 +241,9 @@ def validate_campaign(
         raise ValueError("no pair of suspensions has intersecting plumb lines")
     ids = [s.id for s in suspensions]
     points = np.array([s.position_mm for s in suspensions])
-    normals = np.array([face_normal_of(p, rig.proof_mass.size_mm) for p in points])
+    normals = np.array(
+        [face_normal_of_point(p, np.zeros(3), rig.proof_mass.size_mm) for p in points]
+    )
     scenario = Scenario.from_rig(rig).with_points(ids, points, normals)
     index = {pid: i for i, pid in enumerate(ids)}
     groups = [(index[a], index[b]) for a, b in labels]

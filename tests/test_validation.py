@@ -9,12 +9,12 @@ from scipy import stats
 
 from cadcog.campaign import virtual_campaign, write_campaign
 from cadcog.errormodel import ErrorModel
+from cadcog.geometry import face_normal_of_point
 from cadcog.montecarlo import Scenario, all_pairs, simulate
 from cadcog.readings import read_readings
 from cadcog.validation import (
     check_against_simulation,
     clopper_pearson,
-    face_normal_of,
     validate_campaign,
 )
 
@@ -78,7 +78,8 @@ def test_virtual_campaign_round_trips_through_estimator_and_validation(paper_rig
 
 def test_face_normal_of_points_on_and_above_faces():
     size = [200.0, 75.0, 78.0]
-    assert face_normal_of([45, 20, 82], size).tolist() == [0, 0, 1]
-    assert face_normal_of([55, -4, 60], size).tolist() == [0, -1, 0]
-    with pytest.raises(ValueError, match="inside the proof mass"):
-        face_normal_of([50, 30, 30], size)
+    assert face_normal_of_point([45, 20, 82], [0, 0, 0], size).tolist() == [0, 0, 1]
+    assert face_normal_of_point([55, -4, 60], [0, 0, 0], size).tolist() == [0, -1, 0]
+    assert face_normal_of_point([55, 0, 60], [0, 0, 0], size).tolist() == [0, -1, 0]  # on it
+    with pytest.raises(ValueError, match="inside the body"):
+        face_normal_of_point([50, 30, 30], [0, 0, 0], size)

@@ -165,7 +165,8 @@ def _common_volume(a: Any, b: Any) -> float:
     return float(props.Mass())
 
 
-def _bbox(shape: Any) -> tuple[np.ndarray, np.ndarray]:
+def bounding_box_mm(shape: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Axis-aligned bounding box (min, max corners) of a shape, in model units."""
     b = bd.Solid(shape).bounding_box()
     return np.array([b.min.X, b.min.Y, b.min.Z]), np.array([b.max.X, b.max.Y, b.max.Z])
 
@@ -222,7 +223,7 @@ def model_mass_properties(
             f"zero or negative volume: {', '.join(empty)} "
             "(degenerate or inside-out solids); --exclude them or fix the model"
         )
-    boxes = {e.name: _bbox(e.shape) for e in kept}
+    boxes = {e.name: bounding_box_mm(e.shape) for e in kept}
     lo = np.min([b[0] for b in boxes.values()], axis=0) * scale
     hi = np.max([b[1] for b in boxes.values()], axis=0) * scale
     extent = float(np.max(hi - lo))
