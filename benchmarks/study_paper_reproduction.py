@@ -11,11 +11,12 @@ from dataclasses import replace
 import numpy as np
 
 from cadcog.errormodel import ErrorModel
+from cadcog.rig import Rig
 from cadcog.rigfile import default_rig_path, load_rig
 from cadcog.simulation import SimulationSettings, run_simulation
 
 
-def q95(rig, settings, model) -> tuple[float, float]:  # type: ignore[no-untyped-def]
+def q95(rig: Rig, settings: SimulationSettings, model: ErrorModel) -> tuple[float, float]:
     r = run_simulation(rig, settings, model, workers=2)
     return r.fits.q95_mm, r.fits.q50_mm
 

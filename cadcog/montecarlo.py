@@ -13,11 +13,12 @@ identical whatever the chunk size (blocks per vectorised batch) or the number of
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from functools import cached_property
 from itertools import combinations
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -415,7 +416,15 @@ def simulate(
     return result
 
 
-def _collect(result, scenario, jobs, outputs, trials, progress) -> None:  # type: ignore[no-untyped-def]
+def _collect(
+    result: SimulationResult,
+    scenario: Scenario,
+    jobs: Sequence[tuple[Any, ...]],
+    outputs: Iterable[tuple[FloatArray, FloatArray, FloatArray, float]],
+    trials: int,
+    progress: Callable[[int], None] | None,
+) -> None:
+    """Gather the workers' outputs, in group order, into ``result``."""
     for j, (norms, s1, s2, q95) in enumerate(outputs):
         result.norms_mm[j * trials : (j + 1) * trials] = norms
         result.axis_sum_mm += s1

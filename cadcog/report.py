@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import base64
 import html
-import json
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -352,17 +351,3 @@ with its uncertainty propagated (eq. 16).</p>
 estimate.json, parts/ground_truth.json beside this page.</p>
 </body></html>
 """
-
-
-def summary(result: ReportResult) -> dict[str, Any]:
-    """A few headline numbers (for the CLI)."""
-    return json.loads(
-        json.dumps(
-            {
-                "report": str(result.report),
-                "q95_mm": result.simulation.fits.q95_mm,
-                "cog_mm": result.estimate.cog_mm.tolist(),
-                "consistent": result.validation.validation.consistent,
-            }
-        )
-    )

@@ -5,9 +5,11 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from cadcog.errormodel import ErrorModel
 from cadcog.errors import CadcogError
 from cadcog.fileio import round_floats, staged_file
 from cadcog.rigfile import default_rig_path, load_rig
@@ -68,10 +70,6 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from dataclasses import replace
-
-    from cadcog.errormodel import ErrorModel
-
     rig = load_rig(args.rig or default_rig_path())
     if args.trials < 2 or args.points < 0 or args.workers < 1 or args.seed < 0:
         raise CadcogError("--trials-per-pair ≥ 2, --points ≥ 0, --workers ≥ 1, --seed ≥ 0")

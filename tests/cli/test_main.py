@@ -18,7 +18,19 @@ def test_version(capsys):
 def test_help_lists_the_subcommands(capsys):
     with pytest.raises(SystemExit):
         main(["--help"])
-    assert "parts" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    for command in (
+        "parts",
+        "estimate",
+        "budget",
+        "simulate",
+        "campaign",
+        "validate",
+        "report",
+        "massprops",
+        "plan",
+    ):
+        assert f"    {command}" in out, command
 
 
 def test_no_command_is_a_usage_error(capsys):
