@@ -2,12 +2,21 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 from cadcog.rig import Rig
 from cadcog.rigfile import default_rig_path, load_rig
+
+# CI runs the same examples every time (a red CI is then a real regression, not a lucky draw);
+# local runs explore new examples. No deadline: this 2-core machine is shared and its timing
+# noisy.
+settings.register_profile("ci", derandomize=True, deadline=None)
+settings.register_profile("dev", deadline=None)
+settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 GOLDEN_DIR = Path(__file__).parent / "golden"
 
