@@ -224,8 +224,9 @@ def validate_campaign(
 ) -> CampaignValidation:
     """Measured pair errors of a campaign on ``rig`` against its simulated distribution.
 
-    The true CoG is the rig's proof-mass CoG (CAD, holes included); the simulation uses the
-    rig's error model and the campaign's own suspension points (their faces inferred from their
+    The true CoG is the rig's proof-mass CoG with its holes, from the closed forms of the CAD
+    model (equal to the B-rep ground truth to 1e-9, ``tests/cad``); the simulation uses the rig's
+    error model and the campaign's own suspension points (their faces inferred from their
     positions).
     """
     me = rig.analytic_me

@@ -58,4 +58,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except CadcogError as exc:
         print(f"cadcog: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except BrokenPipeError:  # output piped into `head` and the like: stop quietly
+        sys.stderr.close()
+        return 0
+    except OSError as exc:  # an output path that cannot be written, a full disk, ...
+        print(f"cadcog: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     return status

@@ -61,6 +61,9 @@ def add_parser(sub: Any) -> None:
         choices=("paper", "conservative"),
         help="inclinometer error model (overrides the rig)",
     )
+    p.add_argument(
+        "--wire-model", choices=("paper", "elastica"), help="wire offset model (overrides the rig)"
+    )
     p.add_argument("--workers", type=int, default=1, help="processes (default 1)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument(
@@ -80,6 +83,8 @@ def run(args: argparse.Namespace) -> int:
         model = replace(model, samples=args.samples)
     if args.inclinometer_model is not None:
         model = replace(model, inclinometer_model=args.inclinometer_model)
+    if args.wire_model is not None:
+        model = replace(model, wire_model=args.wire_model)
     settings = SimulationSettings(
         args.points,
         args.trials,

@@ -37,3 +37,11 @@ def test_no_command_is_a_usage_error(capsys):
     with pytest.raises(SystemExit) as info:
         main([])
     assert info.value.code == 2
+
+
+def test_unwritable_output_is_an_error_not_a_traceback(tmp_path, capsys):
+    target = tmp_path / "a_directory"
+    target.mkdir()
+    assert main(["campaign", "--out", str(target)]) == 2
+    assert "cadcog: error:" in capsys.readouterr().err
+    assert list(target.iterdir()) == []
