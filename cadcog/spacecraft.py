@@ -117,11 +117,11 @@ class Setup:
         )
 
 
-def _model_mass(t: TableReader, base: Path) -> tuple[Any, tuple[Any, ...]]:
-    """Mass properties and solids of the set-up's model (CAD is imported here)."""
+def _model_mass(t: TableReader, base: Path) -> tuple[Any, tuple[Any, ...], float]:
+    """Mass properties, solids and mm per model unit of the set-up's model (imports CAD)."""
     import build123d as bd
 
-    from cadcog.cad.stepmass import model_mass_properties, read_step_solids
+    from cadcog.cad.stepmass import UNIT_SCALE_MM, model_mass_properties, read_step_solids
     from cadcog.materials import MaterialMap, load_materials
 
     total = t.number("total_mass_kg", positive=True) if t.has("total_mass_kg") else None
@@ -145,7 +145,7 @@ def _model_mass(t: TableReader, base: Path) -> tuple[Any, tuple[Any, ...]]:
         raise t.error("model", "missing: give model (a cadcog CubeSat spec) or model_step")
     units = t.string("units", choices=("mm", "m", "in")) if t.has("units") else None
     result = model_mass_properties(entries, materials, total_mass_kg=total, units=units)
-    return result, tuple(entries)
+    return result, tuple(entries), UNIT_SCALE_MM[units or "mm"]
 
 
 def load_setup(path: str | Path) -> Setup:
@@ -156,7 +156,7 @@ def load_setup(path: str | Path) -> Setup:
     base = p.parent
     root = TableReader(read_toml(p), p)
     name = root.string("name")
-    massprops, entries = _model_mass(root, base)
+    massprops, entries, scale = _model_mass(root, base)
     form = None
     if root.has("form_factor"):
         form = root.string("form_factor", choices=list(CDS_COG_LIMITS_MM))
@@ -166,8 +166,8 @@ def load_setup(path: str | Path) -> Setup:
     elif form is not None:
         limits = np.array(CDS_COG_LIMITS_MM[form])
     boxes = [bounding_box_mm(e.shape) for e in entries]
-    lo = np.min([b[0] for b in boxes], axis=0)
-    hi = np.max([b[1] for b in boxes], axis=0)
+    lo = np.min([b[0] for b in boxes], axis=0) * scale
+    hi = np.max([b[1] for b in boxes], axis=0) * scale
 
     me_t = root.table("measurement_equipment")
     rig = load_rig(base / me_t.string("rig")) if me_t.has("rig") else load_rig(default_rig_path())
@@ -190,7 +190,15 @@ def load_setup(path: str | Path) -> Setup:
     if cand_t.has("points"):
         for t in cand_t.tables("points"):
             pos = np.array(t.vector("position_mm"))
-            cands.append(Candidate(t.string("id"), pos, face_normal_of_point(pos, lo, hi)))
+            try:
+                normal = face_normal_of_point(pos, lo, hi)
+            except ValueError:
+                raise t.error(
+                    "position_mm",
+                    f"{pos.tolist()} is inside the model's bounding box: a "
+                    "suspension point must be on its surface",
+                ) from None
+            cands.append(Candidate(t.string("id"), pos, normal))
             t.finish()
     cand_t.finish()
     root.finish()

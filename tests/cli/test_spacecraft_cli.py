@@ -97,3 +97,19 @@ def test_cubesat_envelope_with_uncertainty(setup):
     assert not outside["within"]
     clear = compare_with_cad(setup, centre + np.array([0.0, 0.0, 60.0]), cov)["cubesat"]
     assert clear["within"] and clear["within_at_95"]
+
+
+def test_setup_point_inside_the_model_names_the_key(tmp_path, capsys):
+    text = SETUP.read_text(encoding="utf-8").replace(
+        "position_mm = [30.0, 30.0, -170.25]", "position_mm = [0.0, 0.0, 0.0]"
+    )
+    bad = tmp_path / "setup.toml"
+    bad.write_text(
+        text.replace(
+            'model = "cubesat_3u.toml"', f'model = "{SETUP.parent / "cubesat_3u.toml"}"'
+        ).replace('rig = "paper_rig.toml"', f'rig = "{SETUP.parent / "paper_rig.toml"}"'),
+        encoding="utf-8",
+    )
+    assert main(["plan", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "candidates.points[0].position_mm" in err and "inside the model" in err
