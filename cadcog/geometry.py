@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.inclinometer import readings_from_verticals
 from cadcog.units import rad_to_deg
 
 FloatArray = npt.NDArray[np.float64]
@@ -107,7 +108,22 @@ class IdealReading:
 
     def in_range(self, range_deg: float) -> bool:
         """True if both axes read within ``±range_deg``."""
-        return abs(self.inc_x_deg) <= range_deg and abs(self.inc_y_deg) <= range_deg
+        return not axes_beyond_range(self.inc_x_deg, self.inc_y_deg, range_deg)
+
+
+def axes_beyond_range(inc_x_deg: float, inc_y_deg: float, range_deg: float) -> list[str]:
+    """The axes reading beyond ``±range_deg``, as ``"X = 62.00°"`` strings (empty: in range).
+
+    Examples
+    --------
+    >>> axes_beyond_range(62.0, -10.0, 60.0)
+    ['X = 62.00°']
+    """
+    return [
+        f"{axis} = {value:.2f}°"
+        for axis, value in (("X", inc_x_deg), ("Y", inc_y_deg))
+        if abs(value) > range_deg
+    ]
 
 
 def upward_vertical(suspension_mm: npt.ArrayLike, cog_mm: npt.ArrayLike) -> FloatArray:
@@ -143,8 +159,8 @@ def ideal_reading(suspension_mm: npt.ArrayLike, cog_mm: npt.ArrayLike) -> IdealR
     (45.0, 0.0, True)
     """
     u = upward_vertical(suspension_mm, cog_mm)
-    x_deg, y_deg = rad_to_deg(np.arcsin(np.clip(u[:2], -1.0, 1.0)))
-    return IdealReading(float(x_deg), float(y_deg), bool(u[2] > 0.0), u)
+    x_deg, y_deg, up = readings_from_verticals(u)  # the project convention: no sign flips
+    return IdealReading(float(x_deg[0]), float(y_deg[0]), bool(up[0]), u)
 
 
 def angle_between_lines_deg(u1: npt.ArrayLike, u2: npt.ArrayLike) -> float:

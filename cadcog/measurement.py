@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from cadcog import tolerances
-from cadcog.errormodel import STANDARD_GRAVITY_M_S2, elastica_length_mm, wire_offset_mm
+from cadcog.errormodel import elastica_length_mm, wire_offset_mm
 from cadcog.estimator import (
     POINT_SIGMA_MM,
     Compensation,
@@ -22,9 +22,9 @@ from cadcog.estimator import (
     compensate_me,
     weighted_estimate,
 )
-from cadcog.geometry import FloatArray, face_normal_of_point
-from cadcog.inclinometer import InclinometerConfig, verticals_from_readings
-from cadcog.readings import Suspension
+from cadcog.geometry import FloatArray, axes_beyond_range, face_normal_of_point
+from cadcog.inclinometer import InclinometerConfig
+from cadcog.readings import Suspension, suspension_verticals
 from cadcog.rig import Rig
 
 
@@ -62,8 +62,7 @@ def rig_point_sigma_mm(rig: Rig) -> float:
     if o.wire_model == "paper":
         wire = o.wire_offset_max_mm
     else:
-        weight = (rig.proof_mass.mass_kg + rig.analytic_me.mass_kg) * STANDARD_GRAVITY_M_S2
-        wire = elastica_length_mm(o.wire_bending_stiffness_n_mm2, weight) * (
+        wire = elastica_length_mm(o.wire_bending_stiffness_n_mm2, rig.weight_n) * (
             o.wire_stiffness_rel_uncertainty
         )
     return float(np.hypot(o.play_mm, wire) / np.sqrt(12.0))
@@ -77,14 +76,8 @@ def wire_corrections(rig: Rig, suspensions: Sequence[Suspension]) -> dict[str, F
     vertical.
     """
     o = rig.error_options
-    v = verticals_from_readings(
-        [s.inc_x_deg for s in suspensions],
-        [s.inc_y_deg for s in suspensions],
-        [s.top_face_up for s in suspensions],
-        rig.inclinometer,
-    ).u
-    weight = (rig.proof_mass.mass_kg + rig.analytic_me.mass_kg) * STANDARD_GRAVITY_M_S2
-    lam = elastica_length_mm(o.wire_bending_stiffness_n_mm2, weight)
+    v = suspension_verticals(suspensions, rig.inclinometer).u
+    lam = elastica_length_mm(o.wire_bending_stiffness_n_mm2, rig.weight_n)
     out = {}
     for s, u in zip(suspensions, v, strict=True):
         n = face_normal_of_point(s.position_mm, np.zeros(3), rig.proof_mass.size_mm)
@@ -210,12 +203,7 @@ def estimate_cog(
     """
     cfg = config or InclinometerConfig()
     sigma_deg = cfg.angle_sigma_deg if angle_sigma_deg is None else angle_sigma_deg
-    v = verticals_from_readings(
-        [s.inc_x_deg for s in suspensions],
-        [s.inc_y_deg for s in suspensions],
-        [s.top_face_up for s in suspensions],
-        cfg,
-    )
+    v = suspension_verticals(suspensions, cfg)
     warnings = []
     for s, normalized in zip(suspensions, v.normalized, strict=True):
         if normalized:
@@ -223,11 +211,7 @@ def estimate_cog(
                 f"suspension {s.id}: sin²X + sin²Y > 1 (X = {s.inc_x_deg:.3f}°, "
                 f"Y = {s.inc_y_deg:.3f}°); the sines were normalised, the vertical is horizontal"
             )
-        beyond = [
-            f"{axis} = {val:.2f}°"
-            for axis, val in (("X", s.inc_x_deg), ("Y", s.inc_y_deg))
-            if abs(val) > cfg.range_deg
-        ]
+        beyond = axes_beyond_range(s.inc_x_deg, s.inc_y_deg, cfg.range_deg)
         if beyond:
             warnings.append(
                 f"suspension {s.id}: {', '.join(beyond)} beyond the inclinometer's "

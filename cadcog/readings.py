@@ -18,13 +18,14 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from cadcog.errors import ReadingsError
-from cadcog.inclinometer import InclinometerConfig
+from cadcog.inclinometer import InclinometerConfig, Verticals, verticals_from_readings
 
 BASE_COLUMNS = ("point_id", "x_mm", "y_mm", "z_mm", "top_face_up")
 DEG_COLUMNS = ("inc_x_deg", "inc_y_deg")
@@ -204,4 +205,16 @@ def _average(pid: str, g: _Group) -> Suspension:
         std_x_deg=float(x.std(ddof=1)) if n > 1 else None,
         std_y_deg=float(y.std(ddof=1)) if n > 1 else None,
         line=g.line,
+    )
+
+
+def suspension_verticals(
+    suspensions: Sequence[Suspension], config: InclinometerConfig | None = None
+) -> Verticals:
+    """Upward verticals (eq. 2) of averaged suspensions, in their order."""
+    return verticals_from_readings(
+        [s.inc_x_deg for s in suspensions],
+        [s.inc_y_deg for s in suspensions],
+        [s.top_face_up for s in suspensions],
+        config,
     )

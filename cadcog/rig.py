@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from cadcog.errormodel import ErrorOptions, me_cog_sigma_mm
+from cadcog.errormodel import STANDARD_GRAVITY_M_S2, ErrorOptions, me_cog_sigma_mm
 from cadcog.geometry import FloatArray, IdealReading, face_normal, ideal_reading
 from cadcog.inclinometer import InclinometerConfig
 from cadcog.massprops import MassProperties, box_properties, combine, cylinder_properties
@@ -122,6 +122,11 @@ class Rig:
     @property
     def inclinometer_range_deg(self) -> float:
         return self.inclinometer.range_deg
+
+    @property
+    def weight_n(self) -> float:
+        """Weight of the hung assembly (proof mass + ME): the wire's tension (N)."""
+        return self.analytic_assembly.mass_kg * STANDARD_GRAVITY_M_S2
 
     # --- derived geometry -------------------------------------------------------------------
     @property

@@ -25,11 +25,13 @@ from cadcog.errors import CadcogError
 from cadcog.geometry import (
     FACES,
     angle_between_lines_deg,
+    axes_beyond_range,
     face_normal,
     face_normal_of_point,
     ideal_reading,
 )
 from cadcog.massprops import MassProperties
+from cadcog.measurement import MEData
 from cadcog.montecarlo import Scenario, simulate
 from cadcog.paramfile import TableReader, read_toml
 from cadcog.rig import MEVolume, Rig, me_cog_cov_mm2
@@ -90,6 +92,16 @@ class Setup:
     @property
     def me_cog_cov_mm2(self) -> FloatArray:
         return me_cog_cov_mm2(self.me_volumes)
+
+    def me_data(self) -> MEData:
+        """What ME compensation needs: the spacecraft's CAD mass and the placed ME."""
+        return MEData(
+            self.mass.mass_kg,
+            self.me_mass_kg,
+            self.me_cog_mm,
+            self.me_cog_cov_mm2,
+            f"setup {self.source}",
+        )
 
     @property
     def assembly_cog_mm(self) -> FloatArray:
@@ -289,11 +301,7 @@ def plan_test(
     checks = []
     for c in setup.candidates:
         r = ideal_reading(c.position_mm, g)
-        bad = [
-            f"{ax} = {v:.1f}°"
-            for ax, v in (("X", r.inc_x_deg), ("Y", r.inc_y_deg))
-            if abs(v) > rng_deg
-        ]
+        bad = axes_beyond_range(r.inc_x_deg, r.inc_y_deg, rng_deg)
         reason = f"{' and '.join(bad)} beyond the ±{rng_deg:g}° range" if bad else ""
         checks.append(CandidateCheck(c.id, r.inc_x_deg, r.inc_y_deg, not bad, reason))
     usable = tuple(c for c, k in zip(setup.candidates, checks, strict=True) if k.usable)

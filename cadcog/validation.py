@@ -26,9 +26,9 @@ from cadcog.errormodel import ErrorModel
 from cadcog.errors import IllConditionedError
 from cadcog.estimator import PlumbLine, compensate_me, pair_estimate
 from cadcog.geometry import face_normal_of_point
-from cadcog.inclinometer import InclinometerConfig, verticals_from_readings
+from cadcog.inclinometer import InclinometerConfig
 from cadcog.montecarlo import Scenario, simulate
-from cadcog.readings import Suspension
+from cadcog.readings import Suspension, suspension_verticals
 from cadcog.rig import Rig
 
 FloatArray = npt.NDArray[np.float64]
@@ -164,12 +164,7 @@ def pair_errors(
 
     Pairs whose lines are parallel (no intersection at all) are skipped.
     """
-    v = verticals_from_readings(
-        [s.inc_x_deg for s in suspensions],
-        [s.inc_y_deg for s in suspensions],
-        [s.top_face_up for s in suspensions],
-        config,
-    ).u
+    v = suspension_verticals(suspensions, config).u
     lines = [
         PlumbLine(s.id, np.array(s.position_mm), u) for s, u in zip(suspensions, v, strict=True)
     ]

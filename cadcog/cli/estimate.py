@@ -122,13 +122,13 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.setup is not None:
-        return run_setup(args)
-    me, config, rig = _me_data(args)
     for name in ("angle_sigma_deg", "point_sigma_mm", "min_angle_deg"):
         value = getattr(args, name)
         if value is not None and not value > 0:
             raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
+    if args.setup is not None:
+        return run_setup(args)
+    me, config, rig = _me_data(args)
     suspensions = read_readings(args.readings, config)
     offsets = None
     point_sigma = args.point_sigma_mm
@@ -148,10 +148,18 @@ def run(args: argparse.Namespace) -> int:
         min_angle_deg=args.min_angle_deg,
         point_offsets_mm=offsets,
     )
-    if args.json:
-        print(json.dumps(round_floats(result.to_dict()), indent=2))
+    return _emit(result, args.json)
+
+
+def _emit(result: CogEstimate, as_json: bool, cad: dict[str, Any] | None = None) -> int:
+    """Print an estimate (JSON or table, with the CAD comparison if any); warnings to stderr."""
+    if as_json:
+        data = result.to_dict() if cad is None else {**result.to_dict(), "cad": cad}
+        print(json.dumps(round_floats(data), indent=2, ensure_ascii=False))
     else:
         print_estimate(result)
+        if cad is not None:
+            print_cad_comparison(cad)
     for w in result.warnings:
         print(f"cadcog: warning: {w}", file=sys.stderr)
     return 0
@@ -197,51 +205,38 @@ def run_setup(args: argparse.Namespace) -> int:
 
     setup = load_setup(args.setup)
     suspensions = read_readings(args.readings, setup.rig.inclinometer)
-    me = MEData(
-        setup.mass.mass_kg,
-        setup.me_mass_kg,
-        setup.me_cog_mm,
-        setup.me_cog_cov_mm2,
-        f"setup {args.setup}",
-    )
+    point_sigma = args.point_sigma_mm
     result = estimate_cog(
         suspensions,
         setup.rig.inclinometer,
-        me,
+        setup.me_data(),
         angle_sigma_deg=args.angle_sigma_deg,
-        point_sigma_mm=args.point_sigma_mm or rig_point_sigma_mm(setup.rig),
+        point_sigma_mm=rig_point_sigma_mm(setup.rig) if point_sigma is None else point_sigma,
         min_angle_deg=args.min_angle_deg,
     )
-    comparison = compare_with_cad(setup, result.cog_mm, result.cov_mm2)
-    if args.json:
-        print(
-            json.dumps(
-                round_floats({**result.to_dict(), "cad": comparison}), indent=2, ensure_ascii=False
-            )
-        )
-    else:
-        print_estimate(result)
-        d, s = comparison["difference_mm"], comparison["difference_sigma"]
-        print(
-            "measured − CAD: ["
-            + ", ".join(f"{v:+.3f}" for v in d)
-            + "] mm = ["
-            + ", ".join(f"{v:+.1f}" for v in s)
-            + "] σ"
-        )
-        cs = comparison.get("cubesat")
-        if cs is not None:
-            verdict = ("within" if cs["within"] else "OUTSIDE") + " the envelope"
-            if cs["within"] and not cs["within_at_95"]:
-                verdict += ", but not with 95 % confidence"
-            print(
-                f"{cs['form_factor']} CoG offset from the geometric centre: ["
-                + ", ".join(f"{v:+.2f}" for v in cs["offset_mm"])
-                + "] mm, limits ±["
-                + ", ".join(f"{v:g}" for v in cs["limits_mm"])
-                + f"] mm: {verdict} "
-                f"({cs['source']})"
-            )
-    for w in result.warnings:
-        print(f"cadcog: warning: {w}", file=sys.stderr)
-    return 0
+    return _emit(result, args.json, compare_with_cad(setup, result.cog_mm, result.cov_mm2))
+
+
+def print_cad_comparison(cad: dict[str, Any]) -> None:
+    """Readable lines of :func:`cadcog.spacecraft.compare_with_cad`."""
+    d, s = cad["difference_mm"], cad["difference_sigma"]
+    print(
+        "measured − CAD: ["
+        + ", ".join(f"{v:+.3f}" for v in d)
+        + "] mm = ["
+        + ", ".join(f"{v:+.1f}" for v in s)
+        + "] σ"
+    )
+    cs = cad.get("cubesat")
+    if cs is None:
+        return
+    verdict = ("within" if cs["within"] else "OUTSIDE") + " the envelope"
+    if cs["within"] and not cs["within_at_95"]:
+        verdict += ", but not with 95 % confidence"
+    print(
+        f"{cs['form_factor']} CoG offset from the geometric centre: ["
+        + ", ".join(f"{v:+.2f}" for v in cs["offset_mm"])
+        + "] mm, limits ±["
+        + ", ".join(f"{v:g}" for v in cs["limits_mm"])
+        + f"] mm: {verdict} ({cs['source']})"
+    )

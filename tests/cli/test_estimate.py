@@ -130,3 +130,9 @@ def test_inconsistent_options(tmp_path, capsys, paper_rig):
     assert "go together" in capsys.readouterr().err
     assert main(["estimate", str(csv), "--rig", str(paper_rig.source), "--me-mass-kg", "1"]) == 2
     assert "either --rig" in capsys.readouterr().err
+
+
+def test_sigma_options_are_checked_with_setup_too(tmp_path, capsys):
+    csv = write_csv(tmp_path / "r.csv", ["S1,0,0,100,10,5,true", "S2,100,0,0,-30,0,false"])
+    assert main(["estimate", str(csv), "--setup", "unused.toml", "--point-sigma-mm", "0"]) == 2
+    assert "--point-sigma-mm must be positive" in capsys.readouterr().err
