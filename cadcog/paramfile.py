@@ -86,6 +86,9 @@ class TableReader:
     def is_string(self, name: str) -> bool:
         return isinstance(self._data.get(name), str)
 
+    def is_table(self, name: str) -> bool:
+        return isinstance(self._data.get(name), dict)
+
     def _get(self, name: str) -> Any:
         self._used.add(name)
         if name not in self._data:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -179,6 +180,74 @@ def ellipse_plot(
         ax.set_aspect("equal", adjustable="datalim")
     axes[0].legend(fontsize=7)
     fig.suptitle("compensated CoG and its uncertainty (projections of the ellipsoid)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def model_views(
+    meshes: Sequence[tuple[np.ndarray, np.ndarray, str]],
+    cog_mm: np.ndarray,
+    principal_axes: np.ndarray,
+    path: Path,
+    *,
+    envelope_corners_mm: np.ndarray | None = None,
+    title: str = "",
+) -> None:
+    """Three orthographic views of a model with its CoG, principal axes and CoG envelope.
+
+    Parameters
+    ----------
+    meshes : sequence of (vertices (n, 3) mm, triangles (m, 3), kind)
+        ``kind`` "solid" or "surface" (surfaces drawn in another colour).
+    cog_mm : ndarray, shape (3,)
+    principal_axes : ndarray, shape (3, 3)
+        Rows: unit principal axes (drawn from the CoG, ascending moment: C0, C1, C2).
+    envelope_corners_mm : ndarray, shape (8, 3), optional
+        Corners of the CoG envelope box, drawn as its projected outline.
+    """
+    from matplotlib.collections import PolyCollection
+
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(12, 4.4), dpi=120)
+    everything = np.vstack([v for v, _, _ in meshes if len(v)] or [cog_mm[None, :]])
+    extent = float(np.max(np.ptp(everything, axis=0))) or 1.0
+    names = "xyz"
+    for ax, (i, j) in zip(axes, [(0, 1), (0, 2), (1, 2)], strict=True):
+        for v, t, kind in meshes:
+            if not len(t):
+                continue
+            polys = v[:, [i, j]][t]
+            color = "#6b7fa3" if kind == "solid" else "#d08c3a"
+            ax.add_collection(
+                PolyCollection(polys, facecolors=color, edgecolors="none", alpha=0.12)
+            )
+        if envelope_corners_mm is not None:
+            from scipy.spatial import ConvexHull
+
+            pts = envelope_corners_mm[:, [i, j]]
+            hull = pts[ConvexHull(pts).vertices]
+            ax.fill(hull[:, 0], hull[:, 1], fill=False, ec="C2", ls="--", lw=1.2)
+        for k in range(3):
+            end = cog_mm + 0.3 * extent * principal_axes[k]
+            ax.plot([cog_mm[i], end[i]], [cog_mm[j], end[j]], color=f"C{k}", lw=1.5)
+        ax.plot(cog_mm[i], cog_mm[j], "r+", ms=14, mew=2)
+        ax.set_xlabel(f"{names[i]} (mm)")
+        ax.set_ylabel(f"{names[j]} (mm)")
+        lo, hi = everything.min(axis=0), everything.max(axis=0)
+        pad = 0.05 * extent
+        ax.set_xlim(lo[i] - pad, hi[i] + pad)
+        ax.set_ylim(lo[j] - pad, hi[j] + pad)
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_title(f"{names[i]}-{names[j]} view", fontsize=9)
+    handles = [
+        plt.Line2D([], [], color="r", marker="+", ls="", ms=10, label="CoG"),
+        *[plt.Line2D([], [], color=f"C{k}", label=f"principal axis {k + 1}") for k in range(3)],
+    ]
+    if envelope_corners_mm is not None:
+        handles.append(plt.Line2D([], [], color="C2", ls="--", label="CoG envelope"))
+    axes[0].legend(handles=handles, fontsize=7, loc="best")
+    fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)

@@ -7,7 +7,6 @@ one file that opens anywhere; the PNGs and the JSON of every step are written be
 
 from __future__ import annotations
 
-import base64
 import html
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -21,6 +20,7 @@ from cadcog.budget import Budget, error_budget
 from cadcog.campaign import virtual_campaign, write_campaign
 from cadcog.errormodel import ErrorModel
 from cadcog.fileio import dumps_json, staged_output_dir
+from cadcog.html import CSS, img_tag, table, vec
 from cadcog.measurement import (
     CogEstimate,
     MEData,
@@ -130,45 +130,6 @@ def build_report(
 
 
 # --- HTML ----------------------------------------------------------------------------------------
-CSS = """
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; max-width: 1000px;
-       margin: 2em auto; padding: 0 1em; color: #222; line-height: 1.45; }
-h1 { margin-bottom: 0.1em; } h2 { border-bottom: 2px solid #dde; padding-bottom: 0.2em;
-       margin-top: 1.8em; }
-.sub { color: #666; margin-top: 0; }
-table { border-collapse: collapse; margin: 0.8em 0; font-size: 0.92em; }
-th, td { padding: 0.3em 0.7em; border-bottom: 1px solid #e4e4ea; text-align: right; }
-th { background: #f3f4f8; } td.l, th.l { text-align: left; }
-img { max-width: 100%; border: 1px solid #eee; margin: 0.5em 0; }
-.ok { color: #17803d; font-weight: 600; } .bad { color: #b42318; font-weight: 600; }
-.note { background: #f7f7fb; border-left: 4px solid #99a; padding: 0.5em 1em; font-size: 0.9em; }
-.big { font-size: 1.25em; }
-nav a { margin-right: 1em; }
-"""
-
-
-def _img(path: Path, alt: str) -> str:
-    data = base64.b64encode(path.read_bytes()).decode("ascii")
-    return f'<img src="data:image/png;base64,{data}" alt="{html.escape(alt)}">'
-
-
-def _v(values: Any, digits: int = 3) -> str:
-    return "(" + ", ".join(f"{float(v):.{digits}f}" for v in values) + ")"
-
-
-def _table(header: list[str], rows: list[list[str]], left: int = 1) -> str:
-    th = "".join(
-        f'<th class="{"l" if i < left else ""}">{html.escape(h)}</th>' for i, h in enumerate(header)
-    )
-    body = "".join(
-        "<tr>"
-        + "".join(f'<td class="{"l" if i < left else ""}">{c}</td>' for i, c in enumerate(r))
-        + "</tr>"
-        for r in rows
-    )
-    return f"<table><thead><tr>{th}</tr></thead><tbody>{body}</tbody></table>"
-
-
 def render_html(
     rig: Rig,
     truth: dict[str, Any],
@@ -185,14 +146,14 @@ def render_html(
     error = estimate.cog_mm - pm_truth
     sigma = np.sqrt(np.diag(estimate.cov_mm2))
     bodies = [
-        [esc(name), f"{b['mass_kg']:.4f}", _v(b["cog_mm"]), f"{b['volume_mm3']:.1f}"]
+        [esc(name), f"{b['mass_kg']:.4f}", vec(b["cog_mm"]), f"{b['volume_mm3']:.1f}"]
         for name, b in [*truth["bodies"].items(), ("assembly", truth["assembly"])]
     ]
     points = [
         [
             esc(p["id"]),
             esc(p["face"]),
-            _v(p["wire_exit_mm"], 1),
+            vec(p["wire_exit_mm"], 1),
             f"{p['ideal_reading_deg'][0]:.1f}",
             f"{p['ideal_reading_deg'][1]:.1f}",
             "yes" if p["top_face_up"] else "no",
@@ -276,8 +237,8 @@ def render_html(
 <a href="#mc">Monte Carlo</a><a href="#validation">Validation</a>
 <a href="#estimate">Estimate</a></nav>
 
-<p class="big">Compensated CoG: <b>{_v(estimate.cog_mm)} mm</b> ± {_v(sigma)} mm (1 σ);
-CAD truth {_v(pm_truth)} mm; error {np.linalg.norm(error):.3f} mm.
+<p class="big">Compensated CoG: <b>{vec(estimate.cog_mm)} mm</b> ± {vec(sigma)} mm (1 σ);
+CAD truth {vec(pm_truth)} mm; error {np.linalg.norm(error):.3f} mm.
 Simulated 95 % error bound of one pair: {f.q95_mm:.2f} mm.</p>
 
 <h2 id="rig">The rig</h2>
@@ -286,9 +247,9 @@ Simulated 95 % error bound of one pair: {f.q95_mm:.2f} mm.</p>
 {rig.proof_mass.mass_kg:g} kg with {len(rig.suspension_points)} drilled suspension points, and the
 measurement equipment on its +z face. Each plumb line runs from a suspension point through the
 assembly's CoG.</p>
-{_img(figures["rig"], "rig with suspension points and plumb lines")}
+{img_tag(figures["rig"], "rig with suspension points and plumb lines")}
 {
-        _table(
+        table(
             ["point", "face", "wire exit (mm)", "X (deg)", "Y (deg)", "top face up", "in range"],
             points,
             2,
@@ -298,20 +259,20 @@ assembly's CoG.</p>
 <h2 id="truth">Ground truth from CAD</h2>
 <p>Exact B-rep integration per solid with its own density (OCCT); estimated relative integration
 error {truth["integration"]["estimated_relative_error"]:.1g}. The holes shift the proof-mass CoG
-by {_v(truth["hole_cog_shift_mm"], 4)} mm.</p>
-{_table(["body", "mass (kg)", "CoG (mm)", "volume (mm³)"], bodies)}
+by {vec(truth["hole_cog_shift_mm"], 4)} mm.</p>
+{table(["body", "mass (kg)", "CoG (mm)", "volume (mm³)"], bodies)}
 
 <h2 id="budget">Error budget</h2>
 <p>Shares of the CoG error variance for pair {esc(budget.pair[0])}-{esc(budget.pair[1])} (plumb
 lines at {budget.pair_angle_deg:.1f}°, the median pair of the rig), by linear propagation.</p>
-{_table(["source", "distribution", "σ", "CoG σ (mm)", "share"], sources, 2)}
-<p>Bias with every source at its mean: {_v(budget.bias_mm)} mm (the wire offset's mean).</p>
+{table(["source", "distribution", "σ", "CoG σ (mm)", "share"], sources, 2)}
+<p>Bias with every source at its mean: {vec(budget.bias_mm)} mm (the wire offset's mean).</p>
 
 <h2 id="mc">Monte Carlo</h2>
 <p>{f.n} trials: {len(sim.groups)} pairs of {len(sim.scenario.ids)} random suspension points,
 {sim.settings.trials_per_group} trials each (seed {sim.settings.seed}).</p>
-{_img(figures["histogram"], "histogram of simulated error norms with fits")}
-{_table(["fit", "scale (mm)", "median (mm)", "95 % (mm)", "KS"], fits)}
+{img_tag(figures["histogram"], "histogram of simulated error norms with fits")}
+{table(["fit", "scale (mm)", "median (mm)", "95 % (mm)", "KS"], fits)}
 <p class="note">Maximum-likelihood fits are dragged by the few near-collinear pairs in the tail;
 the median-matched fits describe the body of the distribution, the empirical quantiles are the
 figures to quote.</p>
@@ -322,19 +283,19 @@ figures to quote.</p>
 F(ε) ({validation.simulated_norms_mm.size} trials on the campaign's own points) should lie inside
 the 95 % Clopper-Pearson interval of p̂ = k/n. Verdict: {verdict}.
 KS test against the simulated CDF: D = {v.ks_statistic:.3f}, p = {v.ks_p_value:.3f}.</p>
-{_img(figures["validation"], "measured and simulated error CDFs")}
-{_table(["ε (mm)", "F(ε)", "k", "n", "p̂", "95 % interval", "consistent"], windows, 0)}
+{img_tag(figures["validation"], "measured and simulated error CDFs")}
+{table(["ε (mm)", "F(ε)", "k", "n", "p̂", "95 % interval", "consistent"], windows, 0)}
 <p class="note">The pairs of one campaign share hangs, so their errors are not independent; the
 binomial intervals and the KS p-value treat them as independent, as the paper does, and are
 indicative rather than exact.</p>
-<details><summary>error of every pair</summary>{_table(["pair", "|e| (mm)"], pair_rows)}</details>
+<details><summary>error of every pair</summary>{table(["pair", "|e| (mm)"], pair_rows)}</details>
 
 <h2 id="estimate">Compensated estimate</h2>
 <p>Joint weighted least-squares point of all {len(estimate.suspensions)} plumb lines, each
 suspension point corrected for the wire offset the rig's error model expects, ME removed (eq. 10)
 with its uncertainty propagated (eq. 16).</p>
 {
-        _table(
+        table(
             ["", "x (mm)", "y (mm)", "z (mm)"],
             [
                 ["assembly (object + ME)", *[f"{c:.3f}" for c in estimate.assembly_cog_mm]],
@@ -345,7 +306,7 @@ with its uncertainty propagated (eq. 16).</p>
             ],
         )
     }
-{_img(figures["estimate"], "uncertainty ellipses of the estimate")}
+{img_tag(figures["estimate"], "uncertainty ellipses of the estimate")}
 <p>Warnings:</p><ul>{warnings}</ul>
 <p class="sub">Data of every step: budget.json, simulation.json, validation.json,
 estimate.json, parts/ground_truth.json beside this page.</p>

@@ -20,6 +20,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog import tolerances
+from cadcog.envelope import CDS_COG_LIMITS_MM, check_envelope
 from cadcog.errormodel import ErrorModel
 from cadcog.errors import CadcogError
 from cadcog.geometry import (
@@ -38,20 +39,6 @@ from cadcog.rig import MEVolume, Rig, me_cog_cov_mm2
 from cadcog.rigfile import default_rig_path, load_rig
 
 FloatArray = npt.NDArray[np.float64]
-
-#: CoG envelope around the geometric centre (mm, x y z; z along the rails), per form factor.
-#: CubeSat Design Specification Rev. 14.1 (Cal Poly, 2022), §3.2: X and Y within 2 cm for
-#: 1U-3U, Z within 2 / 3 / 4.5 / 7 cm for 1U / 1.5U / 2U / 3U; 6U and 12U as the CDS gives them
-#: for the 6U/12U dispensers (X 4.5 cm, Y 2 cm / 4.5 cm, Z 7 cm). Check your dispenser's ICD,
-#: which governs; override with ``cog_limits_mm`` in the set-up file.
-CDS_COG_LIMITS_MM: dict[str, tuple[float, float, float]] = {
-    "1U": (20.0, 20.0, 20.0),
-    "1.5U": (20.0, 20.0, 30.0),
-    "2U": (20.0, 20.0, 45.0),
-    "3U": (20.0, 20.0, 70.0),
-    "6U": (45.0, 20.0, 70.0),
-    "12U": (45.0, 45.0, 70.0),
-}
 
 
 @dataclass(frozen=True)
@@ -129,46 +116,56 @@ class Setup:
         )
 
 
-def _model_mass(t: TableReader, base: Path) -> tuple[Any, tuple[Any, ...], float]:
-    """Mass properties, solids and mm per model unit of the set-up's model (imports CAD)."""
-    import build123d as bd
-
-    from cadcog.cad.stepmass import UNIT_SCALE_MM, model_mass_properties, read_step_solids
+def _model_mass(t: TableReader, base: Path) -> Any:
+    """The set-up model's :class:`~cadcog.cad.stepmass.ModelMassProperties` (imports CAD)."""
+    from cadcog.cad.stepmass import model_mass_properties
+    from cadcog.cad.stepread import read_step
     from cadcog.materials import MaterialMap, load_materials
+    from cadcog.units import UNIT_CHOICES
 
     total = t.number("total_mass_kg", positive=True) if t.has("total_mass_kg") else None
     if t.has("model"):
+        import build123d as bd
+
         from cadcog.cad.cubesat import build_cubesat, load_cubesat
 
         spec = load_cubesat(base / t.string("model"))
         asm, mats = build_cubesat(spec)
         with tempfile.TemporaryDirectory() as tmp:
-            step = Path(tmp) / f"{spec.name}.step"
+            step = Path(tmp) / "model.step"
             bd.export_step(asm, step)
-            entries = read_step_solids(step)
+            model = read_step(step)
         rules = tuple((name, m) for name, m in mats.items())
         materials: MaterialMap | None = MaterialMap(rules, "cubesat spec")
     elif t.has("model_step"):
-        entries = read_step_solids(base / t.string("model_step"))
+        model = read_step(base / t.string("model_step"))
         materials = load_materials(base / t.string("materials")) if t.has("materials") else None
-        if materials is None and total is None:
-            raise t.error("materials", "give a materials file, or total_mass_kg for one density")
     else:
         raise t.error("model", "missing: give model (a cadcog CubeSat spec) or model_step")
-    units = t.string("units", choices=("mm", "m", "in")) if t.has("units") else None
-    result = model_mass_properties(entries, materials, total_mass_kg=total, units=units)
-    return result, tuple(entries), UNIT_SCALE_MM[units or "mm"]
+    units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
+    exclude = t.strings("exclude") if t.has("exclude") else []
+    overlaps = (
+        t.string("overlaps", choices=("check", "allow", "resolve"))
+        if t.has("overlaps")
+        else "check"
+    )
+    return model_mass_properties(
+        model,
+        materials,
+        total_mass_kg=total,
+        units=units,
+        exclude=exclude,
+        overlaps=overlaps,  # type: ignore[arg-type]
+    )
 
 
 def load_setup(path: str | Path) -> Setup:
     """Read a set-up file, compute the model's mass properties and the candidates."""
-    from cadcog.cad.stepmass import bounding_box_mm
-
     p = Path(path)
     base = p.parent
     root = TableReader(read_toml(p), p)
     name = root.string("name")
-    massprops, entries, scale = _model_mass(root, base)
+    massprops = _model_mass(root, base)
     form = None
     if root.has("form_factor"):
         form = root.string("form_factor", choices=list(CDS_COG_LIMITS_MM))
@@ -177,9 +174,7 @@ def load_setup(path: str | Path) -> Setup:
         limits = np.array(root.vector("cog_limits_mm", positive=True))
     elif form is not None:
         limits = np.array(CDS_COG_LIMITS_MM[form])
-    boxes = [bounding_box_mm(e.shape) for e in entries]
-    lo = np.min([b[0] for b in boxes], axis=0) * scale
-    hi = np.max([b[1] for b in boxes], axis=0) * scale
+    lo, hi = massprops.bbox_mm
 
     me_t = root.table("measurement_equipment")
     rig = load_rig(base / me_t.string("rig")) if me_t.has("rig") else load_rig(default_rig_path())
@@ -226,7 +221,7 @@ def load_setup(path: str | Path) -> Setup:
         tuple(cands),
         form,
         limits,
-        tuple(massprops.solids),
+        tuple(massprops.bodies),
     )
 
 
@@ -371,18 +366,11 @@ def compare_with_cad(setup: Setup, cog_mm: FloatArray, cov_mm2: FloatArray) -> d
         "mahalanobis": maha,
     }
     if setup.cog_limits_mm is not None:
-        offset = cog_mm - setup.geometric_center_mm
-        within = bool(np.all(np.abs(offset) <= setup.cog_limits_mm))
-        # With the uncertainty: is the envelope met even at the 95 % edge of each axis?
-        margin = setup.cog_limits_mm - np.abs(offset) - 1.96 * sigma
-        out["cubesat"] = {
-            "form_factor": setup.form_factor,
-            "geometric_center_mm": setup.geometric_center_mm.tolist(),
-            "offset_mm": offset.tolist(),
-            "limits_mm": setup.cog_limits_mm.tolist(),
-            "within": within,
-            "within_at_95": bool(np.all(margin >= 0)),
-            "source": "CubeSat Design Specification Rev. 14.1 (Cal Poly), CoG location; "
-            "check the dispenser ICD, which governs",
-        }
+        out["cubesat"] = check_envelope(
+            cog_mm,
+            setup.geometric_center_mm,
+            setup.cog_limits_mm,
+            cov_mm2=cov_mm2,
+            form_factor=setup.form_factor,
+        ).to_dict()
     return out

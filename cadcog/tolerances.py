@@ -45,3 +45,24 @@ MIN_PAIR_ANGLE_DEG = 5.0
 #: Probability below which a suspension's residual (squared distance of its line from the joint
 #: estimate over its variance, ~χ² with 2 degrees of freedom) flags it as inconsistent.
 OUTLIER_PROBABILITY = 0.003
+
+#: Axis-aligned boxes of two solids must overlap by more than this on every axis (mm) for the
+#: pair to be tested for overlap with a boolean; boxes that only touch are pruned.
+BOX_OVERLAP_MM = 1e-3
+
+#: A common volume of two solids at or below this (mm³) is contact, not overlap: touching faces
+#: and modelling-tolerance interpenetration of real CAD (0.004 mm³ is typical) stay below it.
+CONTACT_VOLUME_MM3 = 0.01
+
+#: ... and at or below this fraction of the smaller solid's volume.
+CONTACT_VOLUME_RELATIVE = 1e-6
+
+#: Overlapping solids double-count mass; above this fraction of the total mass the computation
+#: refuses (``--allow-overlap`` or ``--resolve-overlaps`` choose), below it each solid counts as
+#: it is and a note says how much was double-counted.
+OVERLAP_REFUSE_MASS_FRACTION = 1e-3
+
+#: A body's placement in an assembly is taken as rigid (rotation and translation, so its
+#: placement-free mass properties can be reused for every instance) when its scale factor is 1
+#: and its rotation is orthonormal to this tolerance; otherwise the placed shape is integrated.
+RIGID_PLACEMENT_TOLERANCE = 1e-9

@@ -14,6 +14,9 @@ import numpy.typing as npt
 #: Cubic millimetres in one cubic metre.
 MM3_PER_M3 = 1.0e9
 
+#: Square millimetres in one square metre.
+MM2_PER_M2 = 1.0e6
+
 
 def density_kg_m3_to_kg_mm3(density_kg_m3: float) -> float:
     """Convert a density from kg/m³ to kg/mm³.
@@ -45,3 +48,70 @@ def deg_to_rad(angle_deg: npt.ArrayLike) -> npt.NDArray[np.float64]:
 def rad_to_deg(angle_rad: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """Radians to degrees (array-friendly)."""
     return np.rad2deg(np.asarray(angle_rad, dtype=float))
+
+
+#: Millimetres per length unit, by the names STEP files (and OCCT's reader) use for them.
+LENGTH_UNIT_MM: dict[str, float] = {
+    "millimetre": 1.0,
+    "millimeter": 1.0,
+    "mm": 1.0,
+    "micrometre": 1e-3,
+    "micrometer": 1e-3,
+    "centimetre": 10.0,
+    "centimeter": 10.0,
+    "cm": 10.0,
+    "decimetre": 100.0,
+    "metre": 1000.0,
+    "meter": 1000.0,
+    "m": 1000.0,
+    "kilometre": 1e6,
+    "inch": 25.4,
+    "in": 25.4,
+    "foot": 304.8,
+    "ft": 304.8,
+    "mil": 0.0254,
+}
+
+#: Length units a user may name for a model (``--units``, set-up ``units``): keys of
+#: :data:`LENGTH_UNIT_MM`.
+UNIT_CHOICES = ("mm", "cm", "m", "in", "ft")
+
+#: kg/m³ per unit of density, by the unit names material data in STEP files use.
+_DENSITY_KG_M3 = {
+    "kg/m^3": 1.0,
+    "kg/m3": 1.0,
+    "g/cm^3": 1000.0,
+    "g/cm3": 1000.0,
+    "g/cc": 1000.0,
+    "kg/mm^3": 1e9,
+    "kg/mm3": 1e9,
+    "g/mm^3": 1e6,
+    "g/mm3": 1e6,
+    "lb/in^3": 27679.9047,
+    "lb/in3": 27679.9047,
+}
+
+
+def density_kg_m3_from_named_unit(value: float, unit: str) -> float | None:
+    """A density given with a unit name, in kg/m³; None if the unit is not recognised.
+
+    Examples
+    --------
+    >>> density_kg_m3_from_named_unit(7.85, "g/cm^3")
+    7850.0
+    >>> density_kg_m3_from_named_unit(2700.0, "kg/m^3"), density_kg_m3_from_named_unit(1, "?")
+    (2700.0, None)
+    """
+    factor = _DENSITY_KG_M3.get(unit.strip().lower().replace(" ", ""))
+    return None if factor is None else value * factor
+
+
+def areal_density_kg_m2_to_kg_mm2(areal_density_kg_m2: float) -> float:
+    """Convert an areal density from kg/m² to kg/mm².
+
+    Examples
+    --------
+    >>> areal_density_kg_m2_to_kg_mm2(0.5)
+    5e-07
+    """
+    return areal_density_kg_m2 / MM2_PER_M2

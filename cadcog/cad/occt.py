@@ -1,9 +1,12 @@
-"""Exact mass properties of B-rep solids by OCCT's volume integration.
+"""Exact mass properties of B-rep shapes by OCCT's integration, and rigid placements.
 
 Each solid is integrated on its own (``BRepGProp.VolumeProperties_s`` with a requested relative
 error) and given its own density; assemblies are combined by mass with
 :func:`cadcog.massprops.combine`. Never use ``center(CenterOf.MASS)`` of a compound for this: it
 weights solids by volume, not by mass.
+
+Properties "at unit density" use 1 kg/mm³ (or 1 kg/mm² for surfaces): multiply the mass and
+inertia by the real density to get a body's.
 """
 
 from __future__ import annotations
@@ -11,13 +14,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 from OCP.BRepGProp import BRepGProp
 from OCP.GProp import GProp_GProps
+from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS_Shape
 
 from cadcog import tolerances
 from cadcog.errors import CadcogError
 from cadcog.massprops import MassProperties
+
+FloatArray = npt.NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -26,6 +33,27 @@ class IntegratedProperties:
 
     properties: MassProperties
     relative_error: float
+
+
+def _from_gprops(props: GProp_GProps, volume_mm3: float) -> MassProperties:
+    c = props.CentreOfMass()
+    m = props.MatrixOfInertia()
+    inertia = np.array([[m.Value(i, j) for j in (1, 2, 3)] for i in (1, 2, 3)])
+    return MassProperties(props.Mass(), np.array([c.X(), c.Y(), c.Z()]), inertia, volume_mm3)
+
+
+def volume_properties(shape: TopoDS_Shape) -> MassProperties:
+    """Volume, centroid and inertia of a shape at unit density (exact B-rep integration)."""
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(shape, props, tolerances.OCCT_INTEGRATION_EPS, True)
+    return _from_gprops(props, props.Mass())
+
+
+def surface_properties(shape: TopoDS_Shape) -> MassProperties:
+    """Area (as mass), centroid and inertia of a surface at unit areal density; volume 0."""
+    props = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(shape, props, tolerances.OCCT_INTEGRATION_EPS, True)
+    return _from_gprops(props, 0.0)
 
 
 def solid_properties(
@@ -51,13 +79,45 @@ def solid_properties(
     volume = props.Mass()
     if not volume > 0.0:
         raise CadcogError(f"{name}: integrated volume is {volume} mm³; expected a closed solid")
-    c = props.CentreOfMass()
-    m = props.MatrixOfInertia()
-    inertia = np.array([[m.Value(i, j) for j in (1, 2, 3)] for i in (1, 2, 3)])
+    unit = _from_gprops(props, volume)
     mp = MassProperties(
-        mass_kg=density_kg_mm3 * volume,
-        cog_mm=np.array([c.X(), c.Y(), c.Z()]),
-        inertia_kg_mm2=density_kg_mm3 * inertia,
-        volume_mm3=volume,
+        density_kg_mm3 * volume, unit.cog_mm, density_kg_mm3 * unit.inertia_kg_mm2, volume
     )
     return IntegratedProperties(mp, float(error))
+
+
+def rigid_transform(placement: TopLoc_Location) -> tuple[FloatArray, FloatArray] | None:
+    """Rotation (3 × 3) and translation (mm) of a rigid placement; None if it scales or shears.
+
+    A placement is rigid when its scale factor is 1 and its rotation orthonormal, both to
+    :data:`cadcog.tolerances.RIGID_PLACEMENT_TOLERANCE`.
+    """
+    t = placement.Transformation()
+    if abs(t.ScaleFactor() - 1.0) > tolerances.RIGID_PLACEMENT_TOLERANCE:
+        return None
+    r = np.array([[t.Value(i, j) for j in (1, 2, 3)] for i in (1, 2, 3)])
+    if np.max(np.abs(r @ r.T - np.eye(3))) > tolerances.RIGID_PLACEMENT_TOLERANCE:
+        return None
+    return r, np.array([t.Value(i, 4) for i in (1, 2, 3)])
+
+
+def placed(
+    local: MassProperties, rotation: FloatArray, translation_mm: FloatArray
+) -> MassProperties:
+    """Mass properties of a body moved rigidly: ``c' = R c + t``, ``J' = R J Rᵀ``.
+
+    Examples
+    --------
+    >>> from cadcog.massprops import box_properties
+    >>> b = box_properties([2.0, 4.0, 6.0], [1.0, 0, 0], mass_kg=1.0)
+    >>> quarter = np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 1]])  # 90° about z
+    >>> p = placed(b, quarter, np.array([0.0, 0, 10]))
+    >>> p.cog_mm.tolist(), np.allclose(np.diag(p.inertia_kg_mm2), [40 / 12, 52 / 12, 20 / 12])
+    ([0.0, 1.0, 10.0], True)
+    """
+    return MassProperties(
+        local.mass_kg,
+        rotation @ local.cog_mm + translation_mm,
+        rotation @ local.inertia_kg_mm2 @ rotation.T,
+        local.volume_mm3,
+    )

@@ -1,150 +1,293 @@
-"""Mass properties of any STEP model: exact integration per solid, each with its own density.
+"""Mass properties of a STEP model: every body at its global placement, with its own density.
 
-Real CAD is messy, so every solid is checked before a number comes out: shells that are not
-closed solids, zero or negative volumes, solids that overlap (their common volume would be
-counted twice), and a scale that looks like metres or inches. Each problem names the solid and
-stops the computation with a hint (exclude it, fix the units) rather than silently producing a
-number. No mesh is needed: a solid that cannot be tessellated still integrates.
+The model comes from :func:`cadcog.cad.stepread.read_step` (bodies at their composed global
+placements, unique path names). Each solid is integrated exactly (OCCT, no mesh) with its own
+density; bodies are combined by mass, never by volume. Real CAD is messy, so the computation
+reports what it found and what it did:
+
+- **units**: the length unit the file declares is reported and trusted (OCCT's reader already
+  converted it to mm); ``units`` overrides a wrong declaration and says so, never scaling twice;
+  a model whose extent looks implausible gets a note, not a refusal;
+- **exclusion** (glob patterns on names and paths) applies before every check;
+- **densities** come from the materials file, else from a material the STEP file carries (XCAF),
+  else from one uniform density; each body's source is reported;
+- **surface bodies** (no volume) are left out with their area in a note, or given an areal
+  density (kg/m²) by the materials file;
+- **overlaps** (shared volume, counted twice) are found fast (:mod:`cadcog.cad.overlaps`) and
+  summarised; the computation refuses only when the double-counted mass exceeds
+  :data:`cadcog.tolerances.OVERLAP_REFUSE_MASS_FRACTION` of the total, unless the caller chose to
+  ``allow`` them (each solid counted as it is) or ``resolve`` them (the denser solid of each pair
+  keeps the common volume);
+- **notes** (things a user should look at) are separate from **info** (what was done as asked);
+  ``strict`` turns every note into an error, for CI.
+
+Bodies that are instances of one product share their placement-free integration: it is done
+once and transformed (rotation and translation) for every rigid placement.
 """
 
 from __future__ import annotations
 
-import fnmatch
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
-import build123d as bd
 import numpy as np
 from OCP.BRep import BRep_Tool
-from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
 from OCP.BRepCheck import BRepCheck_Analyzer
-from OCP.BRepGProp import BRepGProp
-from OCP.GProp import GProp_GProps
 from OCP.TopAbs import TopAbs_SHELL
 from OCP.TopExp import TopExp_Explorer
-from OCP.TopoDS import TopoDS
+from OCP.TopoDS import TopoDS, TopoDS_Shape
 
-from cadcog.cad.occt import solid_properties
+from cadcog import tolerances
+from cadcog.cad.occt import placed, rigid_transform, surface_properties, volume_properties
+from cadcog.cad.overlaps import Overlap, Placed, bounding_boxes, cut_by, find_overlaps
+from cadcog.cad.parallel import fork_map
+from cadcog.cad.stepread import StepBody, StepModel, length_unit_mm
 from cadcog.errors import CadcogError
 from cadcog.massprops import MassProperties, combine
-from cadcog.materials import MaterialMap
-from cadcog.units import density_kg_m3_to_kg_mm3
+from cadcog.materials import DENSITY_RANGE_KG_M3, ItemRule, MaterialMap, glob_match
+from cadcog.units import (
+    LENGTH_UNIT_MM,
+    UNIT_CHOICES,
+    areal_density_kg_m2_to_kg_mm2,
+    density_kg_m3_to_kg_mm3,
+)
 
-#: Length of one model unit in mm.
-UNIT_SCALE_MM = {"mm": 1.0, "m": 1000.0, "in": 25.4}
+OverlapPolicy = Literal["check", "allow", "resolve"]
 
-#: A model whose largest extent (in mm) falls outside this range is probably in the wrong unit.
-PLAUSIBLE_EXTENT_MM = (5.0, 5000.0)
+#: A model whose largest extent (mm) falls outside this range gets a note about its units.
+PLAUSIBLE_EXTENT_MM = (1.0, 10_000.0)
 
-#: Mean densities outside this range (kg/m³) point at a unit error when the total mass is known.
+#: Mean densities (kg/m³) outside this range, with a weighed total mass, get a units note.
 PLAUSIBLE_MEAN_DENSITY_KG_M3 = (100.0, 25_000.0)
 
-#: Common volume (relative to the smaller solid) above which two solids overlap.
-OVERLAP_RELATIVE = 1e-6
+#: Overlapping pairs named in messages and in the text report (all are in the JSON).
+WORST_PAIRS_SHOWN = 10
+
+#: ``progress(description, total)`` returns a function called with the number of steps done.
+ProgressFactory = Callable[[str, int], Callable[[int], None]]
 
 
 @dataclass(frozen=True)
-class SolidEntry:
-    name: str
-    path: tuple[str, ...]
-    shape: Any  # TopoDS_Shape
+class BodyResult:
+    """One body as counted.
 
+    Attributes
+    ----------
+    path : str
+        Unique path name.
+    nodes : tuple of str
+        The unique names from the root to the body (the path, split).
+    kind : "solid" or "surface"
+    material : str
+        Material name, 'density' for a bare density, or the surface label.
+    density_source : str
+        Where the density came from, e.g. ``materials rule 'rail*'`` or ``STEP material 'Al'``.
+    density_kg_m3 : float or None
+        Solids: the density used (after any scaling to a weighed total mass).
+    areal_density_kg_m2 : float or None
+        Surfaces: the areal density used.
+    properties : MassProperties
+        Mass properties as counted (after overlap resolution, if any).
+    area_mm2 : float
+        Surface area (surfaces only; 0 for solids).
+    removed_mm3 : float
+        Volume removed by overlap resolution (the denser neighbour kept it).
+    sigma_rel : float or None
+        1-σ relative mass uncertainty from the materials file, if any.
+    item : str
+        The uncertainty item the body belongs to (its own path, or an assembly's).
+    growth : float
+        Mass growth allowance (fraction); ``growth_label`` names its maturity level.
+    """
 
-@dataclass(frozen=True)
-class SolidResult:
-    name: str
-    path: tuple[str, ...]
+    path: str
+    nodes: tuple[str, ...]
+    kind: str
     material: str
-    rule: str
-    density_kg_m3: float
+    density_source: str
+    density_kg_m3: float | None
+    areal_density_kg_m2: float | None
     properties: MassProperties
+    area_mm2: float = 0.0
+    removed_mm3: float = 0.0
+    sigma_rel: float | None = None
+    item: str = ""
+    growth: float = 0.0
+    growth_label: str = ""
+
+    @property
+    def name(self) -> str:
+        return self.nodes[-1]
+
+    def to_dict(self) -> dict[str, Any]:
+        p = self.properties
+        out: dict[str, Any] = {
+            "path": self.path,
+            "kind": self.kind,
+            "material": self.material,
+            "density_source": self.density_source,
+        }
+        if self.kind == "solid":
+            out["density_kg_m3"] = self.density_kg_m3
+            out["volume_mm3"] = p.volume_mm3
+        else:
+            out["areal_density_kg_m2"] = self.areal_density_kg_m2
+            out["area_mm2"] = self.area_mm2
+        out["mass_kg"] = p.mass_kg
+        out["cog_mm"] = p.cog_mm.tolist()
+        if self.removed_mm3:
+            out["overlap_removed_mm3"] = self.removed_mm3
+        if self.sigma_rel is not None:
+            out["mass_sigma_rel"] = self.sigma_rel
+            out["uncertainty_item"] = self.item
+        if self.growth or self.growth_label:
+            out["growth_allowance"] = self.growth
+            if self.growth_label:
+                out["maturity"] = self.growth_label
+        return out
+
+
+@dataclass(frozen=True)
+class OverlapPair:
+    """An overlapping pair, with the mass its common volume counts twice."""
+
+    a: str
+    b: str
+    volume_mm3: float
+    mass_kg: float
+    kept_by: str
 
     def to_dict(self) -> dict[str, Any]:
         return {
-            "name": self.name,
-            "path": "/".join(self.path),
-            "material": self.material,
-            "rule": self.rule,
-            "density_kg_m3": self.density_kg_m3,
-            "volume_mm3": self.properties.volume_mm3,
-            "mass_kg": self.properties.mass_kg,
-            "cog_mm": self.properties.cog_mm.tolist(),
+            "a": self.a,
+            "b": self.b,
+            "volume_mm3": self.volume_mm3,
+            "double_counted_mass_kg": self.mass_kg,
+            "kept_by": self.kept_by,
+        }
+
+    def describe(self) -> str:
+        return f"{self.a} & {self.b} ({self.volume_mm3:.4g} mm³, {self.mass_kg * 1e3:.4g} g)"
+
+
+@dataclass(frozen=True)
+class OverlapSummary:
+    """Overlaps found, and what they do to the totals.
+
+    ``mass_kg`` is the mass the common volumes count twice (each at the lighter density:
+    exact when no point lies in three solids); ``cog_shift_mm`` is the CoG counting each solid
+    as it is minus the CoG with each common volume counted once.
+    """
+
+    policy: str
+    pairs: tuple[OverlapPair, ...] = ()
+    volume_mm3: float = 0.0
+    mass_kg: float = 0.0
+    mass_fraction: float = 0.0
+    cog_shift_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    n_candidates: int = 0
+    n_contact: int = 0
+
+    def headline(self) -> str:
+        """One line: count, double-counted volume and mass, its share and the CoG shift."""
+        shift = float(np.linalg.norm(self.cog_shift_mm))
+        return (
+            f"{len(self.pairs)} overlapping pair(s) share {self.volume_mm3:.4g} mm³, "
+            f"{self.mass_kg * 1e3:.4g} g counted twice ({self.mass_fraction:.3%} of the mass), "
+            f"shifting the CoG by {shift:.3g} mm"
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "policy": self.policy,
+            "n_pairs": len(self.pairs),
+            "volume_mm3": self.volume_mm3,
+            "double_counted_mass_kg": self.mass_kg,
+            "mass_fraction": self.mass_fraction,
+            "cog_shift_mm": list(self.cog_shift_mm),
+            "n_candidate_pairs": self.n_candidates,
+            "n_contact_pairs": self.n_contact,
+            "pairs": [p.to_dict() for p in self.pairs],
+        }
+
+
+@dataclass(frozen=True)
+class ImportAudit:
+    """What was found in the file and how it was read."""
+
+    source: str
+    declared_units: tuple[str, ...]
+    units_override: str | None
+    scale_to_mm: float
+    n_products: int
+    n_instances: int
+    n_solids: int
+    n_surfaces: int
+    excluded: tuple[str, ...]
+    left_out_surfaces: tuple[tuple[str, float], ...]
+    closed_shells_made_solid: tuple[str, ...]
+    invalid_topology: tuple[str, ...]
+    curve_only_parts: tuple[str, ...]
+    density_sources: dict[str, int]
+    bbox_mm: tuple[tuple[float, float, float], tuple[float, float, float]]
+
+    @property
+    def extent_mm(self) -> np.ndarray:
+        return np.asarray(self.bbox_mm[1]) - np.asarray(self.bbox_mm[0])
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "source": self.source,
+            "declared_units": list(self.declared_units),
+            "units_override": self.units_override,
+            "scale_to_mm": self.scale_to_mm,
+            "n_products": self.n_products,
+            "n_instances": self.n_instances,
+            "n_solids": self.n_solids,
+            "n_surfaces": self.n_surfaces,
+            "excluded": list(self.excluded),
+            "left_out_surfaces": [{"path": p, "area_mm2": a} for p, a in self.left_out_surfaces],
+            "closed_shells_made_solid": list(self.closed_shells_made_solid),
+            "invalid_topology": list(self.invalid_topology),
+            "curve_only_parts": list(self.curve_only_parts),
+            "density_sources": dict(self.density_sources),
+            "bbox_mm": [list(self.bbox_mm[0]), list(self.bbox_mm[1])],
         }
 
 
 @dataclass(frozen=True)
 class ModelMassProperties:
+    """Mass properties of a model, its bodies, the import audit, overlaps, notes and info."""
+
     total: MassProperties
-    solids: tuple[SolidResult, ...]
-    excluded: tuple[str, ...] = ()
+    bodies: tuple[BodyResult, ...]
+    audit: ImportAudit
+    overlaps: OverlapSummary
     notes: tuple[str, ...] = field(default=())
+    info: tuple[str, ...] = field(default=())
+
+    @property
+    def solids(self) -> tuple[BodyResult, ...]:
+        return tuple(b for b in self.bodies if b.kind == "solid")
+
+    @property
+    def bbox_mm(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.asarray(self.audit.bbox_mm[0]), np.asarray(self.audit.bbox_mm[1])
 
     def to_dict(self) -> dict[str, Any]:
         return {
             **self.total.to_dict(),
-            "solids": [s.to_dict() for s in self.solids],
-            "excluded": list(self.excluded),
+            "bodies": [b.to_dict() for b in self.bodies],
+            "audit": self.audit.to_dict(),
+            "overlaps": self.overlaps.to_dict(),
             "notes": list(self.notes),
+            "info": list(self.info),
         }
 
 
-def read_step_solids(path: str | Path) -> list[SolidEntry]:
-    """Every solid of a STEP file with its name and assembly path (labels kept).
-
-    Raises
-    ------
-    CadcogError
-        If the file cannot be read, or holds shells that are not closed solids.
-    """
-    p = Path(path)
-    if not p.is_file():
-        raise CadcogError(f"{p}: file not found")
-    try:
-        root = bd.import_step(p)
-    except Exception as exc:  # OCCT raises plain exceptions on unreadable files
-        raise CadcogError(f"{p}: cannot read as STEP ({exc})") from None
-    entries: list[SolidEntry] = []
-    problems: list[str] = []
-
-    def walk(node: Any, path: tuple[str, ...]) -> None:
-        label = node.label or ""
-        here = (*path, label) if label else path
-        children = list(node.children)
-        if children:
-            for child in children:
-                walk(child, here)
-            return
-        solids = node.solids()
-        base = label or (path[-1] if path else p.stem)
-        if not solids:
-            if node.faces():
-                problems.append(f"{'/'.join(here) or base}: surfaces without a closed solid")
-            return
-        for i, s in enumerate(solids):
-            name = base if len(solids) == 1 else f"{base}#{i + 1}"
-            entries.append(SolidEntry(name, here, s.wrapped))
-
-    walk(root, ())
-    if problems:
-        raise CadcogError(
-            f"{p}: open shells (not solids) cannot have a volume: {'; '.join(problems)}; close "
-            "them in the CAD tool or leave them out of the export"
-        )
-    if not entries:
-        raise CadcogError(f"{p}: no solids found")
-    names = [e.name for e in entries]
-    dup = {n for n in names if names.count(n) > 1}
-    if dup:
-        entries = [
-            SolidEntry(f"{'/'.join(e.path)}" if e.name in dup else e.name, e.path, e.shape)
-            for e in entries
-        ]
-    return entries
-
-
-def _closed(shape: Any) -> bool:
+# --- helpers ---------------------------------------------------------------------------------
+def _closed(shape: TopoDS_Shape) -> bool:
     explorer = TopExp_Explorer(shape, TopAbs_SHELL)
     found = False
     while explorer.More():
@@ -155,142 +298,534 @@ def _closed(shape: Any) -> bool:
     return found
 
 
-def _common_volume(a: Any, b: Any) -> float:
-    op = BRepAlgoAPI_Common(a, b)
-    op.Build()
-    if not op.IsDone():
-        return 0.0
-    props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(op.Shape(), props)
-    return float(props.Mass())
+def _scaled_lengths(p: MassProperties, scale: float, dimension: int) -> MassProperties:
+    """Properties of a body ``scale`` times larger (``dimension`` 3 for volumes, 2 areas)."""
+    if scale == 1.0:
+        return p
+    k = scale**dimension
+    return MassProperties(
+        p.mass_kg * k, p.cog_mm * scale, p.inertia_kg_mm2 * k * scale**2, p.volume_mm3 * scale**3
+    )
 
 
-def bounding_box_mm(shape: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Axis-aligned bounding box (min, max corners) of a shape, in model units."""
-    b = bd.Solid(shape).bounding_box()
-    return np.array([b.min.X, b.min.Y, b.min.Z]), np.array([b.max.X, b.max.Y, b.max.Z])
+def _with_mass_factor(p: MassProperties, factor: float) -> MassProperties:
+    """The same geometry with its mass (and inertia) multiplied by ``factor``: a density."""
+    return MassProperties(p.mass_kg * factor, p.cog_mm, p.inertia_kg_mm2 * factor, p.volume_mm3)
+
+
+def _matches_any(patterns: Sequence[str], body: StepBody) -> bool:
+    names = (*body.match_names(), *body.assembly_paths)
+    return any(glob_match(n, pat) for pat in patterns for n in names)
+
+
+def _unit_scale(model: StepModel, units: str | None) -> tuple[float, list[str], list[str]]:
+    """mm per file unit on top of the reader's conversion, with notes and info."""
+    notes: list[str] = []
+    info: list[str] = []
+    declared = model.declared_unit
+    if units is None:
+        if declared is None and model.declared_units:
+            notes.append(
+                f"the file declares several length units ({', '.join(model.declared_units)}); "
+                "OCCT converted each part's own"
+            )
+        elif declared is None:
+            notes.append("the file declares no length unit; read as mm")
+        elif length_unit_mm(declared) is None:
+            notes.append(f"the file declares an unknown length unit {declared!r}; read as mm")
+        return 1.0, notes, info
+    true_mm = LENGTH_UNIT_MM[units]
+    declared_mm = length_unit_mm(declared) if declared is not None else None
+    if declared is None or declared_mm is None:
+        what = (
+            f"several length units ({', '.join(model.declared_units)})"
+            if model.declared_units
+            else "no length unit"
+        )
+        if declared is not None:
+            what = f"the unknown length unit {declared!r}"
+        raise CadcogError(
+            f"{model.source}: --units {units} overrides the file's declared unit, but the file "
+            f"declares {what}: cannot tell by how much to scale"
+        )
+    scale = true_mm / declared_mm
+    if scale == 1.0:
+        info.append(f"--units {units}: the file already declares {declared}; nothing scaled")
+    else:
+        info.append(
+            f"--units {units}: the file declares {declared} but is taken to be in {units}; "
+            f"lengths scaled by {scale:g}"
+        )
+    return scale, notes, info
+
+
+# --- the computation -------------------------------------------------------------------------
+@dataclass
+class _Body:
+    """Working state of one kept body."""
+
+    step: StepBody
+    props: MassProperties  # unit density (kg/mm³) or unit areal density (kg/mm²), mm
+    box_lo: np.ndarray = field(default_factory=lambda: np.zeros(3))  # file frame and unit
+    box_hi: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    material: str = ""
+    source: str = ""
+    density_kg_m3: float | None = None
+    areal_density_kg_m2: float | None = None
+    removed_mm3: float = 0.0
+
+    @property
+    def density_kg_mm3(self) -> float:
+        if self.step.kind == "solid":
+            return density_kg_m3_to_kg_mm3(self.density_kg_m3 or 0.0)
+        return areal_density_kg_m2_to_kg_mm2(self.areal_density_kg_m2 or 0.0)
 
 
 def model_mass_properties(
-    entries: Sequence[SolidEntry],
+    model: StepModel,
     materials: MaterialMap | None,
     *,
     total_mass_kg: float | None = None,
     units: str | None = None,
     exclude: Sequence[str] = (),
-    allow_overlap: bool = False,
+    overlaps: OverlapPolicy = "check",
+    strict: bool = False,
+    progress: ProgressFactory | None = None,
+    workers: int = 1,
 ) -> ModelMassProperties:
-    """Exact, density-weighted mass properties of the solids of a model.
+    """Exact, density-weighted mass properties of the bodies of a STEP model.
 
     Parameters
     ----------
-    entries : sequence of SolidEntry
+    model : StepModel
     materials : MaterialMap or None
-        None with ``total_mass_kg``: one uniform density giving that mass.
+        Densities by name pattern. None: the STEP file's own materials (XCAF) where present;
+        with ``total_mass_kg`` and no body carrying a material, one uniform density.
     total_mass_kg : float, optional
         Scale every density so the total equals this weighed mass.
-    units : "mm", "m", "in" or None
-        Length unit of the model; None means mm, after a plausibility check.
+    units : str, optional
+        The file's true length unit (from :data:`UNIT_CHOICES`) when its declaration is wrong.
     exclude : sequence of str
-        Glob patterns of solids to leave out.
-    allow_overlap : bool
-        Accept overlapping solids (their common volume counts twice).
+        Glob patterns of bodies or assemblies to leave out, before any check.
+    overlaps : "check", "allow" or "resolve"
+    strict : bool
+        Raise on any note.
+    progress : ProgressFactory, optional
+    workers : int
+        Processes for the integrations and overlap booleans (results do not depend on it).
+
+    Raises
+    ------
+    CadcogError
+        Naming the file and the bodies: zero or negative volumes, open solids, bodies without a
+        density, overlaps beyond the threshold under ``check``, every body excluded, and (with
+        ``strict``) any note.
     """
-    scale = UNIT_SCALE_MM[units or "mm"]
-    kept = [
-        e
-        for e in entries
-        if not any(fnmatch.fnmatchcase(n, pat) for pat in exclude for n in (e.name, *e.path))
-    ]
-    excluded = tuple(e.name for e in entries if e not in kept)
+    src = model.source
+    if overlaps not in ("check", "allow", "resolve"):
+        raise ValueError(f"overlaps must be check, allow or resolve, got {overlaps!r}")
+    if units is not None and units not in LENGTH_UNIT_MM:
+        raise CadcogError(f"--units: unknown unit {units!r}; expected {', '.join(UNIT_CHOICES)}")
+    scale, notes, info = _unit_scale(model, units)
+
+    kept = [b for b in model.bodies if not _matches_any(exclude, b)]
+    excluded = tuple(b.path for b in model.bodies if _matches_any(exclude, b))
+    for pattern in exclude:
+        if not any(_matches_any([pattern], b) for b in model.bodies):
+            notes.append(f"--exclude {pattern!r} matched no body")
     if not kept:
-        raise CadcogError("every solid is excluded")
-    # Geometry checks, in model units.
-    bad = [e.name for e in kept if not _closed(e.shape)]
-    if bad:
-        raise CadcogError(
-            f"open shells, not closed solids: {', '.join(bad)}; fix them or --exclude them"
-        )
-    invalid = [e.name for e in kept if not BRepCheck_Analyzer(e.shape).IsValid()]
-    volumes = {}
-    for e in kept:
-        props = GProp_GProps()
-        BRepGProp.VolumeProperties_s(e.shape, props)
-        volumes[e.name] = props.Mass() * scale**3
-    empty = [n for n, v in volumes.items() if not v > 1e-9]
-    if empty:
-        raise CadcogError(
-            f"zero or negative volume: {', '.join(empty)} "
-            "(degenerate or inside-out solids); --exclude them or fix the model"
-        )
-    boxes = {e.name: bounding_box_mm(e.shape) for e in kept}
-    lo = np.min([b[0] for b in boxes.values()], axis=0) * scale
-    hi = np.max([b[1] for b in boxes.values()], axis=0) * scale
-    extent = float(np.max(hi - lo))
+        raise CadcogError(f"{src}: every body is excluded")
+
+    bodies, audit_bits = _integrate(kept, scale, progress, workers)
+    problems = audit_bits.pop("problems")
+    if problems:
+        raise CadcogError(f"{src}: {'; '.join(problems)}")
+
+    bbox = (
+        np.min([b.box_lo for b in bodies], axis=0) * scale,
+        np.max([b.box_hi for b in bodies], axis=0) * scale,
+    )
+    extent = float(np.max(bbox[1] - bbox[0]))
     if units is None and not PLAUSIBLE_EXTENT_MM[0] <= extent <= PLAUSIBLE_EXTENT_MM[1]:
-        guess = "metres (--units m)" if extent < PLAUSIBLE_EXTENT_MM[0] else "a smaller unit"
-        raise CadcogError(
-            f"the model spans {extent:g} mm if its unit is mm; is it in {guess}? Pass --units "
-            "mm, m or in to say which"
+        notes.append(
+            f"the model spans {extent:.4g} mm in the file's declared unit "
+            f"({model.declared_unit or 'none'}); if that is wrong, pass --units"
         )
-    if not allow_overlap:
-        overlaps = []
-        for i, a in enumerate(kept):
-            for b in kept[i + 1 :]:
-                (alo, ahi), (blo, bhi) = boxes[a.name], boxes[b.name]
-                if np.any(np.minimum(ahi, bhi) <= np.maximum(alo, blo)):
-                    continue
-                common = _common_volume(a.shape, b.shape) * scale**3
-                if common > OVERLAP_RELATIVE * min(volumes[a.name], volumes[b.name]):
-                    overlaps.append(f"{a.name} & {b.name} ({common:.4g} mm³)")
-        if overlaps:
-            raise CadcogError(
-                "solids overlap, so their common volume would count twice: "
-                + "; ".join(overlaps)
-                + ". Fix the model, --exclude one of each pair, or "
-                "--allow-overlap"
-            )
-    # Densities.
-    assigned: dict[str, tuple[str, str, float]] = {}
-    missing: list[str] = []
-    for entry in kept:
-        if materials is None:
-            assigned[entry.name] = ("uniform", "total mass", 1.0)
-            continue
-        found = materials.assign([entry.name, *reversed(entry.path)])
-        if found is None:
-            missing.append(entry.name)
-        else:
-            assigned[entry.name] = (found.material, found.rule, found.density_kg_m3)
-    if missing:
-        raise CadcogError(
-            f"no material for {len(missing)} solid(s): {', '.join(missing)}; add patterns to the "
-            'materials file, or a catch-all "*" rule for a default density'
-        )
+
+    _assign_densities(bodies, materials, total_mass_kg, notes, src)
+    summary, resolved_info = _handle_overlaps(bodies, overlaps, scale, progress, src, workers)
+    info.extend(resolved_info)
+    if summary.pairs and overlaps != "resolve":
+        verdict = "allowed by --allow-overlap" if overlaps == "allow" else "under the refusal"
+        threshold = f" threshold of {tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%}"
+        text = f"{summary.headline()}; {verdict}{threshold if overlaps == 'check' else ''}"
+        notes.append(text + ": each solid counted as it is")
+
+    raw = [_with_mass_factor(b.props, b.density_kg_mm3) for b in bodies]
+    counted = [(b, p) for b, p in zip(bodies, raw, strict=True) if p.mass_kg > 0]
+    if not counted:
+        raise CadcogError(f"{src}: no body has mass (only surfaces without an areal density?)")
     factor = 1.0
-    notes = []
     if total_mass_kg is not None:
-        raw = sum(density_kg_m3_to_kg_mm3(assigned[n][2]) * volumes[n] for n in assigned)
-        factor = total_mass_kg / raw
-        notes.append(f"densities scaled by {factor:.6g} to match the weighed {total_mass_kg:g} kg")
-        mean_density = total_mass_kg / sum(volumes.values()) * 1e9
+        factor = total_mass_kg / sum(p.mass_kg for _, p in counted)
+        info.append(f"densities scaled by {factor:.6g} to match the weighed {total_mass_kg:g} kg")
+        volume = sum(b.props.volume_mm3 for b, _ in counted)
+        mean = total_mass_kg / volume * 1e9 if volume > 0 else float("inf")
         lo_d, hi_d = PLAUSIBLE_MEAN_DENSITY_KG_M3
-        if units is None and not lo_d <= mean_density <= hi_d:
-            raise CadcogError(
-                f"the weighed mass implies a mean density of {mean_density:.4g} kg/m³: the model's "
-                "unit is probably not mm; pass --units m or --units in (or --units mm to accept)"
+        if units is None and not lo_d <= mean <= hi_d:
+            notes.append(
+                f"the weighed mass implies a mean density of {mean:.4g} kg/m³: the file's "
+                f"declared unit ({model.declared_unit or 'none'}) may be wrong; pass --units"
             )
-    if invalid:
-        notes.append(f"OCCT reports invalid topology in {', '.join(invalid)}; integrated anyway")
     results = []
-    for e in kept:
-        material, rule, density = assigned[e.name]
-        density *= factor
-        ip = solid_properties(e.shape, density_kg_m3_to_kg_mm3(density) * scale**3, name=e.name)
-        p = ip.properties
-        props = MassProperties(
-            p.mass_kg, p.cog_mm * scale, p.inertia_kg_mm2 * scale**2, p.volume_mm3 * scale**3
+    for b, p in counted:
+        sigma, growth = _item_rules(b.step, materials)
+        results.append(
+            BodyResult(
+                b.step.path,
+                tuple(n.name for n in b.step.nodes),
+                b.step.kind,
+                b.material,
+                b.source,
+                None if b.density_kg_m3 is None else b.density_kg_m3 * factor,
+                None if b.areal_density_kg_m2 is None else b.areal_density_kg_m2 * factor,
+                _with_mass_factor(p, factor),
+                b.props.mass_kg if b.step.kind == "surface" else 0.0,
+                b.removed_mm3,
+                None if sigma is None else sigma.value,
+                b.step.path if sigma is None else sigma.item,
+                0.0 if growth is None else growth.value,
+                "" if growth is None else growth.label,
+            )
         )
-        results.append(SolidResult(e.name, e.path, material, rule, density, props))
+    left_out = tuple((b.step.path, b.props.mass_kg) for b in bodies if b.density_kg_mm3 == 0.0)
+    if left_out:
+        area = sum(a for _, a in left_out)
+        shown = ", ".join(f"{p} ({a:.4g} mm²)" for p, a in left_out[:WORST_PAIRS_SHOWN])
+        more = f" and {len(left_out) - WORST_PAIRS_SHOWN} more" if len(left_out) > 10 else ""
+        notes.append(
+            f"{len(left_out)} surface bod{'y' if len(left_out) == 1 else 'ies'} "
+            f"({area:.4g} mm² in all) have no volume and are left out: {shown}{more}; give "
+            "them an areal density in the materials file's [surfaces] table"
+        )
+    if audit_bits["made_solid"]:
+        notes.append(
+            f"closed shells made into solids: {', '.join(audit_bits['made_solid'][:10])}"
+            + (" ..." if len(audit_bits["made_solid"]) > 10 else "")
+        )
+    if audit_bits["invalid"]:
+        notes.append(
+            f"OCCT reports invalid topology in {len(audit_bits['invalid'])} solid(s) "
+            f"({', '.join(audit_bits['invalid'][:10])}); integrated anyway"
+        )
+    if model.curve_only_parts:
+        notes.append(
+            f"{len(model.curve_only_parts)} part(s) hold only curves or points, no mass: "
+            + ", ".join(model.curve_only_parts[:10])
+        )
+    sources: dict[str, int] = {}
+    for r in results:
+        kind = r.density_source.split(" ", 1)[0]
+        sources[kind] = sources.get(kind, 0) + 1
+    audit = ImportAudit(
+        str(src),
+        model.declared_units,
+        units,
+        scale,
+        model.n_products,
+        model.n_instances,
+        sum(1 for b in bodies if b.step.kind == "solid"),
+        sum(1 for b in bodies if b.step.kind == "surface"),
+        excluded,
+        left_out,
+        tuple(audit_bits["made_solid"]),
+        tuple(audit_bits["invalid"]),
+        model.curve_only_parts,
+        sources,
+        (tuple(float(v) for v in bbox[0]), tuple(float(v) for v in bbox[1])),  # type: ignore[arg-type]
+    )
+    if strict and notes:
+        raise CadcogError(f"{src}: --strict: {len(notes)} note(s): " + " | ".join(notes))
     total = combine(r.properties for r in results)
-    return ModelMassProperties(total, tuple(results), excluded, tuple(notes))
+    return ModelMassProperties(total, tuple(results), audit, summary, tuple(notes), tuple(info))
+
+
+@dataclass(frozen=True)
+class _ProductCheck:
+    """Placement-free results for one product's body, computed once for all its instances."""
+
+    props: MassProperties  # unit density, the product's frame
+    closed: bool
+    valid: bool
+    box_lo: np.ndarray
+    box_hi: np.ndarray
+
+
+def _check_product(body: StepBody) -> _ProductCheck:
+    shape = body.local_shape
+    if body.kind == "solid":
+        props = volume_properties(shape)
+        closed = _closed(shape)
+        valid = bool(BRepCheck_Analyzer(shape).IsValid())
+    else:
+        props, closed, valid = surface_properties(shape), True, True
+    lo, hi = bounding_boxes([shape])
+    return _ProductCheck(props, closed, valid, lo[0], hi[0])
+
+
+def _global_box(check: _ProductCheck, body: StepBody) -> tuple[np.ndarray, np.ndarray]:
+    """The body's axis-aligned box: its product's box moved, exact for axis-aligned rotations
+    (any multiple of 90°); other rotations are boxed afresh, since a moved box is looser."""
+    rigid = rigid_transform(body.placement)
+    if rigid is not None:
+        r, t = rigid
+        if np.all(np.isclose(np.abs(r), np.round(np.abs(r)), atol=1e-12)):
+            corners = np.array(
+                [
+                    [(check.box_lo, check.box_hi)[k][i] for i, k in enumerate(bits)]
+                    for bits in np.ndindex(2, 2, 2)
+                ]
+            )
+            moved = corners @ r.T + t
+            return moved.min(axis=0), moved.max(axis=0)
+    lo, hi = bounding_boxes([body.shape])
+    return lo[0], hi[0]
+
+
+def _item_rules(
+    body: StepBody, materials: MaterialMap | None
+) -> tuple[ItemRule | None, ItemRule | None]:
+    """The body's mass uncertainty and growth allowance rules (item = deepest matched node)."""
+    if materials is None:
+        return None, None
+    own = body.nodes[-1]
+    candidates: list[tuple[str, tuple[str, ...]]] = [
+        (body.path, tuple(v for v in (body.path, own.name, own.instance, own.product) if v))
+    ]
+    for k in range(len(body.nodes) - 1, 0, -1):
+        node = body.nodes[k - 1]
+        prefix = "/".join(n.name for n in body.nodes[:k])
+        names = tuple(v for v in (prefix, node.name, node.instance, node.product) if v)
+        candidates.append((prefix, names))
+    return materials.uncertainty(candidates), materials.growth(candidates)
+
+
+def _integrate(
+    kept: Sequence[StepBody], scale: float, progress: ProgressFactory | None, workers: int
+) -> tuple[list[_Body], dict[str, Any]]:
+    """Unit-density properties of every body (shared between instances), and the audit."""
+    firsts: dict[str, StepBody] = {}
+    for body in kept:
+        firsts.setdefault(body.product_key, body)
+    tick = progress("integrating bodies", len(firsts)) if progress else None
+    checks = dict(
+        zip(
+            firsts,
+            fork_map(_check_product, list(firsts.values()), workers=workers, progress=tick),
+            strict=True,
+        )
+    )
+    problems: list[str] = []
+    empty: list[str] = []
+    open_solids: list[str] = []
+    invalid: list[str] = []
+    made_solid: list[str] = []
+    out: list[_Body] = []
+    for body in kept:
+        check = checks[body.product_key]
+        rigid = rigid_transform(body.placement)
+        if rigid is not None:
+            placed_props = placed(check.props, *rigid)
+        elif body.kind == "solid":
+            placed_props = volume_properties(body.shape)
+        else:
+            placed_props = surface_properties(body.shape)
+        props = _scaled_lengths(placed_props, scale, 3 if body.kind == "solid" else 2)
+        if body.kind == "solid":
+            if not check.closed:
+                open_solids.append(body.path)
+            elif not props.volume_mm3 > 1e-9:
+                empty.append(body.path)
+            if not check.valid:
+                invalid.append(body.path)
+            if body.made_from_shell:
+                made_solid.append(body.path)
+        lo, hi = _global_box(check, body)
+        out.append(_Body(body, props, box_lo=lo, box_hi=hi))
+    if open_solids:
+        problems.append(
+            f"solids whose shells are not closed: {', '.join(open_solids[:10])}"
+            f"{' ...' if len(open_solids) > 10 else ''}; fix them or --exclude them"
+        )
+    if empty:
+        problems.append(
+            f"zero or negative volume: {', '.join(empty[:10])}"
+            f"{' ...' if len(empty) > 10 else ''} (degenerate or inside-out solids); --exclude "
+            "them or fix the model"
+        )
+    return out, {"problems": problems, "invalid": invalid, "made_solid": made_solid}
+
+
+def _assign_densities(
+    bodies: list[_Body],
+    materials: MaterialMap | None,
+    total_mass_kg: float | None,
+    notes: list[str],
+    src: Any,
+) -> None:
+    """Fill each body's material, density and its source; raise for solids without one."""
+    solids = [b for b in bodies if b.step.kind == "solid"]
+    xcaf_usable = [b for b in solids if b.step.material and b.step.material.density_kg_m3]
+    uniform = materials is None and total_mass_kg is not None and not xcaf_usable
+    origin = (materials.source if materials is not None else "") or "materials"
+    bad_xcaf: set[str] = set()
+    missing: list[str] = []
+    lo_d, hi_d = DENSITY_RANGE_KG_M3
+    for b in bodies:
+        names = (*b.step.match_names(), *reversed(b.step.assembly_paths))
+        if b.step.kind == "surface":
+            found_s = materials.assign_surface(names) if materials is not None else None
+            if found_s is None:
+                b.material, b.source = "none", "left out (no areal density)"
+                b.areal_density_kg_m2 = 0.0
+            else:
+                b.material = found_s.material
+                b.source = f"materials rule {found_s.rule!r} ({origin})"
+                b.areal_density_kg_m2 = found_s.areal_density_kg_m2
+            continue
+        found = materials.assign(names) if materials is not None else None
+        xm = b.step.material
+        if found is not None:
+            b.material, b.density_kg_m3 = found.material, found.density_kg_m3
+            b.source = f"materials rule {found.rule!r} ({origin})"
+        elif uniform:
+            b.material, b.density_kg_m3 = "uniform", 1000.0
+            b.source = "uniform (scaled to --total-mass-kg)"
+        elif xm is not None and xm.density_kg_m3 and lo_d <= xm.density_kg_m3 <= hi_d:
+            b.material, b.density_kg_m3 = xm.name, xm.density_kg_m3
+            b.source = f"STEP material {xm.name!r} ({xm.raw})"
+        else:
+            if xm is not None:
+                bad_xcaf.add(f"{xm.name} ({xm.raw or 'no density'})")
+            missing.append(b.step.path)
+    from_file = [b for b in solids if b.source.startswith("STEP material")]
+    if len(from_file) >= 2 and len({(b.material, b.density_kg_m3) for b in from_file}) == 1:
+        b0 = from_file[0]
+        notes.append(
+            f"all {len(from_file)} solids without a materials rule carry the same STEP material "
+            f"{b0.material!r} ({b0.density_kg_m3:g} kg/m³): exporters stamp a default material "
+            "on every body (Fusion 360 writes 'Steel' on boards and plastics alike); check it, "
+            "or give a materials file"
+        )
+    if bad_xcaf:
+        notes.append(
+            "STEP materials without a usable density (kg/m³ between "
+            f"{lo_d:g} and {hi_d:g}): {', '.join(sorted(bad_xcaf))}"
+        )
+    if missing:
+        shown = ", ".join(missing[:10]) + (
+            f" and {len(missing) - 10} more" if len(missing) > 10 else ""
+        )
+        raise CadcogError(
+            f"{src}: no density for {len(missing)} solid(s): {shown}; give a materials file "
+            '(--materials; a catch-all "*" rule gives a default) or --density-kg-m3'
+        )
+
+
+def _handle_overlaps(
+    bodies: list[_Body],
+    policy: OverlapPolicy,
+    scale: float,
+    progress: ProgressFactory | None,
+    src: Any,
+    workers: int,
+) -> tuple[OverlapSummary, list[str]]:
+    """Find overlaps among solids, summarise them, refuse or resolve them per ``policy``."""
+    solids = [b for b in bodies if b.step.kind == "solid"]
+    if len(solids) < 2:
+        return OverlapSummary(policy), []
+    placed_solids = [
+        Placed(b.step.shape, b.step.local_shape, b.step.placement, b.step.product_key, lo, hi)
+        for b, lo, hi in ((b, b.box_lo, b.box_hi) for b in solids)
+    ]
+    volumes = [b.props.volume_mm3 for b in solids]
+    tick = progress("checking overlaps", 0) if progress else None
+    found, n_candidates, n_contact = find_overlaps(
+        placed_solids, volumes, scale=scale, progress=tick, workers=workers
+    )
+    if not found:
+        return OverlapSummary(policy, n_candidates=n_candidates, n_contact=n_contact), []
+
+    def lighter(o: Overlap) -> tuple[int, int]:
+        """(lighter, denser): the later solid loses a tie."""
+        da, db = solids[o.a].density_kg_mm3, solids[o.b].density_kg_mm3
+        return (o.b, o.a) if db <= da else (o.a, o.b)
+
+    pairs = []
+    corrections = []
+    for o in found:
+        lose, keep = lighter(o)
+        common = _scaled_lengths(o.common, scale, 3)
+        mass = common.mass_kg * solids[lose].density_kg_mm3
+        corrections.append(_with_mass_factor(common, solids[lose].density_kg_mm3).scaled(-1.0))
+        pairs.append(
+            OverlapPair(
+                solids[o.a].step.path,
+                solids[o.b].step.path,
+                common.volume_mm3,
+                mass,
+                solids[keep].step.path,
+            )
+        )
+    as_is = [_with_mass_factor(b.props, b.density_kg_mm3) for b in bodies if b.density_kg_mm3 > 0]
+    total_as_is = combine(as_is)
+    single = combine([*as_is, *corrections])
+    double_mass = sum(p.mass_kg for p in pairs)
+    fraction = double_mass / total_as_is.mass_kg
+    shift = total_as_is.cog_mm - single.cog_mm
+    ranked = tuple(sorted(pairs, key=lambda p: -p.mass_kg))
+    summary = OverlapSummary(
+        policy,
+        ranked,
+        sum(p.volume_mm3 for p in pairs),
+        double_mass,
+        fraction,
+        (float(shift[0]), float(shift[1]), float(shift[2])),
+        n_candidates,
+        n_contact,
+    )
+    if policy == "check" and fraction > tolerances.OVERLAP_REFUSE_MASS_FRACTION:
+        worst = "; ".join(p.describe() for p in ranked[:3])
+        raise CadcogError(
+            f"{src}: {summary.headline()}, above the "
+            f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%} threshold; worst: {worst}. Fix the "
+            "model, --exclude one of each pair, --resolve-overlaps (the denser solid keeps the "
+            "common volume) or --allow-overlap (count each solid as it is); --json lists every "
+            "pair"
+        )
+    if policy != "resolve":
+        return summary, []
+    partners: dict[int, list[int]] = {}
+    for o in found:
+        lose, keep = lighter(o)
+        partners.setdefault(lose, []).append(keep)
+    failed = []
+    for lose, keeps in partners.items():
+        body = solids[lose]
+        cut = cut_by(body.step.shape, [solids[k].step.shape for k in keeps])
+        if cut is None:
+            failed.append(body.step.path)
+            continue
+        new = _scaled_lengths(volume_properties(cut), scale, 3)
+        body.removed_mm3 = body.props.volume_mm3 - new.volume_mm3
+        body.props = new
+    info = [
+        f"--resolve-overlaps: {len(found)} overlapping pair(s) resolved, the denser solid of "
+        f"each keeping the common volume ({double_mass * 1e3:.4g} g no longer counted twice)"
+    ]
+    if failed:
+        raise CadcogError(
+            f"{src}: --resolve-overlaps: OCCT could not cut {', '.join(failed[:10])}; "
+            "--exclude them or --allow-overlap"
+        )
+    return summary, info

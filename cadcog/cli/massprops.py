@@ -1,95 +1,275 @@
-"""``cadcog massprops``: mass properties of any STEP model, solid by solid."""
+"""``cadcog massprops``: mass properties of any STEP model, with its budget and import audit."""
 
 from __future__ import annotations
 
 import argparse
 import json
+import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
+from cadcog.envelope import CDS_COG_LIMITS_MM
 from cadcog.errors import CadcogError
 from cadcog.fileio import round_floats
+from cadcog.inertia import PRODUCT_CONVENTIONS, products_of_inertia
+from cadcog.massreport import MassReport, build_mass_report, parse_point
 from cadcog.materials import LIBRARY, MaterialMap, load_materials
+from cadcog.units import UNIT_CHOICES
+
+
+def _point(text: str) -> str | tuple[float, float, float]:
+    try:
+        return parse_point(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
+def _limits(text: str) -> tuple[float, float, float]:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 3 or not all(np.isfinite(values)) or min(values) <= 0:
+        raise argparse.ArgumentTypeError(f"expected three positive numbers X,Y,Z, got {text!r}")
+    return values[0], values[1], values[2]
 
 
 def add_parser(sub: Any) -> None:
     p = sub.add_parser(
         "massprops",
-        help="mass, CoG and inertia of a STEP model by exact integration per solid",
-        description="Exact B-rep integration of every solid with its own density, combined by "
-        "mass. Checks for open shells, empty or inverted solids, overlaps and unit mistakes, "
-        "naming the solid. Materials: "
+        help="mass, CoG, inertia and mass budget of a STEP model, solid by solid",
+        description="Reads every body at its global placement through any depth of assembly, "
+        "integrates each solid exactly with its own density, combines by mass, and reports the "
+        "import audit (declared unit, instances, surface bodies, overlaps, invalid topology, "
+        "density sources), the mass budget by assembly node, and the inertia. Materials: "
         + "; ".join(f"{m.name} {m.density_kg_m3:g} kg/m³" for m in LIBRARY.values())
         + ". See docs/spacecraft.md.",
     )
     p.add_argument("model", type=Path, help="STEP file (part or assembly)")
     g = p.add_mutually_exclusive_group()
-    g.add_argument("--materials", type=Path, help="TOML mapping name patterns to materials")
+    g.add_argument(
+        "--materials",
+        type=Path,
+        help="TOML: densities, surface areal densities, mass uncertainties and growth by pattern",
+    )
     g.add_argument("--density-kg-m3", type=float, help="one density for every solid")
     p.add_argument(
-        "--total-mass-kg",
-        type=float,
-        help="scale the densities so the total matches this weighed mass",
+        "--total-mass-kg", type=float, help="scale the densities so the total matches a weighing"
     )
     p.add_argument(
         "--units",
-        choices=("mm", "m", "in"),
-        help="the model's length unit (default mm, after a plausibility check)",
+        choices=UNIT_CHOICES,
+        help="the file's true length unit, when its declared unit is wrong (the reader already "
+        "converts the declared unit; this never scales twice)",
     )
     p.add_argument(
         "--exclude",
         action="append",
         default=[],
         metavar="PATTERN",
-        help="leave out solids matching this glob pattern (repeatable)",
+        help="leave out bodies or assemblies matching this glob pattern or path (repeatable); "
+        "applies before every check",
     )
-    p.add_argument(
+    o = p.add_mutually_exclusive_group()
+    o.add_argument(
         "--allow-overlap",
         action="store_true",
-        help="accept overlapping solids (their common volume counts twice)",
+        help="count every solid as it is, whatever the overlap",
+    )
+    o.add_argument(
+        "--resolve-overlaps",
+        action="store_true",
+        help="subtract each common volume from the lighter solid of its pair",
+    )
+    p.add_argument("--strict", action="store_true", help="turn every note into an error (for CI)")
+    p.add_argument(
+        "--about",
+        type=_point,
+        default="cog",
+        help="reference point of the frame inertia: cog (default), origin, centre (the bounding "
+        "box's centre: a CubeSat's geometric centre) or X,Y,Z in mm",
+    )
+    p.add_argument(
+        "--axes",
+        default="+x,+y,+z",
+        help="axes of that frame as signed model axes, e.g. +y,-x,+z (default +x,+y,+z)",
+    )
+    p.add_argument(
+        "--products",
+        choices=tuple(PRODUCT_CONVENTIONS),
+        default="positive",
+        help="sign convention of the products of inertia shown (JSON has both): positive "
+        "Pxy = +∫xy dm (default), negative Ixy = −∫xy dm",
+    )
+    p.add_argument(
+        "--form-factor", choices=tuple(CDS_COG_LIMITS_MM), help="check the CubeSat CoG envelope"
+    )
+    p.add_argument(
+        "--cog-limits-mm", type=_limits, help="custom CoG envelope half-widths X,Y,Z (mm)"
+    )
+    p.add_argument("--depth", type=int, default=2, help="budget tree levels shown (default 2)")
+    p.add_argument("--report", type=Path, metavar="DIR", help="write an HTML report to DIR")
+    p.add_argument(
+        "--workers", type=int, help="processes for integration and overlap checks (default: CPUs)"
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
 
-def run(args: argparse.Namespace) -> int:
-    if args.materials is None and args.density_kg_m3 is None and args.total_mass_kg is None:
-        raise CadcogError("give --materials, --density-kg-m3 or --total-mass-kg")
+def _progress() -> Callable[[str, int], Callable[[int], None]] | None:
+    """A tqdm progress factory on a terminal (stderr), else None."""
+    if not sys.stderr.isatty():
+        return None
+    from tqdm import tqdm
+
+    def factory(desc: str, total: int) -> Callable[[int], None]:
+        bar = tqdm(total=total or None, desc=desc, unit="", file=sys.stderr, leave=False)
+        return bar.update
+
+    return factory
+
+
+def _materials(args: argparse.Namespace) -> MaterialMap | None:
     for name in ("density_kg_m3", "total_mass_kg"):
         value = getattr(args, name)
-        if value is not None and not value > 0:
-            raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
-    materials: MaterialMap | None = None
+        if value is not None and not (np.isfinite(value) and value > 0):
+            raise CadcogError(f"--{name.replace('_', '-')} must be a positive number, got {value}")
     if args.materials is not None:
-        materials = load_materials(args.materials)
-    elif args.density_kg_m3 is not None:
-        materials = MaterialMap.uniform(args.density_kg_m3)
-    from cadcog.cad.stepmass import model_mass_properties, read_step_solids
+        return load_materials(args.materials)
+    if args.density_kg_m3 is not None:
+        return MaterialMap.uniform(args.density_kg_m3)
+    return None
 
+
+def run(args: argparse.Namespace) -> int:
+    if args.depth < 0:
+        raise CadcogError("--depth must be 0 or more")
+    if args.workers is not None and args.workers < 1:
+        raise CadcogError("--workers must be at least 1")
+    materials = _materials(args)
+    from cadcog.cad.parallel import available_workers
+    from cadcog.cad.stepmass import OverlapPolicy, model_mass_properties
+    from cadcog.cad.stepread import read_step
+
+    model = read_step(args.model)
+    policy: OverlapPolicy = (
+        "allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check"
+    )
     result = model_mass_properties(
-        read_step_solids(args.model),
+        model,
         materials,
         total_mass_kg=args.total_mass_kg,
         units=args.units,
         exclude=args.exclude,
-        allow_overlap=args.allow_overlap,
+        overlaps=policy,
+        strict=args.strict,
+        progress=_progress(),
+        workers=args.workers or available_workers(),
     )
+    try:
+        report = build_mass_report(
+            result,
+            about=args.about,
+            axes=args.axes,
+            form_factor=args.form_factor,
+            cog_limits_mm=args.cog_limits_mm,
+        )
+    except ValueError as exc:
+        raise CadcogError(f"--about/--axes: {exc}") from None
+    if args.report is not None:
+        from cadcog.spacecraft_report import write_mass_report
+
+        page = write_mass_report(report, model, args.report)
+        print(f"report: {page}", file=sys.stderr)
     if args.json:
-        print(json.dumps(round_floats(result.to_dict()), indent=2, ensure_ascii=False))
-        return 0
-    t = result.total
-    print(f"{'solid':<28}{'material':<24}{'mass_kg':>10}{'volume_mm3':>14}  cog_mm")
-    for s in result.solids:
-        p = s.properties
-        cog = ", ".join(f"{c:.2f}" for c in p.cog_mm)
-        print(f"{s.name:<28}{s.material:<24}{p.mass_kg:>10.4f}{p.volume_mm3:>14.1f}  [{cog}]")
-    cog = ", ".join(f"{c:.3f}" for c in t.cog_mm)
-    print(f"\ntotal {t.mass_kg:.5f} kg, CoG [{cog}] mm, volume {t.volume_mm3:.1f} mm³")
-    print("inertia about the CoG (kg·mm², model axes):")
-    for row in t.inertia_kg_mm2:
-        print("  " + "  ".join(f"{v:12.3f}" for v in row))
-    for n in result.notes:
-        print(f"note: {n}")
-    if result.excluded:
-        print(f"excluded: {', '.join(result.excluded)}")
+        print(json.dumps(round_floats(report.to_dict()), indent=2, ensure_ascii=False))
+    else:
+        print_report(report, args.depth, args.products)
     return 0
+
+
+def _v(values: Any, digits: int = 3) -> str:
+    return "[" + ", ".join(f"{float(v):.{digits}f}" for v in values) + "]"
+
+
+def print_report(report: MassReport, depth: int, products: str) -> None:
+    """Readable report: audit, budget tree, totals, inertia, overlaps, envelope, notes."""
+    r, a, b = report.result, report.result.audit, report.budget
+    units = ", ".join(a.declared_units) or "none"
+    if a.units_override:
+        units += f" (overridden: {a.units_override}, lengths × {a.scale_to_mm:g})"
+    print(f"{a.source}: declared unit {units}")
+    print(
+        f"{a.n_products} products, {a.n_instances} instances: {a.n_solids} solids, "
+        f"{a.n_surfaces} surface bodies; densities from "
+        + ", ".join(f"{k} ×{n}" for k, n in a.density_sources.items())
+    )
+    if a.excluded:
+        print(f"excluded: {len(a.excluded)} bodies")
+    print(f"\n{'mass budget':<44}{'mass_kg':>11}{'share':>8}{'±_kg':>10}  cog_mm")
+    for level, node in b.root.walk(depth):
+        sigma = "" if node.mass_sigma_kg is None else f"{node.mass_sigma_kg:.4f}"
+        name = ("  " * level + node.name)[:43]
+        print(f"{name:<44}{node.mass_kg:>10.4f}{node.share:>8.1%}{sigma:>9}  {_v(node.cog_mm, 2)}")
+    t = r.total
+    line = f"\ntotal {t.mass_kg:.5f} kg"
+    if b.mass_sigma_kg is not None:
+        line += f" ± {b.mass_sigma_kg:.5f} (1 σ, {b.sigma_coverage:.0%} of the mass has one)"
+    print(line + f", volume {t.volume_mm3:.1f} mm³")
+    cog = f"CoG {_v(t.cog_mm)} mm"
+    if b.cog_cov_mm2 is not None:
+        cog += f" ± {_v(np.sqrt(np.diag(b.cog_cov_mm2)))} mm (1 σ)"
+    print(cog)
+    if b.growth_kg:
+        print(
+            f"with growth allowances: {b.predicted.mass_kg:.5f} kg (+{b.growth_kg:.5f}), "
+            f"CoG {_v(b.predicted.cog_mm)} mm"
+        )
+    j = t.inertia_kg_mm2
+    p = products_of_inertia(j, products)  # type: ignore[arg-type]
+    print("\ninertia about the CoG, model axes (kg·mm²):")
+    print(f"  Ixx {j[0, 0]:.4f}  Iyy {j[1, 1]:.4f}  Izz {j[2, 2]:.4f}")
+    print(
+        f"  products ({PRODUCT_CONVENTIONS[products]}): Pxy {p['xy']:.4f}  Pxz {p['xz']:.4f}  "
+        f"Pyz {p['yz']:.4f}"
+    )
+    pa = report.principal
+    print("principal moments (kg·mm²) and axes (model components):")
+    for k in range(3):
+        angle = pa.angles_from_frame_deg()[k]
+        print(
+            f"  {pa.moments_kg_mm2[k]:12.4f}  {_v(pa.axes[k], 4)}  ({angle:.1f}° from a model axis)"
+        )
+    if pa.degenerate:
+        print("  (two moments are equal: their axes are not unique)")
+    f = report.frame
+    if f.label != "cog, axes +x,+y,+z":
+        jf = report.frame_inertia_kg_mm2
+        print(f"\nin the frame at {f.label} (origin {_v(f.origin_mm)} mm):")
+        print(f"  CoG {_v(f.point_to_frame(t.cog_mm))} mm")
+        for row in jf:
+            print("  " + "  ".join(f"{v:12.4f}" for v in row))
+    ov = r.overlaps
+    if ov.pairs:
+        print(f"\noverlaps ({ov.policy}): {ov.headline()}")
+        for pair in ov.pairs[:10]:
+            print(
+                f"  {report.short(pair.a)} & {report.short(pair.b)}: {pair.volume_mm3:.4g} mm³, "
+                f"{pair.mass_kg * 1e3:.4g} g (kept by {report.short(pair.kept_by)})"
+            )
+        if len(ov.pairs) > 10:
+            print(f"  ... {len(ov.pairs) - 10} more in --json")
+    env = report.envelope
+    if env is not None:
+        label = env.form_factor or "custom"
+        print(
+            f"\n{label} CoG offset from the geometric centre {_v(env.offset_mm, 2)} mm, limits "
+            f"±{_v(env.limits_mm, 1)} mm: {env.verdict()} ({env.source})"
+        )
+    for n in r.info:
+        print(f"info: {n}")
+    for n in r.notes:
+        print(f"note: {n}")

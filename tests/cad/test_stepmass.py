@@ -1,170 +1,360 @@
-"""Mass properties of STEP models: multi-material closed forms, round trips, messy CAD."""
+"""Mass properties of STEP models: densities, units, surfaces, overlaps, strictness.
+
+Expected values come from closed forms (boxes, composed with numpy in ``stepfixtures``), from
+trimesh over an OCCT-exported mesh of the root compound, or from arithmetic on the fixture.
+"""
 
 from __future__ import annotations
+
+import re
 
 import numpy as np
 import pytest
 
-bd = pytest.importorskip("build123d")
+from cadcog.cad.stepmass import model_mass_properties
+from cadcog.cad.stepread import read_step
+from cadcog.errors import CadcogError, ParameterFileError
+from cadcog.massprops import box_properties, combine
+from cadcog.materials import LIBRARY, MaterialMap, load_materials
+from tests.cad.stepfixtures import (
+    Assembly,
+    Part,
+    Place,
+    box_shape,
+    cylinder,
+    expected_boxes,
+    kicad_like_board,
+    nested_three_levels,
+    square_face,
+    write_step,
+)
 
-from cadcog.cad.cubesat import build_cubesat, load_cubesat  # noqa: E402
-from cadcog.cad.stepmass import model_mass_properties, read_step_solids  # noqa: E402
-from cadcog.errors import CadcogError, ParameterFileError  # noqa: E402
-from cadcog.massprops import box_properties, combine, cylinder_properties  # noqa: E402
-from cadcog.materials import LIBRARY, MaterialMap, load_materials  # noqa: E402
-from cadcog.rigfile import default_rig_path  # noqa: E402
-
-OVERLAP = "solids overlap"
-OPEN = "open shells|surfaces without a closed solid"
-EMPTY = "zero or negative volume"
-NO_MATERIAL = "no material for"
-UNITS = "--units"
-
-
-def _box(name, size, corner):
-    s = bd.Solid.make_box(*size, bd.Plane(origin=corner))
-    s.label = name
-    return s
-
-
-def _step(tmp_path, solids, name="model"):
-    path = tmp_path / f"{name}.step"
-    bd.export_step(bd.Compound(children=list(solids), label=name), path)
-    return path
+UNIFORM = MaterialMap.uniform(1000.0)
 
 
 def _materials(tmp_path, text):
     path = tmp_path / "materials.toml"
-    path.write_text("[materials]\n" + text, encoding="utf-8")
+    path.write_text(text, encoding="utf-8")
     return load_materials(path)
 
 
+def _model(tmp_path, root, name="model", **kw):
+    return read_step(write_step(root, tmp_path / f"{name}.step", **kw))
+
+
+def _assert_props(got, want, *, rtol=1e-9):
+    assert got.mass_kg == pytest.approx(want.mass_kg, rel=rtol)
+    np.testing.assert_allclose(got.cog_mm, want.cog_mm, atol=1e-8 * (1 + np.abs(want.cog_mm).max()))
+    scale = np.abs(want.inertia_kg_mm2).max()
+    np.testing.assert_allclose(got.inertia_kg_mm2, want.inertia_kg_mm2, atol=rtol * scale)
+
+
+# --- densities ---------------------------------------------------------------------------------
 def test_two_materials_match_the_closed_form(tmp_path):
-    step = _step(
-        tmp_path,
-        [_box("alu_block", (40, 20, 10), (0, 0, 0)), _box("steel_block", (10, 10, 30), (50, 0, 0))],
-    )
-    mats = _materials(tmp_path, '"alu*" = "aluminium 6061-T6"\n"steel*" = 7850.0\n')
-    got = model_mass_properties(read_step_solids(step), mats).total
+    top = Assembly("top")
+    top.add(Part("alu_block", [((40.0, 20.0, 10.0), (0.0, 0.0, 0.0))]))
+    top.add(Part("steel_block", [((10.0, 10.0, 30.0), (50.0, 0.0, 0.0))]))
+    mats = _materials(tmp_path, '[materials]\n"alu*" = "aluminium 6061-T6"\n"steel*" = 7850.0\n')
+    got = model_mass_properties(_model(tmp_path, top), mats).total
     want = combine(
         [
             box_properties([40, 20, 10], [20, 10, 5], mass_kg=2700e-9 * 8000),
             box_properties([10, 10, 30], [55, 5, 15], mass_kg=7850e-9 * 3000),
         ]
     )
-    assert got.mass_kg == pytest.approx(want.mass_kg, rel=1e-9)
-    np.testing.assert_allclose(got.cog_mm, want.cog_mm, atol=1e-9)
-    np.testing.assert_allclose(got.inertia_kg_mm2, want.inertia_kg_mm2, rtol=1e-9, atol=1e-12)
+    _assert_props(got, want)
+
+
+def test_nested_assembly_mass_properties_match_numpy(tmp_path):
+    sat = nested_three_levels()
+    r = model_mass_properties(_model(tmp_path, sat), UNIFORM)
+    _assert_props(r.total, combine(expected_boxes(sat)))
+    assert r.audit.n_solids == 5 and not r.notes
 
 
 def test_total_mass_scales_the_densities(tmp_path):
-    step = _step(
-        tmp_path, [_box("a", (10, 10, 10), (0, 0, 0)), _box("b", (10, 10, 10), (20, 0, 0))]
-    )
-    mats = _materials(tmp_path, '"a" = 1000.0\n"b" = 3000.0\n')
-    r = model_mass_properties(read_step_solids(step), mats, total_mass_kg=0.008)
+    top = Assembly("top")
+    top.add(Part("a", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))]))
+    top.add(Part("b", [((10.0, 10.0, 10.0), (20.0, 0.0, 0.0))]))
+    model = _model(tmp_path, top)
+    mats = _materials(tmp_path, '[materials]\n"a" = 1000.0\n"b" = 3000.0\n')
+    r = model_mass_properties(model, mats, total_mass_kg=0.008)
     assert r.total.mass_kg == pytest.approx(0.008)
-    masses = [s.properties.mass_kg for s in r.solids]
-    assert masses == pytest.approx([0.002, 0.006])  # the ratio of the densities is kept
-    uniform = model_mass_properties(read_step_solids(step), None, total_mass_kg=0.004)
-    assert [s.properties.mass_kg for s in uniform.solids] == pytest.approx([0.002, 0.002])
+    assert [b.properties.mass_kg for b in r.bodies] == pytest.approx([0.002, 0.006])
+    uniform = model_mass_properties(model, None, total_mass_kg=0.004)
+    assert [b.properties.mass_kg for b in uniform.bodies] == pytest.approx([0.002, 0.002])
 
 
-def test_cubesat_step_round_trip_keeps_names_and_closed_form(tmp_path):
-    spec = load_cubesat(default_rig_path().parent / "cubesat_3u.toml")
-    asm, mats = build_cubesat(spec)
-    entries = read_step_solids(_step(tmp_path, [asm], spec.name))
-    assert sorted(e.name for e in entries) == sorted(mats)
-    assert {e.path[-2] if len(e.path) > 1 else "" for e in entries} >= {"structure"}
-    r = model_mass_properties(entries, MaterialMap(tuple(mats.items())))
-    # Closed form from the solids built (boxes and one cylinder), with their materials.
-    parts = []
-    for solid in [leaf for group in asm.children for leaf in group.children]:
-        rho = LIBRARY[mats[solid.label]].density_kg_m3 * 1e-9
-        bb = solid.bounding_box()
-        lo = np.array([bb.min.X, bb.min.Y, bb.min.Z])
-        hi = np.array([bb.max.X, bb.max.Y, bb.max.Z])
-        if solid.label == "payload_camera":
-            d, length = hi[0] - lo[0], hi[2] - lo[2]
-            base = [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, lo[2]]
-            parts.append(cylinder_properties(base, [0, 0, 1], d / 2, length, density_kg_mm3=rho))
-        else:
-            parts.append(box_properties(hi - lo, (lo + hi) / 2, mass_kg=rho * np.prod(hi - lo)))
-    want = combine(parts)
-    assert r.total.mass_kg == pytest.approx(want.mass_kg, rel=1e-9)
-    np.testing.assert_allclose(r.total.cog_mm, want.cog_mm, atol=1e-8)
+def test_step_materials_are_used_and_overridden_by_the_file(tmp_path):
+    top = Assembly("top")
+    top.add(Part("al", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))], 2700.0, "Al"))
+    top.add(Part("cu", [((10.0, 10.0, 10.0), (20.0, 0.0, 0.0))], 8900.0, "Cu"))
+    model = _model(tmp_path, top)
+    r = model_mass_properties(model, None)
+    assert [b.properties.mass_kg for b in r.bodies] == pytest.approx([2.7e-3, 8.9e-3])
+    assert [b.density_source for b in r.bodies] == [
+        "STEP material 'Al' (2700 kg/m^3)",
+        "STEP material 'Cu' (8900 kg/m^3)",
+    ]
+    override = _materials(tmp_path, '[materials]\n"cu" = "copper C11000"\n')
+    r2 = model_mass_properties(model, override)
+    assert r2.bodies[0].density_source.startswith("STEP material")
+    assert r2.bodies[1].density_kg_m3 == LIBRARY["copper C11000"].density_kg_m3
 
 
-def test_overlapping_solids_are_named(tmp_path):
-    step = _step(
-        tmp_path, [_box("left", (20, 10, 10), (0, 0, 0)), _box("right", (20, 10, 10), (15, 0, 0))]
-    )
-    entries = read_step_solids(step)
-    mats = MaterialMap.uniform(1000.0)
-    with pytest.raises(CadcogError, match=f"{OVERLAP}.*: left & right \\(500 mm³\\)"):
-        model_mass_properties(entries, mats)
-    both = model_mass_properties(entries, mats, allow_overlap=True)
-    assert both.total.volume_mm3 == pytest.approx(4000.0)
-    one = model_mass_properties(entries, mats, exclude=["right"])
-    assert one.excluded == ("right",) and one.total.volume_mm3 == pytest.approx(2000.0)
+def test_one_material_on_every_body_is_flagged_as_a_likely_default(tmp_path):
+    top = Assembly("top")
+    for k in range(3):
+        top.add(Part(f"p{k}", [((5.0, 5.0, 5.0), (10.0 * k, 0.0, 0.0))], 7850.0, "Steel"))
+    r = model_mass_properties(_model(tmp_path, top), None)
+    assert any("same STEP material 'Steel'" in n for n in r.notes)
+    with pytest.raises(CadcogError, match="--strict: 1 note"):
+        model_mass_properties(_model(tmp_path, top), None, strict=True)
 
 
-def test_open_shell_is_refused(tmp_path):
-    box = bd.Solid.make_box(10, 10, 10)
-    shell = bd.Shell(box.faces()[:-1])  # one face missing
-    shell.label = "lid_missing"
-    path = tmp_path / "open.step"
-    bd.export_step(
-        bd.Compound(children=[_box("ok", (5, 5, 5), (20, 0, 0)), shell], label="open"), path
-    )
-    with pytest.raises(CadcogError, match=OPEN):
-        model_mass_properties(read_step_solids(path), MaterialMap.uniform(1000.0))
+def test_solids_without_a_density_are_listed(tmp_path):
+    top = Assembly("top")
+    for name, x in (("rail", 0.0), ("board", 10.0), ("battery", 60.0)):
+        top.add(Part(name, [((5.0, 5.0, 5.0), (x, 0.0, 0.0))]))
+    mats = _materials(tmp_path, '[materials]\n"rail*" = "aluminium 6061-T6"\n')
+    with pytest.raises(CadcogError, match=r"no density for 2 solid\(s\): top/board, top/battery"):
+        model_mass_properties(_model(tmp_path, top), mats)
 
 
-def test_inverted_solid_is_refused(tmp_path):
-    from cadcog.cad.stepmass import SolidEntry
-
-    good = _box("good", (10, 10, 10), (0, 0, 0))
-    inverted = SolidEntry("inside_out", ("model",), good.wrapped.Reversed())
-    with pytest.raises(CadcogError, match=f"{EMPTY}: inside_out"):
-        model_mass_properties([inverted], MaterialMap.uniform(1000.0))
-
-
-def test_model_in_metres_is_detected_and_converted(tmp_path):
-    step = _step(tmp_path, [_box("sat", (0.1, 0.1, 0.34), (0, 0, 0))])
-    entries = read_step_solids(step)
-    with pytest.raises(CadcogError, match=f"metres.*{UNITS}"):
-        model_mass_properties(entries, MaterialMap.uniform(2700.0))
-    r = model_mass_properties(entries, MaterialMap.uniform(2700.0), units="m")
-    assert r.total.mass_kg == pytest.approx(2700 * 0.1 * 0.1 * 0.34)
-    np.testing.assert_allclose(r.total.cog_mm, [50, 50, 170])
-
-
-def test_model_in_inches_is_caught_by_the_weighed_mass(tmp_path):
-    step = _step(tmp_path, [_box("sat", (3.94, 3.94, 13.4), (0, 0, 0))])
-    entries = read_step_solids(step)
-    with pytest.raises(CadcogError, match=f"mean density.*{UNITS} in"):
-        model_mass_properties(entries, None, total_mass_kg=4.0)
-    r = model_mass_properties(entries, None, total_mass_kg=4.0, units="in")
-    np.testing.assert_allclose(r.total.cog_mm, np.array([3.94, 3.94, 13.4]) / 2 * 25.4)
-
-
-def test_unassigned_solids_are_listed(tmp_path):
-    step = _step(
-        tmp_path,
-        [
-            _box("rail", (5, 5, 50), (0, 0, 0)),
-            _box("board", (40, 40, 2), (10, 0, 0)),
-            _box("battery", (20, 20, 20), (10, 0, 10)),
-        ],
-    )
-    mats = _materials(tmp_path, '"rail*" = "aluminium 6061-T6"\n')
-    with pytest.raises(CadcogError, match=f"{NO_MATERIAL} 2 solid\\(s\\): board, battery"):
-        model_mass_properties(read_step_solids(step), mats)
-
-
-def test_materials_file_errors(tmp_path):
+def test_materials_file_errors_name_the_key(tmp_path):
     with pytest.raises(ParameterFileError, match="unknown material 'unobtainium'"):
-        _materials(tmp_path, '"*" = "unobtainium"\n')
+        _materials(tmp_path, '[materials]\n"*" = "unobtainium"\n')
     with pytest.raises(ParameterFileError, match="is it in g/cm³"):
-        _materials(tmp_path, '"*" = 2.7\n')
+        _materials(tmp_path, '[materials]\n"*" = 2.7\n')
+    with pytest.raises(ParameterFileError, match=r"key 'growth_allowance\.x'.*unknown maturity"):
+        _materials(tmp_path, '[growth_allowance]\n"x" = "new"\n')
+    with pytest.raises(ParameterFileError, match=r"key 'mass_uncertainty\.x'.*fraction"):
+        _materials(tmp_path, '[mass_uncertainty]\n"x" = 5\n')
+
+
+# --- units -------------------------------------------------------------------------------------
+def test_metre_file_needs_no_option_and_units_never_scale_twice(tmp_path):
+    sat = nested_three_levels()
+    model = _model(tmp_path, sat, metres=True)
+    want = combine(expected_boxes(sat))
+    r = model_mass_properties(model, UNIFORM)
+    _assert_props(r.total, want)
+    assert r.audit.declared_units == ("metre",)
+    again = model_mass_properties(model, UNIFORM, units="m")  # the declaration was right
+    _assert_props(again.total, want)
+    assert any("already declares metre; nothing scaled" in i for i in again.info)
+
+
+def test_units_override_a_wrong_declaration(tmp_path):
+    """A file declaring mm whose numbers are metres (a 0.1 m box written as 0.1 'mm')."""
+    part = Part("sat", [((0.1, 0.1, 0.34), (0.0, 0.0, 0.0))])
+    model = _model(tmp_path, part)
+    r = model_mass_properties(model, MaterialMap.uniform(2700.0))
+    assert any("spans 0.34 mm" in n and "--units" in n for n in r.notes)  # a note, no refusal
+    fixed = model_mass_properties(model, MaterialMap.uniform(2700.0), units="m")
+    assert fixed.total.mass_kg == pytest.approx(2700 * 0.1 * 0.1 * 0.34)
+    np.testing.assert_allclose(fixed.total.cog_mm, [50, 50, 170])
+    assert fixed.audit.scale_to_mm == 1000.0 and not fixed.notes
+
+
+def test_small_chip_is_a_note_not_a_refusal(tmp_path):
+    chip = Part("chip", [((0.84, 0.84, 0.5), (0.0, 0.0, 0.0))])
+    r = model_mass_properties(_model(tmp_path, chip), MaterialMap.uniform(2300.0))
+    assert r.total.mass_kg == pytest.approx(2300e-9 * 0.84 * 0.84 * 0.5)
+    assert any("spans 0.84 mm" in n for n in r.notes)
+
+
+def test_inch_model_is_flagged_by_the_weighed_mass(tmp_path):
+    part = Part("sat", [((3.94, 3.94, 13.4), (0.0, 0.0, 0.0))])
+    r = model_mass_properties(_model(tmp_path, part), None, total_mass_kg=4.0)
+    assert any("mean density" in n and "--units" in n for n in r.notes)
+    fixed = model_mass_properties(_model(tmp_path, part), None, total_mass_kg=4.0, units="in")
+    np.testing.assert_allclose(fixed.total.cog_mm, np.array([3.94, 3.94, 13.4]) / 2 * 25.4)
+
+
+# --- surfaces, exclusion, bad solids ------------------------------------------------------------
+def _with_sheet(tmp_path):
+    top = Assembly("top")
+    top.add(Part("box", [((10.0, 10.0, 10.0), (-5.0, -5.0, 0.0))]))
+    top.add(Part("mli_sheet", [], shapes=[square_face(20.0, 30.0)]))
+    return _model(tmp_path, top)
+
+
+def test_surface_bodies_are_left_out_with_their_area(tmp_path):
+    r = model_mass_properties(_with_sheet(tmp_path), UNIFORM)
+    assert r.audit.n_surfaces == 1
+    assert r.audit.left_out_surfaces[0] == ("top/mli_sheet", pytest.approx(400.0))
+    assert r.total.mass_kg == pytest.approx(1e-6 * 1000)
+    assert any("1 surface body (400 mm²" in n for n in r.notes)
+
+
+def test_surface_bodies_take_an_areal_density(tmp_path):
+    mats = _materials(tmp_path, '[materials]\n"*" = 1000.0\n[surfaces]\n"mli*" = 0.5\n')
+    r = model_mass_properties(_with_sheet(tmp_path), mats)
+    sheet = next(b for b in r.bodies if b.kind == "surface")
+    assert sheet.properties.mass_kg == pytest.approx(0.5 * 400e-6)
+    np.testing.assert_allclose(sheet.properties.cog_mm, [0, 0, 30], atol=1e-9)
+    # a 20 mm square plate of mass m: Ixx = Iyy = m a²/12, Izz = m a²/6
+    m = 0.5 * 400e-6
+    np.testing.assert_allclose(
+        np.diag(sheet.properties.inertia_kg_mm2), [m * 400 / 12, m * 400 / 12, m * 400 / 6]
+    )
+    kapton = _materials(
+        tmp_path,
+        '[materials]\n"*" = 1000.0\n[surfaces]\n'
+        '"mli*" = { material = "polyimide (Kapton)", thickness_mm = 0.025 }\n',
+    )
+    r2 = model_mass_properties(_with_sheet(tmp_path), kapton)
+    sheet2 = next(b for b in r2.bodies if b.kind == "surface")
+    assert sheet2.properties.mass_kg == pytest.approx(1420 * 0.025e-3 * 400e-6)
+
+
+def test_inverted_solid_is_refused_unless_excluded_first(tmp_path):
+    from dataclasses import replace
+
+    model = _model(tmp_path, nested_three_levels())
+    bad = model.bodies[0]
+    inverted = replace(
+        bad,
+        shape=bad.shape.Reversed(),
+        local_shape=bad.local_shape.Reversed(),
+        product_key="inverted",
+    )
+    broken = replace(model, bodies=(inverted, *model.bodies[1:]))
+    with pytest.raises(CadcogError, match=f"zero or negative volume: {re.escape(bad.path)}"):
+        model_mass_properties(broken, UNIFORM)
+    r = model_mass_properties(broken, UNIFORM, exclude=[bad.path])
+    assert r.audit.excluded == (bad.path,) and r.audit.n_solids == 4
+
+
+def test_exclude_matches_assemblies_and_reports_unmatched_patterns(tmp_path):
+    model = _model(tmp_path, nested_three_levels())
+    r = model_mass_properties(model, UNIFORM, exclude=["*/bracket[2]", "nothing*"])
+    assert r.audit.n_solids == 3
+    assert all("bracket[2]" not in b.path for b in r.bodies)
+    assert any("--exclude 'nothing*' matched no body" in n for n in r.notes)
+
+
+# --- overlaps ----------------------------------------------------------------------------------
+def _nested_blocks(tmp_path, inner_density):
+    """A 20 mm aluminium cube with a 5 mm dense cube modelled inside it (a vendor model)."""
+    top = Assembly("top")
+    top.add(Part("outer", [((20.0, 20.0, 20.0), (0.0, 0.0, 0.0))], 2700.0, "Al"))
+    top.add(Part("inner", [((5.0, 5.0, 5.0), (2.0, 2.0, 2.0))], inner_density, "W"))
+    return _model(tmp_path, top)
+
+
+def test_large_overlap_is_refused_with_a_short_summary(tmp_path):
+    model = _nested_blocks(tmp_path, 19300.0)
+    with pytest.raises(CadcogError, match=r"1 overlapping pair\(s\) share 125 mm³") as err:
+        model_mass_properties(model, None)
+    assert len(str(err.value)) < 600 and "--resolve-overlaps" in str(err.value)
+
+
+def test_allow_overlap_counts_each_solid_as_it_is(tmp_path):
+    r = model_mass_properties(_nested_blocks(tmp_path, 19300.0), None, overlaps="allow")
+    assert r.total.mass_kg == pytest.approx(2700e-9 * 8000 + 19300e-9 * 125)
+    s = r.overlaps
+    assert s.mass_kg == pytest.approx(2700e-9 * 125)  # the lighter density counted twice
+    assert s.pairs[0].kept_by == "top/inner"
+
+
+def test_resolve_overlaps_lets_the_denser_keep_the_common_volume(tmp_path):
+    r = model_mass_properties(_nested_blocks(tmp_path, 19300.0), None, overlaps="resolve")
+    want = combine(
+        [
+            box_properties([20, 20, 20], [10, 10, 10], mass_kg=2700e-9 * 8000),
+            box_properties([5, 5, 5], [4.5, 4.5, 4.5], mass_kg=(19300 - 2700) * 1e-9 * 125),
+        ]
+    )
+    _assert_props(r.total, want, rtol=1e-8)
+    outer = next(b for b in r.bodies if b.path == "top/outer")
+    assert outer.removed_mm3 == pytest.approx(125.0)
+    # The CoG shift the summary predicted is the one resolution made.
+    as_is = model_mass_properties(_nested_blocks(tmp_path, 19300.0), None, overlaps="allow")
+    np.testing.assert_allclose(
+        as_is.total.cog_mm - r.total.cog_mm, r.overlaps.cog_shift_mm, atol=1e-9
+    )
+
+
+def test_touching_solids_are_contact_not_overlap(tmp_path):
+    """Boxes sharing a face are pruned by their boxes; a pin line-on-line in its hole passes
+    the box test and is found to be contact by the boolean."""
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+
+    top = Assembly("top")
+    top.add(Part("a", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))]))
+    top.add(Part("b", [((10.0, 10.0, 10.0), (10.0, 0.0, 0.0))]))  # shares a face
+    plate = BRepAlgoAPI_Cut(
+        box_shape((20.0, 20.0, 5.0), (-10.0, -10.0, 0.0)), cylinder(2.0, 5.0)
+    ).Shape()
+    top.add(Part("plate", [], shapes=[plate]), Place((50.0, 0.0, 0.0)))
+    top.add(Part("pin", [], shapes=[cylinder(2.0, 5.0)]), Place((50.0, 0.0, 0.0)))
+    r = model_mass_properties(_model(tmp_path, top), UNIFORM)
+    assert not r.overlaps.pairs
+    assert r.overlaps.n_candidates == 1 and r.overlaps.n_contact == 1
+
+
+def test_small_overlap_below_the_threshold_is_a_note(tmp_path):
+    board = kicad_like_board(8, pin_depth_mm=0.05)
+    r = model_mass_properties(_model(tmp_path, board), None)
+    assert len(r.overlaps.pairs) == 16  # two pins per component sink into the PCB
+    assert r.overlaps.volume_mm3 == pytest.approx(16 * 0.6 * 0.6 * 0.05, rel=1e-6)
+    assert r.overlaps.mass_fraction < 1e-3
+    assert any("under the refusal threshold" in n for n in r.notes)
+
+
+def test_instanced_overlaps_match_a_direct_boolean(tmp_path):
+    """Pairs sharing a cached boolean give what a fresh boolean of the placed solids gives."""
+    from cadcog.cad.overlaps import common_volume
+
+    model = _model(tmp_path, kicad_like_board(10))
+    r = model_mass_properties(model, None, overlaps="allow")
+    by_path = {b.path: b for b in model.bodies}
+    for pair in r.overlaps.pairs:
+        direct = common_volume(by_path[pair.a].shape, by_path[pair.b].shape)
+        assert direct is not None and direct.volume_mm3 == pytest.approx(pair.volume_mm3)
+
+
+def test_parallel_and_serial_give_the_same_result(tmp_path):
+    model = _model(tmp_path, kicad_like_board(16))
+    one = model_mass_properties(model, None, overlaps="allow", workers=1)
+    two = model_mass_properties(model, None, overlaps="allow", workers=2)
+    assert one.to_dict() == two.to_dict()
+
+
+# --- independent mesh check ---------------------------------------------------------------------
+def test_trimesh_of_an_occt_mesh_agrees(tmp_path):
+    """Volume and centroid from trimesh over an STL of the root compound (uniform density)."""
+    trimesh = pytest.importorskip("trimesh")
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.STEPControl import STEPControl_Reader
+    from OCP.StlAPI import StlAPI_Writer
+
+    path = write_step(nested_three_levels(), tmp_path / "nested.step")
+    reader = STEPControl_Reader()
+    reader.ReadFile(str(path))
+    reader.TransferRoots()
+    shape = reader.OneShape()
+    BRepMesh_IncrementalMesh(shape, 1e-3, False, 0.1, True).Perform()
+    writer = StlAPI_Writer()
+    writer.Write(shape, str(tmp_path / "nested.stl"))
+    mesh = trimesh.load(tmp_path / "nested.stl")
+    r = model_mass_properties(read_step(path), UNIFORM)
+    assert mesh.volume == pytest.approx(r.total.volume_mm3, rel=1e-6)
+    np.testing.assert_allclose(mesh.center_mass, r.total.cog_mm, atol=1e-4)
+
+
+# --- uncertainty and growth items ---------------------------------------------------------------
+def test_uncertainty_rules_pick_items_and_growth(tmp_path):
+    mats = _materials(
+        tmp_path,
+        '[materials]\n"*" = 1000.0\n'
+        '[mass_uncertainty]\n"bracket" = 0.1\n"*" = 0.02\n'
+        "[maturity_levels]\nnew = 0.2\n"
+        '[growth_allowance]\n"base" = "new"\n',
+    )
+    r = model_mass_properties(_model(tmp_path, nested_three_levels()), mats)
+    items = {b.path: (b.item, b.sigma_rel, b.growth, b.growth_label) for b in r.bodies}
+    assert items["sat/board/bracket[1]/plate[2]"] == ("sat/board/bracket[1]", 0.1, 0.0, "")
+    assert items["sat/base"] == ("sat/base", 0.02, 0.2, "new")

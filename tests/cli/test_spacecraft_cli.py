@@ -31,11 +31,12 @@ def test_build_then_massprops_of_the_step(tmp_path, capsys, setup):
     step, mats = out / "cubesat_3u.step", out / "cubesat_3u_materials.toml"
     assert main(["massprops", str(step), "--materials", str(mats), "--json"]) == 0
     res = json.loads(capsys.readouterr().out)
-    assert set(res) >= {"mass_kg", "cog_mm", "inertia_kg_mm2", "volume_mm3", "solids"}
+    assert set(res) >= {"mass_kg", "cog_mm", "inertia_kg_mm2", "volume_mm3", "bodies", "budget"}
     assert res["mass_kg"] == pytest.approx(setup.mass.mass_kg, rel=1e-9)
     np.testing.assert_allclose(res["cog_mm"], setup.mass.cog_mm, atol=1e-8)
-    assert {s["name"] for s in res["solids"]} >= {"battery_pack", "rail_1", "payload_camera"}
-    battery = next(s for s in res["solids"] if s["name"] == "battery_pack")
+    names = {s["path"].rsplit("/", 1)[-1] for s in res["bodies"]}
+    assert names >= {"battery_pack", "rail_1", "payload_camera"}
+    battery = next(s for s in res["bodies"] if s["path"].endswith("/battery_pack"))
     assert battery["material"] == "Li-ion cell (18650)"
     assert main(["massprops", str(step)]) == 2
     assert "--materials" in capsys.readouterr().err

@@ -1,0 +1,258 @@
+"""Overlapping solids, found fast: bounding-box pruning, then a boolean only for candidates.
+
+Two solids whose interiors share volume would have that volume counted twice. Real models are
+full of contact (faces that touch, bolts in their holes modelled line-on-line) and of small
+interpenetrations at the modelling tolerance; those are not overlaps. A pair counts as
+overlapping only when its common volume exceeds both
+:data:`cadcog.tolerances.CONTACT_VOLUME_MM3` and :data:`cadcog.tolerances.CONTACT_VOLUME_RELATIVE`
+times the smaller solid's volume.
+
+Pruning: every solid's axis-aligned bounding box is computed once, and pairs whose boxes do not
+overlap by more than :data:`cadcog.tolerances.BOX_OVERLAP_MM` on every axis are dropped with
+vectorised comparisons (blocks of rows, so memory stays bounded). Only the remaining candidates
+go through OCCT's boolean common (``BRepAlgoAPI_Common``), and only once per distinct
+configuration: two instanced parts in the same relative placement (the pins and housing of every
+copy of a connector, a bracket sub-assembly used twice) share one boolean, computed in the first
+part's own frame and moved to each placement.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+from OCP.Bnd import Bnd_Box
+from OCP.BRepAlgoAPI import BRepAlgoAPI_Common, BRepAlgoAPI_Cut
+from OCP.BRepBndLib import BRepBndLib
+from OCP.collections import List_TopoDS_Shape
+from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS_Shape
+
+from cadcog import tolerances
+from cadcog.cad.occt import placed, rigid_transform, volume_properties
+from cadcog.cad.parallel import fork_map
+from cadcog.massprops import MassProperties
+
+FloatArray = npt.NDArray[np.float64]
+
+#: Rows of the pair matrix compared at once by :func:`candidate_pairs`.
+_BLOCK_ROWS = 512
+
+
+@dataclass(frozen=True)
+class Overlap:
+    """Two solids sharing volume.
+
+    Attributes
+    ----------
+    a, b : int
+        Indices of the two solids (``a < b``).
+    common : MassProperties
+        Volume, centroid and inertia of the common volume at unit density (1 kg/mm³), in the
+        shapes' frame: scale by a density to get its mass properties.
+    """
+
+    a: int
+    b: int
+    common: MassProperties
+
+    @property
+    def volume_mm3(self) -> float:
+        return self.common.volume_mm3
+
+
+def bounding_boxes(shapes: Sequence[TopoDS_Shape]) -> tuple[FloatArray, FloatArray]:
+    """Tight axis-aligned bounding boxes (no tolerance gap): arrays ``lo``, ``hi`` of (n, 3)."""
+    lo = np.empty((len(shapes), 3))
+    hi = np.empty((len(shapes), 3))
+    for i, shape in enumerate(shapes):
+        box = Bnd_Box()
+        BRepBndLib.AddOptimal_s(shape, box, False, False)
+        cmin, cmax = box.CornerMin(), box.CornerMax()
+        lo[i] = (cmin.X(), cmin.Y(), cmin.Z())
+        hi[i] = (cmax.X(), cmax.Y(), cmax.Z())
+    return lo, hi
+
+
+def candidate_pairs(
+    lo: FloatArray, hi: FloatArray, depth_mm: float = tolerances.BOX_OVERLAP_MM
+) -> list[tuple[int, int]]:
+    """Pairs ``(i, j)``, ``i < j``, whose boxes overlap by more than ``depth_mm`` on every axis.
+
+    Examples
+    --------
+    >>> lo = np.array([[0, 0, 0], [1, 1, 1], [5, 0, 0.0]])
+    >>> hi = np.array([[2, 2, 2], [3, 3, 3], [6, 1, 1.0]])
+    >>> candidate_pairs(lo, hi)
+    [(0, 1)]
+    """
+    n = len(lo)
+    pairs: list[tuple[int, int]] = []
+    for start in range(0, n, _BLOCK_ROWS):
+        rows = slice(start, min(start + _BLOCK_ROWS, n))
+        depth = np.minimum(hi[rows, None, :], hi[None, :, :]) - np.maximum(
+            lo[rows, None, :], lo[None, :, :]
+        )
+        hit = np.all(depth > depth_mm, axis=2)
+        i, j = np.nonzero(hit)
+        i = i + start
+        keep = j > i
+        pairs.extend(zip(i[keep].tolist(), j[keep].tolist(), strict=True))
+    return sorted(pairs)
+
+
+def common_volume(a: TopoDS_Shape, b: TopoDS_Shape) -> MassProperties | None:
+    """Properties of ``a ∩ b`` at unit density, or None if the boolean fails or is empty."""
+    args = List_TopoDS_Shape()
+    args.Append(a)
+    tools = List_TopoDS_Shape()
+    tools.Append(b)
+    op = BRepAlgoAPI_Common()
+    op.SetArguments(args)
+    op.SetTools(tools)
+    op.SetRunParallel(False)
+    op.SetCheckInverted(False)  # solids reach here with a positive integrated volume
+    op.Build()
+    if not op.IsDone():
+        return None
+    props = volume_properties(op.Shape())
+    return props if props.volume_mm3 > 0 else None
+
+
+def is_overlap(common_mm3: float, volume_a_mm3: float, volume_b_mm3: float) -> bool:
+    """Whether a common volume is an overlap rather than contact (see the module docstring).
+
+    Examples
+    --------
+    >>> is_overlap(0.004, 1000.0, 50.0), is_overlap(5.0, 1000.0, 50.0)
+    (False, True)
+    """
+    floor = max(
+        tolerances.CONTACT_VOLUME_MM3,
+        tolerances.CONTACT_VOLUME_RELATIVE * min(volume_a_mm3, volume_b_mm3),
+    )
+    return common_mm3 > floor
+
+
+@dataclass(frozen=True)
+class Placed:
+    """A solid for :func:`find_overlaps`: at its global placement, and in its own frame.
+
+    Attributes
+    ----------
+    shape : TopoDS_Shape
+        The solid at its global placement.
+    local_shape : TopoDS_Shape
+        The same solid in its product's frame (``shape = local_shape.Moved(placement)``).
+    placement : TopLoc_Location
+    key : str
+        Identifies the geometry: solids with one key are instances of one shape.
+    box_lo, box_hi : ndarray, shape (3,)
+        An axis-aligned box containing the solid at its placement.
+    """
+
+    shape: TopoDS_Shape
+    local_shape: TopoDS_Shape
+    placement: TopLoc_Location
+    key: str
+    box_lo: FloatArray
+    box_hi: FloatArray
+
+
+def _relative_key(a: Placed, b: Placed) -> tuple[str, str, tuple[float, ...]] | None:
+    """Identifies the configuration of ``b`` seen from ``a``'s frame (None if not rigid)."""
+    rel = a.placement.Inverted().Multiplied(b.placement)
+    if rigid_transform(a.placement) is None or rigid_transform(rel) is None:
+        return None
+    t = rel.Transformation()
+    digits = tuple(round(t.Value(i, j), 9) for i in (1, 2, 3) for j in (1, 2, 3, 4))
+    return a.key, b.key, digits
+
+
+def _common_of(job: tuple[TopoDS_Shape, TopoDS_Shape]) -> MassProperties | None:
+    return common_volume(*job)
+
+
+def find_overlaps(
+    solids: Sequence[Placed],
+    volumes_mm3: Sequence[float],
+    *,
+    scale: float = 1.0,
+    progress: Callable[[int], None] | None = None,
+    workers: int = 1,
+) -> tuple[list[Overlap], int, int]:
+    """Every overlapping pair of solids.
+
+    Parameters
+    ----------
+    solids : sequence of Placed
+        In the file's (converted) length unit.
+    volumes_mm3 : sequence of float
+        Their volumes in mm³ (after ``scale``).
+    scale : float
+        mm per file unit, when the file's declared unit is overridden (volumes scale by its cube).
+    progress : callable, optional
+        Called with 1 after each boolean.
+    workers : int
+        Processes for the booleans (the result does not depend on it).
+
+    Returns
+    -------
+    overlaps : list of Overlap
+        Common volumes in the file's frame and unit (not scaled).
+    n_candidates : int
+        Pairs whose boxes overlapped.
+    n_contact : int
+        Candidates whose common volume was contact, not overlap.
+    """
+    lo = np.array([s.box_lo for s in solids])
+    hi = np.array([s.box_hi for s in solids])
+    pairs = candidate_pairs(lo, hi, tolerances.BOX_OVERLAP_MM / scale)
+    # One boolean per distinct configuration: instances in the same relative placement share.
+    jobs: list[tuple[TopoDS_Shape, TopoDS_Shape]] = []
+    job_of: dict[object, int] = {}
+    pair_job: list[tuple[int, bool]] = []  # (job index, computed in the first solid's frame)
+    for i, j in pairs:
+        a, b = solids[i], solids[j]
+        key = _relative_key(a, b)
+        if key is None:
+            pair_job.append((len(jobs), False))
+            jobs.append((a.shape, b.shape))
+            continue
+        if key not in job_of:
+            rel = a.placement.Inverted().Multiplied(b.placement)
+            job_of[key] = len(jobs)
+            jobs.append((a.local_shape, b.local_shape.Moved(rel)))
+        pair_job.append((job_of[key], True))
+    commons = fork_map(_common_of, jobs, workers=workers, progress=progress)
+    overlaps = []
+    contact = 0
+    for (i, j), (k, local) in zip(pairs, pair_job, strict=True):
+        common = commons[k]
+        if common is not None and local:
+            rigid = rigid_transform(solids[i].placement)
+            common = None if rigid is None else placed(common, *rigid)
+        if common is not None and is_overlap(
+            common.volume_mm3 * scale**3, volumes_mm3[i], volumes_mm3[j]
+        ):
+            overlaps.append(Overlap(i, j, common))
+        else:
+            contact += 1
+    return overlaps, len(pairs), contact
+
+
+def cut_by(shape: TopoDS_Shape, tools: Sequence[TopoDS_Shape]) -> TopoDS_Shape | None:
+    """``shape`` minus every tool (one boolean), or None if OCCT fails."""
+    args = List_TopoDS_Shape()
+    args.Append(shape)
+    cutters = List_TopoDS_Shape()
+    for t in tools:
+        cutters.Append(t)
+    op = BRepAlgoAPI_Cut()
+    op.SetArguments(args)
+    op.SetTools(cutters)
+    op.SetRunParallel(False)
+    op.Build()
+    return op.Shape() if op.IsDone() else None

@@ -1,0 +1,493 @@
+"""Reading a STEP file as an assembly tree: every body at its global placement, uniquely named.
+
+A STEP assembly is a tree of product *instances*: each instance places a product (a part or a
+sub-assembly) with a location relative to its parent, and one product may be instanced many
+times (KiCad nests every component under its board; a bracket sub-assembly is used twice). The
+reader walks OCCT's XCAF document (``STEPCAFControl_Reader``) and composes the locations from
+the root down, so a body three levels deep gets ``L_root · L_level1 · L_level2`` whatever the
+exporter. (build123d's ``import_step`` tree moves each node by its own location only, so bodies
+two or more levels deep lose their parents' placements: do not take solids from its leaves.)
+
+Each body gets a unique, stable path name: the names of the instances from the root to the
+body, joined by ``/``. An instance is named by its instance name when the exporter gave a
+meaningful one, otherwise by its product's name; siblings that share a name get ``[k]``
+(1-based, in file order); a part holding several solids names them ``#1``, ``#2``, ...
+Surface bodies (open shells and free faces, which have no volume) are kept as separate bodies
+of kind ``"surface"``; a closed shell that is not a solid is made into one.
+
+Lengths are in mm: OCCT's reader converts the file's declared length unit, which is reported
+(:attr:`StepModel.declared_units`) so that a file whose declaration is wrong can be corrected.
+No build123d import is needed, only OCP.
+"""
+
+from __future__ import annotations
+
+import re
+import unicodedata
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from OCP.BRep import BRep_Builder, BRep_Tool
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeSolid
+from OCP.BRepGProp import BRepGProp
+from OCP.collections import Sequence_TCollection_AsciiString, Sequence_TDF_Label
+from OCP.GProp import GProp_GProps
+from OCP.IFSelect import IFSelect_ReturnStatus
+from OCP.STEPCAFControl import STEPCAFControl_Reader
+from OCP.TCollection import TCollection_AsciiString, TCollection_ExtendedString
+from OCP.TDataStd import TDataStd_Name, TDataStd_TreeNode
+from OCP.TDF import TDF_Label, TDF_Tool
+from OCP.TDocStd import TDocStd_Document
+from OCP.TopAbs import TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
+from OCP.XCAFApp import XCAFApp_Application
+from OCP.XCAFDoc import XCAFDoc, XCAFDoc_DocumentTool, XCAFDoc_Material, XCAFDoc_ShapeTool
+
+from cadcog.errors import CadcogError
+from cadcog.units import LENGTH_UNIT_MM, density_kg_m3_from_named_unit
+
+#: Instance names that exporters generate rather than users give: OCCT's label entries
+#: (``=>[0:1:1:4]``), bare NAUO ids and numbers. Such an instance is named by its product.
+_GENERATED_NAME = re.compile(r"^(=>\[[0-9:]*\]|NAUO\d*|\d+|)$")
+
+
+@dataclass(frozen=True)
+class XcafMaterial:
+    """A material a STEP file attaches to a product (XCAF), with its density if usable.
+
+    Attributes
+    ----------
+    name : str
+    density_kg_m3 : float or None
+        None when the file gives no density or one whose unit cannot be interpreted.
+    raw : str
+        The density as the file states it (value and unit name), for messages.
+    """
+
+    name: str
+    density_kg_m3: float | None
+    raw: str
+
+
+@dataclass(frozen=True)
+class Node:
+    """One instance on the path from the root to a body.
+
+    Attributes
+    ----------
+    name : str
+        The unique name of this instance among its siblings (with ``[k]`` if needed).
+    instance : str
+        The instance name in the file ('' if none or generated).
+    product : str
+        The name of the product it places.
+    """
+
+    name: str
+    instance: str
+    product: str
+
+
+@dataclass(frozen=True)
+class StepBody:
+    """A solid or a surface body of the model, at its global placement (mm).
+
+    Attributes
+    ----------
+    nodes : tuple of Node
+        The instances from the root to the body; the last node is the body's own (with
+        ``#k`` when its part holds several solids).
+    kind : "solid" or "surface"
+    shape : TopoDS_Shape
+        The body at its global placement (a solid, or a compound of faces).
+    local_shape : TopoDS_Shape
+        The same body in its product's own frame; bodies of one product share it.
+    placement : TopLoc_Location
+        Global placement: ``shape = local_shape.Moved(placement)``.
+    product_key : str
+        Identifies the product and the body's index in it: bodies with the same key are
+        instances of one geometry, so their placement-free properties can be shared.
+    material : XcafMaterial or None
+        The material the file attaches to the body's product, if any.
+    made_from_shell : bool
+        True for a closed shell that the reader made into a solid.
+    """
+
+    nodes: tuple[Node, ...]
+    kind: str
+    shape: TopoDS_Shape
+    local_shape: TopoDS_Shape
+    placement: TopLoc_Location
+    product_key: str
+    material: XcafMaterial | None = None
+    made_from_shell: bool = False
+
+    @property
+    def path(self) -> str:
+        """Unique path name, e.g. ``sat/board/R12``."""
+        return "/".join(n.name for n in self.nodes)
+
+    @property
+    def name(self) -> str:
+        """The body's own name (the last path element)."""
+        return self.nodes[-1].name
+
+    @property
+    def assembly_paths(self) -> tuple[str, ...]:
+        """Path of every assembly node above the body, from the root: ``a``, ``a/b``, ..."""
+        return tuple("/".join(n.name for n in self.nodes[:k]) for k in range(1, len(self.nodes)))
+
+    def match_names(self) -> tuple[str, ...]:
+        """Every name a pattern may match: the full path, each node's unique, instance and
+        product name (the body's own first)."""
+        names = [self.path]
+        for n in reversed(self.nodes):
+            names.extend(v for v in (n.name, n.instance, n.product) if v)
+        return tuple(dict.fromkeys(names))
+
+
+@dataclass(frozen=True)
+class StepModel:
+    """What :func:`read_step` found in a file.
+
+    Attributes
+    ----------
+    source : Path
+    bodies : tuple of StepBody
+        Solids and surface bodies, in file order.
+    declared_units : tuple of str
+        Length units the file declares (normally one), e.g. ``("millimetre",)``.
+    n_products, n_instances : int
+        Distinct products (parts and assemblies) and instances of them.
+    curve_only_parts : tuple of str
+        Paths of parts holding neither solids nor faces (wires, points): no mass.
+    """
+
+    source: Path
+    bodies: tuple[StepBody, ...]
+    declared_units: tuple[str, ...]
+    n_products: int
+    n_instances: int
+    curve_only_parts: tuple[str, ...] = field(default=())
+
+    @property
+    def solids(self) -> tuple[StepBody, ...]:
+        return tuple(b for b in self.bodies if b.kind == "solid")
+
+    @property
+    def surfaces(self) -> tuple[StepBody, ...]:
+        return tuple(b for b in self.bodies if b.kind == "surface")
+
+    @property
+    def declared_unit(self) -> str | None:
+        """The one declared length unit, or None if the file declares none or several."""
+        units = set(self.declared_units)
+        return self.declared_units[0] if len(units) == 1 else None
+
+
+def clean_name(raw: str) -> str:
+    """A name usable in a path: control characters dropped, ``/`` replaced, spaces trimmed.
+
+    Examples
+    --------
+    >>> clean_name(" bracket/left\\x00 ")
+    'bracket_left'
+    """
+    text = "".join(ch for ch in raw if unicodedata.category(ch)[0] != "C")
+    return text.replace("/", "_").strip()
+
+
+def _find(label: TDF_Label, guid: Any, attr: Any) -> bool:
+    """``label.FindAttribute`` guarded by ``IsAttribute``: OCP's binding crashes the process
+    when ``FindAttribute`` is asked for an attribute the label does not have."""
+    return bool(label.IsAttribute(guid)) and bool(label.FindAttribute(guid, attr))
+
+
+def _label_name(label: TDF_Label) -> str:
+    attr = TDataStd_Name()
+    if _find(label, TDataStd_Name.GetID_s(), attr):
+        return clean_name(TCollection_AsciiString(attr.Get()).ToCString())
+    return ""
+
+
+def _xcaf_material(label: TDF_Label) -> XcafMaterial | None:
+    node = TDataStd_TreeNode()
+    if not _find(label, XCAFDoc.MaterialRefGUID_s(), node) or not node.HasFather():
+        return None
+    material = XCAFDoc_Material()
+    if not _find(node.Father().Label(), XCAFDoc_Material.GetID_s(), material):
+        return None
+    name = clean_name(material.GetName().ToCString()) if material.GetName() else ""
+    value = float(material.GetDensity())
+    unit = material.GetDensName().ToCString() if material.GetDensName() else ""
+    density = density_kg_m3_from_named_unit(value, unit) if value > 0 else None
+    return XcafMaterial(name or "unnamed material", density, f"{value:g} {unit}".strip())
+
+
+def _faces_outside_solids(shape: TopoDS_Shape) -> Iterator[tuple[TopoDS_Shape, bool]]:
+    """Shells not inside a solid (with their closedness) and faces not inside a shell."""
+    shells = TopExp_Explorer(shape, TopAbs_SHELL, TopAbs_SOLID)
+    while shells.More():
+        shell = TopoDS.Shell(shells.Current())
+        yield shell, bool(BRep_Tool.IsClosed_s(shell))
+        shells.Next()
+    faces = TopExp_Explorer(shape, TopAbs_FACE, TopAbs_SHELL)
+    while faces.More():
+        yield faces.Current(), False
+        faces.Next()
+
+
+def _solid_from_closed_shell(shell: TopoDS_Shape) -> TopoDS_Shape | None:
+    """A solid bounded by a closed shell, oriented to positive volume; None if it fails."""
+    maker = BRepBuilderAPI_MakeSolid(TopoDS.Shell(shell))
+    if not maker.IsDone():
+        return None
+    solid = maker.Solid()
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(solid, props)
+    if props.Mass() < 0:
+        solid = TopoDS.Solid(solid.Reversed())
+    return solid
+
+
+@dataclass
+class _Part:
+    """The bodies of one product in its own frame (cached: instances share them)."""
+
+    solids: list[tuple[TopoDS_Shape, bool]]  # (solid, made from a closed shell)
+    surface: TopoDS_Shape | None
+    materials: list[XcafMaterial | None] = field(default_factory=list)  # per solid
+    surface_material: XcafMaterial | None = None
+
+
+def _solids_of(shape: TopoDS_Shape) -> list[TopoDS_Shape]:
+    found = []
+    explorer = TopExp_Explorer(shape, TopAbs_SOLID)
+    while explorer.More():
+        found.append(explorer.Current())
+        explorer.Next()
+    return found
+
+
+def _part_materials(ref: TDF_Label, part: _Part) -> None:
+    """Each solid's material: on the sub-shape that is (or holds) it, else on the product.
+
+    Exporters attach materials either to the product or to its bodies (sub-shapes: Fusion 360
+    writes one per body), so both places are searched, most specific first. A solid with no
+    material of its own takes the product's, or else the one material its part's bodies carry
+    (OCCT attaches a part-level material to the sub-shape of its first solid).
+    """
+    own = _xcaf_material(ref)
+    subs = Sequence_TDF_Label()
+    XCAFDoc_ShapeTool.GetSubShapes_s(ref, subs)
+    tagged = []
+    for i in range(1, subs.Length() + 1):
+        material = _xcaf_material(subs.Value(i))
+        if material is not None:
+            tagged.append((XCAFDoc_ShapeTool.GetShape_s(subs.Value(i)), material))
+    if own is None and len({m for _, m in tagged}) == 1:
+        own = tagged[0][1]
+    for solid, _ in part.solids:
+        found = own
+        for sub_shape, material in tagged:
+            if sub_shape.IsSame(solid):
+                found = material
+                break
+            if any(s.IsSame(solid) for s in _solids_of(sub_shape)):
+                found = material
+        part.materials.append(found)
+    part.surface_material = own
+
+
+def _split_part(shape: TopoDS_Shape) -> _Part:
+    solids: list[tuple[TopoDS_Shape, bool]] = []
+    explorer = TopExp_Explorer(shape, TopAbs_SOLID)
+    while explorer.More():
+        solids.append((explorer.Current(), False))
+        explorer.Next()
+    builder = BRep_Builder()
+    surface = TopoDS_Compound()
+    builder.MakeCompound(surface)
+    n_faces = 0
+    for sub, closed in _faces_outside_solids(shape):
+        solid = _solid_from_closed_shell(sub) if closed else None
+        if solid is not None:
+            solids.append((solid, True))
+        else:
+            builder.Add(surface, sub)
+            n_faces += 1
+    return _Part(solids, surface if n_faces else None)
+
+
+def _unique_names(raw: list[str]) -> list[str]:
+    """Siblings sharing a name get ``[k]`` (1-based, in order); unique names stay as they are.
+
+    Examples
+    --------
+    >>> _unique_names(["screw", "plate", "screw"])
+    ['screw[1]', 'plate', 'screw[2]']
+    """
+    counts: dict[str, int] = {}
+    for name in raw:
+        counts[name] = counts.get(name, 0) + 1
+    seen: dict[str, int] = {}
+    out = []
+    for name in raw:
+        if counts[name] > 1:
+            seen[name] = seen.get(name, 0) + 1
+            out.append(f"{name}[{seen[name]}]")
+        else:
+            out.append(name)
+    return out
+
+
+def read_step(path: str | Path) -> StepModel:
+    """Read a STEP file's bodies at their global placements, with unique path names.
+
+    Parameters
+    ----------
+    path : path-like
+
+    Returns
+    -------
+    StepModel
+
+    Raises
+    ------
+    CadcogError
+        If the file is missing, unreadable as STEP, or holds no solid and no surface.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise CadcogError(f"{p}: file not found")
+    app = XCAFApp_Application.GetApplication_s()
+    doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
+    app.InitDocument(doc)
+    reader = STEPCAFControl_Reader()
+    reader.SetNameMode(True)
+    reader.SetMatMode(True)
+    reader.SetColorMode(False)
+    reader.SetLayerMode(False)
+    try:
+        status = reader.ReadFile(str(p))
+    except Exception as exc:  # OCCT raises plain exceptions on some corrupt files
+        raise CadcogError(f"{p}: cannot read as STEP ({exc})") from None
+    if status != IFSelect_ReturnStatus.IFSelect_RetDone:
+        raise CadcogError(f"{p}: cannot read as STEP (reader status {status.name})")
+    lengths = Sequence_TCollection_AsciiString()
+    reader.ChangeReader().FileUnits(
+        lengths, Sequence_TCollection_AsciiString(), Sequence_TCollection_AsciiString()
+    )
+    declared = tuple(lengths.Value(i).ToCString() for i in range(1, lengths.Length() + 1))
+    if not reader.Transfer(doc):
+        raise CadcogError(f"{p}: the STEP file holds nothing OCCT can transfer to shapes")
+    shape_tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+    free = Sequence_TDF_Label()
+    shape_tool.GetFreeShapes(free)
+
+    bodies: list[StepBody] = []
+    parts: dict[str, _Part] = {}
+    products: set[str] = set()
+    curve_only: list[str] = []
+    n_instances = 0
+
+    def entry(label: TDF_Label) -> str:
+        text = TCollection_AsciiString()
+        TDF_Tool.Entry_s(label, text)
+        return str(text.ToCString())
+
+    def referred(label: TDF_Label) -> tuple[TDF_Label, TopLoc_Location | None]:
+        if XCAFDoc_ShapeTool.IsReference_s(label):
+            ref = TDF_Label()
+            XCAFDoc_ShapeTool.GetReferredShape_s(label, ref)
+            return ref, XCAFDoc_ShapeTool.GetLocation_s(label)
+        return label, None
+
+    def node_of(label: TDF_Label, ref: TDF_Label) -> tuple[str, str]:
+        instance = _label_name(label) if label != ref else ""
+        if _GENERATED_NAME.match(instance):
+            instance = ""
+        product = _label_name(ref)
+        return instance, product
+
+    def walk(labels: list[TDF_Label], loc: TopLoc_Location, above: tuple[Node, ...]) -> None:
+        nonlocal n_instances
+        resolved = []
+        for label in labels:
+            ref, own = referred(label)
+            instance, product = node_of(label, ref)
+            resolved.append((label, ref, own, instance, product))
+        display = [r[3] or r[4] or "unnamed" for r in resolved]
+        for (_label, ref, own, instance, product), name in zip(
+            resolved, _unique_names(display), strict=True
+        ):
+            n_instances += 1
+            key = entry(ref)
+            products.add(key)
+            here_loc = loc if own is None else loc.Multiplied(own)
+            here = (*above, Node(name, instance, product))
+            if XCAFDoc_ShapeTool.IsAssembly_s(ref):
+                comps = Sequence_TDF_Label()
+                XCAFDoc_ShapeTool.GetComponents_s(ref, comps, False)
+                walk([comps.Value(i) for i in range(1, comps.Length() + 1)], here_loc, here)
+                continue
+            part = parts.get(key)
+            if part is None:
+                part = parts[key] = _split_part(XCAFDoc_ShapeTool.GetShape_s(ref))
+                _part_materials(ref, part)
+            several = len(part.solids) + (part.surface is not None) > 1
+            for k, (solid, from_shell) in enumerate(part.solids, start=1):
+                nodes = here
+                if several:
+                    last = here[-1]
+                    nodes = (*here[:-1], Node(f"{last.name}#{k}", last.instance, last.product))
+                bodies.append(
+                    StepBody(
+                        nodes,
+                        "solid",
+                        solid.Moved(here_loc),
+                        solid,
+                        here_loc,
+                        f"{key}#{k}",
+                        part.materials[k - 1],
+                        from_shell,
+                    )
+                )
+            if part.surface is not None:
+                nodes = here
+                if several:
+                    last = here[-1]
+                    nodes = (*here[:-1], Node(f"{last.name}#surface", last.instance, last.product))
+                bodies.append(
+                    StepBody(
+                        nodes,
+                        "surface",
+                        part.surface.Moved(here_loc),
+                        part.surface,
+                        here_loc,
+                        f"{key}#surface",
+                        part.surface_material,
+                    )
+                )
+            if not part.solids and part.surface is None:
+                curve_only.append("/".join(n.name for n in here))
+
+    walk([free.Value(i) for i in range(1, free.Length() + 1)], TopLoc_Location(), ())
+    if not bodies:
+        raise CadcogError(f"{p}: no solids and no surfaces found")
+    return StepModel(p, tuple(bodies), declared, len(products), n_instances, tuple(curve_only))
+
+
+def length_unit_mm(name: str) -> float | None:
+    """Length of a declared STEP unit in mm, or None if unknown.
+
+    Examples
+    --------
+    >>> length_unit_mm("metre"), length_unit_mm("inch"), length_unit_mm("parsec")
+    (1000.0, 25.4, None)
+    """
+    return LENGTH_UNIT_MM.get(name.strip().lower())
