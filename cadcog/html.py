@@ -37,7 +37,7 @@ def img_tag(path: Path, alt: str) -> str:
 
 def vec(values: Any, digits: int = 3) -> str:
     """A vector as ``(x, y, z)`` with ``digits`` decimals."""
-    return "(" + ", ".join(f"{float(v):.{digits}f}" for v in values) + ")"
+    return "(" + ", ".join(f"{round(float(v), digits) + 0.0:.{digits}f}" for v in values) + ")"
 
 
 def table(header: list[str], rows: list[list[str]], left: int = 1) -> str:

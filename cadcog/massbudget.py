@@ -9,7 +9,10 @@ Items are independent of each other. With ``ε_I`` the relative mass error of it
 - total mass variance ``Σ_I (σ_I m_I)²``, and the same per node over the part of each item it
   holds;
 - CoG covariance ``Σ_I σ_I² m_I² (c_I − G)(c_I − G)ᵀ / M²`` (``c_I`` the item's CoG, ``G`` the
-  total's), since scaling an item's mass pulls the CoG towards or away from it.
+  total's), since scaling an item's mass pulls the CoG towards or away from it. The CoG is a
+  ratio of sums, so this linearisation is exact only as σ → 0: sampling shows it within 3 % at
+  item uncertainties up to 2 %, and about 5 % low when a dominant item is uncertain by 10 %
+  (``tests/test_massbudget.py``).
 
 Growth allowances are a planning reserve, not an uncertainty: the *predicted* mass of a body is
 ``m (1 + MGA)`` (AIAA S-120A's current best estimate plus growth), reported beside the current

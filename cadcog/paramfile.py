@@ -33,6 +33,26 @@ def read_toml(path: str | Path) -> dict[str, Any]:
         raise ParameterFileError(p, "", f"not UTF-8 text: {exc}") from None
 
 
+def toml_string(text: str) -> str:
+    """``text`` as a TOML basic string, every quote, backslash and control character escaped.
+
+    Examples
+    --------
+    >>> text = 'a "quoted" name and a bell \x07'
+    >>> tomllib.loads("k = " + toml_string(text))["k"] == text
+    True
+    """
+    out = []
+    for ch in text:
+        if ch in ('"', "\\"):
+            out.append("\\" + ch)
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f"\\u{ord(ch):04x}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
 def _type_name(value: object) -> str:
     if isinstance(value, bool):
         return f"boolean {str(value).lower()}"

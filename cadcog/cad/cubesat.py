@@ -17,7 +17,7 @@ import numpy as np
 
 from cadcog.errors import ParameterFileError
 from cadcog.materials import LIBRARY
-from cadcog.paramfile import TableReader, read_toml
+from cadcog.paramfile import TableReader, read_toml, toml_string
 
 #: Rail length per unit (CDS: 1U 113.5 mm, 3U 340.5 mm).
 RAIL_PER_UNIT_MM = 113.5
@@ -30,6 +30,7 @@ class Component:
     center_mm: tuple[float, float, float]
     size_mm: tuple[float, float, float] | None = None  # a box
     cylinder: tuple[float, float] | None = None  # (diameter, length) along z
+    mass_uncertainty: float | None = None  # 1-σ relative, for the mass budget
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         c = np.asarray(self.center_mm)
@@ -52,6 +53,7 @@ class CubeSatSpec:
     structure_material: str
     components: tuple[Component, ...]
     source: Path
+    structure_mass_uncertainty: float | None = None
 
     @property
     def length_mm(self) -> float:
@@ -71,6 +73,15 @@ def _material(t: TableReader, key: str) -> str:
     return name
 
 
+def _uncertainty(t: TableReader) -> float | None:
+    if not t.has("mass_uncertainty"):
+        return None
+    value = t.number("mass_uncertainty", nonnegative=True)
+    if value > 1.0:
+        raise t.error("mass_uncertainty", f"expected a fraction 0 to 1 (5 % = 0.05), got {value:g}")
+    return value
+
+
 def load_cubesat(path: str | Path) -> CubeSatSpec:
     """Read and validate a CubeSat spec file."""
     p = Path(path)
@@ -82,6 +93,7 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
     rail = st.number("rail_mm", positive=True)
     panel = st.number("panel_mm", positive=True)
     smat = _material(st, "material")
+    s_sigma = _uncertainty(st)
     st.finish()
     if not rail < width / 2 or not panel < rail:
         raise st.error("rail_mm", "need panel_mm < rail_mm < width_mm / 2")
@@ -92,16 +104,17 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
         mat = _material(t, "material")
         c = t.vector("center_mm")
         center = (c[0], c[1], c[2])
+        sigma = _uncertainty(t)
         if t.has("size_mm"):
             s = t.vector("size_mm", positive=True)
-            comps.append(Component(cname, mat, center, size_mm=(s[0], s[1], s[2])))
+            comps.append(Component(cname, mat, center, (s[0], s[1], s[2]), None, sigma))
         else:
             d = t.number("cylinder_diameter_mm", positive=True)
             length = t.number("cylinder_length_mm", positive=True)
-            comps.append(Component(cname, mat, center, cylinder=(d, length)))
+            comps.append(Component(cname, mat, center, None, (d, length), sigma))
         t.finish()
     root.finish()
-    spec = CubeSatSpec(name, units, width, rail, panel, smat, tuple(comps), p)
+    spec = CubeSatSpec(name, units, width, rail, panel, smat, tuple(comps), p, s_sigma)
     inner = spec.inner_half_mm
     for t, comp in zip(tables, comps, strict=True):
         lo, hi = comp.bounds()
@@ -122,63 +135,95 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
     return spec
 
 
-def _box(name: str, lo: np.ndarray, hi: np.ndarray) -> bd.Solid:
-    dx, dy, dz = (float(v) for v in hi - lo)
-    s = bd.Solid.make_box(dx, dy, dz, bd.Plane(origin=tuple(lo)))
-    s.label = name
-    return s
+def _centred_box(size: tuple[float, float, float]) -> bd.Solid:
+    """A box centred on the origin."""
+    sx, sy, sz = size
+    return bd.Solid.make_box(sx, sy, sz, bd.Plane(origin=(-sx / 2, -sy / 2, -sz / 2)))
+
+
+def _instance(
+    solid: bd.Solid,
+    name: str,
+    at: tuple[float, float, float],
+    rotation_deg: tuple[float, float, float] = (0.0, 0.0, 0.0),
+) -> bd.Solid:
+    """An instance of ``solid`` (same geometry, own placement and name): a STEP export writes
+    one product and places it once per instance."""
+    placed = solid.moved(bd.Location(at, rotation_deg))
+    placed.label = name
+    return placed
 
 
 def build_cubesat(spec: CubeSatSpec) -> tuple[bd.Compound, dict[str, str]]:
-    """The CubeSat as a labelled assembly, and each solid's material."""
+    """The CubeSat as a nested, instanced assembly, and each solid's material.
+
+    Like a real export, products are modelled once and placed many times: one rail placed four
+    times (turned 90° each), one side panel four times, one end plate twice (turned over for
+    −z); components are modelled about their own centre and placed inside a
+    ``payload_and_bus`` sub-assembly, which is itself placed at the stack's mid-height. The
+    geometry, and so the mass properties, are those of the spec.
+    """
     w = 0.5 * spec.width_mm
     r = spec.rail_mm
     t = spec.panel_mm
     h = 0.5 * spec.length_mm
-    materials: dict[str, str] = {}
-    structure = []
-    for i, (sx, sy) in enumerate([(1, 1), (-1, 1), (-1, -1), (1, -1)]):
-        rail_lo = np.array([min(sx * w, sx * (w - r)), min(sy * w, sy * (w - r)), -h])
-        rail_hi = np.array([max(sx * w, sx * (w - r)), max(sy * w, sy * (w - r)), h])
-        structure.append(_box(f"rail_{i + 1}", rail_lo, rail_hi))
     inner = w - r
+    materials: dict[str, str] = {}
+    rail = _centred_box((r, r, 2 * h))
+    structure = [
+        _instance(rail, f"rail_{i + 1}", (sx * (w - r / 2), sy * (w - r / 2), 0.0), (0, 0, 90 * i))
+        for i, (sx, sy) in enumerate([(1, 1), (-1, 1), (-1, -1), (1, -1)])
+    ]
     # Side panels span between the rails; end plates fill the square inside the rails.
-    for name, plo, phi in [
-        ("panel_+x", [w - t, -inner, -h], [w, inner, h]),
-        ("panel_-x", [-w, -inner, -h], [-w + t, inner, h]),
-        ("panel_+y", [-inner, w - t, -h], [inner, w, h]),
-        ("panel_-y", [-inner, -w, -h], [inner, -w + t, h]),
-        ("end_plate_+z", [-inner, -inner, h - t], [inner, inner, h]),
-        ("end_plate_-z", [-inner, -inner, -h], [inner, inner, -h + t]),
+    panel = _centred_box((t, 2 * inner, 2 * h))
+    for name, at, turn in [
+        ("panel_+x", (w - t / 2, 0.0, 0.0), 0),
+        ("panel_+y", (0.0, w - t / 2, 0.0), 90),
+        ("panel_-x", (-(w - t / 2), 0.0, 0.0), 180),
+        ("panel_-y", (0.0, -(w - t / 2), 0.0), 270),
     ]:
-        structure.append(_box(name, np.array(plo, float), np.array(phi, float)))
+        structure.append(_instance(panel, name, at, (0, 0, turn)))
+    plate = _centred_box((2 * inner, 2 * inner, t))
+    structure.append(_instance(plate, "end_plate_+z", (0.0, 0.0, h - t / 2)))
+    structure.append(_instance(plate, "end_plate_-z", (0.0, 0.0, -(h - t / 2)), (180, 0, 0)))
     for s in structure:
         materials[s.label] = spec.structure_material
+    mid_z = (
+        0.5
+        * (
+            min(c.bounds()[0][2] for c in spec.components)
+            + max(c.bounds()[1][2] for c in spec.components)
+        )
+        if spec.components
+        else 0.0
+    )
     parts = []
     for c in spec.components:
+        local = np.asarray(c.center_mm) - [0.0, 0.0, mid_z]
         if c.size_mm is not None:
-            lo, hi = c.bounds()
-            solid = _box(c.name, lo, hi)
+            solid = _centred_box(c.size_mm)
         else:
             assert c.cylinder is not None
             d, length = c.cylinder
-            base = np.asarray(c.center_mm) - [0, 0, length / 2]
-            solid = bd.Solid.make_cylinder(d / 2, length, bd.Plane(origin=tuple(base)))
-            solid.label = c.name
-        parts.append(solid)
+            solid = bd.Solid.make_cylinder(d / 2, length, bd.Plane(origin=(0, 0, -length / 2)))
+        parts.append(_instance(solid, c.name, (float(local[0]), float(local[1]), float(local[2]))))
         materials[c.name] = c.material
+    bus = bd.Compound(children=parts, label="payload_and_bus").moved(bd.Location((0.0, 0.0, mid_z)))
     asm = bd.Compound(
-        children=[
-            bd.Compound(children=structure, label="structure"),
-            bd.Compound(children=parts, label="payload_and_bus"),
-        ],
-        label=spec.name,
+        children=[bd.Compound(children=structure, label="structure"), bus], label=spec.name
     )
     return asm, materials
 
 
-def materials_toml(materials: dict[str, str]) -> str:
-    """A materials file for :func:`cadcog.materials.load_materials`, one rule per solid."""
+def materials_toml(spec: CubeSatSpec, materials: dict[str, str]) -> str:
+    """A materials file for :func:`cadcog.materials.load_materials`: one rule per solid, and
+    the spec's mass uncertainties (the structure as one item, each component its own)."""
     lines = ["# materials of the example CubeSat, written by cadcog parts cubesat", "[materials]"]
-    lines += [f'"{name}" = "{mat}"' for name, mat in materials.items()]
+    lines += [f"{toml_string(name)} = {toml_string(mat)}" for name, mat in materials.items()]
+    sigmas = [(c.name, c.mass_uncertainty) for c in spec.components if c.mass_uncertainty]
+    if spec.structure_mass_uncertainty is not None or sigmas:
+        lines += ["", "[mass_uncertainty]   # 1-σ relative; an assembly's bodies vary together"]
+        if spec.structure_mass_uncertainty is not None:
+            lines.append(f'"structure" = {spec.structure_mass_uncertainty!r}')
+        lines += [f"{toml_string(name)} = {sigma!r}" for name, sigma in sigmas]
     return "\n".join(lines) + "\n"

@@ -167,8 +167,10 @@ class OverlapPair:
             "kept_by": self.kept_by,
         }
 
-    def describe(self) -> str:
-        return f"{self.a} & {self.b} ({self.volume_mm3:.4g} mm³, {self.mass_kg * 1e3:.4g} g)"
+    def describe(self, root: str = "") -> str:
+        """``a & b (volume, mass)``, paths shown below ``root`` (a common top assembly)."""
+        a, b = (p[len(root) :] if root and p.startswith(root) else p for p in (self.a, self.b))
+        return f"{a} & {b} ({self.volume_mm3:.4g} mm³, {self.mass_kg * 1e3:.4g} g)"
 
 
 @dataclass(frozen=True)
@@ -311,6 +313,14 @@ def _scaled_lengths(p: MassProperties, scale: float, dimension: int) -> MassProp
 def _with_mass_factor(p: MassProperties, factor: float) -> MassProperties:
     """The same geometry with its mass (and inertia) multiplied by ``factor``: a density."""
     return MassProperties(p.mass_kg * factor, p.cog_mm, p.inertia_kg_mm2 * factor, p.volume_mm3)
+
+
+def _common_root(paths: Sequence[str]) -> str:
+    """``"top/"`` when every path lies below one top assembly, else ``""``."""
+    firsts = {p.split("/", 1)[0] for p in paths}
+    if len(firsts) == 1 and all("/" in p for p in paths):
+        return f"{firsts.pop()}/"
+    return ""
 
 
 def _matches_any(patterns: Sequence[str], body: StepBody) -> bool:
@@ -795,7 +805,8 @@ def _handle_overlaps(
         n_contact,
     )
     if policy == "check" and fraction > tolerances.OVERLAP_REFUSE_MASS_FRACTION:
-        worst = "; ".join(p.describe() for p in ranked[:3])
+        root = _common_root([b.step.path for b in bodies])
+        worst = "; ".join(p.describe(root) for p in ranked[:3])
         raise CadcogError(
             f"{src}: {summary.headline()}, above the "
             f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%} threshold; worst: {worst}. Fix the "

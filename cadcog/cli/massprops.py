@@ -192,7 +192,8 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _v(values: Any, digits: int = 3) -> str:
-    return "[" + ", ".join(f"{float(v):.{digits}f}" for v in values) + "]"
+    # round first, then add 0.0: round-off must not print as "-0.000"
+    return "[" + ", ".join(f"{round(float(v), digits) + 0.0:.{digits}f}" for v in values) + "]"
 
 
 def print_report(report: MassReport, depth: int, products: str) -> None:
@@ -211,9 +212,9 @@ def print_report(report: MassReport, depth: int, products: str) -> None:
         print(f"excluded: {len(a.excluded)} bodies")
     print(f"\n{'mass budget':<44}{'mass_kg':>11}{'share':>8}{'±_kg':>10}  cog_mm")
     for level, node in b.root.walk(depth):
-        sigma = "" if node.mass_sigma_kg is None else f"{node.mass_sigma_kg:.4f}"
+        sigma = "" if node.mass_sigma_kg is None else f"{node.mass_sigma_kg:.6f}"
         name = ("  " * level + node.name)[:43]
-        print(f"{name:<44}{node.mass_kg:>10.4f}{node.share:>8.1%}{sigma:>9}  {_v(node.cog_mm, 2)}")
+        print(f"{name:<44}{node.mass_kg:>11.6f}{node.share:>8.2%}{sigma:>10}  {_v(node.cog_mm, 2)}")
     t = r.total
     line = f"\ntotal {t.mass_kg:.5f} kg"
     if b.mass_sigma_kg is not None:

@@ -91,7 +91,7 @@ def run_cubesat(args: argparse.Namespace) -> int:
     asm, materials = build_cubesat(spec)
     with staged_output_dir(args.out) as stage:
         bd.export_step(asm, stage / f"{spec.name}.step", timestamp=_timestamp())
-        (stage / f"{spec.name}_materials.toml").write_text(materials_toml(materials), "utf-8")
+        (stage / f"{spec.name}_materials.toml").write_text(materials_toml(spec, materials), "utf-8")
     print(
         f"wrote {args.out / (spec.name + '.step')} ({len(materials)} solids) and "
         f"{args.out / (spec.name + '_materials.toml')}"

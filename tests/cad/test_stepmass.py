@@ -358,3 +358,56 @@ def test_uncertainty_rules_pick_items_and_growth(tmp_path):
     items = {b.path: (b.item, b.sigma_rel, b.growth, b.growth_label) for b in r.bodies}
     assert items["sat/board/bracket[1]/plate[2]"] == ("sat/board/bracket[1]", 0.1, 0.0, "")
     assert items["sat/base"] == ("sat/base", 0.02, 0.2, "new")
+
+
+# --- the example CubeSat ------------------------------------------------------------------------
+def test_cubesat_round_trip_matches_the_spec_closed_form(tmp_path):
+    """Built as an instanced, nested assembly; compared with boxes and a cylinder computed
+    from the spec's numbers alone."""
+    bd = pytest.importorskip("build123d")
+    from cadcog.cad.cubesat import build_cubesat, load_cubesat
+    from cadcog.massprops import cylinder_properties
+    from cadcog.rigfile import default_rig_path
+
+    spec = load_cubesat(default_rig_path().parent / "cubesat_3u.toml")
+    asm, mats = build_cubesat(spec)
+    path = tmp_path / "cubesat.step"
+    bd.export_step(asm, path)
+    model = read_step(path)
+    assert model.n_products < model.n_instances  # rails, panels and plates are instanced
+    r = model_mass_properties(model, MaterialMap(tuple(mats.items())))
+    w, rail, t, h = spec.width_mm / 2, spec.rail_mm, spec.panel_mm, spec.length_mm / 2
+    inner = w - rail
+    rho = LIBRARY[spec.structure_material].density_kg_m3 * 1e-9
+
+    def box(lo, hi, density):
+        lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+        return box_properties(hi - lo, (lo + hi) / 2, mass_kg=density * np.prod(hi - lo))
+
+    parts = [box([w - rail, w - rail, -h], [w, w, h], rho)]
+    parts += [box([-w, w - rail, -h], [rail - w, w, h], rho)]
+    parts += [box([-w, -w, -h], [rail - w, rail - w, h], rho)]
+    parts += [box([w - rail, -w, -h], [w, rail - w, h], rho)]
+    parts += [
+        box([w - t, -inner, -h], [w, inner, h], rho),
+        box([-w, -inner, -h], [t - w, inner, h], rho),
+    ]
+    parts += [
+        box([-inner, w - t, -h], [inner, w, h], rho),
+        box([-inner, -w, -h], [inner, t - w, h], rho),
+    ]
+    parts += [box([-inner, -inner, h - t], [inner, inner, h], rho)]
+    parts += [box([-inner, -inner, -h], [inner, inner, t - h], rho)]
+    for c in spec.components:
+        density = LIBRARY[c.material].density_kg_m3 * 1e-9
+        if c.size_mm is not None:
+            lo, hi = c.bounds()
+            parts.append(box(lo, hi, density))
+        else:
+            d, length = c.cylinder
+            base = np.asarray(c.center_mm) - [0, 0, length / 2]
+            parts.append(
+                cylinder_properties(base, [0, 0, 1], d / 2, length, density_kg_mm3=density)
+            )
+    _assert_props(r.total, combine(parts), rtol=1e-9)
+    assert {b.path.rsplit("/", 1)[-1] for b in r.bodies} == set(mats)

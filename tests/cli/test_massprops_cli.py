@@ -1,0 +1,126 @@
+"""``cadcog massprops`` in-process: text, JSON, report, strictness and refusals."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from cadcog.cli import main
+from cadcog.massprops import combine
+from tests.cad.stepfixtures import (
+    Assembly,
+    Part,
+    expected_boxes,
+    nested_three_levels,
+    square_face,
+    write_step,
+)
+
+MATERIALS = """
+[materials]
+"*" = 1000.0
+[mass_uncertainty]
+"bracket" = 0.1
+"*" = 0.05
+[maturity_levels]
+new = 0.2
+[growth_allowance]
+"base" = "new"
+"""
+
+
+@pytest.fixture(scope="module")
+def model(tmp_path_factory):
+    d = tmp_path_factory.mktemp("massprops")
+    step = write_step(nested_three_levels(), d / "sat.step")
+    mats = d / "materials.toml"
+    mats.write_text(MATERIALS, encoding="utf-8")
+    return step, mats
+
+
+def test_json_has_the_budget_inertia_frame_and_audit(model, capsys):
+    step, mats = model
+    args = ["massprops", str(step), "--materials", str(mats), "--json"]
+    assert main([*args, "--about", "centre", "--axes", "+y,-x,+z", "--form-factor", "3U"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    truth = combine(expected_boxes(nested_three_levels()))
+    assert out["mass_kg"] == pytest.approx(truth.mass_kg)
+    np.testing.assert_allclose(out["cog_mm"], truth.cog_mm, atol=1e-8)
+    paths = [b["path"] for b in out["bodies"]]
+    assert len(paths) == len(set(paths)) == 5
+    assert out["budget"]["tree"]["name"] == "sat"
+    assert out["budget"]["mass_sigma_kg"] > 0 and out["budget"]["growth_kg"] > 0
+    products = out["inertia_kg_mm2"]["products"]
+    assert products["positive"]["xy"] == pytest.approx(-products["negative"]["xy"])
+    assert out["frame"]["axes"] == [[0, 1, 0], [-1, 0, 0], [0, 0, 1]]
+    lo, hi = np.array(out["audit"]["bbox_mm"])
+    np.testing.assert_allclose(out["frame"]["origin_mm"], (lo + hi) / 2)
+    assert out["envelope"]["limits_mm"] == [20.0, 20.0, 70.0]
+    assert out["audit"]["declared_units"] == ["millimetre"]
+
+
+def test_text_shows_the_tree_and_the_uncertainty(model, capsys):
+    step, mats = model
+    assert main(["massprops", str(step), "--materials", str(mats), "--depth", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "declared unit millimetre" in out
+    assert "\n  board " in out and "bracket[1]" not in out  # depth 1 only
+    assert " ± " in out and "with growth allowances" in out
+    assert "principal moments" in out
+
+
+def test_report_is_written_whole(model, tmp_path, capsys):
+    step, mats = model
+    out = tmp_path / "report"
+    args = ["massprops", str(step), "--materials", str(mats), "--report", str(out)]
+    assert main([*args, "--form-factor", "3U"]) == 0
+    page = (out / "index.html").read_text(encoding="utf-8")
+    for section in ("Import audit", "Mass budget", "Inertia", "Views", "CoG envelope", "Bodies"):
+        assert section in page
+    assert "data:image/png;base64," in page
+    assert json.loads((out / "massprops.json").read_text(encoding="utf-8"))["mass_kg"] > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]  # no staging left
+
+
+def test_strict_turns_a_note_into_exit_2(tmp_path, capsys):
+    top = Assembly("top")
+    top.add(Part("box", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))]))
+    top.add(Part("sheet", [], shapes=[square_face(20.0, 30.0)]))
+    step = write_step(top, tmp_path / "sheet.step")
+    assert main(["massprops", str(step), "--density-kg-m3", "1000"]) == 0
+    assert "note: 1 surface body" in capsys.readouterr().out
+    assert main(["massprops", str(step), "--density-kg-m3", "1000", "--strict"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("cadcog: error: ") and "--strict" in err and err.count("\n") == 1
+
+
+def test_refusals_are_one_line_with_exit_2(model, tmp_path, capsys):
+    step, _ = model
+    top = Assembly("top")
+    top.add(Part("outer", [((20.0, 20.0, 20.0), (0.0, 0.0, 0.0))], 2700.0))
+    top.add(Part("inner", [((5.0, 5.0, 5.0), (2.0, 2.0, 2.0))], 19300.0))
+    nested = write_step(top, tmp_path / "nested.step")
+    for argv, text in [
+        (["massprops", str(nested)], "--resolve-overlaps"),
+        (["massprops", str(step)], "no density for 5 solid(s)"),
+        (["massprops", str(step), "--density-kg-m3", "1", "--axes", "+x,+x,+z"], "orthonormal"),
+        (["massprops", str(step), "--density-kg-m3", "-3"], "--density-kg-m3 must be a positive"),
+        (["massprops", str(tmp_path / "none.step"), "--density-kg-m3", "1"], "file not found"),
+    ]:
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert text in err and err.count("\n") == 1, (argv, err)
+    assert main(["massprops", str(nested), "--resolve-overlaps", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["overlaps"]["n_pairs"] == 1 and out["overlaps"]["policy"] == "resolve"
+
+
+def test_units_option_on_a_metre_file_never_scales_twice(tmp_path, capsys):
+    step = write_step(nested_three_levels(), tmp_path / "m.step", metres=True)
+    assert main(["massprops", str(step), "--density-kg-m3", "1000", "--units", "m", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    truth = combine(expected_boxes(nested_three_levels()))
+    np.testing.assert_allclose(out["cog_mm"], truth.cog_mm, atol=1e-7)
+    assert any("nothing scaled" in i for i in out["info"])
