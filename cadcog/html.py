@@ -35,9 +35,14 @@ def img_tag(path: Path, alt: str) -> str:
     return f'<img src="data:image/png;base64,{data}" alt="{html.escape(alt)}">'
 
 
+def num(value: float, digits: int = 4) -> str:
+    """A number with ``digits`` decimals; round-off never shows as ``-0.0000``."""
+    return f"{round(float(value), digits) + 0.0:.{digits}f}"
+
+
 def vec(values: Any, digits: int = 3) -> str:
     """A vector as ``(x, y, z)`` with ``digits`` decimals."""
-    return "(" + ", ".join(f"{round(float(v), digits) + 0.0:.{digits}f}" for v in values) + ")"
+    return "(" + ", ".join(num(v, digits) for v in values) + ")"
 
 
 def table(header: list[str], rows: list[list[str]], left: int = 1) -> str:

@@ -228,8 +228,10 @@ def model_views(
             pts = envelope_corners_mm[:, [i, j]]
             hull = pts[ConvexHull(pts).vertices]
             ax.fill(hull[:, 0], hull[:, 1], fill=False, ec="C2", ls="--", lw=1.2)
+        spans = np.ptp(everything, axis=0)
+        length = 0.35 * float(min(spans[i], spans[j]) or extent)  # stays inside this view
         for k in range(3):
-            end = cog_mm + 0.3 * extent * principal_axes[k]
+            end = cog_mm + length * principal_axes[k]
             ax.plot([cog_mm[i], end[i]], [cog_mm[j], end[j]], color=f"C{k}", lw=1.5)
         ax.plot(cog_mm[i], cog_mm[j], "r+", ms=14, mew=2)
         ax.set_xlabel(f"{names[i]} (mm)")

@@ -18,7 +18,7 @@ import numpy as np
 
 import cadcog
 from cadcog.fileio import dumps_json, staged_output_dir
-from cadcog.html import CSS, img_tag, table, vec
+from cadcog.html import CSS, img_tag, num, table, vec
 from cadcog.inertia import PRODUCT_CONVENTIONS, products_of_inertia
 from cadcog.massreport import MassReport
 
@@ -129,9 +129,9 @@ def render_html(report: MassReport, views: Path) -> str:
         for level, node in b.root.walk(PAGE_TREE_DEPTH)
     ]
     j = t.inertia_kg_mm2
-    inertia_rows = [[f"{'xyz'[i]}", *[f"{v:.4f}" for v in j[i]]] for i in range(3)]
+    inertia_rows = [[f"{'xyz'[i]}", *[num(v) for v in j[i]]] for i in range(3)]
     product_rows = [
-        [esc(PRODUCT_CONVENTIONS[c]), *[f"{v:.4f}" for v in products_of_inertia(j, c).values()]]
+        [esc(PRODUCT_CONVENTIONS[c]), *[num(v) for v in products_of_inertia(j, c).values()]]
         for c in ("positive", "negative")
     ]
     pa = report.principal
@@ -146,7 +146,7 @@ def render_html(report: MassReport, views: Path) -> str:
     ]
     f = report.frame
     jf = report.frame_inertia_kg_mm2
-    frame_rows = [[f"{'xyz'[i]}", *[f"{v:.4f}" for v in jf[i]]] for i in range(3)]
+    frame_rows = [[f"{'xyz'[i]}", *[num(v) for v in jf[i]]] for i in range(3)]
     degenerate = " (two moments are equal: their axes are not unique)" if pa.degenerate else ""
     budget_header = ["node", "mass (kg)", "share", "± (kg)", "predicted (kg)", "CoG (mm)", "bodies"]
     env = report.envelope

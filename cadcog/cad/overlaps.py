@@ -180,7 +180,7 @@ def find_overlaps(
     volumes_mm3: Sequence[float],
     *,
     scale: float = 1.0,
-    progress: Callable[[int], None] | None = None,
+    progress: Callable[[str, int], Callable[[int], None]] | None = None,
     workers: int = 1,
 ) -> tuple[list[Overlap], int, int]:
     """Every overlapping pair of solids.
@@ -194,7 +194,7 @@ def find_overlaps(
     scale : float
         mm per file unit, when the file's declared unit is overridden (volumes scale by its cube).
     progress : callable, optional
-        Called with 1 after each boolean.
+        ``progress(description, total)`` returns a function called with 1 after each boolean.
     workers : int
         Processes for the booleans (the result does not depend on it).
 
@@ -226,7 +226,8 @@ def find_overlaps(
             job_of[key] = len(jobs)
             jobs.append((a.local_shape, b.local_shape.Moved(rel)))
         pair_job.append((job_of[key], True))
-    commons = fork_map(_common_of, jobs, workers=workers, progress=progress)
+    tick = progress("checking overlaps", len(jobs)) if progress and jobs else None
+    commons = fork_map(_common_of, jobs, workers=workers, progress=tick)
     overlaps = []
     contact = 0
     for (i, j), (k, local) in zip(pairs, pair_job, strict=True):

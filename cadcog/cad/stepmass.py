@@ -759,9 +759,8 @@ def _handle_overlaps(
         for b, lo, hi in ((b, b.box_lo, b.box_hi) for b in solids)
     ]
     volumes = [b.props.volume_mm3 for b in solids]
-    tick = progress("checking overlaps", 0) if progress else None
     found, n_candidates, n_contact = find_overlaps(
-        placed_solids, volumes, scale=scale, progress=tick, workers=workers
+        placed_solids, volumes, scale=scale, progress=progress, workers=workers
     )
     if not found:
         return OverlapSummary(policy, n_candidates=n_candidates, n_contact=n_contact), []
