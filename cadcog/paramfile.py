@@ -206,6 +206,16 @@ class TableReader:
             raise self.error(name, f"expected one of {', '.join(map(str, choices))}; got {value}")
         return value
 
+    def boolean(self, name: str, *, default: bool | None = None) -> bool:
+        """A TOML boolean; ``default`` if absent."""
+        if default is not None and name not in self._data:
+            self._used.add(name)
+            return default
+        value = self._get(name)
+        if not isinstance(value, bool):
+            raise self.error(name, f"expected true or false, got {_type_name(value)}")
+        return value
+
     def table(self, name: str) -> TableReader:
         """A sub-table."""
         value = self._get(name)

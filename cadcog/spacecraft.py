@@ -9,7 +9,6 @@ form factor.
 
 from __future__ import annotations
 
-import tempfile
 from dataclasses import dataclass, replace
 from itertools import combinations
 from math import comb
@@ -116,56 +115,15 @@ class Setup:
         )
 
 
-def _model_mass(t: TableReader, base: Path) -> Any:
-    """The set-up model's :class:`~cadcog.cad.stepmass.ModelMassProperties` (imports CAD)."""
-    from cadcog.cad.stepmass import model_mass_properties
-    from cadcog.cad.stepread import read_step
-    from cadcog.materials import MaterialMap, load_materials
-    from cadcog.units import UNIT_CHOICES
-
-    total = t.number("total_mass_kg", positive=True) if t.has("total_mass_kg") else None
-    if t.has("model"):
-        import build123d as bd
-
-        from cadcog.cad.cubesat import build_cubesat, load_cubesat
-
-        spec = load_cubesat(base / t.string("model"))
-        asm, mats = build_cubesat(spec)
-        with tempfile.TemporaryDirectory() as tmp:
-            step = Path(tmp) / "model.step"
-            bd.export_step(asm, step)
-            model = read_step(step)
-        rules = tuple((name, m) for name, m in mats.items())
-        materials: MaterialMap | None = MaterialMap(rules, "cubesat spec")
-    elif t.has("model_step"):
-        model = read_step(base / t.string("model_step"))
-        materials = load_materials(base / t.string("materials")) if t.has("materials") else None
-    else:
-        raise t.error("model", "missing: give model (a cadcog CubeSat spec) or model_step")
-    units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
-    exclude = t.strings("exclude") if t.has("exclude") else []
-    overlaps = (
-        t.string("overlaps", choices=("check", "allow", "resolve"))
-        if t.has("overlaps")
-        else "check"
-    )
-    return model_mass_properties(
-        model,
-        materials,
-        total_mass_kg=total,
-        units=units,
-        exclude=exclude,
-        overlaps=overlaps,  # type: ignore[arg-type]
-    )
-
-
 def load_setup(path: str | Path) -> Setup:
     """Read a set-up file, compute the model's mass properties and the candidates."""
     p = Path(path)
     base = p.parent
     root = TableReader(read_toml(p), p)
     name = root.string("name")
-    massprops = _model_mass(root, base)
+    from cadcog.cad.modelfile import load_model
+
+    massprops = load_model(root, base)
     form = None
     if root.has("form_factor"):
         form = root.string("form_factor", choices=list(CDS_COG_LIMITS_MM))

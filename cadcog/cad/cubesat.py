@@ -16,7 +16,7 @@ import build123d as bd
 import numpy as np
 
 from cadcog.errors import ParameterFileError
-from cadcog.materials import LIBRARY
+from cadcog.materials import LIBRARY, MaterialMap
 from cadcog.paramfile import TableReader, read_toml, toml_string
 
 #: Rail length per unit (CDS: 1U 113.5 mm, 3U 340.5 mm).
@@ -215,15 +215,24 @@ def build_cubesat(spec: CubeSatSpec) -> tuple[bd.Compound, dict[str, str]]:
     return asm, materials
 
 
+def material_map(spec: CubeSatSpec, materials: dict[str, str]) -> MaterialMap:
+    """The materials of a built CubeSat: one rule per solid, and the spec's mass uncertainties
+    (the structure as one item, each component its own)."""
+    sigmas: list[tuple[str, float, str]] = []
+    if spec.structure_mass_uncertainty is not None:
+        sigmas.append(("structure", spec.structure_mass_uncertainty, ""))
+    sigmas += [(c.name, c.mass_uncertainty, "") for c in spec.components if c.mass_uncertainty]
+    return MaterialMap(
+        tuple(materials.items()), f"cubesat spec {spec.source}", uncertainty_rules=tuple(sigmas)
+    )
+
+
 def materials_toml(spec: CubeSatSpec, materials: dict[str, str]) -> str:
-    """A materials file for :func:`cadcog.materials.load_materials`: one rule per solid, and
-    the spec's mass uncertainties (the structure as one item, each component its own)."""
+    """:func:`material_map` as a materials file for :func:`cadcog.materials.load_materials`."""
+    m = material_map(spec, materials)
     lines = ["# materials of the example CubeSat, written by cadcog parts cubesat", "[materials]"]
-    lines += [f"{toml_string(name)} = {toml_string(mat)}" for name, mat in materials.items()]
-    sigmas = [(c.name, c.mass_uncertainty) for c in spec.components if c.mass_uncertainty]
-    if spec.structure_mass_uncertainty is not None or sigmas:
+    lines += [f"{toml_string(name)} = {toml_string(str(mat))}" for name, mat in m.rules]
+    if m.uncertainty_rules:
         lines += ["", "[mass_uncertainty]   # 1-σ relative; an assembly's bodies vary together"]
-        if spec.structure_mass_uncertainty is not None:
-            lines.append(f'"structure" = {spec.structure_mass_uncertainty!r}')
-        lines += [f"{toml_string(name)} = {sigma!r}" for name, sigma in sigmas]
+        lines += [f"{toml_string(name)} = {sigma!r}" for name, sigma, _ in m.uncertainty_rules]
     return "\n".join(lines) + "\n"

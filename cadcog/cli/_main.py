@@ -15,6 +15,7 @@ from cadcog import __version__
 from cadcog.cli import (
     budget,
     campaign,
+    check,
     estimate,
     massprops,
     parts,
@@ -46,6 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
     report.add_parser(sub)
     massprops.add_parser(sub)
     plan.add_parser(sub)
+    check.add_parser(sub)
     return parser
 
 

@@ -1,0 +1,84 @@
+"""The model keys shared by set-up and requirements files: which CAD, which densities.
+
+A file names its model either as a cadcog CubeSat spec (``model = "cubesat_3u.toml"``: built
+with build123d, exported to STEP and read back like any export) or as a STEP file
+(``model_step = "sat.step"``), with optional keys that mean what the ``cadcog massprops``
+options mean:
+
+===================  ==========================================================================
+``materials``        materials file (densities, surfaces, mass uncertainties, growth)
+``total_mass_kg``    scale every density to a weighing
+``units``            the STEP file's true length unit, when its declaration is wrong
+``exclude``          array of patterns of bodies or assemblies to leave out
+``overlaps``         ``"check"`` (default), ``"allow"`` or ``"resolve"``
+===================  ==========================================================================
+
+Paths are relative to the file that names them.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from dataclasses import replace
+from pathlib import Path
+
+from cadcog.cad.stepmass import ModelMassProperties, OverlapPolicy, model_mass_properties
+from cadcog.cad.stepread import read_step
+from cadcog.materials import MaterialMap, load_materials
+from cadcog.paramfile import TableReader
+from cadcog.units import UNIT_CHOICES
+
+#: Keys :func:`load_model` reads (a file's other tables are its own).
+MODEL_KEYS = ("model", "model_step", "materials", "total_mass_kg", "units", "exclude", "overlaps")
+
+
+def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMassProperties:
+    """The mass properties of the model a table names (see the module docstring); ``strict``
+    turns every note about the model into an error, as ``cadcog massprops --strict``."""
+    total = t.number("total_mass_kg", positive=True) if t.has("total_mass_kg") else None
+    if t.has("model"):
+        import build123d as bd
+
+        from cadcog.cad.cubesat import build_cubesat, load_cubesat, material_map
+
+        spec = load_cubesat(base / t.string("model"))
+        asm, mats = build_cubesat(spec)
+        with tempfile.TemporaryDirectory() as tmp:
+            step = Path(tmp) / "model.step"
+            bd.export_step(asm, step)
+            model = read_step(step)
+        materials: MaterialMap | None = material_map(spec, mats)
+        if t.has("materials"):  # a materials file's rules come first, the spec's complete them
+            extra = load_materials(base / t.string("materials"))
+            assert materials is not None
+            materials = MaterialMap(
+                extra.rules + materials.rules,
+                extra.source,
+                extra.surface_rules,
+                extra.uncertainty_rules + materials.uncertainty_rules,
+                extra.growth_rules,
+            )
+    elif t.has("model_step"):
+        model = read_step(base / t.string("model_step"))
+        materials = load_materials(base / t.string("materials")) if t.has("materials") else None
+    else:
+        raise t.error("model", "missing: give model (a cadcog CubeSat spec) or model_step")
+    units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
+    exclude = t.strings("exclude") if t.has("exclude") else []
+    overlaps: OverlapPolicy = "check"
+    if t.has("overlaps"):
+        value = t.string("overlaps", choices=("check", "allow", "resolve"))
+        overlaps = "allow" if value == "allow" else "resolve" if value == "resolve" else "check"
+    result = model_mass_properties(
+        model,
+        materials,
+        total_mass_kg=total,
+        units=units,
+        exclude=exclude,
+        overlaps=overlaps,
+        strict=strict,
+    )
+    if t.has("model"):  # name the spec, not the temporary STEP it was read back from
+        source = f"{base / t.string('model')} (built with build123d)"
+        result = replace(result, audit=replace(result.audit, source=source))
+    return result

@@ -1,0 +1,103 @@
+"""``cadcog check``: a spacecraft's mass-properties requirements, for people and for CI."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+from cadcog.errors import CadcogError
+from cadcog.fileio import dumps_json, round_floats, staged_file
+from cadcog.paramfile import TableReader, read_toml
+
+#: Exit status when a requirement does not hold (bad input is 2, as everywhere).
+EXIT_FAILED = 1
+
+
+def add_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "check",
+        help="check a model's mass, CoG envelope, inertia and baseline against requirements",
+        description="Evaluate a requirements file (TOML: the model, [mass], [cog], [inertia], "
+        "[baseline]) and print one line per requirement. Exit 0 when all hold, 1 when one "
+        "fails, 2 on bad input. See docs/ci.md.",
+    )
+    p.add_argument("requirements", type=Path, help="requirements file (TOML)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--junit", type=Path, metavar="FILE", help="also write JUnit XML for CI")
+    p.add_argument(
+        "--strict",
+        action="store_true",
+        help="a note about the model (surfaces left out, overlaps counted, units) is an error",
+    )
+    p.add_argument(
+        "--update-baseline",
+        action="store_true",
+        help="write the model's current mass properties to the [baseline] file, then check",
+    )
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from cadcog.baseline import baseline_dict, diff, load_baseline
+    from cadcog.cad.modelfile import load_model
+    from cadcog.check import evaluate, load_requirements, model_report
+
+    started = time.perf_counter()
+    path = args.requirements
+    root = TableReader(read_toml(path), path)
+    req = load_requirements(root, path)
+    if args.update_baseline and req.baseline_file is None:
+        raise CadcogError(f"{path}: --update-baseline needs a [baseline] table with a file")
+    if args.junit is not None and args.junit.resolve() == path.resolve():
+        raise CadcogError(f"--junit {args.junit}: that is the requirements file")
+    result = load_model(root, path.parent, strict=args.strict)
+    root.finish()
+    report = model_report(req, result)
+    changes = None
+    written = None
+    if req.baseline_file is not None:
+        if args.update_baseline:
+            with staged_file(req.baseline_file) as tmp:
+                tmp.write_text(dumps_json(baseline_dict(result)), encoding="utf-8")
+            written = req.baseline_file
+        changes = diff(load_baseline(req.baseline_file), result, req.tolerances, req.baseline_file)
+    results = evaluate(req, report, changes)
+    passed = all(r.passed for r in results)
+    if args.junit is not None:
+        from cadcog.junit import junit_xml
+
+        with staged_file(args.junit) as tmp:
+            tmp.write_text(
+                junit_xml(req.name, results, time.perf_counter() - started), encoding="utf-8"
+            )
+    if args.json:
+        out = {
+            "name": req.name,
+            "requirements_file": str(path),
+            "model": result.audit.source,
+            "mass_kg": result.total.mass_kg,
+            "cog_mm": result.total.cog_mm.tolist(),
+            "passed": passed,
+            "requirements": [r.to_dict() for r in results],
+            "baseline": None if changes is None else changes.to_dict(),
+            "notes": list(result.notes),
+        }
+        print(json.dumps(round_floats(out), indent=2, ensure_ascii=False))
+    else:
+        width = max((len(r.title) for r in results), default=20)
+        print(f"{req.name}: {len(results)} requirement(s), model {result.audit.source}")
+        for r in results:
+            mark = "pass" if r.passed else "FAIL"
+            print(f"  {mark}  {r.title:<{width}}  {r.value}  (required {r.limit})")
+            if not r.passed and r.detail:
+                print(f"        {r.detail}")
+        if written is not None:
+            print(f"baseline written to {written}")
+        for n in result.notes:
+            print(f"note: {n}")
+        failed = sum(1 for r in results if not r.passed)
+        print(f"{'all requirements hold' if passed else f'{failed} requirement(s) FAILED'}")
+    return 0 if passed else EXIT_FAILED
