@@ -1,8 +1,11 @@
 """Output files that appear whole or not at all.
 
-Commands write into a temporary directory beside the destination and move each finished file
-into place with :func:`os.replace`, which is atomic on POSIX file systems. If anything fails on
-the way, the temporary directory is removed and the destination is left as it was.
+Commands write into a temporary directory (or file) beside the destination and move each
+finished file into place with :func:`os.replace`, which is atomic on POSIX file systems. If
+anything fails on the way, including an interrupt (Ctrl-C) or a SIGTERM (``cadcog.cli`` turns it
+into an exception), the temporary files are removed and the destination is left as it was.
+Finished files get the permissions the user's umask gives a new file, not the 0600 of a
+temporary file; errors name the destination the user gave, never the temporary name.
 """
 
 from __future__ import annotations
@@ -18,6 +21,18 @@ from pathlib import Path
 from typing import Any
 
 from cadcog import tolerances
+from cadcog.errors import CadcogError
+
+
+def _new_file_mode() -> int:
+    """The mode a new file gets under the current umask (0666 & ~umask)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def _cannot_write(target: Path, exc: OSError) -> CadcogError:
+    return CadcogError(f"{target}: cannot write here ({exc.strerror or exc})")
 
 
 @contextmanager
@@ -26,13 +41,21 @@ def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
 
     Existing files in ``out_dir`` that the command does not produce are left alone; produced
     files replace their namesakes atomically, one by one.
+
+    Raises
+    ------
+    CadcogError
+        If ``out_dir`` is a file, or its parent cannot be written (naming ``out_dir``).
     """
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
-        raise NotADirectoryError(f"{out}: exists and is not a directory")
+        raise CadcogError(f"{out}: exists and is not a directory")
     parent = out.resolve().parent
-    parent.mkdir(parents=True, exist_ok=True)
-    stage = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".partial", dir=parent))
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+        stage = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".partial", dir=parent))
+    except OSError as exc:
+        raise _cannot_write(out, exc) from None
     try:
         yield stage
         out.mkdir(parents=True, exist_ok=True)
@@ -71,14 +94,47 @@ def dumps_json(data: Any) -> str:
 
 @contextmanager
 def staged_file(path: str | Path) -> Iterator[Path]:
-    """Yield a temporary path beside ``path`` (same suffix) that replaces ``path`` on success."""
+    """Yield a temporary path beside ``path`` (same suffix) that replaces ``path`` on success.
+
+    Raises
+    ------
+    CadcogError
+        If ``path`` is a directory or its folder cannot be written (naming ``path``).
+    """
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent)
+    if target.is_dir():
+        raise CadcogError(f"{target}: is a directory, expected a file name")
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(
+            prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent
+        )
+    except OSError as exc:
+        raise _cannot_write(target, exc) from None
     os.close(fd)
     try:
         yield Path(tmp)
+        os.chmod(tmp, _new_file_mode())
         os.replace(tmp, target)
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def refuse_overwriting_inputs(output: str | Path, inputs: dict[str, str | Path | None]) -> None:
+    """Refuse an output that is one of the command's own inputs.
+
+    Parameters
+    ----------
+    output : path-like
+    inputs : mapping of option or argument name → path (or None when not given)
+
+    Raises
+    ------
+    CadcogError
+        Naming both, if ``output`` resolves to the same file as an input.
+    """
+    out = Path(output).resolve()
+    for name, value in inputs.items():
+        if value is not None and Path(value).resolve() == out:
+            raise CadcogError(f"{output}: is the command's input ({name}); write elsewhere")

@@ -32,8 +32,8 @@ from OCP.TopoDS import TopoDS_Shape
 
 from cadcog import tolerances
 from cadcog.cad.occt import placed, rigid_transform, volume_properties
-from cadcog.cad.parallel import fork_map
 from cadcog.massprops import MassProperties
+from cadcog.parallel import fork_map
 
 FloatArray = npt.NDArray[np.float64]
 

@@ -41,11 +41,11 @@ from OCP.TopoDS import TopoDS, TopoDS_Shape
 from cadcog import tolerances
 from cadcog.cad.occt import placed, rigid_transform, surface_properties, volume_properties
 from cadcog.cad.overlaps import Overlap, Placed, bounding_boxes, cut_by, find_overlaps
-from cadcog.cad.parallel import fork_map
 from cadcog.cad.stepread import StepBody, StepModel, length_unit_mm
 from cadcog.errors import CadcogError
 from cadcog.massprops import MassProperties, combine
 from cadcog.materials import DENSITY_RANGE_KG_M3, ItemRule, MaterialMap, glob_match
+from cadcog.parallel import fork_map
 from cadcog.units import (
     LENGTH_UNIT_MM,
     UNIT_CHOICES,

@@ -8,8 +8,11 @@ User errors (:class:`cadcog.errors.CadcogError`) print one line on stderr and ex
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from types import FrameType
 
 from cadcog import __version__
 from cadcog.cli import (
@@ -51,12 +54,47 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that staged outputs are cleaned up."""
+
+
+def _terminate(signum: int, frame: FrameType | None) -> None:
+    raise Terminated(signum)
+
+
+@contextmanager
+def _sigterm_raises() -> Iterator[None]:
+    """While the command runs, SIGTERM raises :class:`Terminated` (then the handler before is
+    restored: tests call :func:`main` in-process)."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the CLI with ``argv`` (default: ``sys.argv[1:]``) and return the exit status."""
+    """Run the CLI with ``argv`` (default: ``sys.argv[1:]``) and return the exit status.
+
+    Bad input (:class:`~cadcog.errors.CadcogError`, and I/O errors) prints one line on stderr
+    and returns 2; Ctrl-C returns 130 and SIGTERM 143, after every staged output is removed.
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        status: int = args.func(args)
+        with _sigterm_raises():
+            status: int = args.func(args)
+    except KeyboardInterrupt:
+        print("cadcog: interrupted; nothing was written", file=sys.stderr)
+        return 130
+    except Terminated:
+        print("cadcog: terminated; nothing was written", file=sys.stderr)
+        return 143
     except CadcogError as exc:
         print(f"cadcog: error: {exc}", file=sys.stderr)
         return EXIT_USAGE

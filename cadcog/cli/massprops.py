@@ -150,9 +150,9 @@ def run(args: argparse.Namespace) -> int:
     if args.workers is not None and args.workers < 1:
         raise CadcogError("--workers must be at least 1")
     materials = _materials(args)
-    from cadcog.cad.parallel import available_workers
     from cadcog.cad.stepmass import OverlapPolicy, model_mass_properties
     from cadcog.cad.stepread import read_step
+    from cadcog.parallel import available_workers
 
     model = read_step(args.model)
     policy: OverlapPolicy = (

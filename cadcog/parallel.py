@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import signal
 from collections.abc import Callable, Sequence
 from typing import Any, TypeVar
 
@@ -29,6 +30,14 @@ def available_workers() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # pragma: no cover - not Linux
         return os.cpu_count() or 1
+
+
+def worker_signals() -> None:
+    """Pool initializer: a worker dies quietly on SIGTERM (the pool's shutdown) and ignores
+    Ctrl-C (the parent handles it and ends the pool), instead of inheriting ``cadcog.cli``'s
+    handlers and printing tracebacks."""
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _run(index: int) -> Any:
@@ -61,7 +70,7 @@ def fork_map(
         return out
     _WORK = (func, items)
     try:
-        with multiprocessing.get_context("fork").Pool(n_workers) as pool:
+        with multiprocessing.get_context("fork").Pool(n_workers, worker_signals) as pool:
             results = []
             for r in pool.imap(_run, range(len(items)), chunksize=1):
                 results.append(r)
