@@ -45,3 +45,8 @@ MIN_PAIR_ANGLE_DEG = 5.0
 #: Probability below which a suspension's residual (squared distance of its line from the joint
 #: estimate over its variance, ~χ² with 2 degrees of freedom) flags it as inconsistent.
 OUTLIER_PROBABILITY = 0.003
+
+#: Self-calibration of the wire scale λ: the information the lines give on λ once the CoG is
+#: free, relative to what they would give with the CoG known, below which λ is declared
+#: unidentifiable (the bolt axes lie along their verticals, or the CoG absorbs the offsets).
+WIRE_IDENTIFIABILITY = 1e-6

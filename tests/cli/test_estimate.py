@@ -37,7 +37,7 @@ def test_rig_compensation_recovers_the_proof_mass_cog(tmp_path, capsys, paper_ri
 
 
 def test_direct_me_values_equal_the_rig_path(tmp_path, capsys, paper_rig):
-    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig, wire_offset_mm=0.0))
     me = paper_rig.analytic_me
     cog = ",".join(repr(float(c)) for c in me.cog_mm)
     out, _ = _run_json(
@@ -54,7 +54,7 @@ def test_direct_me_values_equal_the_rig_path(tmp_path, capsys, paper_rig):
 
 
 def test_without_me_data_the_result_says_so(tmp_path, capsys, paper_rig):
-    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig, wire_offset_mm=0.0))
     out, err = _run_json(capsys, str(csv))
     assert out["cog_mm"] == out["assembly_cog_mm"]
     assert out["compensation"] == {"applied": False}
@@ -83,7 +83,7 @@ def test_sign_flip_in_the_rig_file(tmp_path, capsys, paper_rig):
 
 
 def test_normalisation_is_warned_and_counted(tmp_path, capsys, paper_rig):
-    rows = ideal_rows(paper_rig)
+    rows = ideal_rows(paper_rig, wire_offset_mm=0.0)
     rows.append("S9,100,0,0,50,50,true")
     out, _ = _run_json(capsys, str(write_csv(tmp_path / "r.csv", rows)))
     assert out["n_normalized"] == 1
@@ -91,7 +91,7 @@ def test_normalisation_is_warned_and_counted(tmp_path, capsys, paper_rig):
 
 
 def test_outlier_suspension_is_flagged(tmp_path, capsys, paper_rig):
-    rows = ideal_rows(paper_rig)
+    rows = ideal_rows(paper_rig, wire_offset_mm=0.0)
     f = rows[2].split(",")
     f[4] = repr(float(f[4]) + 3.0)  # 3° off on one suspension
     rows[2] = ",".join(f)
