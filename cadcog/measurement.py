@@ -282,7 +282,7 @@ def estimate_cog(
     _check_normal_matrix(gls.sym_to_full(batch.weights.sum(axis=1))[0])
     wire_scale = None
     if body is not None and (wire.scale_mm or wire.estimate):
-        wire_scale = _wire_scale(batch, wire, nrm, warnings)
+        wire_scale = _wire_scale(batch, wire, warnings)
     virtual = batch.points_mm
     lines = [PlumbLine(s.id, virtual[:, j, 0], v.u[j]) for j, s in enumerate(suspensions)]
     pairs, skipped = pair_diagnostics(lines, min_angle_deg)
@@ -359,16 +359,14 @@ def _reading_warnings(
     return warnings
 
 
-def _wire_scale(
-    batch: gls.GLSBatch, wire: gls.WireTerm, normals: FloatArray, warnings: list[str]
-) -> WireScale:
+def _wire_scale(batch: gls.GLSBatch, wire: gls.WireTerm, warnings: list[str]) -> WireScale:
     """The wire scale of an estimate; raises if self-calibration cannot determine it."""
     if wire.estimate:
+        # What the lines would say about λ if every offset were across its line.
         w = batch.weights
-        wn = gls.sym_matvec(w, normals)
-        d = float((batch.shape**2 * gls._dot(normals, wn)).sum())
+        ref = float((batch.shape**2 * (w[0] + w[1] + w[2])).sum() / 2.0)
         info = float(batch.scale_information[0])
-        if not info > tolerances.WIRE_IDENTIFIABILITY * d:
+        if not info > tolerances.WIRE_IDENTIFIABILITY * ref:
             raise DegenerateGeometryError(
                 "the wire offset scale cannot be estimated from these suspensions: the bolt "
                 "axes lie (nearly) along their verticals, or the CoG can absorb the offsets, so "

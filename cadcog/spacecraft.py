@@ -349,17 +349,34 @@ def plan_test(
             best = np.maximum(best, angle[groups[:, a], groups[:, b]])
         return best
 
+    # At the nominal readings every line's weight is its own, whatever set it is in: the
+    # equal-weight pass of the estimator finds the CoG exactly, so each point's distance is
+    # known. One weight per candidate, then every set is a sum.
+    p_all = scenario.points_mm.T[:, :, None]
+    n_all = scenario.normals.T[:, :, None]
+    u_all = u_nom.T[:, :, None]
+    wire = gls.WireTerm.from_model(model, scenario.weight_n)
+    weights = gls.plumb_gls(p_all, u_all, n_all, gls.LineErrors.from_model(model), wire).weights
+    shape_all = (
+        np.ones(n)
+        if wire.model == "paper"
+        else gls.wire_shape_factor(np.sum(u_nom * scenario.normals, axis=1), wire.model)
+    )
+    ratio = scenario.me_mass_kg / scenario.pm_mass_kg
+
     def predicted(groups: npt.NDArray[np.int64]) -> FloatArray:
         """Compensated linearised covariances (m, 3, 3) of sets (m, k)."""
-        p = scenario.points_mm[groups].transpose(2, 1, 0)  # (3, k, m)
-        nrm = scenario.normals[groups].transpose(2, 1, 0)
-        u = u_nom[groups].transpose(2, 1, 0)
-        wire = gls.WireTerm.from_model(model, scenario.weight_n)
-        est = gls.plumb_gls(p, u, nrm, gls.LineErrors.from_model(model), wire)
-        ratio = scenario.me_mass_kg / scenario.pm_mass_kg
+        g_t = groups.T  # (k, m)
+        cov = gls.solve_lines(
+            p_all[:, g_t, 0],
+            u_all[:, g_t, 0],
+            n_all[:, g_t, 0],
+            shape_all[g_t],
+            weights[:, g_t, 0],
+            wire,
+        )[1]
         return np.asarray(
-            (1 + ratio) ** 2 * gls.sym_to_full(est.cov_mm2)
-            + ratio**2 * model.me_sigma_mm**2 * np.eye(3)
+            (1 + ratio) ** 2 * gls.sym_to_full(cov) + ratio**2 * model.me_sigma_mm**2 * np.eye(3)
         )
 
     pair_idx = np.array(list(combinations(range(n), 2)))

@@ -47,6 +47,7 @@ MIN_PAIR_ANGLE_DEG = 5.0
 OUTLIER_PROBABILITY = 0.003
 
 #: Self-calibration of the wire scale λ: the information the lines give on λ once the CoG is
-#: free, relative to what they would give with the CoG known, below which λ is declared
-#: unidentifiable (the bolt axes lie along their verticals, or the CoG absorbs the offsets).
+#: free, relative to what they would give if every offset moved its line sideways, below which
+#: λ is declared unidentifiable (the bolt axes lie along their verticals, or the CoG absorbs
+#: the offsets).
 WIRE_IDENTIFIABILITY = 1e-6

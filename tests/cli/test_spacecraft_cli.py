@@ -18,10 +18,8 @@ SETUP = default_rig_path().parent / "cubesat_3u_setup.toml"
 
 
 @pytest.fixture(scope="module")
-def setup():
-    from cadcog.spacecraft import load_setup
-
-    return load_setup(SETUP)
+def setup(cubesat_setup):
+    return cubesat_setup
 
 
 def test_build_then_massprops_of_the_step(tmp_path, capsys, setup):
