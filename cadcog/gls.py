@@ -316,6 +316,45 @@ def solve_lines(
     return x, cov, lam, var, cxl, info
 
 
+def equal_weight_point(points_mm: Comp, u: Comp) -> FloatArray:
+    """Least-squares point of lines with equal weights ``Pᵢ`` (eq. 8 for a pair): (3, n)."""
+    a = _lines_sum(projector(u))
+    uq = _dot(u, points_mm)
+    b = tuple((points_mm[i] - uq * u[i]).sum(axis=0) for i in range(3))
+    ainv, _ = sym_inv(a)
+    return np.stack(sym_matvec(ainv, b))
+
+
+def cog_only(
+    points_mm: FloatArray,
+    u: FloatArray,
+    normals: FloatArray,
+    errors: LineErrors,
+    wire: WireTerm,
+    *,
+    weighted: bool = True,
+) -> FloatArray:
+    """The CoG of :func:`plumb_gls` alone, (3, n): the Monte Carlo's fast path.
+
+    Identical arithmetic for a known wire scale (the common case); otherwise it calls
+    :func:`plumb_gls`.
+    """
+    if not wire.fixed:
+        return plumb_gls(points_mm, u, normals, errors, wire, weighted=weighted).cog_mm
+    if wire.scale_mm:
+        shape = 1.0 if wire.model == "paper" else wire_shape_factor(_dot(u, normals), wire.model)
+        q0 = points_mm + (wire.scale_mm * shape) * normals
+    else:
+        q0 = points_mm
+    g0 = equal_weight_point(q0, u)
+    if not weighted:
+        return g0
+    diff = g0[:, None, :] - q0
+    w = weights_of(lateral_covariance(u, normals, np.sqrt(_dot(diff, diff)), errors), u)
+    ainv, _ = sym_inv(_lines_sum(tuple(w)))
+    return np.stack(sym_matvec(ainv, _lines_sum(sym_matvec(w, q0))))
+
+
 def plumb_gls(
     points_mm: FloatArray,
     u: FloatArray,
@@ -346,17 +385,17 @@ def plumb_gls(
         if wire.model == "paper"
         else wire_shape_factor(_dot(u, normals), wire.model)
     )
-    proj = projector(u)
     q0 = points_mm + (wire.scale_mm * shape) * normals if wire.scale_mm else points_mm
-    equal = solve_lines(q0, u, normals, shape, proj, WireTerm(wire.model))
     if not weighted:
+        proj = projector(u)
+        equal = solve_lines(q0, u, normals, shape, proj, WireTerm(wire.model))
         x, cov = equal[0], equal[1]
         lam = equal[2] + wire.scale_mm
         return GLSBatch(
             x, cov, lam, equal[3], equal[4], equal[5], np.asarray(q0), shape, np.stack(proj),
             np.stack(proj),
         )  # fmt: skip
-    diff = equal[0][:, None, :] - q0
+    diff = equal_weight_point(q0, u)[:, None, :] - q0
     dist = np.sqrt(_dot(diff, diff))
     lateral = lateral_covariance(u, normals, dist, errors)
     w = weights_of(lateral, u)

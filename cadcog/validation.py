@@ -115,7 +115,13 @@ class Validation:
 
     @property
     def consistent(self) -> bool:
+        """Every window consistent (against its null range of k when it has one)."""
         return all(w.consistent for w in self.windows)
+
+    @property
+    def consistent_cp(self) -> bool:
+        """The paper's check: F(ε) inside every window's Clopper-Pearson interval."""
+        return all(w.ci_low <= w.F <= w.ci_high for w in self.windows)
 
     def to_dict(self) -> dict[str, Any]:
         return {
