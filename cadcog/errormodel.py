@@ -361,7 +361,12 @@ class ErrorModel:
         m = np.asarray(self.me_masses_kg)
         widths = m / m.sum() * np.asarray(self.me_edges_mm)
         u = rng.random((len(widths), 3 * n), dtype=np.float32)
-        return np.asarray((widths @ u - 0.5 * widths.sum()).reshape(3, n))
+        # A sum, not ``widths @ u``: a BLAS call here would start threads that compete with
+        # the Monte Carlo's own workers.
+        e = np.full(3 * n, -0.5 * widths.sum())
+        for w_k, u_k in zip(widths, u, strict=True):
+            e += w_k * u_k
+        return np.asarray(e.reshape(3, n))
 
     # --- inclinometer ----------------------------------------------------------------------------
     def reading_parts_deg2(self, samples: int | None = None) -> tuple[float, float, float]:
