@@ -20,7 +20,6 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import numpy.typing as npt
-from scipy import stats
 
 from cadcog.inclinometer import InclinometerConfig, SensorModel
 from cadcog.units import deg_to_rad
@@ -103,6 +102,8 @@ def me_cog_pdf(
     x = (np.arange(len(pdf)) - half) * dx
     sigma = me_cog_sigma_mm(m, edges_mm)
     result = MECogPdf(np.asarray(x, dtype=float), np.asarray(pdf, dtype=float), sigma, 0.0)
+    from scipy import stats  # here, not at import: scipy.stats takes ~1 s to import
+
     diff = float(np.max(np.abs(result.cdf - stats.norm.cdf(x, scale=sigma)))) if sigma else 0.0
     return replace(result, max_cdf_difference_from_normal=diff)
 

@@ -561,7 +561,8 @@ def simulate(
     workers : int
         Processes to spread the groups over.
     progress : callable, optional
-        Called with the number of trials finished after each batch of groups.
+        Called with the number of trials finished after each of the ``4 × workers`` batches of
+        groups.
     """
     if trials_per_group < 2:
         raise ValueError("trials_per_group must be at least 2")
@@ -572,7 +573,7 @@ def simulate(
         for g, group in enumerate(groups)
     ]
     flags = [True] * len(jobs) if screened is None else list(screened)
-    n_tasks = max(1, min(len(jobs), 4 * workers if workers > 1 else len(jobs)))
+    n_tasks = max(1, min(len(jobs), 4 * workers))
     bounds = np.linspace(0, len(jobs), n_tasks + 1).astype(int)
     tasks: list[_Task] = [
         (jobs[lo:hi], flags[lo:hi], keep_norms) for lo, hi in pairwise(bounds) if hi > lo

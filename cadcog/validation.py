@@ -23,7 +23,6 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy import stats
 
 from cadcog import gls
 from cadcog.errormodel import ErrorModel
@@ -57,6 +56,8 @@ def clopper_pearson(k: int, n: int, confidence: float = CONFIDENCE) -> tuple[flo
     """
     if not 0 <= k <= n or n < 1:
         raise ValueError(f"need 0 <= k <= n and n >= 1, got k={k}, n={n}")
+    from scipy import stats  # here, not at import: scipy.stats takes ~1 s to import
+
     alpha = 1.0 - confidence
     lo = 0.0 if k == 0 else float(stats.beta.ppf(alpha / 2, k, n - k + 1))
     hi = 1.0 if k == n else float(stats.beta.ppf(1 - alpha / 2, k + 1, n - k))
@@ -173,6 +174,8 @@ def check_against_simulation(
 
     def sim_cdf(x: FloatArray) -> FloatArray:
         return np.asarray(np.searchsorted(sim, x, side="right") / sim.size)
+
+    from scipy import stats
 
     ks = stats.kstest(measured, sim_cdf)
     labels = tuple(pairs) if pairs else tuple((str(i), "") for i in range(n))
