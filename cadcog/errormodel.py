@@ -364,8 +364,8 @@ class ErrorModel:
         u = rng.random((len(widths), 3 * n), dtype=np.float32)
         # A sum, not ``widths @ u``: a BLAS call here would start threads that compete with
         # the Monte Carlo's own workers.
-        e = np.full(3 * n, -0.5 * widths.sum())
-        for w_k, u_k in zip(widths, u, strict=True):
+        e = np.full(3 * n, -0.5 * widths.sum(), dtype=np.float32)
+        for w_k, u_k in zip(widths.astype(np.float32), u, strict=True):
             e += w_k * u_k
         return np.asarray(e.reshape(3, n))
 

@@ -197,13 +197,14 @@ def _measured_verticals(u_true: FloatArray, err_x: FloatArray, err_y: FloatArray
     """Readings of the true verticals plus errors (degrees), back through eq. 2.
 
     ``u_true`` is component-first, shape (3, ...). ``sin(asin(u) + e)`` is evaluated as
-    ``u cos e + √(1 − u²) sin e``, which avoids the arcsine.
+    ``u cos e + √(1 − u²) sin e`` with ``cos e = √(1 − sin² e)`` (|e| < 90°), which avoids the
+    arcsine and the cosine.
     """
-    ex = np.deg2rad(err_x)
-    ey = np.deg2rad(err_y)
+    ex = np.sin(np.deg2rad(err_x))
+    ey = np.sin(np.deg2rad(err_y))
     ux, uy = u_true[0], u_true[1]
-    sx = ux * np.cos(ex) + np.sqrt(np.maximum(1.0 - ux * ux, 0.0)) * np.sin(ex)
-    sy = uy * np.cos(ey) + np.sqrt(np.maximum(1.0 - uy * uy, 0.0)) * np.sin(ey)
+    sx = ux * np.sqrt(1.0 - ex * ex) + np.sqrt(np.maximum(1.0 - ux * ux, 0.0)) * ex
+    sy = uy * np.sqrt(1.0 - ey * ey) + np.sqrt(np.maximum(1.0 - uy * uy, 0.0)) * ey
     r2 = sx * sx + sy * sy
     over = r2 > 1.0
     if np.any(over):  # the paper's normalisation, rare: only near the horizontal
