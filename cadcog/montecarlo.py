@@ -379,11 +379,20 @@ class NormHistogram:
         return np.asarray(cls.LO_MM * np.exp(np.arange(cls.n_bins() + 1) * np.log1p(cls.REL_WIDTH)))
 
     def add(self, norms_mm: FloatArray) -> None:
+        self.add_counts(self.count(norms_mm))
+
+    def add_counts(self, counts: npt.NDArray[np.int64]) -> None:
+        self.counts += counts
+
+    @classmethod
+    def count(cls, norms_mm: FloatArray) -> npt.NDArray[np.int64]:
+        """Bin counts of ``norms_mm`` (add them to several histograms at the cost of one)."""
         x = np.asarray(norms_mm, dtype=float)
+        nb = cls.n_bins()
         with np.errstate(divide="ignore"):
-            j = np.floor(np.log(x / self.LO_MM) / np.log1p(self.REL_WIDTH))
-        idx = np.clip(np.nan_to_num(j, nan=self.n_bins(), neginf=-1.0), -1, self.n_bins()) + 1
-        self.counts += np.bincount(idx.astype(np.int64), minlength=self.counts.size)
+            j = np.floor(np.log(x * (1.0 / cls.LO_MM)) * (1.0 / np.log1p(cls.REL_WIDTH)))
+        idx = np.clip(np.nan_to_num(j, nan=nb, neginf=-1.0), -1, nb) + 1
+        return np.bincount(idx.astype(np.int64), minlength=nb + 2)
 
     def merge(self, other: NormHistogram) -> None:
         self.counts += other.counts
@@ -511,17 +520,18 @@ def _run_task(
     out: list[_GroupSummary] = []
     for job, scr in zip(jobs, screened, strict=True):
         norms, s1, s2 = _run_group(job)
-        hist.add(norms)
+        counts = NormHistogram.count(norms)
+        hist.add_counts(counts)
         if scr:
-            hist_s.add(norms)
-        srt = np.sort(norms)
+            hist_s.add_counts(counts)
+        q50, q95 = _exact_quantiles(norms, (0.5, 0.95))
         out.append(
             (
                 s1,
                 s2,
                 float(np.sum(norms * norms)),  # not np.dot: no BLAS threads
-                _quantile_of_sorted(srt, 0.5),
-                _quantile_of_sorted(srt, 0.95),
+                q50,
+                q95,
                 float(norms.mean()),
                 norms if keep else None,
             )
@@ -620,12 +630,17 @@ def _collect(
             progress(sum(job[5] for job in task[0]))
 
 
-def _quantile_of_sorted(x: FloatArray, q: float) -> float:
-    """``np.quantile(x, q)`` (linear interpolation) for an already sorted array, faster."""
-    pos = q * (x.size - 1)
-    lo = int(np.floor(pos))
-    hi = min(lo + 1, x.size - 1)
-    return float(x[lo] + (pos - lo) * (x[hi] - x[lo]))
+def _exact_quantiles(x: FloatArray, qs: Sequence[float]) -> list[float]:
+    """``np.quantile(x, q)`` (linear interpolation) for each q, by partial sorting."""
+    pos = [q * (x.size - 1) for q in qs]
+    kth = sorted({min(int(np.floor(p)) + d, x.size - 1) for p in pos for d in (0, 1)})
+    part = np.partition(x, kth)
+    out = []
+    for p in pos:
+        lo = int(np.floor(p))
+        hi = min(lo + 1, x.size - 1)
+        out.append(float(part[lo] + (p - lo) * (part[hi] - part[lo])))
+    return out
 
 
 def all_pairs(n_points: int) -> list[tuple[int, int]]:

@@ -106,6 +106,9 @@ def test_streamed_axis_moments_match_direct_computation(scenario, model):
     np.testing.assert_allclose(res.axis_mean_mm, e.mean(axis=0), atol=1e-12)
     np.testing.assert_allclose(res.axis_std_mm, e.std(axis=0, ddof=1), rtol=1e-9)
     np.testing.assert_allclose(res.norms_mm, np.linalg.norm(e, axis=1))
+    per_group = res.norms_mm.reshape(len(pairs), 5000)
+    np.testing.assert_allclose(res.group_q95_mm, np.quantile(per_group, 0.95, axis=1), rtol=1e-15)
+    np.testing.assert_allclose(res.group_q50_mm, np.quantile(per_group, 0.5, axis=1), rtol=1e-15)
     # The streamed histogram's quantiles are within its stated relative bin width.
     for q in (0.5, 0.95):
         exact = np.quantile(res.norms_mm, q)
