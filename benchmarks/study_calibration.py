@@ -89,6 +89,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--campaigns", type=int, default=2000)
     parser.add_argument("--no-cubesat", action="store_true", help="skip the CAD-based set-up")
+    parser.add_argument(
+        "--only", help="run the paper-rig row of this name only (e.g. S1+S2), no CubeSat"
+    )
     args = parser.parse_args()
     n = args.campaigns
     t0 = time.perf_counter()
@@ -110,7 +113,14 @@ def main() -> None:
         ("S1+S3+S5", ["S1", "S3", "S5"]),
         ("S1+S2", ["S1", "S2"]),
     ):
-        outcomes.append(run_set(name, subset(names), model, rig.inclinometer, me, body, truth, n))
+        if args.only is None or args.only == name:
+            outcomes.append(
+                run_set(name, subset(names), model, rig.inclinometer, me, body, truth, n)
+            )
+    if args.only is not None:
+        for o in outcomes:
+            print(o.row())
+        return
     elastica = replace(model, wire_model="elastica")
     outcomes.append(
         run_set("S1-S6, elastica wire", full, elastica, rig.inclinometer, me, body, truth, n)

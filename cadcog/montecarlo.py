@@ -323,8 +323,9 @@ def propagate(
 ) -> FloatArray:
     """CoG errors (estimated − true, mm), shape (n, 3), for given perturbations.
 
-    Deterministic: the physics and the estimator (:func:`estimate_trials`), with no random
-    draws, then the ME compensation with the ME's CAD CoG.
+    Deterministic: the physics and the estimator, with no random draws (what
+    :func:`estimate_trials` does, through the estimator's CoG-only path
+    :func:`cadcog.gls.cog_only`), then the ME compensation with the ME's CAD CoG.
     """
     idx = np.asarray(group)
     p = scenario.points_mm[idx].T[:, :, None]

@@ -80,9 +80,7 @@ def run_setup(args: argparse.Namespace) -> int:
 
     if not args.points:
         raise CadcogError("--setup needs --points ID,ID,... (see cadcog plan)")
-    model_args = args  # validate the overrides before the (slow) CAD loading
-    if args.samples is not None and args.samples < 1:
-        raise CadcogError(f"--samples must be at least 1, got {args.samples}")
+    _model(args, ErrorModel((1.0,), (0.0,)))  # check the overrides before the (slow) CAD
     setup = load_setup(args.setup)
     by_id = {c.id: c for c in setup.candidates}
     ids = [i.strip() for i in args.points.split(",")]
@@ -90,7 +88,7 @@ def run_setup(args: argparse.Namespace) -> int:
     if unknown:
         raise CadcogError(f"--points: unknown candidate(s) {', '.join(unknown)} in {args.setup}")
     scenario = setup.scenario(tuple(by_id[i] for i in ids))
-    model = _model(model_args, setup.error_model())
+    model = _model(args, setup.error_model())
     rows = simulated_readings(scenario, model, setup.rig.inclinometer, args.seed)
     write_campaign(
         args.out,

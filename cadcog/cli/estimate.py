@@ -12,7 +12,7 @@ import numpy as np
 
 from cadcog import tolerances
 from cadcog.errormodel import ErrorModel
-from cadcog.errors import CadcogError, DegenerateGeometryError
+from cadcog.errors import CadcogError
 from cadcog.fileio import round_floats
 from cadcog.inclinometer import InclinometerConfig
 from cadcog.measurement import BodyBox, CogEstimate, MEData, estimate_cog
@@ -164,9 +164,7 @@ def _estimate(
             point_sigma_mm=args.point_sigma_mm,
             min_angle_deg=args.min_angle_deg,
         )
-    except DegenerateGeometryError:
-        raise
-    except ValueError as exc:
+    except ValueError as exc:  # bad combinations of options and data; geometry errors pass
         raise CadcogError(f"{args.readings}: {exc}") from None
 
 
