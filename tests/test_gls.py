@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from cadcog import gls
@@ -66,13 +66,13 @@ def dense_gls(p, u, n, f, play_var, axial_var, reading_var, lam0, lam_var, estim
         normal = normal[:3, :3]
         vec = sum(w @ (y + lam0 * fi * ni) for w, y, fi, ni in zip(weights, p, f, n, strict=True))
         cov = np.linalg.inv(normal)
-        return cov @ vec, cov, lam0
+        return cov @ vec, cov, lam0, 0.0, np.linalg.cond(normal)
     if not estimate:
         normal[3, 3] += 1 / lam_var
         vec[3] += lam0 / lam_var
     cov = np.linalg.inv(normal)
     x = cov @ vec
-    return x[:3], cov[:3, :3], x[3]
+    return x[:3], cov[:3, :3], x[3], cov[3, 3], np.linalg.cond(normal)
 
 
 unit = st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1)).filter(
@@ -108,14 +108,13 @@ def test_kernel_equals_a_dense_implementation(spokes, mode, wire_model, seed):
     errors = gls.LineErrors(play_var, axial_var, reading_var)
     wire = gls.WireTerm(wire_model, lam0, lam_var, mode == "estimate")
     batch = gls.plumb_gls(p.T[:, :, None], u.T[:, :, None], n.T[:, :, None], errors, wire)
-    if mode == "estimate" and batch.scale_information[0] < 1e-6 * np.abs(batch.weights).max():
-        return  # λ not identifiable for this draw: nothing to compare
-    x, cov, lam = dense_gls(p, u, n, f, play_var, axial_var, reading_var, lam0, lam_var,
-                            mode == "estimate")  # fmt: skip
+    x, cov, lam, lam_var_dense, cond = dense_gls(p, u, n, f, play_var, axial_var, reading_var,
+                                                 lam0, lam_var, mode == "estimate")  # fmt: skip
+    assume(cond < 1e8)  # near-parallel lines (or λ unidentifiable): round-off decides
     scale = np.sqrt(np.max(np.diag(cov)))
     np.testing.assert_allclose(batch.cog_mm[:, 0], x, atol=1e-6 * scale + 1e-9)
     np.testing.assert_allclose(gls.sym_to_full(batch.cov_mm2[:, 0]), cov, rtol=1e-5, atol=1e-12)
-    assert batch.scale_mm[0] == pytest.approx(lam, rel=1e-6, abs=1e-9)
+    assert batch.scale_mm[0] == pytest.approx(lam, abs=1e-6 * np.sqrt(lam_var_dense) + 1e-9)
 
 
 def test_noise_free_lines_give_the_true_cog_and_scale(paper_rig):
