@@ -233,47 +233,72 @@ class GLSBatch:
 
 
 # --- kernels -------------------------------------------------------------------------------------
-def lateral_covariance(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
-    """``Sᵢ``, packed (6, k, n), for unit verticals ``u``, bolt axes and point-CoG distances."""
+def _lateral_2d(
+    u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors
+) -> tuple[Vec, Vec, tuple[FloatArray, FloatArray, FloatArray]]:
+    """``Sᵢ`` in an orthonormal basis of the plane ⊥ ``u``: ``(e₁, e₂, (m₁₁, m₁₂, m₂₂))``.
+
+    ``e₁ = (u_z, 0, −u_x)/ρ`` (ρ = √(u_x² + u_z²)) lies along ``∂u/∂X = cos X (1, 0, −u_x/u_z)``
+    and ``e₂ = u × e₁``; then ``∂u/∂X = (cos X ρ/u_z) e₁`` and
+    ``∂u/∂Y = (cos Y/ρ)(u_x u_y/u_z, 1)`` in the basis, with ``cos² X = 1 − u_x²``. The point's
+    covariance projects to ``c₁ I + (c₂ − c₁) m mᵀ``, ``m = (e₁·n, e₂·n)``.
+    """
     ux, uy, uz = u[0], u[1], u[2]
+    rho2 = np.maximum(ux * ux + uz * uz, 1e-24)
+    rinv = 1.0 / np.sqrt(rho2)
+    e1 = (uz * rinv, np.zeros_like(rinv), -ux * rinv)
+    e2 = (-ux * uy * rinv, rho2 * rinv, -uy * uz * rinv)
     if errors.point_var_mm2 is not None:
         c1 = c2 = errors.point_var_mm2
     else:
         c1, c2 = errors.play_var_mm2, errors.axial_var_mm2
-    c1 = c1 + LATERAL_FLOOR_MM2
-    s = [c1 * c for c in projector(u)]
-    if c2 + LATERAL_FLOOR_MM2 != c1:
-        un = _dot(u, normals)
-        pn = (normals[0] - un * ux, normals[1] - un * uy, normals[2] - un * uz)
-        for i, c in enumerate(sym_outer(pn)):
-            s[i] = s[i] + (c2 + LATERAL_FLOOR_MM2 - c1) * c
-    # Reading errors through eq. 2: ∂u/∂X = cos X (1, 0, −u_x/u_z), ∂u/∂Y = cos Y (0, 1, −u_y/u_z).
     uz_safe = np.where(np.abs(uz) < MIN_UZ, np.copysign(MIN_UZ, uz), uz)
     l2 = dist_mm * dist_mm * errors.reading_var_rad2
-    gx = l2 * (1.0 - ux * ux)
-    gy = l2 * (1.0 - uy * uy)
-    rx = ux / uz_safe
-    ry = uy / uz_safe
+    gx = l2 * (1.0 - ux * ux) * rho2 / (uz_safe * uz_safe)
+    gy = l2 * (1.0 - uy * uy) / rho2
+    a1 = ux * uy / uz_safe
+    base = c1 + LATERAL_FLOOR_MM2
+    m11 = base + gx + gy * a1 * a1
+    m12 = gy * a1
+    m22 = base + gy
+    if c2 != c1:
+        m1 = e1[0] * normals[0] + e1[2] * normals[2]
+        m2 = e2[0] * normals[0] + e2[1] * normals[1] + e2[2] * normals[2]
+        d = c2 - c1
+        m11 = m11 + d * m1 * m1
+        m12 = m12 + d * m1 * m2
+        m22 = m22 + d * m2 * m2
+    return e1, e2, (m11, m12, m22)
+
+
+def _assemble(e1: Vec, e2: Vec, a: FloatArray, b: FloatArray, c: FloatArray) -> Sym:
+    """``a e₁e₁ᵀ + b (e₁e₂ᵀ + e₂e₁ᵀ) + c e₂e₂ᵀ`` packed, for ``e₁`` with no y component."""
+    t0 = a * e1[0] + b * e2[0]
+    t2 = a * e1[2] + b * e2[2]
+    s0 = b * e1[0] + c * e2[0]
+    s1 = c * e2[1]
+    s2 = b * e1[2] + c * e2[2]
     return (
-        s[0] + gx,
-        s[1] + gy,
-        s[2] + gx * rx * rx + gy * ry * ry,
-        s[3],
-        s[4] - gx * rx,
-        s[5] - gy * ry,
+        e1[0] * t0 + e2[0] * s0,
+        e2[1] * s1,
+        e1[2] * t2 + e2[2] * s2,
+        e1[0] * b * e2[1] + e2[0] * s1,
+        e1[0] * t2 + e2[0] * s2,
+        e2[1] * s2,
     )
 
 
-def weights_of(lateral: Comp, u: Comp) -> Sym:
-    """``S⁺`` of rank-2 ``S`` with null vector ``u``: ``(S + s uuᵀ)⁻¹ − uuᵀ/s``.
+def lateral_covariance(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
+    """``Sᵢ``, packed (6, k, n), for unit verticals ``u``, bolt axes and point-CoG distances."""
+    e1, e2, (m11, m12, m22) = _lateral_2d(u, normals, dist_mm, errors)
+    return _assemble(e1, e2, m11, m12, m22)
 
-    ``s`` (half the trace of S, its mean non-zero eigenvalue) keeps the matrix inverted as well
-    conditioned as S itself is on its range, whatever the units.
-    """
-    uu = sym_outer(u)
-    scale = 0.5 * (lateral[0] + lateral[1] + lateral[2])
-    inv, _ = sym_inv(tuple(a + scale * b for a, b in zip(lateral, uu, strict=True)))
-    return tuple(a - b / scale for a, b in zip(inv, uu, strict=True))
+
+def line_weights(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
+    """``Wᵢ = Sᵢ⁺``, packed (6, k, n): the inverse of ``Sᵢ`` on the plane ⊥ ``u``."""
+    e1, e2, (m11, m12, m22) = _lateral_2d(u, normals, dist_mm, errors)
+    r = 1.0 / (m11 * m22 - m12 * m12)
+    return _assemble(e1, e2, m22 * r, -m12 * r, m11 * r)
 
 
 def solve_lines(
@@ -350,7 +375,7 @@ def cog_only(
     if not weighted:
         return g0
     diff = g0[:, None, :] - q0
-    w = weights_of(lateral_covariance(u, normals, np.sqrt(_dot(diff, diff)), errors), u)
+    w = line_weights(u, normals, np.sqrt(_dot(diff, diff)), errors)
     ainv, _ = sym_inv(_lines_sum(tuple(w)))
     return np.stack(sym_matvec(ainv, _lines_sum(sym_matvec(w, q0))))
 
@@ -398,7 +423,7 @@ def plumb_gls(
     diff = equal_weight_point(q0, u)[:, None, :] - q0
     dist = np.sqrt(_dot(diff, diff))
     lateral = lateral_covariance(u, normals, dist, errors)
-    w = weights_of(lateral, u)
+    w = line_weights(u, normals, dist, errors)
     x, cov, lam, var, cxl, info = solve_lines(points_mm, u, normals, shape, w, wire)
     pts = points_mm + (lam * shape) * normals
     return GLSBatch(

@@ -245,7 +245,7 @@ def line_statistic(
             errors.axial_var_mm2 + prior.scale_var_mm2 * float(np.max(shape)) ** 2,
             errors.reading_var_rad2,
         )
-    w = gls.weights_of(gls.lateral_covariance(u, nrm, dist, errors), u)
+    w = gls.line_weights(u, nrm, dist, errors)
     return np.asarray(gls._dot(diff, gls.sym_matvec(w, diff)).sum(axis=0))
 
 
