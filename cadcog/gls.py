@@ -404,6 +404,19 @@ def plumb_gls(
     weighted : bool
         False: every line weighs ``Pᵢ`` (equal-weight least squares: eq. 8 for a pair), the
         paper's estimator; the covariance is then that of unit lateral errors.
+
+    Examples
+    --------
+    Two noise-free plumb lines through the origin, from points 100 mm away:
+
+    >>> p = np.array([[0.0, 0.0, 100.0], [60.0, 0.0, 80.0]]).T[:, :, None]  # (3, k=2, n=1)
+    >>> u = p / 100.0
+    >>> n = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]).T[:, :, None]
+    >>> b = plumb_gls(p, u, n, LineErrors(0.08, 0.08, 1e-6), WireTerm())
+    >>> np.round(b.cog_mm[:, 0], 9).tolist()
+    [0.0, 0.0, 0.0]
+    >>> bool(np.all(np.linalg.eigvalsh(sym_to_full(b.cov_mm2[:, 0])) > 0))
+    True
     """
     shape = (
         np.ones(u.shape[1:])
