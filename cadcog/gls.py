@@ -207,7 +207,7 @@ class GLSBatch:
     cov_mm2 : ndarray, shape (6, n)
         Packed covariance of the CoG (λ marginalised when it is uncertain).
     scale_mm, scale_var_mm2 : ndarray, shape (n,)
-        Wire scale λ and its variance (the prior's when λ is fixed).
+        Wire scale λ and its variance (0 when λ is known).
     cov_cog_scale_mm2 : ndarray, shape (3, n)
         Covariance of the CoG with λ.
     scale_information : ndarray, shape (n,)

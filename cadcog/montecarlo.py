@@ -3,8 +3,9 @@
 For a group of suspension points (a pair, or all points for the joint estimator) every trial
 draws the error sources of :mod:`cadcog.errormodel`, hangs the object physically (the true
 virtual suspension points and the true assembly CoG give the true verticals), reads the
-inclinometer with its errors, estimates the CoG from the *nominal* points as a user would,
-compensates the ME with its CAD CoG, and compares with the true proof-mass CoG.
+inclinometer with its errors, estimates the CoG from the *nominal* points with the estimator of
+``cadcog estimate`` (:mod:`cadcog.gls`), compensates the ME with its CAD CoG, and compares with
+the true proof-mass CoG.
 
 Reproducibility: trials come in blocks of :data:`BLOCK_TRIALS`; block ``b`` of group ``g`` draws
 from its own generator seeded by ``SeedSequence(seed, spawn_key=(g, b))``. Results are therefore
@@ -175,13 +176,6 @@ def _tangents(normals: FloatArray) -> tuple[FloatArray, FloatArray]:
 # The vectorised kernels below hold vectors as components first, shape (3, ...): each component
 # is then a contiguous array, which makes the element-wise maths several times faster than on
 # (..., 3) arrays.
-
-
-def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
-    """Cross product of component-first arrays, shape (3, ...)."""
-    return np.stack(
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    )
 
 
 def _dot(a: FloatArray, b: FloatArray) -> FloatArray:
