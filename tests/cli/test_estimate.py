@@ -164,3 +164,12 @@ def test_wire_options_need_bolt_axes_and_three_hangs(tmp_path, capsys, paper_rig
     )
     err = capsys.readouterr().err
     assert "three or more suspensions" in err and str(two) in err
+
+
+def test_point_inside_the_body_names_the_line(tmp_path, capsys, paper_rig):
+    rows = ideal_rows(paper_rig)
+    rows.append("S9,100,30,30,10,5,true")  # inside the proof mass: no face, no bolt axis
+    csv = write_csv(tmp_path / "r.csv", rows)
+    assert main(["estimate", str(csv), "--rig", str(paper_rig.source)]) == 2
+    err = capsys.readouterr().err
+    assert f"{csv}: line 8: suspension S9" in err and "inside the body" in err
