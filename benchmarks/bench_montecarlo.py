@@ -1,40 +1,90 @@
-"""Monte Carlo speed and memory: the paper's 3·10⁵ trials, 10⁷ trials, a naive loop, the RNG.
+"""Monte Carlo speed and memory, measured through the command line, as a user runs it.
 
-Run: ``.venv/bin/python benchmarks/bench_montecarlo.py [--big 10000000] [--workers 2]``.
-Results are recorded in ``docs/performance.md``.
+- ``cadcog simulate`` with 10⁷ trials (25 points, 300 pairs × 33 334), 2 workers: wall time
+  of the whole command (start-up, simulation, fits, output) and the peak resident memory of
+  the command and its workers together (sampled from /proc every 20 ms);
+- the same with ``--paper`` (the paper's equal-weight estimator, no wire correction);
+- ``cadcog validate`` on a virtual campaign (2000 simulated whole campaigns, the default);
+- the kernel's cost per trial on one core, and a naive per-trial Python loop for scale.
+
+Run: ``.venv/bin/python benchmarks/bench_montecarlo.py [--trials-per-pair 33334]``. Results
+are recorded in ``docs/performance.md``; this machine is shared, so expect ±30 %.
 """
 
 from __future__ import annotations
 
 import argparse
-import resource
+import os
+import subprocess
+import sys
+import tempfile
+import threading
 import time
+from pathlib import Path
 
 import numpy as np
 
 from cadcog.errormodel import ErrorModel
-from cadcog.estimator import PlumbLine, pair_estimate
 from cadcog.montecarlo import (
-    BLOCK_TRIALS,
+    EstimatorOptions,
     Scenario,
-    _tangents,
     all_pairs,
     draw_perturbations,
     draw_points,
-    simulate,
+    propagate,
+    tune_allocator,
 )
 from cadcog.rigfile import default_rig_path, load_rig
-from cadcog.simulation import SimulationSettings, run_simulation
+
+CADCOG = [sys.executable, "-m", "cadcog"]
 
 
-def _peak_mb() -> float:
-    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    children = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    return max(own, children) / 1024.0
+def _tree_rss_kb(pid: int) -> int:
+    """Resident memory of a process and all its descendants (kB), from /proc."""
+    total, stack = 0, [pid]
+    while stack:
+        p = stack.pop()
+        try:
+            with open(f"/proc/{p}/status", encoding="ascii") as fh:
+                for line in fh:
+                    if line.startswith("VmRSS:"):
+                        total += int(line.split()[1])
+            for task in os.listdir(f"/proc/{p}/task"):
+                with open(f"/proc/{p}/task/{task}/children", encoding="ascii") as fh:
+                    stack.extend(int(c) for c in fh.read().split())
+        except (FileNotFoundError, ProcessLookupError):
+            continue
+    return total
 
 
-def naive_trial(sc: Scenario, model: ErrorModel, a: int, b: int, rng: np.random.Generator) -> float:
-    """One trial in plain Python with the library's scalar estimator: the baseline."""
+def run_measured(argv: list[str]) -> tuple[float, float, str]:
+    """Wall time (s), peak tree RSS (MB) and stdout of a command."""
+    t = time.perf_counter()
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, text=True)
+    peak = 0
+    done = threading.Event()
+
+    def sample() -> None:
+        nonlocal peak
+        while not done.is_set():
+            peak = max(peak, _tree_rss_kb(proc.pid))
+            time.sleep(0.02)
+
+    th = threading.Thread(target=sample)
+    th.start()
+    out, _ = proc.communicate()
+    done.set()
+    th.join()
+    if proc.returncode:
+        raise SystemExit(f"{' '.join(argv)} failed ({proc.returncode})")
+    return time.perf_counter() - t, peak / 1024.0, out
+
+
+def naive_trial(sc: Scenario, model: ErrorModel, a: int, b: int, rng: np.random.Generator) -> None:
+    """One trial of the paper's estimator in plain Python: the scale of what vectorising buys."""
+    from cadcog.estimator import PlumbLine, pair_estimate
+    from cadcog.montecarlo import _tangents
+
     ratio = sc.me_mass_kg / sc.total_mass_kg
     w = np.array(model.me_masses_kg) / sum(model.me_masses_kg) * np.array(model.me_edges_mm)
     e_me = np.array([sum(wk * (rng.random() - 0.5) for wk in w) for _ in range(3)])
@@ -49,77 +99,57 @@ def naive_trial(sc: Scenario, model: ErrorModel, a: int, b: int, rng: np.random.
         x = np.arcsin(u[0]) + np.deg2rad(rng.normal(0, model.reading_sigma_deg))
         y = np.arcsin(u[1]) + np.deg2rad(rng.normal(0, model.reading_sigma_deg))
         sx, sy = np.sin(x), np.sin(y)
-        r2 = sx * sx + sy * sy
-        if r2 > 1:
-            sx, sy, sz = sx / np.sqrt(r2), sy / np.sqrt(r2), 0.0
-        else:
-            sz = np.copysign(np.sqrt(1 - r2), u[2])
+        sz = np.copysign(np.sqrt(max(1 - sx * sx - sy * sy, 0.0)), u[2])
         lines.append(PlumbLine(sc.ids[i], sc.points_mm[i], np.array([sx, sy, sz])))
-    r_est = pair_estimate(lines[0], lines[1], 0.0).midpoint_mm
-    r_pm = (sc.total_mass_kg * r_est - sc.me_mass_kg * sc.me_cog_mm) / sc.pm_mass_kg
-    return float(np.linalg.norm(r_pm - sc.pm_cog_mm))
+    pair_estimate(lines[0], lines[1], 0.0)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--big", type=int, default=10_000_000)
+    parser.add_argument("--trials-per-pair", type=int, default=33_334)
     parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--naive", type=int, default=20_000)
     args = parser.parse_args()
+    base = [*CADCOG, "simulate", "--trials-per-pair", str(args.trials_per_pair)]
+    base += ["--workers", str(args.workers), "--json"]
+    n = 300 * args.trials_per_pair
+    for name, extra in (("cadcog's estimator (default)", []), ("--paper", ["--paper"])):
+        wall, rss, _ = run_measured([*base, *extra])
+        print(
+            f"simulate {name}: {n:.3g} trials, {args.workers} workers: {wall:.2f} s whole "
+            f"command, {n / wall / 1e6:.2f}e6 trials/s, peak RSS (command + workers) {rss:.0f} MB"
+        )
+    wall, rss, _ = run_measured([*CADCOG, "--version"])
+    print(f"start-up alone (cadcog --version): {wall:.2f} s")
+
+    with tempfile.TemporaryDirectory() as tmp:
+        csv = Path(tmp) / "c.csv"
+        subprocess.run([*CADCOG, "campaign", "--seed", "1", "--out", str(csv)], check=True,
+                       capture_output=True)  # fmt: skip
+        wall, rss, _ = run_measured([*CADCOG, "validate", str(csv), "--json"])
+        print(f"validate (2000 simulated campaigns): {wall:.2f} s whole command, {rss:.0f} MB")
+
     rig = load_rig(default_rig_path())
     model = ErrorModel.from_rig(rig)
-
-    run_simulation(rig, SimulationSettings(trials_per_group=50))  # warm-up
-    times = []
-    for _ in range(5):
-        t = time.perf_counter()
-        run_simulation(rig, SimulationSettings())
-        times.append(time.perf_counter() - t)
-    print(
-        f"paper run, 3e5 trials (25 points, 300 pairs, 1000 each): "
-        f"median {np.median(times):.3f} s, min {min(times):.3f} s"
-    )
-
     sc = draw_points(rig, 25, np.random.default_rng(0))
-    pairs = all_pairs(25)
-    per_pair = -(-args.big // len(pairs))
-    t = time.perf_counter()
-    res = simulate(sc, model, pairs, per_pair, seed=1, workers=args.workers)
-    dt = time.perf_counter() - t
-    print(
-        f"{res.n_trials:.3g} trials, {args.workers} workers: {dt:.2f} s, "
-        f"{res.n_trials / dt / 1e6:.2f}e6 trials/s, peak RSS {_peak_mb():.0f} MB"
-    )
-    t = time.perf_counter()
-    res1 = simulate(sc, model, pairs[:30], per_pair, seed=1, workers=1)
-    dt1 = time.perf_counter() - t
-    rate1 = res1.n_trials / dt1
-    print(f"one worker: {rate1 / 1e6:.2f}e6 trials/s")
-
-    # Random-number generation alone, same draws as the simulation, one worker.
-    t = time.perf_counter()
-    n_blocks = 0
-    for g in range(30):
-        for b in range(-(-per_pair // BLOCK_TRIALS)):
-            rng = np.random.default_rng(np.random.SeedSequence(1, spawn_key=(g, b)))
-            draw_perturbations(model, rng, min(BLOCK_TRIALS, per_pair - b * BLOCK_TRIALS), 2)
-            n_blocks += 1
-    rng_rate = 30 * per_pair / (time.perf_counter() - t)
-    print(
-        f"RNG alone: {rng_rate / 1e6:.2f}e6 trials/s; the full simulation runs at "
-        f"{rate1 / rng_rate:.0%} of the RNG-only rate"
-    )
-
+    tune_allocator()
     rng = np.random.default_rng(0)
+    for name, opts in (("default", EstimatorOptions()), ("--paper", EstimatorOptions.paper())):
+        m = model if name == "default" else model.paper()
+        t = time.process_time()
+        trials = 0
+        for _ in range(30):
+            pert = draw_perturbations(m, rng, 16_384, 2)
+            propagate(sc, m, (0, 1), pert, opts)
+            trials += 16_384
+        dt = (time.process_time() - t) / trials
+        print(f"kernel, one core ({name}): {dt * 1e9:.0f} ns a trial (draws + physics + estimate)")
+    pairs = all_pairs(25)
     t = time.perf_counter()
-    for i in range(args.naive):
+    for i in range(5000):
         a, b = pairs[i % len(pairs)]
         naive_trial(sc, model, a, b, rng)
-    naive_rate = args.naive / (time.perf_counter() - t)
-    print(
-        f"naive per-trial Python loop: {naive_rate:.0f} trials/s; vectorised is "
-        f"{rate1 / naive_rate:.0f}× faster (one worker each)"
-    )
+    rate = 5000 / (time.perf_counter() - t)
+    print(f"naive per-trial Python loop (paper's estimator): {rate:.0f} trials/s")
 
 
 if __name__ == "__main__":

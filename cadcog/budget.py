@@ -85,27 +85,33 @@ def _parameters(model: ErrorModel) -> list[tuple[str, str, tuple[int, ...], floa
     w = np.asarray(model.me_masses_kg) / sum(model.me_masses_kg) * np.asarray(model.me_edges_mm)
     for axis in range(3):
         out.append(("me_cog", "me_mm", (axis, 0), 0.0, float(np.sum(w**2) / 12.0)))
+    if model.wire_model == "elastica":  # one wire for the campaign: one shared factor
+        m1, var = _wire_factor_moments(model)
+        out.append(("wire_offset", "wire", (0, 0), m1, var))
     for j in range(2):
         for t in range(2):
-            out.append(("point_play", "play_mm", (t, 0, j), 0.0, model.play_mm**2 / 12.0))
+            out.append(("point_play", "play_mm", (t, j, 0), 0.0, model.play_mm**2 / 12.0))
         if model.wire_model == "paper":
             m = model.wire_offset_max_mm
-            out.append(("wire_offset", "wire", (0, j), 0.5 * m, m * m / 12.0))
-        else:
-            rel = model.wire_stiffness_rel_uncertainty
-            out.append(("wire_offset", "wire", (0, j), 1.0, rel * rel / 48.0))  # √(1+U) ≈ 1+U/2
+            out.append(("wire_offset", "wire", (j, 0), 0.5 * m, m * m / 12.0))
         for axis in range(2):
-            out.append(
-                ("inclinometer", "reading_deg", (axis, 0, j), 0.0, model.reading_sigma_deg**2)
-            )
+            out.append(("inclinometer", "reading_deg", (axis, j, 0), 0.0, model.reading_var_deg2()))
     return out
 
 
+def _wire_factor_moments(model: ErrorModel) -> tuple[float, float]:
+    """Mean and variance of the elastica's factor √(1 + U) on λ."""
+    prior = model.wire_prior(1.0)
+    lam = model.wire_length_mm(1.0)
+    return prior.scale_mm / lam, prior.scale_var_mm2 / lam**2
+
+
 def _nominal(model: ErrorModel) -> Perturbations:
-    wire0 = 0.5 * model.wire_offset_max_mm if model.wire_model == "paper" else 1.0
-    return Perturbations(
-        np.zeros((3, 1)), np.zeros((2, 1, 2)), np.full((1, 2), wire0), np.zeros((2, 1, 2))
-    )
+    if model.wire_model == "paper":
+        wire0 = np.full((2, 1), 0.5 * model.wire_offset_max_mm)
+    else:
+        wire0 = np.full((1, 1), _wire_factor_moments(model)[0])
+    return Perturbations(np.zeros((3, 1)), np.zeros((2, 2, 1)), wire0, np.zeros((2, 2, 1)))
 
 
 def linearised_covariance(
@@ -157,8 +163,11 @@ def error_budget(
         ),
         "inclinometer": (
             (
-                f"U(±{model.accuracy_deg:g}°) + U(±LSB/2), LSB {model.lsb_deg:.4f}°, "
-                f"mean of {model.samples} ({model.inclinometer_model} model)"
+                f"U(±{model.accuracy_deg:g}°) bias per hang + noise {model.sensor_noise_deg:g}° "
+                f"and ADC (LSB {model.lsb_deg:.4f}°) per sample, mean of {model.samples}"
+                if model.inclinometer_model == "hang-bias"
+                else f"U(±{model.accuracy_deg:g}°) + U(±LSB/2), LSB {model.lsb_deg:.4f}°, "
+                f"independent per sample, mean of {model.samples} (the paper's model)"
             ),
             model.reading_sigma_deg,
             "deg per axis",
@@ -173,11 +182,11 @@ def error_budget(
                 f"U(0, {w:g} mm) along the bolt axis (mean {w / 2:g} mm)"
                 if model.wire_model == "paper"
                 else f"elastica Δ = λ/cos(θ/2), λ = {lam:.3f} mm, "
-                f"EI ±{model.wire_stiffness_rel_uncertainty:.0%}"
+                f"EI ±{model.wire_stiffness_rel_uncertainty:.0%}, one wire for all hangs"
             ),
             w / np.sqrt(12.0)
             if model.wire_model == "paper"
-            else lam * model.wire_stiffness_rel_uncertainty / np.sqrt(12.0),
+            else np.sqrt(model.wire_prior(scenario.weight_n).scale_var_mm2),
             "mm",
         ),
     }

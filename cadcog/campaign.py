@@ -1,11 +1,15 @@
 """A virtual test campaign: the paper's experiment as a lab would record it.
 
-For each of the rig's suspension points one hang is simulated: the ME's real CoG error is drawn
-once for the whole campaign (it is one physical object), each hang draws its own suspension play
-and wire offset and the inclinometer's bias (uniform ±accuracy per axis, fixed during the hang);
-then N raw samples per axis add sensor noise and are quantised by the ADC to counts. The result
-is a readings CSV with ``inc_x_counts, inc_y_counts`` columns: :func:`cadcog.readings.read_readings`
-reads it as it reads real data.
+For each suspension point one hang is simulated from the error model
+(:class:`cadcog.errormodel.ErrorModel`, the same one every Monte Carlo draws from): the ME's
+real CoG error is drawn once for the whole campaign (it is one physical object), the wire's
+stiffness too (one wire); each hang draws its own suspension play and wire offset and, in the
+``hang-bias`` model, the inclinometer's bias (uniform ±accuracy per axis, fixed during the
+hang). Then ``model.samples`` raw samples per axis add sensor noise (``sensor_noise_deg``) and
+are quantised by the ADC to counts: the averaging and the quantisation happen here for real,
+where the Monte Carlo uses their closed forms. The result is a readings CSV with
+``inc_x_counts, inc_y_counts`` columns: :func:`cadcog.readings.read_readings` reads it as it reads
+real data.
 """
 
 from __future__ import annotations
@@ -19,11 +23,9 @@ from cadcog.errormodel import ErrorModel
 from cadcog.fileio import staged_file
 from cadcog.inclinometer import InclinometerConfig
 from cadcog.montecarlo import Scenario, draw_perturbations, hang
+from cadcog.readings import Suspension
 from cadcog.rig import Rig
 from cadcog.units import rad_to_deg
-
-#: Default sensor noise of one raw sample (degrees), an assumption: enough to dither the ADC.
-DEFAULT_NOISE_DEG = 0.05
 
 HEADER = "point_id,x_mm,y_mm,z_mm,inc_x_counts,inc_y_counts,top_face_up"
 
@@ -37,49 +39,33 @@ class CampaignRow:
     top_face_up: bool
 
 
-def virtual_campaign(
-    rig: Rig,
-    seed: int,
-    samples: int = 10,
-    noise_deg: float = DEFAULT_NOISE_DEG,
-    model: ErrorModel | None = None,
-) -> list[CampaignRow]:
-    """Rows of a simulated campaign over the rig's suspension points (``samples`` per point)."""
+def virtual_campaign(rig: Rig, seed: int, model: ErrorModel | None = None) -> list[CampaignRow]:
+    """Rows of a simulated campaign over the rig's suspension points (the rig's error model)."""
     return simulated_readings(
-        Scenario.from_rig(rig),
-        model or ErrorModel.from_rig(rig),
-        rig.inclinometer,
-        seed,
-        samples,
-        noise_deg,
+        Scenario.from_rig(rig), model or ErrorModel.from_rig(rig), rig.inclinometer, seed
     )
 
 
 def simulated_readings(
-    scenario: Scenario,
-    model: ErrorModel,
-    inclinometer: InclinometerConfig,
-    seed: int,
-    samples: int = 10,
-    noise_deg: float = DEFAULT_NOISE_DEG,
+    scenario: Scenario, model: ErrorModel, inclinometer: InclinometerConfig, seed: int
 ) -> list[CampaignRow]:
-    """One simulated hang per point of ``scenario``, ``samples`` raw ADC readings each."""
-    if samples < 1:
-        raise ValueError("samples must be at least 1")
-    if noise_deg < 0:
-        raise ValueError("noise_deg must be non-negative")
+    """One simulated hang per point of ``scenario``, ``model.samples`` raw ADC readings each."""
     rng = np.random.default_rng(seed)
     k = len(scenario.ids)
     pert = draw_perturbations(model.only("me_cog", "point_play", "wire_offset"), rng, 1, k)
-    u = hang(scenario, model, range(k), pert)[:, 0, :]  # (3, k)
+    u = hang(scenario, model, range(k), pert)[:, :, 0]  # (3, k)
     sensor = inclinometer.sensor
-    a = inclinometer.accuracy_deg if "inclinometer" in model.sources else 0.0
+    a = model.accuracy_deg if "inclinometer" in model.sources else 0.0
+    noise = model.sensor_noise_deg if "inclinometer" in model.sources else 0.0
+    n = model.samples
+    per_sample = model.inclinometer_model == "paper-averaged"
+    signs = np.array([inclinometer.sign_x, inclinometer.sign_y])
     rows = []
     for j, pid in enumerate(scenario.ids):
-        signs = (inclinometer.sign_x, inclinometer.sign_y)
+        # What the device reports for the true vertical, then its errors (in its own signs).
         true_deg = rad_to_deg(np.arcsin(np.clip(u[:2, j], -1, 1))) * signs
-        bias = rng.uniform(-a, a, 2)
-        noisy = true_deg + bias + rng.normal(0.0, noise_deg, (samples, 2))
+        bias = rng.uniform(-a, a, (n, 2) if per_sample else 2)
+        noisy = true_deg + bias + rng.normal(0.0, noise, (n, 2))
         counts = np.clip(np.floor(sensor.deg_to_counts(noisy) + 0.5), 0, sensor.max_counts)
         p = scenario.points_mm[j]
         for cx, cy in counts.astype(int):
@@ -106,3 +92,35 @@ def write_campaign(path: str | Path, rows: list[CampaignRow], comment: str = "")
         )
     with staged_file(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def campaign_suspensions(
+    rows: list[CampaignRow], inclinometer: InclinometerConfig
+) -> list[Suspension]:
+    """The averaged suspensions of campaign rows, as :func:`cadcog.readings.read_readings`
+    would read them back from the CSV (without the file; positions rounded as written)."""
+    groups: dict[str, list[CampaignRow]] = {}
+    for r in rows:
+        groups.setdefault(r.point_id, []).append(r)
+    out = []
+    line = 2
+    for pid, rs in groups.items():
+        x = inclinometer.sensor.counts_to_deg([r.counts_x for r in rs])
+        y = inclinometer.sensor.counts_to_deg([r.counts_y for r in rs])
+        n = len(rs)
+        pos = tuple(float(f"{c:.3f}") for c in rs[0].position_mm)
+        out.append(
+            Suspension(
+                pid,
+                (pos[0], pos[1], pos[2]),
+                rs[0].top_face_up,
+                n,
+                float(x.mean()),
+                float(y.mean()),
+                float(x.std(ddof=1)) if n > 1 else None,
+                float(y.std(ddof=1)) if n > 1 else None,
+                line,
+            )
+        )
+        line += n
+    return out

@@ -9,18 +9,17 @@ with its error propagated (eq. 16).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import combinations
 
 import numpy as np
 import numpy.typing as npt
-from scipy import stats
 
-from cadcog import tolerances
+from cadcog import gls, tolerances
 from cadcog.errors import DegenerateGeometryError, IllConditionedError
 from cadcog.geometry import angle_between_lines_deg, ideal_reading
-from cadcog.units import deg_to_rad
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -158,7 +157,7 @@ class LineResidual:
     ----------
     id : str
     distance_mm : float
-        Distance of the line from the joint estimate.
+        Distance of the line (through its virtual suspension point) from the joint estimate.
     normalized : float
         Square root of the leave-one-out χ² statistic (in "sigmas").
     p_value : float
@@ -175,19 +174,46 @@ class LineResidual:
 
 
 @dataclass(frozen=True)
+class WireScale:
+    """The wire offset scale λ the estimate used or found.
+
+    Attributes
+    ----------
+    scale_mm : float
+        λ (the paper's model: the mean offset along each bolt axis; the elastica: the scale of
+        Δ(θ) = λ/cos(θ/2)).
+    sigma_mm : float
+        Its standard deviation (0 for a known scale).
+    estimated : bool
+        True when the lines estimated it (self-calibration).
+    prior_mm : float
+        What the error model expects.
+    """
+
+    scale_mm: float
+    sigma_mm: float
+    estimated: bool
+    prior_mm: float
+
+
+@dataclass(frozen=True)
 class JointEstimate:
-    """Weighted least-squares point of N ≥ 2 plumb lines.
+    """Generalised least-squares point of N ≥ 2 plumb lines.
 
     Attributes
     ----------
     cog_mm : ndarray, shape (3,)
     cov_mm2 : ndarray, shape (3, 3)
-        Covariance from the lines' ``sigma_mm`` (lateral errors independent, isotropic).
+        Covariance from the lines' lateral covariances (and the wire scale's, if uncertain).
     residuals : tuple of LineResidual
     pairs : tuple of PairEstimate
         Every well-conditioned pair's closest approach (diagnostics).
     skipped_pairs : tuple of (str, str, float)
         Pairs below the angle threshold: ids and angle (degrees).
+    chi2, dof : float, int
+        ``Σ rᵢᵀ Wᵢ rᵢ`` at the estimate and its degrees of freedom (2N − 3, one fewer when λ is
+        estimated): the whole campaign's consistency.
+    wire : WireScale, optional
     """
 
     cog_mm: FloatArray
@@ -195,6 +221,33 @@ class JointEstimate:
     residuals: tuple[LineResidual, ...]
     pairs: tuple[PairEstimate, ...]
     skipped_pairs: tuple[tuple[str, str, float], ...]
+    chi2: float = 0.0
+    dof: int = 0
+    wire: WireScale | None = None
+
+    @property
+    def chi2_p_value(self) -> float:
+        return chi2_sf(self.chi2, self.dof) if self.dof > 0 else 1.0
+
+
+def chi2_sf(x: float, dof: int) -> float:
+    """Tail probability of a χ² variable with ``dof`` degrees of freedom.
+
+    Closed forms for 1 and 2 degrees of freedom (``erfc(√(x/2))``, ``exp(−x/2)``), scipy beyond
+    (imported only then: it takes a second to import).
+
+    Examples
+    --------
+    >>> round(chi2_sf(5.991464547107979, 2), 12), round(chi2_sf(3.841458820694124, 1), 12)
+    (0.05, 0.05)
+    """
+    if dof == 1:
+        return math.erfc(math.sqrt(max(x, 0.0) / 2.0))
+    if dof == 2:
+        return math.exp(-max(x, 0.0) / 2.0)
+    from scipy import stats
+
+    return float(stats.chi2.sf(x, dof))
 
 
 def least_squares_point(
@@ -222,22 +275,20 @@ def least_squares_point(
     proj = np.eye(3)[None, :, :] - u[:, :, None] * u[:, None, :]
     a = np.einsum("n,nij->ij", w, proj)
     b = np.einsum("n,nij,nj->i", w, proj, p)
-    eig = np.linalg.eigvalsh(a)
-    if eig[0] <= 1e-12 * eig[-1]:
-        raise DegenerateGeometryError("the plumb lines are all parallel: no common point")
+    _check_normal_matrix(a)
     return np.linalg.solve(a, b), a
 
 
-def joint_estimate(
-    lines: Sequence[PlumbLine],
-    min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
-    outlier_probability: float = tolerances.OUTLIER_PROBABILITY,
-) -> JointEstimate:
-    """CoG from N ≥ 2 plumb lines by weighted least squares, with covariance and residuals.
+def _check_normal_matrix(a: FloatArray) -> None:
+    eig = np.linalg.eigvalsh(a)
+    if eig[0] <= 1e-12 * eig[-1]:
+        raise DegenerateGeometryError("the plumb lines are all parallel: no common point")
 
-    Weights are ``1/sigma_mm²``. With two lines of equal sigma the result is eq. 8's midpoint.
-    The covariance is ``(Σ P_i / σ_i²)⁻¹``. A line whose leave-one-out residual has a tail
-    probability below ``outlier_probability`` is flagged inconsistent (see :func:`_residuals`).
+
+def pair_diagnostics(
+    lines: Sequence[PlumbLine], min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG
+) -> tuple[list[PairEstimate], list[tuple[str, str, float]]]:
+    """Every pair's closest approach, and the pairs below ``min_angle_deg``.
 
     Raises
     ------
@@ -264,130 +315,164 @@ def joint_estimate(
             f"{worst:.3g}°): the suspension points and the CoG are nearly collinear; "
             "suspend from points that spread around the CoG"
         )
-    sigma = np.array([ln.sigma_mm for ln in lines])
-    x, normal = least_squares_point(
-        [ln.point_mm for ln in lines], [ln.vertical for ln in lines], 1.0 / sigma**2
-    )
-    cov = np.linalg.inv(normal)
-    cov = 0.5 * (cov + cov.T)
-    residuals = _residuals(lines, x, sigma, outlier_probability)
-    return JointEstimate(x, cov, tuple(residuals), tuple(pairs), tuple(skipped))
+    return pairs, skipped
 
 
-#: Default standard deviation of a suspension point's position, per axis (mm): the paper's
-#: uncertainty volume is a uniform 1 mm cube around the measured point, σ = 1/√12 mm.
-POINT_SIGMA_MM = 1.0 / np.sqrt(12.0)
-
-
-def line_sigma_mm(distance_mm: float, angle_sigma_deg: float, point_sigma_mm: float) -> float:
-    """Lateral standard deviation of a plumb line at ``distance_mm`` from its suspension point.
-
-    A direction error of σ_θ moves the line by ``L·σ_θ`` at distance L; the point's own error
-    adds in quadrature.
-
-    Examples
-    --------
-    >>> round(line_sigma_mm(100.0, float(np.rad2deg(0.001)), 0.0), 12)
-    0.1
-    """
-    return float(np.hypot(point_sigma_mm, distance_mm * float(deg_to_rad(angle_sigma_deg))))
-
-
-def weighted_estimate(
+def joint_estimate(
     lines: Sequence[PlumbLine],
-    *,
-    angle_sigma_deg: float,
-    point_sigma_mm: float = POINT_SIGMA_MM,
     min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+    outlier_probability: float = tolerances.OUTLIER_PROBABILITY,
 ) -> JointEstimate:
-    """:func:`joint_estimate` with each line weighted by its own lateral uncertainty.
+    """CoG from N ≥ 2 plumb lines with isotropic lateral errors ``sigma_mm``.
 
-    A first, equally weighted pass gives each suspension point's distance L to the CoG; each
-    line then gets ``sigma_mm = line_sigma_mm(L, angle_sigma_deg, point_sigma_mm)`` and the
-    estimate is recomputed.
+    Weights are ``Pᵢ/σᵢ²``. With two lines of equal sigma the result is eq. 8's midpoint. The
+    covariance is ``(Σ Pᵢ/σᵢ²)⁻¹``. Consistency is tested as in :func:`line_consistency`.
+    :func:`cadcog.measurement.estimate_cog` uses the full generalised least squares instead.
+
+    Raises
+    ------
+    ValueError
+        With fewer than two lines or duplicate ids.
+    IllConditionedError
+        If every pair of lines is below ``min_angle_deg``.
     """
-    first = joint_estimate(
-        [PlumbLine(ln.id, ln.point_mm, ln.vertical, 1.0) for ln in lines], min_angle_deg
-    )
-    weighted = [
-        PlumbLine(
-            ln.id,
-            ln.point_mm,
-            ln.vertical,
-            line_sigma_mm(
-                float(np.linalg.norm(ln.point_mm - first.cog_mm)), angle_sigma_deg, point_sigma_mm
-            ),
-        )
-        for ln in lines
+    pairs, skipped = pair_diagnostics(lines, min_angle_deg)
+    p = np.array([ln.point_mm for ln in lines]).T[:, :, None]
+    u = np.array([ln.vertical for ln in lines]).T[:, :, None]
+    var = np.array([ln.sigma_mm**2 for ln in lines])[:, None]
+    proj = np.stack(gls.projector(u))
+    lateral = proj * var
+    weights = proj / var
+    _check_normal_matrix(gls.sym_to_full(weights.sum(axis=1))[0])
+    zero = np.zeros_like(p)
+    shape = np.ones(var.shape)
+    x, cov, *_ = gls.solve_lines(p, u, zero, shape, weights, gls.WireTerm())
+    residuals, chi2, dof = line_consistency(
+        [ln.id for ln in lines], p, u, zero, shape, weights, lateral, gls.WireTerm(), x[:, 0],
+        outlier_probability,
+    )  # fmt: skip
+    full = gls.sym_to_full(cov[:, 0])
+    return JointEstimate(x[:, 0], full, tuple(residuals), tuple(pairs), tuple(skipped), chi2, dof)
+
+
+def line_consistency(
+    ids: Sequence[str],
+    points_mm: FloatArray,
+    u: FloatArray,
+    normals: FloatArray,
+    shape: FloatArray,
+    weights: FloatArray,
+    lateral: FloatArray,
+    wire: gls.WireTerm,
+    cog_mm: FloatArray,
+    outlier_probability: float = tolerances.OUTLIER_PROBABILITY,
+) -> tuple[list[LineResidual], float, int]:
+    """Per-line consistency, each line against the estimate from the *other* lines.
+
+    Arrays are one trial in :mod:`cadcog.gls`'s layout (vectors (3, k, 1), packed matrices
+    (6, k, 1), ``shape`` (k, 1)). A plain residual from the joint estimate hides an outlier,
+    which drags the estimate towards itself; the leave-one-out residual does not. Line i's
+    lateral residual ``rᵢ = Pᵢ(G₋ᵢ − pᵢ − λ₋ᵢ fᵢ nᵢ)`` has covariance
+    ``Sᵢ + Pᵢ Jᵢ C₋ᵢ Jᵢᵀ Pᵢ`` (``Jᵢ = [I, −fᵢnᵢ]``, ``C₋ᵢ`` the others' covariance of G and
+    λ) and gives a χ² statistic with 2 degrees of freedom. One outlier still biases every
+    other line's leave-one-out estimate, so lines are flagged one at a time: the worst
+    significant line is flagged and set aside, and the rest are tested again.
+
+    With two lines there is no "other" estimate: the campaign's χ² (one degree of freedom) is
+    tested and both lines share the verdict, since either may be at fault.
+
+    Returns the residuals, the campaign's ``χ² = Σ rᵢᵀWᵢrᵢ (+ the λ prior's term)`` at the
+    joint estimate, and its degrees of freedom.
+    """
+    k = len(ids)
+    lam = _scale_at(points_mm, u, normals, shape, weights, wire)
+    virtual = points_mm + lam * shape * normals
+    chi2 = max(_chi2(virtual, weights, cog_mm), 0.0)
+    if not wire.fixed and not wire.estimate:
+        chi2 += (lam - wire.scale_mm) ** 2 / wire.scale_var_mm2
+    dof = 2 * k - 3 - (1 if wire.estimate else 0)
+    distances = [
+        PlumbLine(i, virtual[:, j, 0], u[:, j, 0]).distance_mm(cog_mm) for j, i in enumerate(ids)
     ]
-    return joint_estimate(weighted, min_angle_deg)
-
-
-def _residuals(
-    lines: Sequence[PlumbLine], x: FloatArray, sigma: FloatArray, outlier_probability: float
-) -> list[LineResidual]:
-    """Per-line consistency: each line against the estimate from the *other* lines.
-
-    A plain residual from the joint estimate hides an outlier, which drags the estimate towards
-    itself; the leave-one-out residual does not. Its lateral part, with covariance
-    ``σ_i² P_i + P_i C₋ᵢ P_i``, gives a χ² statistic with 2 degrees of freedom. One outlier
-    still biases every other line's leave-one-out estimate, so lines are flagged one at a time:
-    the worst significant line is flagged and set aside, and the rest are tested again.
-
-    With two lines there is no "other" estimate: their gap is tested against ``σ_a² + σ_b²``
-    (1 degree of freedom) and both lines share the verdict, since either may be at fault.
-    """
-    n = len(lines)
-    if n == 2:
-        stat = pair_gap_statistic(lines[0], lines[1])
-        p_value = float(stats.chi2.sf(stat, df=1))
+    if k == 2 or dof < 1:
+        p_value = chi2_sf(chi2, dof) if dof > 0 else 1.0
         bad = p_value < outlier_probability
-        return [
-            LineResidual(ln.id, ln.distance_mm(x), float(np.sqrt(stat)), p_value, bad)
-            for ln in lines
-        ]
-    points = np.array([ln.point_mm for ln in lines])
-    verticals = np.array([ln.vertical for ln in lines])
-    active = list(range(n))
+        return (
+            [
+                LineResidual(i, d, float(np.sqrt(max(chi2, 0.0))), p_value, bad)
+                for i, d in zip(ids, distances, strict=True)
+            ],
+            chi2,
+            dof,
+        )
+    active = list(range(k))
     verdict: dict[int, tuple[float, float, bool]] = {}
     while True:
-        current = {i: _loo_statistic(points, verticals, sigma, active, i) for i in active}
+        current = {
+            i: _loo_statistic(points_mm, u, normals, shape, weights, lateral, wire, active, i)
+            for i in active
+        }
         worst = max(active, key=lambda i: current[i])
-        p_worst = float(stats.chi2.sf(current[worst], df=2))
+        p_worst = chi2_sf(current[worst], 2)
         if p_worst < outlier_probability and len(active) > 3:
             verdict[worst] = (current[worst], p_worst, True)
             active.remove(worst)
             continue
         for i in active:
-            p_i = float(stats.chi2.sf(current[i], df=2))
+            p_i = chi2_sf(current[i], 2)
             verdict[i] = (current[i], p_i, p_i < outlier_probability and i == worst)
         break
-    return [
-        LineResidual(ln.id, ln.distance_mm(x), float(np.sqrt(verdict[i][0])), *verdict[i][1:])
-        for i, ln in enumerate(lines)
+    residuals = [
+        LineResidual(ids[i], distances[i], float(np.sqrt(verdict[i][0])), *verdict[i][1:])
+        for i in range(k)
     ]
+    return residuals, chi2, dof
+
+
+def _scale_at(
+    points_mm: FloatArray,
+    u: FloatArray,
+    normals: FloatArray,
+    shape: FloatArray,
+    weights: FloatArray,
+    wire: gls.WireTerm,
+) -> float:
+    return float(gls.solve_lines(points_mm, u, normals, shape, weights, wire)[2][0])
+
+
+def _chi2(virtual: FloatArray, weights: FloatArray, cog_mm: FloatArray) -> float:
+    r = cog_mm[:, None, None] - virtual
+    return float(np.sum(gls._dot(r, gls.sym_matvec(weights, r))))
 
 
 def _loo_statistic(
-    points: FloatArray, verticals: FloatArray, sigma: FloatArray, active: list[int], i: int
+    points_mm: FloatArray,
+    u: FloatArray,
+    normals: FloatArray,
+    shape: FloatArray,
+    weights: FloatArray,
+    lateral: FloatArray,
+    wire: gls.WireTerm,
+    active: list[int],
+    i: int,
 ) -> float:
     """χ²₂ statistic of line ``i`` against the estimate of the other ``active`` lines."""
-    others = [j for j in active if j != i]
-    try:
-        x_loo, normal_loo = least_squares_point(
-            points[others], verticals[others], 1.0 / sigma[others] ** 2
-        )
-    except DegenerateGeometryError:
-        return 0.0
-    proj = np.eye(3) - np.outer(verticals[i], verticals[i])
-    r = proj @ (x_loo - points[i])
-    s_mat = sigma[i] ** 2 * proj + proj @ np.linalg.inv(normal_loo) @ proj
-    return float(r @ np.linalg.pinv(s_mat, hermitian=True) @ r)
-
-
-def pair_gap_statistic(a: PlumbLine, b: PlumbLine) -> float:
-    """``gap² / (σ_a² + σ_b²)`` for two plumb lines (χ² with 1 degree of freedom)."""
-    return pair_estimate(a, b, 0.0).gap_mm ** 2 / (a.sigma_mm**2 + b.sigma_mm**2)
+    o = [j for j in active if j != i]
+    x, cov, lam, var, cxl, _ = gls.solve_lines(
+        points_mm[:, o], u[:, o], normals[:, o], shape[o], weights[:, o], wire
+    )
+    if not np.all(np.isfinite(x)) or (not wire.fixed and not np.isfinite(var[0])):
+        return 0.0  # the others do not determine an estimate: nothing to test against
+    n, f = normals[:, i, 0], float(shape[i, 0])
+    ui = u[:, i, 0]
+    proj = np.eye(3) - np.outer(ui, ui)
+    r = proj @ (x[:, 0] - points_mm[:, i, 0] - lam[0] * f * n)
+    c_g = gls.sym_to_full(cov[:, 0])
+    c_gl = cxl[:, 0]
+    jcj = c_g - f * (np.outer(n, c_gl) + np.outer(c_gl, n)) + f * f * var[0] * np.outer(n, n)
+    v = gls.sym_to_full(lateral[:, i, 0]) + proj @ jcj @ proj
+    w = np.linalg.inv(v + np.outer(ui, ui)) - np.outer(ui, ui)
+    return float(r @ w @ r)
 
 
 @dataclass(frozen=True)

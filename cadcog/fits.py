@@ -1,5 +1,8 @@
 """Distribution fits of CoG error norms: Rayleigh (the paper's), Maxwell, empirical quantiles.
 
+The headline of a simulation is its empirical quantiles; the fits are shown beside them with
+their KS distance, which says how much (or how little) they describe.
+
 The norm of a 2-D isotropic normal error is Rayleigh; of a 3-D one, Maxwell (chi with 3 degrees
 of freedom). The paper fitted a Rayleigh; a CoG error has three components, so the Maxwell is the
 better-founded model, and heavy tails from near-collinear pairs fit neither: the KS statistics
@@ -10,11 +13,15 @@ p-values are not reported: with the parameter fitted on the same sample they wou
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
-from scipy import special, stats
+
+if TYPE_CHECKING:
+    from cadcog.montecarlo import NormHistogram
 
 
 @dataclass(frozen=True)
@@ -49,6 +56,21 @@ class NormFits:
         }
 
 
+#: Median of the unit Rayleigh law, √(2 ln 2), and of the unit Maxwell law (the root of its
+#: CDF at 1/2; ``tests/test_fits.py`` checks both against scipy). Constants here keep scipy.stats,
+#: a second to import, out of ``cadcog simulate``.
+RAYLEIGH_MEDIAN = 1.1774100225154747
+MAXWELL_MEDIAN = 1.5381722544550522
+
+
+_ERF = np.frompyfunc(math.erf, 1, 1)
+
+
+def _erf(x: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """``erf`` element-wise (math.erf: no scipy import, which costs half a second)."""
+    return np.asarray(_ERF(np.asarray(x, dtype=float)), dtype=float)
+
+
 def rayleigh_mle(norms_mm: npt.ArrayLike) -> float:
     """Maximum-likelihood Rayleigh scale: ``σ = √(Σ r² / 2n)``.
 
@@ -76,9 +98,7 @@ def rayleigh_cdf(r: npt.ArrayLike, sigma: float) -> npt.NDArray[np.float64]:
 def maxwell_cdf(r: npt.ArrayLike, a: float) -> npt.NDArray[np.float64]:
     """Maxwell CDF, ``erf(r/a√2) − √(2/π) (r/a) exp(−r²/2a²)``."""
     x = np.asarray(r, dtype=float) / a
-    return np.asarray(
-        special.erf(x / np.sqrt(2.0)) - np.sqrt(2.0 / np.pi) * x * np.exp(-0.5 * x * x)
-    )
+    return np.asarray(_erf(x / np.sqrt(2.0)) - np.sqrt(2.0 / np.pi) * x * np.exp(-0.5 * x * x))
 
 
 def ks_statistic(sorted_samples: npt.NDArray[np.float64], cdf_values: npt.ArrayLike) -> float:
@@ -97,8 +117,8 @@ def fit_norms(norms_mm: npt.ArrayLike) -> NormFits:
     sigma = rayleigh_mle(r)
     a = maxwell_mle(r)
     q50 = float(np.quantile(r, 0.5))
-    sigma_med = q50 / float(stats.rayleigh.median())
-    a_med = q50 / float(stats.maxwell.median())
+    sigma_med = q50 / RAYLEIGH_MEDIAN
+    a_med = q50 / MAXWELL_MEDIAN
     return NormFits(
         n=int(r.size),
         rayleigh_sigma_mm=sigma,
@@ -111,4 +131,43 @@ def fit_norms(norms_mm: npt.ArrayLike) -> NormFits:
         maxwell_a_median_mm=a_med,
         ks_rayleigh_median=ks_statistic(r, rayleigh_cdf(r, sigma_med)),
         ks_maxwell_median=ks_statistic(r, maxwell_cdf(r, a_med)),
+    )
+
+
+def fit_histogram(hist: NormHistogram, norm_sumsq_mm2: float) -> NormFits:
+    """:func:`fit_norms` from a streamed histogram and ``Σ r²``.
+
+    The maximum-likelihood scales are exact (they need only ``Σ r²``); quantiles are within the
+    histogram's relative bin width; KS distances are taken at the bin edges, so they can miss
+    the supremum by at most the model CDF's rise inside one bin.
+    """
+    n = hist.n
+    if n < 2:
+        raise ValueError("need at least two samples to fit")
+    sigma = float(np.sqrt(norm_sumsq_mm2 / n / 2.0))
+    a = float(np.sqrt(norm_sumsq_mm2 / n / 3.0))
+    q50 = hist.quantile(0.5)
+    sigma_med = q50 / RAYLEIGH_MEDIAN
+    a_med = q50 / MAXWELL_MEDIAN
+    edges, emp = hist.cdf_at_edges()
+    used = np.concatenate([[True], hist.counts[1:-1] > 0]) | np.concatenate(
+        [hist.counts[1:-1] > 0, [True]]
+    )
+    e, f = edges[used], emp[used]
+
+    def ks(cdf: npt.NDArray[np.float64]) -> float:
+        return float(np.max(np.abs(f - cdf)))
+
+    return NormFits(
+        n=n,
+        rayleigh_sigma_mm=sigma,
+        maxwell_a_mm=a,
+        q50_mm=q50,
+        q95_mm=hist.quantile(0.95),
+        ks_rayleigh=ks(rayleigh_cdf(e, sigma)),
+        ks_maxwell=ks(maxwell_cdf(e, a)),
+        rayleigh_sigma_median_mm=sigma_med,
+        maxwell_a_median_mm=a_med,
+        ks_rayleigh_median=ks(rayleigh_cdf(e, sigma_med)),
+        ks_maxwell_median=ks(maxwell_cdf(e, a_med)),
     )

@@ -85,23 +85,6 @@ class InclinometerConfig:
     sign_y: int = 1
     sensor: SensorModel = field(default_factory=SensorModel)
 
-    @property
-    def angle_sigma_deg(self) -> float:
-        """Standard deviation of one axis's reading, not reduced by averaging (degrees).
-
-        The uniform ±accuracy error (σ = a/√3) is a bias of each hang, and quantisation
-        (σ = LSB/√12) averages out only when noise dithers the signal, so neither is divided by
-        √n here. This is the conservative figure the estimator uses by default.
-
-        Examples
-        --------
-        >>> round(InclinometerConfig().angle_sigma_deg, 4)
-        0.0716
-        """
-        return float(
-            np.hypot(self.accuracy_deg / np.sqrt(3.0), self.sensor.lsb_deg / np.sqrt(12.0))
-        )
-
 
 @dataclass(frozen=True)
 class Verticals:

@@ -9,24 +9,27 @@ from typing import Any
 import numpy as np
 
 from cadcog.fits import NormFits
+from cadcog.montecarlo import NormHistogram
 from cadcog.rig import Rig
 from cadcog.validation import Validation
 
 
-def error_histogram(norms_mm: np.ndarray, fits: NormFits, path: Path, title: str) -> None:
+def error_histogram(hist: NormHistogram, fits: NormFits, path: Path, title: str) -> None:
     """Histogram of |e| with the fitted Rayleigh and Maxwell PDFs and the 95 % quantile."""
     from scipy import stats
 
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.2), dpi=120)
     # Near-collinear pairs give a long tail: show the body, say how much lies beyond.
-    top = min(float(np.quantile(norms_mm, 0.999)), 3.0 * fits.q95_mm)
-    beyond = float(np.mean(norms_mm > top))
-    ax.hist(
-        norms_mm,
-        bins=120,
-        range=(0, top),
-        density=True,
+    top = min(hist.quantile(0.999), 3.0 * fits.q95_mm)
+    beyond = 1.0 - hist.fraction_below(top)
+    display = np.linspace(0.0, top, 121)
+    edges, cdf = hist.cdf_at_edges()
+    mass = np.diff(np.interp(display, edges, cdf))
+    ax.stairs(
+        mass / np.diff(display),
+        display,
+        fill=True,
         color="#9ab",
         label=f"simulated ({beyond:.2%} beyond {top:.1f} mm)",
     )

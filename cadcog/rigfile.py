@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from cadcog import tolerances
-from cadcog.errormodel import ErrorOptions
+from cadcog.errormodel import INCLINOMETER_MODELS, WIRE_MODELS, ErrorOptions
 from cadcog.geometry import AXIS_NAMES, FACES, face_plane_mm
 from cadcog.inclinometer import InclinometerConfig, SensorModel
 from cadcog.paramfile import TableReader, read_toml
@@ -157,17 +157,28 @@ def _inclinometer(t: TableReader) -> InclinometerConfig:
 
 
 def _error_options(t: TableReader) -> ErrorOptions:
-    """The optional ``[error_model]`` table; absent keys take the paper's values."""
+    """The optional ``[error_model]`` table; absent keys take the defaults."""
     d = ErrorOptions()
+    if t.has("dither_noise_deg"):
+        raise t.error(
+            "dither_noise_deg",
+            "renamed sensor_noise_deg (the noise of one raw sample, in every inclinometer model)",
+        )
+    if t.has("inclinometer_model") and t.string("inclinometer_model") in ("paper", "conservative"):
+        raise t.error(
+            "inclinometer_model",
+            "the models are now 'hang-bias' (was 'conservative', the default) and "
+            "'paper-averaged' (was 'paper')",
+        )
     options = ErrorOptions(
         samples=t.integer("samples_per_suspension", minimum=1, default=d.samples),
         inclinometer_model=t.string(  # type: ignore[arg-type]
-            "inclinometer_model", choices=("paper", "conservative"), default=d.inclinometer_model
+            "inclinometer_model", choices=INCLINOMETER_MODELS, default=d.inclinometer_model
         ),
-        dither_noise_deg=t.number("dither_noise_deg", nonnegative=True, default=d.dither_noise_deg),
+        sensor_noise_deg=t.number("sensor_noise_deg", nonnegative=True, default=d.sensor_noise_deg),
         play_mm=t.number("play_mm", nonnegative=True, default=d.play_mm),
         wire_model=t.string(  # type: ignore[arg-type]
-            "wire_model", choices=("paper", "elastica"), default=d.wire_model
+            "wire_model", choices=WIRE_MODELS, default=d.wire_model
         ),
         wire_offset_max_mm=t.number(
             "wire_offset_max_mm", nonnegative=True, default=d.wire_offset_max_mm

@@ -16,8 +16,9 @@ from typing import Any
 
 import numpy as np
 
+from cadcog import tolerances
 from cadcog.errormodel import ErrorModel
-from cadcog.fits import NormFits, fit_norms
+from cadcog.fits import NormFits, fit_histogram
 from cadcog.geometry import angle_between_lines_deg
 from cadcog.montecarlo import (
     EstimatorOptions,
@@ -43,11 +44,16 @@ class SimulationSettings:
     trials_per_group : int
     seed : int
     group_size : int
-        2 for pairs (eq. 8); K > 2 for the joint estimator over K points.
+        2 for pairs; K > 2 for the joint estimate over K points.
     min_angle_deg : float
         Pair screening: pairs (or groups) whose best-conditioned pair of lines meets at less
-        than this are not used.
-    wire_correction : bool
+        than this are not simulated.
+    weighted, wire_correction, self_calibrate : bool
+        The estimator (:class:`cadcog.montecarlo.EstimatorOptions`): by default the one
+        ``cadcog estimate`` runs.
+    screen_angle_deg : float
+        The headline also gives the statistics of the groups conditioned at least this well:
+        what ``cadcog estimate`` would accept without warning.
     """
 
     points: int = 25
@@ -55,17 +61,45 @@ class SimulationSettings:
     seed: int = 0
     group_size: int = 2
     min_angle_deg: float = 0.0
-    wire_correction: bool = False
+    weighted: bool = True
+    wire_correction: bool = True
+    self_calibrate: bool = False
+    screen_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG
+
+    @property
+    def options(self) -> EstimatorOptions:
+        return EstimatorOptions(self.weighted, self.wire_correction, self.self_calibrate)
 
 
 @dataclass(frozen=True)
 class SimulationReport:
     settings: SimulationSettings
     scenario: Scenario
+    model: ErrorModel
     groups: list[tuple[int, ...]]
     group_angle_deg: list[float]
     result: SimulationResult
     fits: NormFits
+
+    @property
+    def q99_mm(self) -> float:
+        return self.result.histogram.quantile(0.99)
+
+    @property
+    def screened(self) -> dict[str, Any]:
+        """Statistics of the groups conditioned at least ``screen_angle_deg``."""
+        s = self.settings
+        n_groups = sum(a >= s.screen_angle_deg for a in self.group_angle_deg)
+        hist = self.result.screened_histogram
+        out: dict[str, Any] = {"min_angle_deg": s.screen_angle_deg, "n_groups": n_groups}
+        if hist.n:
+            out |= {
+                "n_trials": hist.n,
+                "q50_mm": hist.quantile(0.5),
+                "q95_mm": hist.quantile(0.95),
+                "q99_mm": hist.quantile(0.99),
+            }
+        return out
 
     def worst_groups(self, count: int = 5) -> list[dict[str, Any]]:
         order = np.argsort(self.result.group_q95_mm)[::-1][:count]
@@ -80,9 +114,22 @@ class SimulationReport:
         ]
 
     def to_dict(self) -> dict[str, Any]:
-        s = self.settings
+        s, f = self.settings, self.fits
+        fits = f.to_dict()
+        for key in ("n_trials", "q50_mm", "q95_mm"):
+            fits.pop(key)
         return {
-            **self.fits.to_dict(),
+            "n_trials": f.n,
+            "q50_mm": f.q50_mm,
+            "q95_mm": f.q95_mm,
+            "q99_mm": self.q99_mm,
+            "quantile_rel_precision": self.result.histogram.REL_WIDTH,
+            "screened": self.screened,
+            "fits": {
+                **fits,
+                "note": "moment fits, with their KS distance as their quality; the headline is "
+                "the quantiles",
+            },
             "per_axis_bias_mm": self.result.axis_mean_mm.tolist(),
             "per_axis_std_mm": self.result.axis_std_mm.tolist(),
             "n_points": len(self.scenario.ids),
@@ -91,7 +138,8 @@ class SimulationReport:
             "trials_per_group": s.trials_per_group,
             "seed": s.seed,
             "min_angle_deg": s.min_angle_deg,
-            "wire_correction": s.wire_correction,
+            "error_model": self.model.describe(),
+            "estimator": s.options.describe(),
             "points": {
                 pid: p.tolist()
                 for pid, p in zip(self.scenario.ids, self.scenario.points_mm, strict=True)
@@ -158,8 +206,10 @@ def run_simulation(
         groups,
         settings.trials_per_group,
         int(trials_seed),
-        EstimatorOptions(wire_correction=settings.wire_correction),
+        settings.options,
+        screened=[a >= settings.screen_angle_deg for a in angles],
         workers=workers,
         progress=progress,
     )
-    return SimulationReport(settings, scenario, groups, angles, result, fit_norms(result.norms_mm))
+    fits = fit_histogram(result.histogram, result.norm_sumsq_mm2)
+    return SimulationReport(settings, scenario, model, groups, angles, result, fits)

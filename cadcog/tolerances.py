@@ -66,3 +66,9 @@ OVERLAP_REFUSE_MASS_FRACTION = 1e-3
 #: placement-free mass properties can be reused for every instance) when its scale factor is 1
 #: and its rotation is orthonormal to this tolerance; otherwise the placed shape is integrated.
 RIGID_PLACEMENT_TOLERANCE = 1e-9
+
+#: Self-calibration of the wire scale λ: the information the lines give on λ once the CoG is
+#: free, relative to what they would give if every offset moved its line sideways, below which
+#: λ is declared unidentifiable (the bolt axes lie along their verticals, or the CoG absorbs
+#: the offsets).
+WIRE_IDENTIFIABILITY = 1e-6

@@ -37,3 +37,12 @@ def paper_rig() -> Rig:
 @pytest.fixture(scope="session")
 def paper_rig_text() -> str:
     return default_rig_path().read_text(encoding="utf-8")
+
+
+@pytest.fixture(scope="session")
+def cubesat_setup():
+    """The example 3U CubeSat set-up (builds its CAD with build123d: once per session)."""
+    pytest.importorskip("build123d")
+    from cadcog.spacecraft import load_setup
+
+    return load_setup(default_rig_path().parent / "cubesat_3u_setup.toml")

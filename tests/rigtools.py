@@ -65,13 +65,23 @@ def write_rig(path: Path, data: dict[str, Any]) -> Path:
 HEADER = "point_id,x_mm,y_mm,z_mm,inc_x_deg,inc_y_deg,top_face_up"
 
 
-def ideal_rows(rig: Any) -> list[str]:
-    """One noise-free readings row per suspension point of ``rig`` (assembly CoG)."""
-    readings = rig.ideal_readings()
+def ideal_rows(rig: Any, wire_offset_mm: float | None = None) -> list[str]:
+    """One noise-free readings row per suspension point of ``rig`` (assembly CoG).
+
+    The body hangs from the virtual suspension point, ``wire_offset_mm`` above the wire exit
+    along the bolt axis (default: the offset the rig's error model expects, which
+    ``cadcog estimate`` corrects); the row gives the wire exit, as a lab would.
+    """
+    from cadcog.errormodel import ErrorModel
+    from cadcog.geometry import ideal_reading
+
+    if wire_offset_mm is None:
+        wire_offset_mm = ErrorModel.from_rig(rig).wire_prior(rig.weight_n).scale_mm
+    g = rig.analytic_assembly.cog_mm
     rows = []
     for p in rig.suspension_points:
         w = rig.wire_exit_mm(p)
-        r = readings[p.id]
+        r = ideal_reading(w + wire_offset_mm * p.normal, g)
         rows.append(
             f"{p.id},{float(w[0])!r},{float(w[1])!r},{float(w[2])!r},{r.inc_x_deg!r},{r.inc_y_deg!r},"
             f"{str(r.top_face_up).lower()}"

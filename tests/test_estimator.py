@@ -16,10 +16,8 @@ from cadcog.estimator import (
     compensate_me,
     joint_estimate,
     least_squares_point,
-    line_sigma_mm,
     out_of_range,
     pair_estimate,
-    weighted_estimate,
 )
 from cadcog.geometry import angle_between_lines_deg, upward_vertical
 from cadcog.inclinometer import readings_from_verticals, verticals_from_readings
@@ -195,16 +193,6 @@ def test_covariance_matches_monte_carlo_scatter():
         estimates.append(least_squares_point(np.array(pts) + d, u, w)[0])
     empirical = np.cov(np.array(estimates).T)
     np.testing.assert_allclose(np.diag(empirical), np.diag(predicted), rtol=0.1)
-
-
-def test_weighted_estimate_weights_by_distance():
-    assert line_sigma_mm(200.0, 0.1, 0.3) == pytest.approx(np.hypot(0.3, 200 * np.deg2rad(0.1)))
-    cog = np.array([0.0, 0.0, 0.0])
-    pts = [np.array([30.0, 0, 40]), np.array([-300.0, 10, 400])]
-    est = weighted_estimate(_lines(pts, cog), angle_sigma_deg=0.07, point_sigma_mm=0.29)
-    np.testing.assert_allclose(est.cog_mm, cog, atol=1e-9)
-    assert est.cov_mm2.shape == (3, 3)
-    assert np.all(np.linalg.eigvalsh(est.cov_mm2) > 0)
 
 
 def test_compensation_by_hand():

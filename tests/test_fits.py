@@ -51,3 +51,26 @@ def test_closed_form_cdfs_match_scipy():
     r = np.linspace(0, 10, 1001)
     np.testing.assert_allclose(rayleigh_cdf(r, 1.3), stats.rayleigh.cdf(r, scale=1.3), atol=1e-14)
     np.testing.assert_allclose(maxwell_cdf(r, 0.7), stats.maxwell.cdf(r, scale=0.7), atol=1e-14)
+
+
+def test_median_constants_match_scipy():
+    from cadcog.fits import MAXWELL_MEDIAN, RAYLEIGH_MEDIAN
+
+    assert stats.rayleigh.median() == pytest.approx(RAYLEIGH_MEDIAN, rel=1e-14)
+    assert stats.maxwell.median() == pytest.approx(MAXWELL_MEDIAN, rel=1e-14)
+
+
+def test_histogram_fits_match_the_exact_ones_within_the_bin_width():
+    from cadcog.fits import fit_histogram
+    from cadcog.montecarlo import NormHistogram
+
+    r = stats.maxwell.rvs(scale=0.6, size=200_000, random_state=np.random.default_rng(5))
+    h = NormHistogram()
+    h.add(r)
+    exact, streamed = fit_norms(r), fit_histogram(h, float(np.sum(r * r)))
+    assert streamed.n == exact.n
+    assert streamed.maxwell_a_mm == pytest.approx(exact.maxwell_a_mm, rel=1e-12)
+    for key in ("q50_mm", "q95_mm", "maxwell_a_median_mm"):
+        assert getattr(streamed, key) == pytest.approx(getattr(exact, key), rel=2 * h.REL_WIDTH)
+    for key in ("ks_rayleigh", "ks_maxwell", "ks_maxwell_median"):
+        assert getattr(streamed, key) == pytest.approx(getattr(exact, key), abs=1e-3)

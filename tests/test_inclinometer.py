@@ -72,9 +72,3 @@ def test_sensor_model_counts_and_lsb():
     true_deg = np.linspace(-60, 60, 10001)
     read = s.counts_to_deg(np.floor(s.deg_to_counts(true_deg) + 0.5))
     assert np.max(np.abs(read - true_deg)) <= s.lsb_deg / 2 + 1e-12
-
-
-def test_default_angle_sigma_combines_accuracy_and_quantisation():
-    cfg = InclinometerConfig()
-    expected = np.sqrt((0.1 / np.sqrt(3)) ** 2 + (cfg.sensor.lsb_deg / np.sqrt(12)) ** 2)
-    assert cfg.angle_sigma_deg == pytest.approx(expected)

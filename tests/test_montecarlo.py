@@ -3,13 +3,25 @@ reproducibility whatever the chunking or workers, and the drawn points obey the 
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from cadcog.budget import linearised_covariance, representative_pair
 from cadcog.errormodel import SOURCES, ErrorModel
 from cadcog.geometry import ideal_reading
-from cadcog.montecarlo import Scenario, all_pairs, draw_points, simulate, simulate_block
+from cadcog.gls import sym_to_full
+from cadcog.montecarlo import (
+    Scenario,
+    all_pairs,
+    draw_perturbations,
+    draw_points,
+    estimate_trials,
+    propagate,
+    simulate,
+    simulate_block,
+)
 
 
 @pytest.fixture(scope="module")
@@ -29,40 +41,61 @@ def test_no_error_sources_give_zero_error(scenario, model):
         assert np.max(np.abs(e)) < 1e-10
 
 
-@pytest.mark.parametrize("source", [s for s in SOURCES if s != "wire_offset"])
+def _one_source(model, source, n, seed):
+    """Draws with only ``source`` random; the wire offset otherwise at its mean (0.5 mm)."""
+    pert = draw_perturbations(model.only(source), np.random.default_rng(seed), n, 2)
+    if source != "wire_offset":
+        pert = replace(pert, wire=np.full_like(pert.wire, 0.5 * model.wire_offset_max_mm))
+    return pert
+
+
+@pytest.mark.parametrize("source", SOURCES)
 def test_single_source_matches_linearised_prediction(scenario, model, source):
+    """The budget's linearised share of each source against a Monte Carlo of that source alone,
+    both through the full model's estimator (the one a user runs)."""
     pair = representative_pair(scenario)
-    single = model.only(source)
-    _, covs = linearised_covariance(scenario, single, pair)
-    e = simulate_block(scenario, single, pair, 40_000, np.random.default_rng(5))
+    bias, covs = linearised_covariance(scenario, model, pair)
+    e = propagate(scenario, model, pair, _one_source(model, source, 40_000, 5))
     np.testing.assert_allclose(
         np.cov(e.T).diagonal(), covs[source].diagonal(), rtol=0.05, atol=1e-6
     )
+    # With the expected wire offset corrected, no source leaves a bias.
+    np.testing.assert_allclose(bias, 0.0, atol=1e-9)
+    np.testing.assert_allclose(e.mean(axis=0), 0.0, atol=0.01)
 
 
-def test_wire_offset_alone_matches_linearised_mean_and_spread(scenario, model):
+def test_linearised_budget_equals_the_estimators_own_covariance(scenario, model):
+    """Two independent routes to one number: finite differences of the whole simulation (the
+    budget) and the closed-form generalised least-squares covariance, compensated (eq. 16)."""
     pair = representative_pair(scenario)
-    single = model.only("wire_offset")
-    bias, covs = linearised_covariance(scenario, single, pair)
-    e = simulate_block(scenario, single, pair, 40_000, np.random.default_rng(6))
-    np.testing.assert_allclose(e.mean(axis=0), bias, atol=0.01)
-    np.testing.assert_allclose(np.cov(e.T).diagonal(), covs["wire_offset"].diagonal(), rtol=0.05)
+    _, covs = linearised_covariance(scenario, model, pair)
+    total = sum(covs.values())
+    pert = _one_source(model, "me_cog", 1, 0)
+    pert = replace(pert, me_mm=np.zeros((3, 1)))
+    est = estimate_trials(scenario, model, pair, pert)
+    ratio = scenario.me_mass_kg / scenario.pm_mass_kg
+    closed = (1 + ratio) ** 2 * sym_to_full(est.cov_mm2)[
+        0
+    ] + ratio**2 * model.me_sigma_mm**2 * np.eye(3)
+    np.testing.assert_allclose(total, closed, rtol=0.02, atol=1e-5)
 
 
 def test_same_seed_same_numbers_whatever_the_chunking_or_workers(scenario, model):
     pairs = all_pairs(6)[:4]
-    ref = simulate(scenario, model, pairs, 9000, seed=3, chunk_blocks=1)
+    ref = simulate(scenario, model, pairs, 9000, seed=3, chunk_blocks=1, keep_norms=True)
     for kwargs in ({"chunk_blocks": 3}, {"chunk_blocks": 64}, {"workers": 2}):
-        other = simulate(scenario, model, pairs, 9000, seed=3, **kwargs)
+        other = simulate(scenario, model, pairs, 9000, seed=3, keep_norms=True, **kwargs)
         np.testing.assert_array_equal(other.norms_mm, ref.norms_mm)
+        np.testing.assert_array_equal(other.histogram.counts, ref.histogram.counts)
+        assert other.group_q95_mm == ref.group_q95_mm
         np.testing.assert_allclose(other.axis_sum_mm, ref.axis_sum_mm, rtol=1e-12)
-    different = simulate(scenario, model, pairs, 9000, seed=4)
+    different = simulate(scenario, model, pairs, 9000, seed=4, keep_norms=True)
     assert not np.array_equal(different.norms_mm, ref.norms_mm)
 
 
 def test_streamed_axis_moments_match_direct_computation(scenario, model):
     pairs = all_pairs(6)[:3]
-    res = simulate(scenario, model, pairs, 5000, seed=1, chunk_blocks=1)
+    res = simulate(scenario, model, pairs, 5000, seed=1, chunk_blocks=1, keep_norms=True)
     errors = []
     for g, pair in enumerate(pairs):
         for b in range(2):
@@ -73,6 +106,13 @@ def test_streamed_axis_moments_match_direct_computation(scenario, model):
     np.testing.assert_allclose(res.axis_mean_mm, e.mean(axis=0), atol=1e-12)
     np.testing.assert_allclose(res.axis_std_mm, e.std(axis=0, ddof=1), rtol=1e-9)
     np.testing.assert_allclose(res.norms_mm, np.linalg.norm(e, axis=1))
+    per_group = res.norms_mm.reshape(len(pairs), 5000)
+    np.testing.assert_allclose(res.group_q95_mm, np.quantile(per_group, 0.95, axis=1), rtol=1e-15)
+    np.testing.assert_allclose(res.group_q50_mm, np.quantile(per_group, 0.5, axis=1), rtol=1e-15)
+    # The streamed histogram's quantiles are within its stated relative bin width.
+    for q in (0.5, 0.95):
+        exact = np.quantile(res.norms_mm, q)
+        assert abs(res.histogram.quantile(q) / exact - 1) < 2 * res.histogram.REL_WIDTH
 
 
 def test_drawn_points_respect_range_face_and_me(paper_rig):

@@ -176,6 +176,30 @@ CASES: list[tuple[str, Mutation, str, str]] = [
         "inclinometer.range_deg",
         "at most 90",
     ),
+    (
+        "old inclinometer model name",
+        _set("error_model.inclinometer_model", "conservative"),
+        "error_model.inclinometer_model",
+        "'hang-bias' \\(was 'conservative', the default\\) and 'paper-averaged'",
+    ),
+    (
+        "unknown inclinometer model",
+        _set("error_model.inclinometer_model", "averaged"),
+        "error_model.inclinometer_model",
+        "expected one of hang-bias, paper-averaged",
+    ),
+    (
+        "old dither key",
+        _set("error_model.dither_noise_deg", 0.1),
+        "error_model.dither_noise_deg",
+        "renamed sensor_noise_deg",
+    ),
+    (
+        "negative sensor noise",
+        _set("error_model.sensor_noise_deg", -0.1),
+        "error_model.sensor_noise_deg",
+        "expected a number >= 0, got -0.1",
+    ),
 ]
 
 

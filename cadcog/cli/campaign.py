@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from cadcog.campaign import DEFAULT_NOISE_DEG, virtual_campaign, write_campaign
+from cadcog.campaign import simulated_readings, write_campaign
+from cadcog.errormodel import ErrorModel
 from cadcog.errors import CadcogError
+from cadcog.montecarlo import Scenario
 from cadcog.rigfile import default_rig_path, load_rig
 
 
@@ -15,18 +18,20 @@ def add_parser(sub: Any) -> None:
     p = sub.add_parser(
         "campaign",
         help="simulate the paper's experiment as a lab would record it (readings CSV)",
-        description="One hang per suspension point of the rig, N raw ADC samples per axis with "
-        "sensor noise and quantisation, the inclinometer's bias and the suspension point's play "
-        "and wire offset drawn once per hang. See docs/validation.md.",
+        description="One hang per suspension point of the rig, drawn from the rig's error model "
+        "(the one every command uses): N raw ADC samples per axis with sensor noise and "
+        "quantisation, the inclinometer's bias and the suspension point's play and wire offset "
+        "drawn once per hang. See docs/validation.md.",
     )
     p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
     p.add_argument("--seed", type=int, default=0, help="seed (default 0)")
-    p.add_argument("--samples", type=int, default=10, help="raw samples per hang (default 10)")
+    p.add_argument(
+        "--samples", type=int, help="raw samples per hang (default: the error model's, 10)"
+    )
     p.add_argument(
         "--noise-deg",
         type=float,
-        default=DEFAULT_NOISE_DEG,
-        help=f"sensor noise of one sample (default {DEFAULT_NOISE_DEG}°)",
+        help="sensor noise of one sample (default: the error model's sensor_noise_deg, 0.05°)",
     )
     p.add_argument(
         "--setup",
@@ -38,6 +43,19 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
+def _model(args: argparse.Namespace, model: ErrorModel) -> ErrorModel:
+    """The error model with the command's overrides (the same keys as the rig file's)."""
+    if args.samples is not None:
+        if args.samples < 1:
+            raise CadcogError(f"--samples must be at least 1, got {args.samples}")
+        model = replace(model, samples=args.samples)
+    if args.noise_deg is not None:
+        if not args.noise_deg >= 0:
+            raise CadcogError(f"--noise-deg must be non-negative, got {args.noise_deg}")
+        model = replace(model, sensor_noise_deg=args.noise_deg)
+    return model
+
+
 def run(args: argparse.Namespace) -> int:
     if args.seed < 0:
         raise CadcogError("--seed must be non-negative")
@@ -46,13 +64,11 @@ def run(args: argparse.Namespace) -> int:
     if args.points is not None:
         raise CadcogError("--points goes with --setup")
     rig = load_rig(args.rig or default_rig_path())
-    try:
-        rows = virtual_campaign(rig, args.seed, args.samples, args.noise_deg)
-    except ValueError as exc:
-        raise CadcogError(f"--samples/--noise-deg: {exc}") from None
+    model = _model(args, ErrorModel.from_rig(rig))
+    rows = simulated_readings(Scenario.from_rig(rig), model, rig.inclinometer, args.seed)
     comment = (
         f"cadcog virtual campaign: rig {rig.name}, seed {args.seed}, "
-        f"{args.samples} samples per hang, noise {args.noise_deg} deg"
+        f"{model.samples} samples per hang; {model.summary()}"
     )
     write_campaign(args.out, rows, comment)
     print(f"wrote {len(rows)} samples of {len(rig.suspension_points)} hangs to {args.out}")
@@ -60,11 +76,11 @@ def run(args: argparse.Namespace) -> int:
 
 
 def run_setup(args: argparse.Namespace) -> int:
-    from cadcog.campaign import simulated_readings
     from cadcog.spacecraft import load_setup
 
     if not args.points:
         raise CadcogError("--setup needs --points ID,ID,... (see cadcog plan)")
+    _model(args, ErrorModel((1.0,), (0.0,)))  # check the overrides before the (slow) CAD
     setup = load_setup(args.setup)
     by_id = {c.id: c for c in setup.candidates}
     ids = [i.strip() for i in args.points.split(",")]
@@ -72,17 +88,12 @@ def run_setup(args: argparse.Namespace) -> int:
     if unknown:
         raise CadcogError(f"--points: unknown candidate(s) {', '.join(unknown)} in {args.setup}")
     scenario = setup.scenario(tuple(by_id[i] for i in ids))
-    try:
-        rows = simulated_readings(
-            scenario,
-            setup.error_model(),
-            setup.rig.inclinometer,
-            args.seed,
-            args.samples,
-            args.noise_deg,
-        )
-    except ValueError as exc:
-        raise CadcogError(f"--samples/--noise-deg: {exc}") from None
-    write_campaign(args.out, rows, f"cadcog virtual campaign: setup {setup.name}, seed {args.seed}")
+    model = _model(args, setup.error_model())
+    rows = simulated_readings(scenario, model, setup.rig.inclinometer, args.seed)
+    write_campaign(
+        args.out,
+        rows,
+        f"cadcog virtual campaign: setup {setup.name}, seed {args.seed}; {model.summary()}",
+    )
     print(f"wrote {len(rows)} samples of {len(ids)} hangs to {args.out}")
     return 0

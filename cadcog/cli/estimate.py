@@ -11,18 +11,12 @@ from typing import Any
 import numpy as np
 
 from cadcog import tolerances
+from cadcog.errormodel import ErrorModel
 from cadcog.errors import CadcogError
-from cadcog.estimator import POINT_SIGMA_MM
 from cadcog.fileio import round_floats
 from cadcog.inclinometer import InclinometerConfig
-from cadcog.measurement import (
-    CogEstimate,
-    MEData,
-    estimate_cog,
-    rig_point_sigma_mm,
-    wire_corrections,
-)
-from cadcog.readings import read_readings
+from cadcog.measurement import BodyBox, CogEstimate, MEData, estimate_cog
+from cadcog.readings import Suspension, read_readings
 from cadcog.rig import Rig
 from cadcog.rigfile import load_rig
 
@@ -68,14 +62,14 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--angle-sigma-deg",
         type=float,
-        help="per-axis reading uncertainty (default: from the inclinometer's accuracy and ADC "
-        f"step; {InclinometerConfig().angle_sigma_deg:.4f} for the paper's)",
+        help="override: per-axis std of a hang's mean reading (default: from the error model: "
+        "the accuracy bias per hang, noise and ADC per sample)",
     )
     p.add_argument(
         "--point-sigma-mm",
         type=float,
-        help=f"per-axis suspension point uncertainty (default {POINT_SIGMA_MM:.3f}, a 1 mm cube; "
-        "with --wire-correction, from the rig's play and wire model)",
+        help="override: isotropic per-axis std of a suspension point (default: from the error "
+        "model: the play in the face plane, the wire offset's spread along the bolt axis)",
     )
     p.add_argument(
         "--min-angle-deg",
@@ -86,9 +80,15 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument(
         "--wire-correction",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="move each point along its bolt axis by the wire offset the error model expects "
+        "(default on with --rig or --setup, which give the bolt axes)",
+    )
+    p.add_argument(
+        "--self-calibrate-wire",
         action="store_true",
-        help="with --rig: move each point along its bolt axis by the wire offset the rig's error "
-        "model expects, and take the point uncertainty from that model",
+        help="estimate the wire offset scale λ with the CoG (3 or more hangs) and report it",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
@@ -101,8 +101,11 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
             raise CadcogError("give either --rig or --object-mass-kg/--me-mass-kg/--me-cog-mm")
         rig = load_rig(args.rig)
         return MEData.from_rig(rig), rig.inclinometer, rig
-    if args.wire_correction:
-        raise CadcogError("--wire-correction needs --rig (the wire model lives in the rig file)")
+    if args.wire_correction or args.self_calibrate_wire:
+        raise CadcogError(
+            "--wire-correction/--self-calibrate-wire need --rig or --setup (they give the bolt "
+            "axes and the wire model)"
+        )
     if all(v is None for v in direct):
         return None, InclinometerConfig(), None
     if any(v is None for v in direct):
@@ -130,25 +133,39 @@ def run(args: argparse.Namespace) -> int:
         return run_setup(args)
     me, config, rig = _me_data(args)
     suspensions = read_readings(args.readings, config)
-    offsets = None
-    point_sigma = args.point_sigma_mm
-    if args.wire_correction and rig is not None:
-        try:
-            offsets = wire_corrections(rig, suspensions)
-        except ValueError as exc:
-            raise CadcogError(f"{args.readings}: {exc}") from None
-        if point_sigma is None:
-            point_sigma = rig_point_sigma_mm(rig)
-    result = estimate_cog(
-        suspensions,
-        config,
-        me,
-        angle_sigma_deg=args.angle_sigma_deg,
-        point_sigma_mm=POINT_SIGMA_MM if point_sigma is None else point_sigma,
-        min_angle_deg=args.min_angle_deg,
-        point_offsets_mm=offsets,
-    )
+    if rig is None:
+        result = _estimate(args, suspensions, config, me, None, None)
+    else:
+        result = _estimate(
+            args, suspensions, config, me, ErrorModel.from_rig(rig), BodyBox.of_rig(rig)
+        )
     return _emit(result, args.json)
+
+
+def _estimate(
+    args: argparse.Namespace,
+    suspensions: list[Suspension],
+    config: InclinometerConfig,
+    me: MEData | None,
+    model: ErrorModel | None,
+    body: BodyBox | None,
+) -> CogEstimate:
+    """:func:`estimate_cog` with the command's options; its refusals become user errors."""
+    try:
+        return estimate_cog(
+            suspensions,
+            config,
+            me,
+            model=model,
+            body=body,
+            wire_correction=args.wire_correction is not False,
+            self_calibrate=args.self_calibrate_wire,
+            angle_sigma_deg=args.angle_sigma_deg,
+            point_sigma_mm=args.point_sigma_mm,
+            min_angle_deg=args.min_angle_deg,
+        )
+    except ValueError as exc:  # bad combinations of options and data; geometry errors pass
+        raise CadcogError(f"{args.readings}: {exc}") from None
 
 
 def _emit(result: CogEstimate, as_json: bool, cad: dict[str, Any] | None = None) -> int:
@@ -185,6 +202,12 @@ def print_estimate(result: CogEstimate) -> None:
         print(f"{p.a + '-' + p.b:<12}{_fmt(p.midpoint_mm):<35}{p.gap_mm:>8.3f}{p.angle_deg:>11.2f}")
     print()
     sigma = np.sqrt(np.diag(result.joint.cov_mm2))
+    j = result.joint
+    print(f"lines' consistency: χ² = {j.chi2:.2f} with {j.dof} dof (p = {j.chi2_p_value:.3f})")
+    if j.wire is not None:
+        what = "estimated" if j.wire.estimated else "expected (error model)"
+        spread = f" ± {j.wire.sigma_mm:.3f}" if j.wire.sigma_mm else ""
+        print(f"wire offset scale λ, {what}: {j.wire.scale_mm:.3f}{spread} mm")
     print(f"assembly CoG (object + ME): {_fmt(result.assembly_cog_mm)} mm  ± {_fmt(sigma)} mm")
     if result.compensation is None:
         print("no ME data given: the CoG above is not compensated for the measurement equipment")
@@ -205,14 +228,10 @@ def run_setup(args: argparse.Namespace) -> int:
 
     setup = load_setup(args.setup)
     suspensions = read_readings(args.readings, setup.rig.inclinometer)
-    point_sigma = args.point_sigma_mm
-    result = estimate_cog(
-        suspensions,
-        setup.rig.inclinometer,
-        setup.me_data(),
-        angle_sigma_deg=args.angle_sigma_deg,
-        point_sigma_mm=rig_point_sigma_mm(setup.rig) if point_sigma is None else point_sigma,
-        min_angle_deg=args.min_angle_deg,
+    lo, hi = setup.bbox_mm
+    body = BodyBox(lo, hi, f"setup {setup.source}")
+    result = _estimate(
+        args, suspensions, setup.rig.inclinometer, setup.me_data(), setup.error_model(), body
     )
     return _emit(result, args.json, compare_with_cad(setup, result.cog_mm, result.cov_mm2))
 

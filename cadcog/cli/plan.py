@@ -16,11 +16,12 @@ def add_parser(sub: Any) -> None:
         "plan",
         help="plan the suspension test of a spacecraft from its CAD",
         description="For each candidate suspension point: is the inclinometer in range? For "
-        "each pair: conditioning and simulated 95 %% error. Then the set of suspensions with the "
-        "smallest predicted error. See docs/spacecraft.md.",
+        "each pair and set: the 95 %% error the estimator's covariance predicts; the best sets "
+        "are then simulated with the error model and the estimator of cadcog estimate, and the "
+        "one with the smallest simulated 95 %% error is recommended. See docs/spacecraft.md.",
     )
     p.add_argument("setup", type=Path, help="set-up file (TOML)")
-    p.add_argument("--trials", type=int, default=2000, help="Monte Carlo trials per pair/set")
+    p.add_argument("--trials", type=int, default=10_000, help="Monte Carlo trials per finalist set")
     p.add_argument("--max-set", type=int, default=4, help="largest set of hangs to consider")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -57,16 +58,19 @@ def run(args: argparse.Namespace) -> int:
     )
     for c in bad:
         print(f"  {c.id}: cannot work: {c.reason}")
-    print("\nbest pairs (eq. 8):")
+    if plan.model is not None:
+        print(f"error model: {plan.model.summary()}")
+    print("\nbest pairs (linearised 95 % error):")
     for p in plan.pairs[:5]:
         print(
             f"  {p['a']} + {p['b']}: lines at {p['angle_deg']:.1f}°, 95 % error "
-            f"{p['q95_mm']:.3f} mm"
+            f"{p['linearised_q95_mm']:.3f} mm"
         )
-    print("\nbest set of each size (joint estimate):")
+    print(f"\nbest set of each size (joint estimate, {plan.trials} simulated trials each):")
     for s in plan.best_sets:
         print(
             f"  {len(s['points'])} hangs: {', '.join(s['points'])}: 95 % error {s['q95_mm']:.3f} mm"
+            f" (linearised {s['linearised_q95_mm']:.3f})"
         )
     if plan.recommended is None:
         print("\nno usable pair: add candidates or move the ME")

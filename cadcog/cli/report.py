@@ -46,7 +46,8 @@ def run(args: argparse.Namespace) -> int:
         )
     except ValueError as exc:
         raise CadcogError(str(exc)) from None
-    est, sim, val = result.estimate, result.simulation, result.validation.validation
+    est, sim = result.estimate, result.simulation
+    val, verdict = result.validation.validation, result.validation.verdict
     sigma = np.sqrt(np.diag(est.cov_mm2))
     truth = np.array(result.ground_truth["bodies"]["proof_mass"]["cog_mm"])
     print(f"rig {rig.name!r}: CAD proof-mass CoG {np.round(truth, 3).tolist()} mm")
@@ -54,7 +55,8 @@ def run(args: argparse.Namespace) -> int:
     kind = "virtual" if result.campaign_is_virtual else "measured"
     print(
         f"{kind} campaign: {len(val.pairs)} pairs, "
-        f"{'consistent' if val.consistent else 'NOT consistent'} with the simulation"
+        f"{'consistent' if verdict.consistent else 'NOT consistent'} with the error model "
+        f"(p = {verdict.p_value:.3f})"
     )
     print(
         f"compensated CoG {np.round(est.cog_mm, 3).tolist()} mm ± "

@@ -9,7 +9,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from cadcog.errormodel import ErrorModel
+from cadcog.errormodel import INCLINOMETER_MODELS, WIRE_MODELS, ErrorModel
 from cadcog.errors import CadcogError
 from cadcog.fileio import round_floats, staged_file
 from cadcog.rigfile import default_rig_path, load_rig
@@ -19,9 +19,10 @@ from cadcog.simulation import SimulationReport, SimulationSettings, run_simulati
 def add_parser(sub: Any) -> None:
     p = sub.add_parser(
         "simulate",
-        help="Monte Carlo of the CoG error with Rayleigh/Maxwell fits",
-        description="Draw suspension points over the proof mass, perturb every error source, "
-        "estimate, compensate and compare with the CAD ground truth. See docs/montecarlo.md.",
+        help="Monte Carlo of the CoG error: quantiles, and moment fits with their quality",
+        description="Draw suspension points over the proof mass, perturb every error source of "
+        "the rig's error model, estimate as cadcog estimate does, compensate and compare with "
+        "the CAD ground truth. See docs/montecarlo.md.",
     )
     p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
     p.add_argument(
@@ -52,17 +53,30 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument(
         "--wire-correction",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="correct each point for the expected wire offset, as cadcog estimate does "
+        "(default on)",
+    )
+    p.add_argument(
+        "--self-calibrate-wire",
         action="store_true",
-        help="correct each point for the expected wire offset",
+        help="estimate the wire offset scale with the CoG (groups of 3 or more)",
+    )
+    p.add_argument(
+        "--paper",
+        action="store_true",
+        help="the paper's Monte Carlo: its averaged inclinometer model, no sensor noise, eq. 8 "
+        "(equal weights) and no wire correction",
     )
     p.add_argument("--samples", type=int, help="readings averaged per suspension (overrides rig)")
     p.add_argument(
         "--inclinometer-model",
-        choices=("paper", "conservative"),
+        choices=INCLINOMETER_MODELS,
         help="inclinometer error model (overrides the rig)",
     )
     p.add_argument(
-        "--wire-model", choices=("paper", "elastica"), help="wire offset model (overrides the rig)"
+        "--wire-model", choices=WIRE_MODELS, help="wire offset model (overrides the rig)"
     )
     p.add_argument("--workers", type=int, default=1, help="processes (default 1)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -76,7 +90,11 @@ def run(args: argparse.Namespace) -> int:
     rig = load_rig(args.rig or default_rig_path())
     if args.trials < 2 or args.points < 0 or args.workers < 1 or args.seed < 0:
         raise CadcogError("--trials-per-pair ≥ 2, --points ≥ 0, --workers ≥ 1, --seed ≥ 0")
+    if args.paper and args.self_calibrate_wire:
+        raise CadcogError("--paper and --self-calibrate-wire exclude each other")
     model = ErrorModel.from_rig(rig)
+    if args.paper:
+        model = model.paper()
     if args.samples is not None:
         if args.samples < 1:
             raise CadcogError("--samples must be at least 1")
@@ -85,13 +103,17 @@ def run(args: argparse.Namespace) -> int:
         model = replace(model, inclinometer_model=args.inclinometer_model)
     if args.wire_model is not None:
         model = replace(model, wire_model=args.wire_model)
+    if args.self_calibrate_wire and (args.group_size < 3 or not args.wire_correction):
+        raise CadcogError("--self-calibrate-wire needs --group-size 3 or more and the correction")
     settings = SimulationSettings(
         args.points,
         args.trials,
         args.seed,
         args.group_size,
         args.min_angle_deg,
-        args.wire_correction,
+        weighted=not args.paper,
+        wire_correction=args.wire_correction and not args.paper,
+        self_calibrate=args.self_calibrate_wire,
     )
     bar = None
     if sys.stderr.isatty():
@@ -116,13 +138,13 @@ def run(args: argparse.Namespace) -> int:
 
         with staged_file(args.plot) as tmp:
             error_histogram(
-                report.result.norms_mm,
+                report.result.histogram,
                 report.fits,
                 tmp,
                 f"{rig.name}: {report.fits.n} trials, {len(report.groups)} groups",
             )
     if args.json:
-        print(json.dumps(round_floats(report.to_dict()), indent=2))
+        print(json.dumps(round_floats(report.to_dict()), indent=2, ensure_ascii=False))
     else:
         print_report(report)
     return 0
@@ -131,25 +153,41 @@ def run(args: argparse.Namespace) -> int:
 def print_report(report: SimulationReport) -> None:
     f, r = report.fits, report.result
     s = report.settings
-    kind = "pairs (eq. 8)" if s.group_size == 2 else f"groups of {s.group_size} (joint estimate)"
+    kind = "pairs" if s.group_size == 2 else f"groups of {s.group_size} (joint estimate)"
     print(
         f"{f.n} trials: {len(report.groups)} {kind} of {len(report.scenario.ids)} points, "
         f"{s.trials_per_group} trials each, seed {s.seed}"
     )
-    print(f"|e| median {f.q50_mm:.3f} mm, 95 % {f.q95_mm:.3f} mm")
+    print(f"error model: {report.model.summary()}")
+    est = s.options.describe()
     print(
-        f"maximum likelihood: Rayleigh σ = {f.rayleigh_sigma_mm:.3f} mm (KS {f.ks_rayleigh:.3f}), "
-        f"Maxwell a = {f.maxwell_a_mm:.3f} mm (KS {f.ks_maxwell:.3f})"
+        f"estimator: {est['estimator']}, wire correction {'on' if s.wire_correction else 'off'}"
+        + (", wire self-calibrated" if s.self_calibrate else "")
     )
-    print(
-        f"median-matched:     Rayleigh σ = {f.rayleigh_sigma_median_mm:.3f} mm "
-        f"(KS {f.ks_rayleigh_median:.3f}), Maxwell a = {f.maxwell_a_median_mm:.3f} mm "
-        f"(KS {f.ks_maxwell_median:.3f})"
-    )
+    print(f"\n|e| median {f.q50_mm:.3f} mm, 95 % {f.q95_mm:.3f} mm, 99 % {report.q99_mm:.3f} mm")
+    sc = report.screened
+    if "q95_mm" in sc:
+        print(
+            f"groups with lines at ≥ {sc['min_angle_deg']:g}° ({sc['n_groups']} of "
+            f"{len(report.groups)}): median {sc['q50_mm']:.3f} mm, 95 % {sc['q95_mm']:.3f} mm, "
+            f"99 % {sc['q99_mm']:.3f} mm"
+        )
+    else:
+        print(f"no group has lines at ≥ {sc['min_angle_deg']:g}°")
     axes = ", ".join(
         f"{b:+.3f} ± {sd:.3f}" for b, sd in zip(r.axis_mean_mm, r.axis_std_mm, strict=True)
     )
     print(f"per-axis bias ± std (x, y, z): {axes} mm")
+    print("\nmoment fits (KS distance = their quality; the quantiles above are the result):")
+    print(
+        f"  maximum likelihood: Rayleigh σ = {f.rayleigh_sigma_mm:.3f} mm (KS "
+        f"{f.ks_rayleigh:.3f}), Maxwell a = {f.maxwell_a_mm:.3f} mm (KS {f.ks_maxwell:.3f})"
+    )
+    print(
+        f"  median-matched:     Rayleigh σ = {f.rayleigh_sigma_median_mm:.3f} mm "
+        f"(KS {f.ks_rayleigh_median:.3f}), Maxwell a = {f.maxwell_a_median_mm:.3f} mm "
+        f"(KS {f.ks_maxwell_median:.3f})"
+    )
     print("worst groups by 95 % quantile:")
     for w in report.worst_groups():
         print(

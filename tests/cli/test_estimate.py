@@ -37,7 +37,7 @@ def test_rig_compensation_recovers_the_proof_mass_cog(tmp_path, capsys, paper_ri
 
 
 def test_direct_me_values_equal_the_rig_path(tmp_path, capsys, paper_rig):
-    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig, wire_offset_mm=0.0))
     me = paper_rig.analytic_me
     cog = ",".join(repr(float(c)) for c in me.cog_mm)
     out, _ = _run_json(
@@ -54,7 +54,7 @@ def test_direct_me_values_equal_the_rig_path(tmp_path, capsys, paper_rig):
 
 
 def test_without_me_data_the_result_says_so(tmp_path, capsys, paper_rig):
-    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig, wire_offset_mm=0.0))
     out, err = _run_json(capsys, str(csv))
     assert out["cog_mm"] == out["assembly_cog_mm"]
     assert out["compensation"] == {"applied": False}
@@ -83,7 +83,7 @@ def test_sign_flip_in_the_rig_file(tmp_path, capsys, paper_rig):
 
 
 def test_normalisation_is_warned_and_counted(tmp_path, capsys, paper_rig):
-    rows = ideal_rows(paper_rig)
+    rows = ideal_rows(paper_rig, wire_offset_mm=0.0)
     rows.append("S9,100,0,0,50,50,true")
     out, _ = _run_json(capsys, str(write_csv(tmp_path / "r.csv", rows)))
     assert out["n_normalized"] == 1
@@ -91,7 +91,7 @@ def test_normalisation_is_warned_and_counted(tmp_path, capsys, paper_rig):
 
 
 def test_outlier_suspension_is_flagged(tmp_path, capsys, paper_rig):
-    rows = ideal_rows(paper_rig)
+    rows = ideal_rows(paper_rig, wire_offset_mm=0.0)
     f = rows[2].split(",")
     f[4] = repr(float(f[4]) + 3.0)  # 3° off on one suspension
     rows[2] = ",".join(f)
@@ -136,3 +136,40 @@ def test_sigma_options_are_checked_with_setup_too(tmp_path, capsys):
     csv = write_csv(tmp_path / "r.csv", ["S1,0,0,100,10,5,true", "S2,100,0,0,-30,0,false"])
     assert main(["estimate", str(csv), "--setup", "unused.toml", "--point-sigma-mm", "0"]) == 2
     assert "--point-sigma-mm must be positive" in capsys.readouterr().err
+
+
+def test_self_calibrated_wire_scale_is_found_and_reported(tmp_path, capsys, paper_rig):
+    """Noise-free hangs whose wire offset is 0.8 mm, not the 0.5 mm the rig file expects."""
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig, wire_offset_mm=0.8))
+    rig = str(paper_rig.source)
+    out, _ = _run_json(capsys, str(csv), "--rig", rig, "--self-calibrate-wire")
+    assert out["wire"]["estimated"] is True and out["wire"]["prior_mm"] == 0.5
+    assert out["wire"]["scale_mm"] == pytest.approx(0.8, abs=1e-9)
+    assert out["wire"]["sigma_mm"] > 0
+    np.testing.assert_allclose(out["cog_mm"], paper_rig.analytic_proof_mass.cog_mm, atol=1e-9)
+    fixed, _ = _run_json(capsys, str(csv), "--rig", rig)  # assumes 0.5 mm: off, and says so
+    assert fixed["consistency"]["p_value"] < out["consistency"]["p_value"]
+    assert main(["estimate", str(csv), "--rig", rig]) == 0
+    assert "wire offset scale λ, expected (error model): 0.500 mm" in capsys.readouterr().out
+
+
+def test_wire_options_need_bolt_axes_and_three_hangs(tmp_path, capsys, paper_rig):
+    rows = ideal_rows(paper_rig)
+    csv = write_csv(tmp_path / "r.csv", rows)
+    assert main(["estimate", str(csv), "--self-calibrate-wire"]) == 2
+    assert "need --rig or --setup" in capsys.readouterr().err
+    two = write_csv(tmp_path / "two.csv", rows[:2])
+    assert (
+        main(["estimate", str(two), "--rig", str(paper_rig.source), "--self-calibrate-wire"]) == 2
+    )
+    err = capsys.readouterr().err
+    assert "three or more suspensions" in err and str(two) in err
+
+
+def test_point_inside_the_body_names_the_line(tmp_path, capsys, paper_rig):
+    rows = ideal_rows(paper_rig)
+    rows.append("S9,100,30,30,10,5,true")  # inside the proof mass: no face, no bolt axis
+    csv = write_csv(tmp_path / "r.csv", rows)
+    assert main(["estimate", str(csv), "--rig", str(paper_rig.source)]) == 2
+    err = capsys.readouterr().err
+    assert f"{csv}: line 8: suspension S9" in err and "inside the body" in err

@@ -18,10 +18,8 @@ SETUP = default_rig_path().parent / "cubesat_3u_setup.toml"
 
 
 @pytest.fixture(scope="module")
-def setup():
-    from cadcog.spacecraft import load_setup
-
-    return load_setup(SETUP)
+def setup(cubesat_setup):
+    return cubesat_setup
 
 
 def test_build_then_massprops_of_the_step(tmp_path, capsys, setup):
@@ -48,6 +46,8 @@ def test_plan_campaign_estimate_recovers_the_cad_cog(tmp_path, capsys, setup):
     assert all(c["usable"] for c in plan["candidates"])
     rec = plan["recommended"]
     assert len(rec["points"]) >= 2 and rec["q95_mm"] < 2.0
+    assert plan["error_model"]["inclinometer_model"] == "hang-bias"
+    assert "Monte Carlo" in plan["prediction"]
     assert plan["me_share"] == pytest.approx(setup.me_mass_kg / setup.mass.mass_kg)
     csv = tmp_path / "readings.csv"
     assert (
@@ -69,11 +69,21 @@ def test_plan_campaign_estimate_recovers_the_cad_cog(tmp_path, capsys, setup):
     capsys.readouterr()
     assert main(["estimate", str(csv), "--setup", str(SETUP), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
+    # The set-up gives the bolt axes: the expected wire offset is corrected by default.
+    assert out["model"]["wire_correction"] is True
+    assert out["wire"] == {"scale_mm": 0.5, "sigma_mm": 0.0, "estimated": False, "prior_mm": 0.5}
     cad = out["cad"]
     np.testing.assert_allclose(cad["cad_cog_mm"], setup.mass.cog_mm)
     # Within the predicted uncertainty: a 99.9 % ellipsoid of the reported covariance.
     assert cad["mahalanobis"] < np.sqrt(stats.chi2.ppf(0.999, df=3))
     assert cad["cubesat"]["within"] and cad["cubesat"]["limits_mm"] == [20.0, 20.0, 70.0]
+    # --no-wire-correction is applied too (it was silently ignored with --setup once).
+    assert (
+        main(["estimate", str(csv), "--setup", str(SETUP), "--no-wire-correction", "--json"]) == 0
+    )
+    raw = json.loads(capsys.readouterr().out)
+    assert raw["model"]["wire_correction"] is False and raw["wire"] is None
+    assert np.linalg.norm(np.subtract(raw["cog_mm"], out["cog_mm"])) > 0.05
 
 
 def test_candidate_out_of_range_says_why(setup):
