@@ -1,4 +1,4 @@
-"""A parametric CubeSat (structure, rails, boards, battery pack, payload) in build123d.
+"""A parametric CubeSat (structure, rails, boards, battery pack, payload) as a STEP assembly.
 
 Frame: origin at the geometric centre of the envelope, z along the rails (CubeSat convention).
 The structure is four square rails at the corners, four side panels between them and two end
@@ -12,9 +12,12 @@ from dataclasses import dataclass
 from itertools import combinations
 from pathlib import Path
 
-import build123d as bd
 import numpy as np
+from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder
+from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
+from OCP.TopoDS import TopoDS_Shape
 
+from cadcog.cad.assembly import Assembly, Part, Placement
 from cadcog.errors import ParameterFileError
 from cadcog.materials import LIBRARY, MaterialMap
 from cadcog.paramfile import TableReader, read_toml, toml_string
@@ -135,33 +138,33 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
     return spec
 
 
-def _centred_box(size: tuple[float, float, float]) -> bd.Solid:
+def _centred_box(size: tuple[float, float, float]) -> TopoDS_Shape:
     """A box centred on the origin."""
     sx, sy, sz = size
-    return bd.Solid.make_box(sx, sy, sz, bd.Plane(origin=(-sx / 2, -sy / 2, -sz / 2)))
+    return BRepPrimAPI_MakeBox(gp_Pnt(-sx / 2, -sy / 2, -sz / 2), sx, sy, sz).Shape()
 
 
-def _instance(
-    solid: bd.Solid,
-    name: str,
-    at: tuple[float, float, float],
-    rotation_deg: tuple[float, float, float] = (0.0, 0.0, 0.0),
-) -> bd.Solid:
-    """An instance of ``solid`` (same geometry, own placement and name): a STEP export writes
-    one product and places it once per instance."""
-    placed = solid.moved(bd.Location(at, rotation_deg))
-    placed.label = name
-    return placed
+def _z_cylinder(diameter_mm: float, length_mm: float) -> TopoDS_Shape:
+    """A cylinder along z centred on the origin."""
+    base = gp_Ax2(gp_Pnt(0, 0, -length_mm / 2), gp_Dir(0, 0, 1))
+    return BRepPrimAPI_MakeCylinder(base, diameter_mm / 2, length_mm).Shape()
 
 
-def build_cubesat(spec: CubeSatSpec) -> tuple[bd.Compound, dict[str, str]]:
+def _turn(
+    deg: float, axis: tuple[float, float, float] = (0.0, 0.0, 1.0)
+) -> tuple[tuple[tuple[float, float, float], float], ...]:
+    return ((axis, deg),) if deg else ()
+
+
+def build_cubesat(spec: CubeSatSpec) -> tuple[Assembly, dict[str, str]]:
     """The CubeSat as a nested, instanced assembly, and each solid's material.
 
     Like a real export, products are modelled once and placed many times: one rail placed four
     times (turned 90° each), one side panel four times, one end plate twice (turned over for
     −z); components are modelled about their own centre and placed inside a
     ``payload_and_bus`` sub-assembly, which is itself placed at the stack's mid-height. The
-    geometry, and so the mass properties, are those of the spec.
+    geometry, and so the mass properties, are those of the spec. Write it with
+    :func:`cadcog.cad.assembly.write_assembly`.
     """
     w = 0.5 * spec.width_mm
     r = spec.rail_mm
@@ -169,50 +172,47 @@ def build_cubesat(spec: CubeSatSpec) -> tuple[bd.Compound, dict[str, str]]:
     h = 0.5 * spec.length_mm
     inner = w - r
     materials: dict[str, str] = {}
-    rail = _centred_box((r, r, 2 * h))
-    structure = [
-        _instance(rail, f"rail_{i + 1}", (sx * (w - r / 2), sy * (w - r / 2), 0.0), (0, 0, 90 * i))
-        for i, (sx, sy) in enumerate([(1, 1), (-1, 1), (-1, -1), (1, -1)])
-    ]
+    structure = Assembly("structure")
+    rail = Part("rail", [_centred_box((r, r, 2 * h))])
+    for i, (sx, sy) in enumerate([(1, 1), (-1, 1), (-1, -1), (1, -1)]):
+        at = (sx * (w - r / 2), sy * (w - r / 2), 0.0)
+        structure.add(rail, Placement(at, _turn(90.0 * i)), f"rail_{i + 1}")
     # Side panels span between the rails; end plates fill the square inside the rails.
-    panel = _centred_box((t, 2 * inner, 2 * h))
+    panel = Part("panel", [_centred_box((t, 2 * inner, 2 * h))])
     for name, at, turn in [
-        ("panel_+x", (w - t / 2, 0.0, 0.0), 0),
-        ("panel_+y", (0.0, w - t / 2, 0.0), 90),
-        ("panel_-x", (-(w - t / 2), 0.0, 0.0), 180),
-        ("panel_-y", (0.0, -(w - t / 2), 0.0), 270),
+        ("panel_+x", (w - t / 2, 0.0, 0.0), 0.0),
+        ("panel_+y", (0.0, w - t / 2, 0.0), 90.0),
+        ("panel_-x", (-(w - t / 2), 0.0, 0.0), 180.0),
+        ("panel_-y", (0.0, -(w - t / 2), 0.0), 270.0),
     ]:
-        structure.append(_instance(panel, name, at, (0, 0, turn)))
-    plate = _centred_box((2 * inner, 2 * inner, t))
-    structure.append(_instance(plate, "end_plate_+z", (0.0, 0.0, h - t / 2)))
-    structure.append(_instance(plate, "end_plate_-z", (0.0, 0.0, -(h - t / 2)), (180, 0, 0)))
-    for s in structure:
-        materials[s.label] = spec.structure_material
-    mid_z = (
-        0.5
-        * (
-            min(c.bounds()[0][2] for c in spec.components)
-            + max(c.bounds()[1][2] for c in spec.components)
-        )
-        if spec.components
-        else 0.0
+        structure.add(panel, Placement(at, _turn(turn)), name)
+    plate = Part("end_plate", [_centred_box((2 * inner, 2 * inner, t))])
+    structure.add(plate, Placement((0.0, 0.0, h - t / 2)), "end_plate_+z")
+    structure.add(
+        plate, Placement((0.0, 0.0, -(h - t / 2)), _turn(180.0, (1.0, 0.0, 0.0))), "end_plate_-z"
     )
-    parts = []
+    for _, _, name in structure.components:
+        materials[name] = spec.structure_material
+    mid_z = 0.0
+    if spec.components:
+        low = min(c.bounds()[0][2] for c in spec.components)
+        high = max(c.bounds()[1][2] for c in spec.components)
+        mid_z = 0.5 * (low + high)
+    bus = Assembly("payload_and_bus")
     for c in spec.components:
         local = np.asarray(c.center_mm) - [0.0, 0.0, mid_z]
         if c.size_mm is not None:
-            solid = _centred_box(c.size_mm)
+            shape = _centred_box(c.size_mm)
         else:
             assert c.cylinder is not None
-            d, length = c.cylinder
-            solid = bd.Solid.make_cylinder(d / 2, length, bd.Plane(origin=(0, 0, -length / 2)))
-        parts.append(_instance(solid, c.name, (float(local[0]), float(local[1]), float(local[2]))))
+            shape = _z_cylinder(*c.cylinder)
+        at = (float(local[0]), float(local[1]), float(local[2]))
+        bus.add(Part(c.name, [shape]), Placement(at), c.name)
         materials[c.name] = c.material
-    bus = bd.Compound(children=parts, label="payload_and_bus").moved(bd.Location((0.0, 0.0, mid_z)))
-    asm = bd.Compound(
-        children=[bd.Compound(children=structure, label="structure"), bus], label=spec.name
-    )
-    return asm, materials
+    top = Assembly(spec.name)
+    top.add(structure, Placement(), "structure")
+    top.add(bus, Placement((0.0, 0.0, mid_z)), "payload_and_bus")
+    return top, materials
 
 
 def material_map(spec: CubeSatSpec, materials: dict[str, str]) -> MaterialMap:

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import datetime as _dt
-import os
 from pathlib import Path
 
 import build123d as bd
@@ -11,19 +9,14 @@ from OCP.BRepMesh import BRepMesh_IncrementalMesh
 from OCP.StlAPI import StlAPI_Writer
 
 from cadcog import tolerances
+from cadcog.cad.assembly import step_timestamp
 from cadcog.errors import CadcogError
 from cadcog.units import deg_to_rad
 
 
-def _timestamp() -> _dt.datetime:
-    """STEP header time: ``SOURCE_DATE_EPOCH`` if set (reproducible builds), else the epoch."""
-    seconds = int(os.environ.get("SOURCE_DATE_EPOCH", "0"))
-    return _dt.datetime.fromtimestamp(seconds, tz=_dt.UTC).replace(tzinfo=None)
-
-
 def write_step(assembly: bd.Compound, path: Path) -> None:
     """Write a labelled assembly to STEP (AP214, mm); the labels become product names."""
-    if not bd.export_step(assembly, path, timestamp=_timestamp()):
+    if not bd.export_step(assembly, path, timestamp=step_timestamp()):
         raise CadcogError(f"{path}: STEP export failed")
 
 

@@ -1,7 +1,7 @@
 """The model keys shared by set-up and requirements files: which CAD, which densities.
 
-A file names its model either as a cadcog CubeSat spec (``model = "cubesat_3u.toml"``: built
-with build123d, exported to STEP and read back like any export) or as a STEP file
+A file names its model either as a cadcog CubeSat spec (``model = "cubesat_3u.toml"``: built,
+written to STEP and read back like any export) or as a STEP file
 (``model_step = "sat.step"``), with optional keys that mean what the ``cadcog massprops``
 options mean:
 
@@ -37,15 +37,14 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
     turns every note about the model into an error, as ``cadcog massprops --strict``."""
     total = t.number("total_mass_kg", positive=True) if t.has("total_mass_kg") else None
     if t.has("model"):
-        import build123d as bd
-
+        from cadcog.cad.assembly import write_assembly
         from cadcog.cad.cubesat import build_cubesat, load_cubesat, material_map
 
         spec = load_cubesat(base / t.string("model"))
         asm, mats = build_cubesat(spec)
         with tempfile.TemporaryDirectory() as tmp:
             step = Path(tmp) / "model.step"
-            bd.export_step(asm, step)
+            write_assembly(asm, step)  # read back as any export is
             model = read_step(step)
         materials: MaterialMap | None = material_map(spec, mats)
         if t.has("materials"):  # a materials file's rules come first, the spec's complete them
@@ -79,6 +78,6 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
         strict=strict,
     )
     if t.has("model"):  # name the spec, not the temporary STEP it was read back from
-        source = f"{base / t.string('model')} (built with build123d)"
+        source = f"{base / t.string('model')} (built)"
         result = replace(result, audit=replace(result.audit, source=source))
     return result

@@ -80,17 +80,15 @@ def run_build(args: argparse.Namespace) -> int:
 def run_cubesat(args: argparse.Namespace) -> int:
     from importlib import resources
 
-    import build123d as bd
-
+    from cadcog.cad.assembly import write_assembly
     from cadcog.cad.cubesat import build_cubesat, load_cubesat, materials_toml
-    from cadcog.cad.export import _timestamp
     from cadcog.fileio import staged_output_dir
 
     spec_path = args.spec or Path(str(resources.files("cadcog._rigs").joinpath("cubesat_3u.toml")))
     spec = load_cubesat(spec_path)
     asm, materials = build_cubesat(spec)
     with staged_output_dir(args.out) as stage:
-        bd.export_step(asm, stage / f"{spec.name}.step", timestamp=_timestamp())
+        write_assembly(asm, stage / f"{spec.name}.step")
         (stage / f"{spec.name}_materials.toml").write_text(materials_toml(spec, materials), "utf-8")
     print(
         f"wrote {args.out / (spec.name + '.step')} ({len(materials)} solids) and "
