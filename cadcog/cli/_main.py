@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 from cadcog import __version__
 from cadcog.cli import (
+    acquire,
     budget,
     campaign,
     estimate,
@@ -46,6 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
     report.add_parser(sub)
     massprops.add_parser(sub)
     plan.add_parser(sub)
+    acquire.add_parser(sub)
     return parser
 
 
