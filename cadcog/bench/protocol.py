@@ -220,10 +220,11 @@ def parse_header(body: str) -> Header:
         return kv[key]
 
     def num(key: str, kind: type = float) -> float:
+        text = get(key)
         try:
-            v = float(get(key)) if kind is float else int(get(key))
+            v = float(text) if kind is float else int(text)
         except ValueError:
-            raise LineError(f"header {key}={kv[key]!r} is not a number") from None
+            raise LineError(f"header {key}={text!r} is not a number") from None
         if not math.isfinite(v) or not v > 0:
             raise LineError(f"header {key}={kv[key]!r} must be positive")
         return v

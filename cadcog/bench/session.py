@@ -228,7 +228,16 @@ def run_session(
                 result.hangs.append(HangReport(h.id, attempt, "skipped", "by the operator"))
                 say(f"  {h.id}: skipped")
                 break
-            data = recorder.record_hang(began)
+            try:
+                data = recorder.record_hang(began)
+            except CadcogError as exc:
+                kept = [s.id for s in suspensions]
+                where = (
+                    f"{', '.join(kept)} recorded in {out}; run again to resume"
+                    if kept
+                    else "nothing recorded yet"
+                )
+                raise type(exc)(f"hang {h.id}: {exc} ({where})") from None
             text = block_text(
                 h.id,
                 h.position_mm,

@@ -285,7 +285,7 @@ class SimulatedDevice:
         corrupt = self.rng.random(len(t)) < s.line_corrupt_probability
         bursts = self.rng.random(len(t)) < s.noise_burst_probability
         for i, ti in enumerate(t):
-            if ti >= self._next_header_s:
+            if ti >= self._next_header_s and not s.foreign:
                 out += self._line(format_header(self.header))
                 self._next_header_s = float(ti + s.header_every_s)
             self._seq += 1
