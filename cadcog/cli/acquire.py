@@ -182,6 +182,7 @@ def run(args: argparse.Namespace) -> int:
         AutoOperator,
         ConsoleOperator,
         Operator,
+        SessionQuit,
         SimulatedOperator,
         run_session,
     )
@@ -233,9 +234,10 @@ def run(args: argparse.Namespace) -> int:
             result = run_session(target, recorder, args.out, operator, say, preamble)
         finally:
             link.close()
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, SessionQuit) as exc:
+        why = "stopped" if isinstance(exc, SessionQuit) else "interrupted"
         say(
-            f"\ninterrupted: the hang in progress was not recorded; {args.out} keeps every "
+            f"\n{why}: the hang in progress was not recorded; {args.out} keeps every "
             "finished hang. Run the same command again to resume."
         )
         return 130

@@ -185,3 +185,32 @@ def test_a_reading_beyond_the_range_is_refused(paper_rig, tmp_path):
     assert refused == {"S1", "S2"}  # |X| ≈ 50.6° > 45°; the others read within 45°
     recorded = [s.id for s in read_readings(tmp_path / "r.csv", target.inclinometer)]
     assert recorded == ["S3", "S4", "S5", "S6"]
+
+
+def test_an_operator_at_a_terminal_skips_stops_and_decides_on_redos(paper_target, tmp_path):
+    """The console operator: Enter when the object hangs, `s` skips, `q` stops, `n` keeps."""
+    from cadcog.bench.session import ConsoleOperator, SessionQuit
+
+    settings = SimulatorSettings(damping_ratio=0.05, slipped_hangs=(2,), slip_mm=8.0)  # S3
+    device = SimulatedDevice(paper_target, DeviceSpec(), settings, seed=11)
+    link = SimulatedLink(device)
+    order = iter([0, None, 2, None])  # S1 hung, S2 skipped, S3 hung (slips), stop at S4
+    prompts: list[str] = []
+
+    def person(prompt: str) -> str:
+        prompts.append(prompt)
+        if "redo" in prompt:
+            return "n"  # keep the slipped S3 anyway
+        index = next(order)
+        if index is None:
+            return "s" if len(prompts) < 3 else "q"
+        device.hang(index)  # the person hangs the object, then presses Enter
+        return ""
+
+    out = tmp_path / "r.csv"
+    recorder = Recorder(link, paper_target.inclinometer, average_s=5.0)
+    with pytest.raises(SessionQuit):
+        run_session(paper_target, recorder, out, ConsoleOperator(person), lambda _t: None)
+    assert any("redo S3?" in p for p in prompts)
+    text = out.read_text()
+    assert "# hang S1 begin" in text and "# hang S3 begin" in text and "S2," not in text

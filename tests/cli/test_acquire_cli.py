@@ -103,3 +103,21 @@ def test_bad_options_are_refused(tmp_path, capsys):
     assert "--average-s must be positive" in capsys.readouterr().err
     assert main(["acquire", "--simulate", "--out", out, "--points", "S1,S9"]) == 2
     assert "unknown point(s) S9" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_a_spacecraft_set_up_dry_run_compares_with_its_cad(tmp_path, capsys):
+    from cadcog.rigfile import default_rig_path
+
+    setup = default_rig_path().parent / "cubesat_3u_setup.toml"
+    out = tmp_path / "sat.csv"
+    points = "+x_-30_30,-x_-30_90,-y_-30_-30,Z1"
+    args = ["acquire", "--setup", str(setup), "--points", points, "--simulate", "--json"]
+    assert main([*args, "--seed", "1", "--out", str(out), *FAST]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [h["id"] for h in data["hangs"]] == points.split(",")
+    assert data["cad"]["mahalanobis"] < np.sqrt(stats.chi2.ppf(0.999, 3))
+    assert data["simulated_truth"]["mahalanobis"] < np.sqrt(stats.chi2.ppf(0.999, 3))
+    assert main(["estimate", str(out), "--setup", str(setup), "--json"]) == 0
+    again = json.loads(capsys.readouterr().out)
+    np.testing.assert_allclose(again["cog_mm"], data["estimate"]["cog_mm"], atol=1e-9)
