@@ -29,6 +29,7 @@ from cadcog.bench.target import (
     PlannedHang,
     estimate_hangs,
     estimate_summary,
+    inconsistent_ids,
     line_check,
 )
 from cadcog.errors import CadcogError
@@ -332,9 +333,7 @@ def _assess(
         f"[{', '.join(f'{v:.2f}' for v in est.cog_mm)}] mm ± "
         f"[{', '.join(f'{v:.2f}' for v in sigma)}] mm"
     )
-    others = [
-        r.id for r in est.joint.residuals if r.inconsistent and r.id != h.id
-    ]  # lines flagged other than the new one
+    others = [i for i in inconsistent_ids(est) if i != h.id]
     if others and len(previous) >= 2:
         say(f"  note: {', '.join(others)} now look(s) inconsistent with the rest")
     verdict = "consistent" if chk.consistent else "INCONSISTENT"

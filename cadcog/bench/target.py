@@ -209,6 +209,11 @@ def line_check(estimate: CogEstimate, point_id: str) -> LineCheck:
     raise KeyError(point_id)
 
 
+def inconsistent_ids(estimate: CogEstimate) -> list[str]:
+    """Ids of the suspensions the estimator flags as inconsistent with the others."""
+    return [r.id for r in estimate.joint.residuals if r.inconsistent]
+
+
 def estimate_summary(estimate: CogEstimate) -> dict[str, Any]:
     """The estimate as plain JSON (the estimator's own ``to_dict``)."""
     return estimate.to_dict()
