@@ -30,7 +30,7 @@ from cadcog.geometry import (
     ideal_reading,
 )
 from cadcog.massprops import MassProperties
-from cadcog.measurement import MEData
+from cadcog.measurement import BodyBox, MEData
 from cadcog.montecarlo import EstimatorOptions, Scenario, simulate
 from cadcog.paramfile import TableReader, read_toml
 from cadcog.rig import MEVolume, Rig, me_cog_cov_mm2
@@ -77,6 +77,11 @@ class Setup:
     @property
     def me_cog_cov_mm2(self) -> FloatArray:
         return me_cog_cov_mm2(self.me_volumes)
+
+    def body(self) -> BodyBox:
+        """The model's bounding box: the faces the suspension points sit on (bolt axes)."""
+        lo, hi = self.bbox_mm
+        return BodyBox(np.asarray(lo), np.asarray(hi), f"setup {self.source}")
 
     def me_data(self) -> MEData:
         """What ME compensation needs: the spacecraft's CAD mass and the placed ME."""

@@ -108,8 +108,11 @@ def test_kernel_equals_a_dense_implementation(spokes, mode, wire_model, seed):
     errors = gls.LineErrors(play_var, axial_var, reading_var)
     wire = gls.WireTerm(wire_model, lam0, lam_var, mode == "estimate")
     batch = gls.plumb_gls(p.T[:, :, None], u.T[:, :, None], n.T[:, :, None], errors, wire)
-    x, cov, lam, lam_var_dense, cond = dense_gls(p, u, n, f, play_var, axial_var, reading_var,
-                                                 lam0, lam_var, mode == "estimate")  # fmt: skip
+    try:
+        x, cov, lam, lam_var_dense, cond = dense_gls(p, u, n, f, play_var, axial_var, reading_var,
+                                                     lam0, lam_var, mode == "estimate")  # fmt: skip
+    except np.linalg.LinAlgError:
+        assume(False)  # exactly parallel lines: the reference itself has no answer
     assume(cond < 1e8)  # near-parallel lines (or λ unidentifiable): round-off decides
     scale = np.sqrt(np.max(np.diag(cov)))
     np.testing.assert_allclose(batch.cog_mm[:, 0], x, atol=1e-6 * scale + 1e-9)

@@ -16,6 +16,7 @@ from types import FrameType
 
 from cadcog import __version__
 from cadcog.cli import (
+    acquire,
     budget,
     campaign,
     check,
@@ -51,6 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
     massprops.add_parser(sub)
     plan.add_parser(sub)
     check.add_parser(sub)
+    acquire.add_parser(sub)
     return parser
 
 

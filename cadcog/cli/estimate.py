@@ -228,10 +228,13 @@ def run_setup(args: argparse.Namespace) -> int:
 
     setup = load_setup(args.setup)
     suspensions = read_readings(args.readings, setup.rig.inclinometer)
-    lo, hi = setup.bbox_mm
-    body = BodyBox(lo, hi, f"setup {setup.source}")
     result = _estimate(
-        args, suspensions, setup.rig.inclinometer, setup.me_data(), setup.error_model(), body
+        args,
+        suspensions,
+        setup.rig.inclinometer,
+        setup.me_data(),
+        setup.error_model(),
+        setup.body(),
     )
     return _emit(result, args.json, compare_with_cad(setup, result.cog_mm, result.cov_mm2))
 

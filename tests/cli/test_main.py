@@ -29,6 +29,7 @@ def test_help_lists_the_subcommands(capsys):
         "report",
         "massprops",
         "plan",
+        "acquire",
     ):
         assert f"    {command}" in out, command
 

@@ -1,0 +1,352 @@
+"""The guided test run: the planned hangs in order, each checked against the others at once.
+
+For each planned hang not yet in the readings file: tell the operator where to hang the object
+(point, position, which face up, the readings the CAD expects), record it
+(:class:`~cadcog.bench.recorder.Recorder`), refuse a saturated or out-of-range hang, estimate
+the CoG from all hangs so far and test the new plumb line against the others; a line that does
+not fit is redone at once (the operator decides; without one, up to ``max_redo`` times). Only
+then is the hang appended to the file. The run ends with the compensated CoG.
+
+Who hangs the object is an :class:`Operator`: a person at a terminal
+(:class:`ConsoleOperator`), nobody (:class:`AutoOperator`: proceed as soon as the swing has
+settled), or the simulated device's own operator (:class:`SimulatedOperator`).
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from cadcog.bench.readingsfile import ReadingsFile, block_text, parse_block, suspension_of
+from cadcog.bench.recorder import HangData, Recorder
+from cadcog.bench.target import (
+    BenchTarget,
+    PlannedHang,
+    estimate_hangs,
+    estimate_summary,
+    inconsistent_ids,
+    line_check,
+)
+from cadcog.errors import CadcogError
+from cadcog.measurement import CogEstimate
+from cadcog.readings import Suspension, read_readings
+
+#: A settled reading this far from the CAD expectation (degrees, either axis) is reported:
+#: a wrong point, a wrong face up, or a CAD CoG far off.
+EXPECTATION_WARNING_DEG = 5.0
+
+
+class SessionQuit(CadcogError):
+    """The operator stopped the run (what was recorded stays; run again to resume)."""
+
+
+class Operator(Protocol):
+    """Who hangs the object."""
+
+    def hang(self, index: int, planned: PlannedHang, attempt: int) -> float | None:
+        """Hang the object from ``planned``; return the device time it began, or None (unknown).
+
+        Raise :class:`SessionQuit` to stop; return ``-inf`` to skip this point.
+        """
+        ...
+
+    def redo(self, planned: PlannedHang, reason: str, attempt: int) -> bool:
+        """Whether to redo a hang found bad for ``reason``."""
+        ...
+
+
+@dataclass
+class AutoOperator:
+    """No one to ask: go on at once; redo a bad hang up to ``max_redo`` times."""
+
+    max_redo: int = 1
+
+    def hang(self, index: int, planned: PlannedHang, attempt: int) -> float | None:
+        return None
+
+    def redo(self, planned: PlannedHang, reason: str, attempt: int) -> bool:
+        return attempt <= self.max_redo
+
+
+@dataclass
+class SimulatedOperator(AutoOperator):
+    """The simulated device's operator: moves the wire by telling the device (``hang``)."""
+
+    device: Any = None
+
+    def hang(self, index: int, planned: PlannedHang, attempt: int) -> float | None:
+        return float(self.device.hang(index))
+
+
+@dataclass
+class ConsoleOperator:
+    """A person at a terminal: Enter when hanging, ``s`` to skip, ``q`` to stop."""
+
+    ask: Callable[[str], str] = input
+
+    def hang(self, index: int, planned: PlannedHang, attempt: int) -> float | None:
+        answer = self.ask("  press Enter once it hangs free (s = skip this point, q = stop): ")
+        answer = answer.strip().lower()
+        if answer == "q":
+            raise SessionQuit("stopped by the operator")
+        return -np.inf if answer == "s" else None
+
+    def redo(self, planned: PlannedHang, reason: str, attempt: int) -> bool:
+        answer = self.ask(f"  redo {planned.id}? [Y/n] ").strip().lower()
+        return answer in ("", "y", "yes")
+
+
+@dataclass(frozen=True)
+class HangReport:
+    """What happened to one attempt at a hang.
+
+    Attributes
+    ----------
+    id : str
+    attempt : int
+    outcome : str
+        ``recorded``, ``redone`` (bad, recorded as comments only), ``kept`` (bad but kept),
+        ``refused`` (saturated or out of range) or ``skipped``.
+    reason : str
+    mean_deg : tuple of 2 floats or None
+    samples : int
+    settled_after_s, period_s, decay_time_s : float or None
+    sigma : float or None
+        The consistency statistic of its line (σ) when it was checked.
+    """
+
+    id: str
+    attempt: int
+    outcome: str
+    reason: str = ""
+    mean_deg: tuple[float, float] | None = None
+    samples: int = 0
+    settled_after_s: float | None = None
+    period_s: float | None = None
+    decay_time_s: float | None = None
+    sigma: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        return dict(self.__dict__)
+
+
+@dataclass
+class SessionResult:
+    """The outcome of a run."""
+
+    path: Path
+    device: str
+    hangs: list[HangReport] = field(default_factory=list)
+    resumed: list[str] = field(default_factory=list)
+    repaired_lines: int = 0
+    estimate: CogEstimate | None = None
+    link: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "readings": str(self.path),
+            "device": self.device,
+            "resumed": self.resumed,
+            "repaired_lines": self.repaired_lines,
+            "hangs": [h.to_dict() for h in self.hangs],
+            "link": self.link,
+            "estimate": None if self.estimate is None else estimate_summary(self.estimate),
+        }
+
+
+def _info(attempt: int, data: HangData, average_s: float, link: str) -> str:
+    sw = data.swing
+
+    def f(v: float | None, digits: int = 3) -> str:
+        return "na" if v is None else f"{v:.{digits}f}"
+
+    return (
+        f"attempt={attempt} settled_after_s={data.settled_after_s:.2f} period_s={f(sw.period_s)} "
+        f"decay_time_s={f(sw.decay_time_s, 2)} damping_ratio={f(sw.damping_ratio, 4)} "
+        f"start_swing_deg={sw.start_amplitude_deg:.3f} "
+        f"swing_at_settle_deg={data.amplitude_deg:.4f} "
+        f"samples={len(data.t_s)} average_s={average_s:g} link=({link})"
+    )
+
+
+def run_session(
+    target: BenchTarget,
+    recorder: Recorder,
+    out: str | Path,
+    operator: Operator,
+    say: Callable[[str], None] = print,
+    preamble: tuple[str, ...] = (),
+) -> SessionResult:
+    """Run the guided test run; append each good hang to ``out``; return what happened.
+
+    Raises
+    ------
+    CadcogError
+        Link failures, a hang that never settles (nothing is recorded for it), a readings file
+        that belongs to another run. What was recorded before stays, and a new run resumes.
+    """
+    units = recorder.open()
+    say(f"device: {units.header.describe()} on {recorder.link.name}")
+    rfile, blocks, repaired = ReadingsFile.open(out, units, preamble)
+    result = SessionResult(Path(out), units.header.describe(), repaired_lines=repaired)
+    planned = {h.id: h for h in target.hangs}
+    suspensions: list[Suspension] = []
+    for b in blocks:
+        h = planned.get(b.point_id)
+        if h is not None and not np.allclose(b.position_mm, h.position_mm, atol=1e-3):
+            raise CadcogError(
+                f"{out}, line {b.line}: {b.point_id} was recorded at {list(b.position_mm)} mm, "
+                f"the plan puts it at {list(h.position_mm)} mm: another rig or set-up? "
+                "give another --out"
+            )
+        suspensions.append(suspension_of(b, units))
+        result.resumed.append(b.point_id)
+    if repaired:
+        say(f"{out}: {repaired} line(s) of an interrupted hang turned into comments")
+    if result.resumed:
+        say(f"resuming {out}: already recorded {', '.join(result.resumed)}")
+    done = set(result.resumed)
+    todo = [(i, h) for i, h in enumerate(target.hangs) if h.id not in done]
+    for n, (index, h) in enumerate(todo, 1):
+        attempt = 0
+        while True:
+            attempt += 1
+            face = "UP" if h.top_face_up else "DOWN"
+            say(
+                f"\n[{len(done) + n}/{len(target.hangs)}] hang from {h.id} at "
+                f"({h.position_mm[0]:g}, {h.position_mm[1]:g}, {h.position_mm[2]:g}) mm, "
+                f"inclinometer top face {face}; expect X ≈ {h.expected_x_deg:.1f}°, "
+                f"Y ≈ {h.expected_y_deg:.1f}°" + (f" (attempt {attempt})" if attempt > 1 else "")
+            )
+            recorder.link.flush_input()
+            began = operator.hang(index, h, attempt)
+            if began == -np.inf:
+                result.hangs.append(HangReport(h.id, attempt, "skipped", "by the operator"))
+                say(f"  {h.id}: skipped")
+                break
+            try:
+                data = recorder.record_hang(began)
+            except CadcogError as exc:
+                kept = [s.id for s in suspensions]
+                where = (
+                    f"{', '.join(kept)} recorded in {out}; run again to resume"
+                    if kept
+                    else "nothing recorded yet"
+                )
+                raise type(exc)(f"hang {h.id}: {exc} ({where})") from None
+            text = block_text(
+                h.id,
+                h.position_mm,
+                h.top_face_up,
+                data,
+                units,
+                _info(attempt, data, recorder.average_s, recorder.stats.summary()),
+            )
+            # The new suspension is read back from the very text the file gets, so the running
+            # estimate sees exactly what `cadcog estimate` will read.
+            new = suspension_of(parse_block(text), units)
+            report = _assess(target, h, data, new, suspensions, say)
+            if report.outcome == "refused":
+                result.hangs.append(report_with(report, attempt))
+                if operator.redo(h, report.reason, attempt):
+                    continue
+                say(f"  {h.id}: not recorded")
+                break
+            if report.outcome == "inconsistent":
+                if operator.redo(h, report.reason, attempt):
+                    rfile.append_rejected(text, report.reason)
+                    result.hangs.append(report_with(report, attempt, "redone"))
+                    continue
+                report = report_with(report, attempt, "kept")
+            else:
+                report = report_with(report, attempt, "recorded")
+            rfile.append(text)
+            suspensions.append(new)
+            result.hangs.append(report)
+            say(f"  {h.id}: recorded {report.samples} samples in {out}")
+            break
+    result.link = recorder.stats.summary()
+    if len(suspensions) >= 2:
+        final = read_readings(out, target.inclinometer)
+        result.estimate = estimate_hangs(target, final)
+    return result
+
+
+def report_with(report: HangReport, attempt: int, outcome: str | None = None) -> HangReport:
+    """``report`` for attempt ``attempt``, with another outcome if given."""
+    return replace(report, attempt=attempt, outcome=report.outcome if outcome is None else outcome)
+
+
+def _assess(
+    target: BenchTarget,
+    h: PlannedHang,
+    data: HangData,
+    new: Suspension,
+    previous: list[Suspension],
+    say: Callable[[str], None],
+) -> HangReport:
+    """Range check, expectation check and consistency with the previous hangs."""
+    sw = data.swing
+    mean = data.mean_deg
+    per = "" if sw.period_s is None else f", swing period {sw.period_s:.3f} s"
+    dec = "" if sw.decay_time_s is None else f", decay time {sw.decay_time_s:.1f} s"
+    say(
+        f"  settled after {data.settled_after_s:.1f} s{per}{dec}; averaged "
+        f"{len(data.t_s)} samples over {data.duration_s:.1f} s: X = {mean[0]:.3f}°, "
+        f"Y = {mean[1]:.3f}°"
+    )
+    base = HangReport(
+        h.id,
+        1,
+        "recorded",
+        mean_deg=mean,
+        samples=len(data.t_s),
+        settled_after_s=data.settled_after_s,
+        period_s=sw.period_s,
+        decay_time_s=sw.decay_time_s,
+    )
+    if data.range_problem is not None:
+        say(f"  {h.id}: unusable: {data.range_problem}")
+        return replace(base, outcome="refused", reason=data.range_problem)
+    off = max(abs(mean[0] - h.expected_x_deg), abs(mean[1] - h.expected_y_deg))
+    if off > EXPECTATION_WARNING_DEG:
+        say(
+            f"  note: {off:.1f}° from what the CAD expects: the right point, "
+            f"top face {'up' if h.top_face_up else 'down'}?"
+        )
+    if not previous:
+        return base
+    try:
+        est = estimate_hangs(target, [*previous, new])
+    except CadcogError as exc:
+        say(f"  no estimate yet: {exc}")
+        return base
+    chk = line_check(est, h.id)
+    sigma = np.sqrt(np.diag(est.cov_mm2))
+    say(
+        f"  running estimate ({len(previous) + 1} hangs): CoG "
+        f"[{', '.join(f'{v:.2f}' for v in est.cog_mm)}] mm ± "
+        f"[{', '.join(f'{v:.2f}' for v in sigma)}] mm"
+    )
+    others = [i for i in inconsistent_ids(est) if i != h.id]
+    if others and len(previous) >= 2:
+        say(f"  note: {', '.join(others)} now look(s) inconsistent with the rest")
+    verdict = "consistent" if chk.consistent else "INCONSISTENT"
+    say(
+        f"  {h.id}: its line passes {chk.distance_mm:.2f} mm from the estimate "
+        f"({chk.sigma:.1f} σ, p = {chk.p_value:.2g}): {verdict} with the previous hangs"
+    )
+    base = replace(base, sigma=chk.sigma)
+    if chk.consistent:
+        return base
+    reason = f"its line is {chk.sigma:.1f} σ from the others (p = {chk.p_value:.2g})"
+    return replace(base, outcome="inconsistent", reason=reason)
+
+
+def stdout_say(text: str) -> None:
+    print(text, file=sys.stdout, flush=True)

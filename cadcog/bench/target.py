@@ -1,0 +1,213 @@
+"""What the bench measures: a rig or a spacecraft set-up, its planned hangs, and the estimate.
+
+:func:`estimate_hangs` and :func:`line_check` are the bench's only calls into the estimator
+(:func:`cadcog.measurement.estimate_cog` and its result): when the estimator's options or result
+change, re-point these two functions and nothing else.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from cadcog.errormodel import ErrorModel
+from cadcog.geometry import FloatArray, ideal_reading
+from cadcog.inclinometer import InclinometerConfig
+from cadcog.massprops import MassProperties, box_properties, combine
+from cadcog.measurement import BodyBox, CogEstimate, MEData, estimate_cog
+from cadcog.montecarlo import Scenario
+from cadcog.readings import Suspension
+from cadcog.rig import Rig
+
+if TYPE_CHECKING:
+    from cadcog.spacecraft import Setup
+
+
+@dataclass(frozen=True)
+class PlannedHang:
+    """One planned suspension, as the operator is told about it.
+
+    Attributes
+    ----------
+    id : str
+    position_mm : tuple of 3 floats
+        Where the wire leaves the object (body frame): the readings CSV's x_mm, y_mm, z_mm.
+    normal : tuple of 3 floats
+        Outward normal of the face the point is on (the bolt axis).
+    top_face_up : bool
+        Whether the inclinometer's top face points up when hanging (from the CAD CoG).
+    expected_x_deg, expected_y_deg : float
+        Device readings expected from the CAD CoG (signs of the configuration applied).
+    """
+
+    id: str
+    position_mm: tuple[float, float, float]
+    normal: tuple[float, float, float]
+    top_face_up: bool
+    expected_x_deg: float
+    expected_y_deg: float
+
+
+@dataclass(frozen=True)
+class BenchTarget:
+    """A rig (``setup`` None) or a spacecraft set-up, with the hangs to make in order."""
+
+    name: str
+    source: Path
+    rig: Rig
+    hangs: tuple[PlannedHang, ...]
+    setup: Setup | None = None
+
+    @property
+    def inclinometer(self) -> InclinometerConfig:
+        return self.rig.inclinometer
+
+    @property
+    def object_cog_mm(self) -> FloatArray:
+        """CAD CoG of the object without the ME."""
+        if self.setup is None:
+            return self.rig.analytic_proof_mass.cog_mm
+        return self.setup.mass.cog_mm
+
+    @property
+    def assembly(self) -> MassProperties:
+        """Object plus measurement equipment (mass, CoG, inertia), from CAD."""
+        if self.setup is None:
+            return self.rig.analytic_assembly
+        me = [
+            box_properties(v.size_mm, v.center_mm, mass_kg=v.mass_kg) for v in self.setup.me_volumes
+        ]
+        return combine([self.setup.mass, *me])
+
+    def scenario(self) -> Scenario:
+        """The planned hangs as a Monte Carlo scenario (in the order of :attr:`hangs`)."""
+        ids = tuple(h.id for h in self.hangs)
+        points = np.array([h.position_mm for h in self.hangs])
+        normals = np.array([h.normal for h in self.hangs])
+        if self.setup is None:
+            return Scenario.from_rig(self.rig).with_points(ids, points, normals)
+        return self.setup.scenario().with_points(ids, points, normals)
+
+    def error_model(self) -> ErrorModel:
+        return ErrorModel.from_rig(self.rig) if self.setup is None else self.setup.error_model()
+
+    def me_data(self) -> MEData:
+        return MEData.from_rig(self.rig) if self.setup is None else self.setup.me_data()
+
+
+def _planned(
+    ids: Sequence[str],
+    positions: Sequence[FloatArray],
+    normals: Sequence[FloatArray],
+    assembly_cog_mm: FloatArray,
+    config: InclinometerConfig,
+) -> tuple[PlannedHang, ...]:
+    out = []
+    for pid, p, n in zip(ids, positions, normals, strict=True):
+        r = ideal_reading(p, assembly_cog_mm)
+        out.append(
+            PlannedHang(
+                pid,
+                (float(p[0]), float(p[1]), float(p[2])),
+                (float(n[0]), float(n[1]), float(n[2])),
+                r.top_face_up,
+                r.inc_x_deg * config.sign_x,
+                r.inc_y_deg * config.sign_y,
+            )
+        )
+    return tuple(out)
+
+
+def target_from_rig(rig: Rig, ids: Sequence[str] | None = None) -> BenchTarget:
+    """The rig's suspension points (all, or ``ids`` in that order), wire exits as positions."""
+    by_id = {p.id: p for p in rig.suspension_points}
+    chosen = [p.id for p in rig.suspension_points] if ids is None else list(ids)
+    points = [by_id[i] for i in chosen]
+    hangs = _planned(
+        chosen,
+        [rig.wire_exit_mm(p) for p in points],
+        [p.normal for p in points],
+        rig.analytic_assembly.cog_mm,
+        rig.inclinometer,
+    )
+    return BenchTarget(rig.name, rig.source, rig, hangs)
+
+
+def target_from_setup(setup: Setup, ids: Sequence[str]) -> BenchTarget:
+    """A spacecraft set-up's candidates ``ids``, in that order."""
+    by_id = {c.id: c for c in setup.candidates}
+    cands = [by_id[i] for i in ids]
+    hangs = _planned(
+        list(ids),
+        [c.position_mm for c in cands],
+        [c.normal for c in cands],
+        setup.assembly_cog_mm,
+        setup.rig.inclinometer,
+    )
+    return BenchTarget(setup.name, setup.source, setup.rig, hangs, setup)
+
+
+# --- the one place the bench calls the estimator ------------------------------------------------
+def estimate_hangs(target: BenchTarget, suspensions: Sequence[Suspension]) -> CogEstimate:
+    """The compensated CoG from recorded suspensions, as ``cadcog estimate`` computes it
+    (``--rig RIG`` or ``--setup SETUP``: the error model's line covariances, the expected wire
+    offset corrected)."""
+    if target.setup is None:
+        rig = target.rig
+        return estimate_cog(
+            suspensions,
+            rig.inclinometer,
+            MEData.from_rig(rig),
+            model=ErrorModel.from_rig(rig),
+            body=BodyBox.of_rig(rig),
+        )
+    setup = target.setup
+    return estimate_cog(
+        suspensions,
+        setup.rig.inclinometer,
+        setup.me_data(),
+        model=setup.error_model(),
+        body=setup.body(),
+    )
+
+
+@dataclass(frozen=True)
+class LineCheck:
+    """How one suspension's plumb line agrees with the others.
+
+    Attributes
+    ----------
+    distance_mm : float
+        Distance of its line from the joint estimate.
+    sigma : float
+        Its leave-one-out statistic in sigmas (the pair's gap with two lines).
+    p_value : float
+    consistent : bool
+    """
+
+    distance_mm: float
+    sigma: float
+    p_value: float
+    consistent: bool
+
+
+def line_check(estimate: CogEstimate, point_id: str) -> LineCheck:
+    """The estimator's consistency verdict on one suspension."""
+    for r in estimate.joint.residuals:
+        if r.id == point_id:
+            return LineCheck(r.distance_mm, r.normalized, r.p_value, not r.inconsistent)
+    raise KeyError(point_id)
+
+
+def inconsistent_ids(estimate: CogEstimate) -> list[str]:
+    """Ids of the suspensions the estimator flags as inconsistent with the others."""
+    return [r.id for r in estimate.joint.residuals if r.inconsistent]
+
+
+def estimate_summary(estimate: CogEstimate) -> dict[str, Any]:
+    """The estimate as plain JSON (the estimator's own ``to_dict``)."""
+    return estimate.to_dict()
