@@ -35,6 +35,28 @@ def _cannot_write(target: Path, exc: OSError) -> CadcogError:
     return CadcogError(f"{target}: cannot write here ({exc.strerror or exc})")
 
 
+def _make_dirs(folder: Path) -> list[Path]:
+    """Create ``folder`` and its missing parents; the ones created, outermost first."""
+    missing = []
+    p = folder
+    while not p.exists():
+        missing.append(p)
+        if p.parent == p:
+            break
+        p = p.parent
+    folder.mkdir(parents=True, exist_ok=True)
+    return missing[::-1]
+
+
+def _remove_empty(created: list[Path]) -> None:
+    """Remove the folders a failed command created (innermost first), if still empty."""
+    for d in reversed(created):
+        try:
+            d.rmdir()
+        except OSError:
+            return
+
+
 @contextmanager
 def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
     """Yield a scratch directory whose files are moved into ``out_dir`` on success.
@@ -51,21 +73,30 @@ def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
     if out.exists() and not out.is_dir():
         raise CadcogError(f"{out}: exists and is not a directory")
     parent = out.resolve().parent
+    created: list[Path] = []
     try:
-        parent.mkdir(parents=True, exist_ok=True)
+        created = _make_dirs(parent)
         stage = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".partial", dir=parent))
     except OSError as exc:
+        _remove_empty(created)
         raise _cannot_write(out, exc) from None
+    done = False
     try:
         yield stage
-        out.mkdir(parents=True, exist_ok=True)
-        for src in sorted(stage.rglob("*")):
-            if src.is_file():
-                dst = out / src.relative_to(stage)
-                dst.parent.mkdir(parents=True, exist_ok=True)
-                os.replace(src, dst)
+        try:
+            created += _make_dirs(out.resolve())
+            for src in sorted(stage.rglob("*")):
+                if src.is_file():
+                    dst = out / src.relative_to(stage)
+                    dst.parent.mkdir(parents=True, exist_ok=True)
+                    os.replace(src, dst)
+        except OSError as exc:
+            raise _cannot_write(out, exc) from None
+        done = True
     finally:
         shutil.rmtree(stage, ignore_errors=True)
+        if not done:
+            _remove_empty(created)
 
 
 def round_floats(value: Any, digits: int = tolerances.JSON_SIGNIFICANT_DIGITS) -> Any:
@@ -104,21 +135,30 @@ def staged_file(path: str | Path) -> Iterator[Path]:
     target = Path(path)
     if target.is_dir():
         raise CadcogError(f"{target}: is a directory, expected a file name")
+    created: list[Path] = []
     try:
-        target.parent.mkdir(parents=True, exist_ok=True)
+        created = _make_dirs(target.parent)
         fd, tmp = tempfile.mkstemp(
             prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent
         )
     except OSError as exc:
+        _remove_empty(created)
         raise _cannot_write(target, exc) from None
     os.close(fd)
+    done = False
     try:
         yield Path(tmp)
-        os.chmod(tmp, _new_file_mode())
-        os.replace(tmp, target)
+        try:
+            os.chmod(tmp, _new_file_mode())
+            os.replace(tmp, target)
+        except OSError as exc:
+            raise _cannot_write(target, exc) from None
+        done = True
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+        if not done:
+            _remove_empty(created)
 
 
 def refuse_overwriting_inputs(output: str | Path, inputs: dict[str, str | Path | None]) -> None:

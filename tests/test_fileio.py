@@ -35,6 +35,27 @@ def test_a_failed_write_leaves_nothing(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_failed_write_removes_the_folders_it_created_and_only_those(tmp_path):
+    (tmp_path / "kept").mkdir()
+    with pytest.raises(RuntimeError), staged_file(tmp_path / "kept/new/deeper/out.csv"):
+        raise RuntimeError("boom")
+    with pytest.raises(RuntimeError), staged_output_dir(tmp_path / "kept/a/b/report"):
+        raise RuntimeError("boom")
+    assert [p.name for p in tmp_path.rglob("*")] == ["kept"]
+    with staged_output_dir(tmp_path / "kept/a/b/report") as stage:  # success keeps them
+        (stage / "x.txt").write_text("x", encoding="utf-8")
+    assert (tmp_path / "kept/a/b/report/x.txt").read_text(encoding="utf-8") == "x"
+
+
+def test_a_destination_that_cannot_be_replaced_is_named(tmp_path):
+    out = tmp_path / "report"
+    (out / "index.html").mkdir(parents=True)  # a folder where the page should go
+    with pytest.raises(CadcogError, match=r"report: cannot write here"):
+        with staged_output_dir(out) as stage:
+            (stage / "index.html").write_text("page", encoding="utf-8")
+    assert [p.name for p in tmp_path.iterdir()] == ["report"]  # the staging is gone
+
+
 def test_errors_name_the_path_given_not_the_temporary_one(tmp_path):
     blocker = tmp_path / "file.txt"
     blocker.write_text("", encoding="utf-8")
