@@ -81,11 +81,21 @@ def main() -> None:
     files = sorted(p for p in args.directory.iterdir() if p.suffix.lower() in (".step", ".stp"))
     if not files:
         sys.exit(f"no .step files in {args.directory}")
-    print(
-        "| file | unit | products / instances | solids (ours / root) | surfaces | "
-        "volume difference | CoG difference (mm) | overlaps (mass share) | time (s) |"
-    )
-    print("|---|---|---|---|---|---|---|---|---|")
+    header = [
+        "file",
+        "unit",
+        "products / instances",
+        "solids (ours / root)",
+        "surfaces",
+        "volume difference",
+        "CoG difference (mm)",
+        "overlaps (mass share)",
+        "time (s)",
+    ]
+    if args.leaves:
+        header.append("leaf solids' CoG error (mm)")
+    print("| " + " | ".join(header) + " |")
+    print("|" + "---|" * len(header))
     for f in files:
         t = time.perf_counter()
         try:

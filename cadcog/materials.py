@@ -260,6 +260,16 @@ def _surface(t: TableReader, key: str) -> tuple[str, float]:
     return label, areal
 
 
+#: The tables a materials file may hold.
+MATERIALS_TABLES = (
+    "materials",
+    "surfaces",
+    "mass_uncertainty",
+    "maturity_levels",
+    "growth_allowance",
+)
+
+
 def load_materials(path: str | Path) -> MaterialMap:
     """Read a materials file; unknown material names and bad values name the key."""
     p = Path(path)
@@ -308,7 +318,7 @@ def load_materials(path: str | Path) -> MaterialMap:
             else:
                 growth.append((pattern, _fraction(table, pattern, "growth allowance", 2.0), ""))
         table.finish()
-    root.finish()
+    root.finish(expected=MATERIALS_TABLES)
     if not (rules or surfaces or sigmas or growth):
         raise ParameterFileError(
             p,

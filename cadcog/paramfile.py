@@ -8,6 +8,7 @@ silently ignored value. Every error names the file and the dotted key.
 
 from __future__ import annotations
 
+import difflib
 import math
 import tomllib
 from collections.abc import Sequence
@@ -234,10 +235,15 @@ class TableReader:
             raise self.error(name, f"expected at least {min_count} entries, got {len(value)}")
         return [TableReader(v, self._path, f"{self.key(name)}[{i}]") for i, v in enumerate(value)]
 
-    def finish(self) -> None:
-        """Raise if the table holds keys nobody asked for."""
+    def finish(self, expected: Sequence[str] | None = None) -> None:
+        """Raise if the table holds keys nobody asked for.
+
+        ``expected`` lists every key the table may hold (optional ones included), for the
+        message; by default the keys that were read. A close match is suggested.
+        """
         unknown = sorted(set(self._data) - self._used)
         if unknown:
-            raise self.error(
-                unknown[0], f"unknown key (known keys here: {', '.join(sorted(self._used))})"
-            )
+            known = sorted(set(expected or ()) | self._used)
+            close = difflib.get_close_matches(unknown[0], known, n=1)
+            hint = f"did you mean {close[0]!r}? " if close else ""
+            raise self.error(unknown[0], f"unknown key ({hint}known keys here: {', '.join(known)})")

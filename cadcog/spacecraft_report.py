@@ -196,7 +196,7 @@ def render_html(report: MassReport, views: Path) -> str:
     info = "".join(f"<li>{esc(n)}</li>" for n in r.info) or "<li>none</li>"
     overlaps_html = (
         '<div class="wide">'
-        + table(["a", "b", "volume (mm³)", "counted twice (g)", "kept by"], pair_rows, 2)
+        + table(["a", "b", "common volume (mm³)", "counted twice (g)", "denser"], pair_rows, 2)
         + "</div>"
         if pair_rows
         else ""

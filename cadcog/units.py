@@ -106,6 +106,34 @@ def density_kg_m3_from_named_unit(value: float, unit: str) -> float | None:
     return None if factor is None else value * factor
 
 
+def density_kg_m3_from_step(
+    value: float, unit: str, plausible_kg_m3: tuple[float, float] = (10.0, 25_000.0)
+) -> float | None:
+    """A material density as OCCT's STEP reader reports it, in kg/m³; None if unknown.
+
+    The reader passes on the value of the file's density measure and the measure's *name*:
+    when the name is a unit (``kg/m^3``, ``g/cm^3``, ...) it is used. Otherwise (Fusion 360
+    writes ``density measure``) the unit depends on how the file declared it: OCCT converts a
+    kg·m⁻³ declaration to g/mm³ (7850 kg/m³ arrives as 0.00785) but passes a g·cm⁻³ one
+    unchanged (2.7). Both readings are tried; the one inside ``plausible_kg_m3`` is taken. They
+    differ by 1000, so at most one fits, except for values between 10 and 25 kg/m³ against
+    10 000 and 25 000 kg/m³, which are left unknown.
+
+    Examples
+    --------
+    >>> density_kg_m3_from_step(0.00785, "density measure"), density_kg_m3_from_step(2.7, "")
+    (7850.0, 2700.0)
+    >>> density_kg_m3_from_step(2700.0, "kg/m^3"), density_kg_m3_from_step(0.015, "?")
+    (2700.0, None)
+    """
+    named = density_kg_m3_from_named_unit(value, unit)
+    if named is not None or not value > 0:
+        return named
+    lo, hi = plausible_kg_m3
+    fits = [d for d in (value * 1e3, value * 1e6) if lo <= d <= hi]  # g/cm³, g/mm³
+    return float(f"{fits[0]:.12g}") if len(fits) == 1 else None  # no 7849.999999999999
+
+
 def areal_density_kg_m2_to_kg_mm2(areal_density_kg_m2: float) -> float:
     """Convert an areal density from kg/m² to kg/mm².
 

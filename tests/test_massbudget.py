@@ -65,7 +65,8 @@ def test_rollup_by_node():
 def test_rolled_up_uncertainty_matches_sampling(k):
     """Scale each item's mass by (1 + ε), ε ~ N(0, σ²): the sampled total mass and CoG
     covariances match the budget's first-order figures: closely at 0.4-2 % item uncertainty,
-    within 6 % at 2-10 % (the CoG is a ratio: its spread grows faster than linear)."""
+    within 7 % at 2-10 % (5.6 % with this seed; the CoG is a ratio: its spread grows faster
+    than linear)."""
     lines = _lines(k)
     b = mass_budget(lines)
     rng = np.random.default_rng(7)

@@ -13,9 +13,10 @@ reports what it found and what it did:
   else from one uniform density; each body's source is reported;
 - **surface bodies** (no volume) are left out with their area in a note, or given an areal
   density (kg/m²) by the materials file;
-- **overlaps** (shared volume, counted twice) are found fast (:mod:`cadcog.cad.overlaps`) and
-  summarised; the computation refuses only when the double-counted mass exceeds
-  :data:`cadcog.tolerances.OVERLAP_REFUSE_MASS_FRACTION` of the total, unless the caller chose to
+- **overlaps** (shared volume, counted more than once) are found fast
+  (:mod:`cadcog.cad.overlaps`) and summarised; the computation refuses only when the mass
+  counted more than once exceeds :data:`cadcog.tolerances.OVERLAP_REFUSE_MASS_FRACTION` of the
+  total, unless the caller chose to
   ``allow`` them (each solid counted as it is) or ``resolve`` them (the denser solid of each pair
   keeps the common volume);
 - **notes** (things a user should look at) are separate from **info** (what was done as asked);
@@ -28,7 +29,7 @@ once and transformed (rotation and translation) for every rigid placement.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -150,7 +151,8 @@ class BodyResult:
 
 @dataclass(frozen=True)
 class OverlapPair:
-    """An overlapping pair, with the mass its common volume counts twice."""
+    """An overlapping pair: its common volume, the mass that volume counts twice (at the less
+    dense solid's density), and the denser solid (which keeps the volume when resolving)."""
 
     a: str
     b: str
@@ -164,7 +166,7 @@ class OverlapPair:
             "b": self.b,
             "volume_mm3": self.volume_mm3,
             "double_counted_mass_kg": self.mass_kg,
-            "kept_by": self.kept_by,
+            "denser": self.kept_by,
         }
 
     def describe(self, root: str = "") -> str:
@@ -177,9 +179,11 @@ class OverlapPair:
 class OverlapSummary:
     """Overlaps found, and what they do to the totals.
 
-    ``mass_kg`` is the mass the common volumes count twice (each at the lighter density:
-    exact when no point lies in three solids); ``cog_shift_mm`` is the CoG counting each solid
-    as it is minus the CoG with each common volume counted once.
+    ``volume_mm3`` and ``mass_kg`` are what counting each solid as it is adds to the truth: the
+    volume (and mass, at the less dense solid's density) counted more than once, exactly, also
+    where three or more solids share a region (each less dense solid is cut by its denser
+    partners). ``cog_shift_mm`` is the CoG counting each solid as it is minus the CoG with every
+    region counted once. The pairs list each pair's own common volume, largest mass first.
     """
 
     policy: str
@@ -195,9 +199,9 @@ class OverlapSummary:
         """One line: count, double-counted volume and mass, its share and the CoG shift."""
         shift = float(np.linalg.norm(self.cog_shift_mm))
         return (
-            f"{len(self.pairs)} overlapping pair(s) share {self.volume_mm3:.4g} mm³, "
-            f"{self.mass_kg * 1e3:.4g} g counted twice ({self.mass_fraction:.3%} of the mass), "
-            f"shifting the CoG by {shift:.3g} mm"
+            f"{len(self.pairs)} overlapping pair(s): {self.volume_mm3:.4g} mm³ and "
+            f"{self.mass_kg * 1e3:.4g} g counted more than once ({self.mass_fraction:.3%} of the "
+            f"mass), shifting the CoG by {shift:.3g} mm"
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -205,7 +209,7 @@ class OverlapSummary:
             "policy": self.policy,
             "n_pairs": len(self.pairs),
             "volume_mm3": self.volume_mm3,
-            "double_counted_mass_kg": self.mass_kg,
+            "excess_mass_kg": self.mass_kg,
             "mass_fraction": self.mass_fraction,
             "cog_shift_mm": list(self.cog_shift_mm),
             "n_candidate_pairs": self.n_candidates,
@@ -315,6 +319,15 @@ def _with_mass_factor(p: MassProperties, factor: float) -> MassProperties:
     return MassProperties(p.mass_kg * factor, p.cog_mm, p.inertia_kg_mm2 * factor, p.volume_mm3)
 
 
+def _rule_names(body: StepBody) -> tuple[str, ...]:
+    """Names a materials rule may match: the body's own, then its assemblies' (deepest first),
+    as full paths and as paths below the common top assembly."""
+    root = f"{body.root}/" if body.root else ""
+    above = tuple(reversed(body.assembly_paths))
+    below = tuple(a[len(root) :] for a in above if root and a.startswith(root))
+    return (*body.match_names(), *above, *below)
+
+
 def _common_root(paths: Sequence[str]) -> str:
     """``"top/"`` when every path lies below one top assembly, else ``""``."""
     firsts = {p.split("/", 1)[0] for p in paths}
@@ -324,7 +337,9 @@ def _common_root(paths: Sequence[str]) -> str:
 
 
 def _matches_any(patterns: Sequence[str], body: StepBody) -> bool:
-    names = (*body.match_names(), *body.assembly_paths)
+    root = f"{body.root}/" if body.root else ""
+    below = tuple(a[len(root) :] for a in body.assembly_paths if root and a.startswith(root))
+    names = (*body.match_names(), *body.assembly_paths, *below)
     return any(glob_match(n, pat) for pat in patterns for n in names)
 
 
@@ -443,6 +458,12 @@ def model_mass_properties(
     for pattern in exclude:
         if not any(_matches_any([pattern], b) for b in model.bodies):
             notes.append(f"--exclude {pattern!r} matched no body")
+    if materials is not None:
+        notes.extend(
+            f"materials rule {rule} ({materials.source or 'materials'}) matches no body or "
+            "assembly name: a typo? (the bodies it meant fall to a later rule)"
+            for rule in _unmatched_rules(materials, model.bodies)
+        )
     if not kept:
         raise CadcogError(f"{src}: every body is excluded")
 
@@ -465,11 +486,6 @@ def model_mass_properties(
     _assign_densities(bodies, materials, total_mass_kg, notes, src)
     summary, resolved_info = _handle_overlaps(bodies, overlaps, scale, progress, src, workers)
     info.extend(resolved_info)
-    if summary.pairs and overlaps != "resolve":
-        verdict = "allowed by --allow-overlap" if overlaps == "allow" else "under the refusal"
-        threshold = f" threshold of {tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%}"
-        text = f"{summary.headline()}; {verdict}{threshold if overlaps == 'check' else ''}"
-        notes.append(text + ": each solid counted as it is")
 
     raw = [_with_mass_factor(b.props, b.density_kg_mm3) for b in bodies]
     counted = [(b, p) for b, p in zip(bodies, raw, strict=True) if p.mass_kg > 0]
@@ -487,6 +503,19 @@ def model_mass_properties(
                 f"the weighed mass implies a mean density of {mean:.4g} kg/m³: the file's "
                 f"declared unit ({model.declared_unit or 'none'}) may be wrong; pass --units"
             )
+    if factor != 1.0 and summary.pairs:
+        summary = replace(
+            summary,
+            mass_kg=summary.mass_kg * factor,
+            pairs=tuple(replace(p, mass_kg=p.mass_kg * factor) for p in summary.pairs),
+        )
+    if summary.pairs and overlaps == "check":
+        notes.append(
+            f"{summary.headline()}; under the refusal threshold of "
+            f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%}: each solid counted as it is"
+        )
+    elif summary.pairs and overlaps == "allow":  # the user chose: info, not a note
+        info.append(f"{summary.headline()}; --allow-overlap: each solid counted as it is")
     results = []
     for b, p in counted:
         sigma, growth = _item_rules(b.step, materials)
@@ -608,16 +637,48 @@ def _item_rules(
     """The body's mass uncertainty and growth allowance rules (item = deepest matched node)."""
     if materials is None:
         return None, None
+    return materials.uncertainty(_item_candidates(body)), materials.growth(_item_candidates(body))
+
+
+def _item_candidates(body: StepBody) -> list[tuple[str, tuple[str, ...]]]:
+    """(node path, names a rule may match), the body first, then its assemblies deepest first;
+    paths both full and below the common top assembly."""
+    root = f"{body.root}/" if body.root else ""
+
+    def below(path: str) -> str:
+        return path[len(root) :] if root and path.startswith(root) else ""
+
     own = body.nodes[-1]
-    candidates: list[tuple[str, tuple[str, ...]]] = [
-        (body.path, tuple(v for v in (body.path, own.name, own.instance, own.product) if v))
-    ]
+    own_names = (body.path, below(body.path), own.name, own.instance, own.product)
+    candidates = [(body.path, tuple(dict.fromkeys(v for v in own_names if v)))]
     for k in range(len(body.nodes) - 1, 0, -1):
         node = body.nodes[k - 1]
         prefix = "/".join(n.name for n in body.nodes[:k])
-        names = tuple(v for v in (prefix, node.name, node.instance, node.product) if v)
-        candidates.append((prefix, names))
-    return materials.uncertainty(candidates), materials.growth(candidates)
+        names = (prefix, below(prefix), node.name, node.instance, node.product)
+        candidates.append((prefix, tuple(dict.fromkeys(v for v in names if v))))
+    return candidates
+
+
+def _unmatched_rules(materials: MaterialMap, bodies: Sequence[StepBody]) -> list[str]:
+    """``"[table] pattern"`` of every rule that matches no name of any body or assembly: most
+    often a typo, whose bodies then fall to a later rule (a default) without a word."""
+    names: set[str] = set()
+    for b in bodies:
+        names.update(_rule_names(b))
+        for _, n in _item_candidates(b):
+            names.update(n)
+    tables = {
+        "materials": [p for p, _ in materials.rules],
+        "surfaces": [p for p, _, _ in materials.surface_rules],
+        "mass_uncertainty": [p for p, _, _ in materials.uncertainty_rules],
+        "growth_allowance": [p for p, _, _ in materials.growth_rules],
+    }
+    return [
+        f"[{table}] {pattern!r}"
+        for table, patterns in tables.items()
+        for pattern in dict.fromkeys(patterns)
+        if not any(glob_match(n, pattern) for n in names)
+    ]
 
 
 def _integrate(
@@ -692,7 +753,7 @@ def _assign_densities(
     missing: list[str] = []
     lo_d, hi_d = DENSITY_RANGE_KG_M3
     for b in bodies:
-        names = (*b.step.match_names(), *reversed(b.step.assembly_paths))
+        names = _rule_names(b.step)
         if b.step.kind == "surface":
             found_s = materials.assign_surface(names) if materials is not None else None
             if found_s is None:
@@ -766,37 +827,57 @@ def _handle_overlaps(
         return OverlapSummary(policy, n_candidates=n_candidates, n_contact=n_contact), []
 
     def lighter(o: Overlap) -> tuple[int, int]:
-        """(lighter, denser): the later solid loses a tie."""
+        """(less dense, denser): the later solid in file order loses a tie."""
         da, db = solids[o.a].density_kg_mm3, solids[o.b].density_kg_mm3
         return (o.b, o.a) if db <= da else (o.a, o.b)
 
     pairs = []
-    corrections = []
+    partners: dict[int, list[int]] = {}
     for o in found:
         lose, keep = lighter(o)
+        partners.setdefault(lose, []).append(keep)
         common = _scaled_lengths(o.common, scale, 3)
-        mass = common.mass_kg * solids[lose].density_kg_mm3
-        corrections.append(_with_mass_factor(common, solids[lose].density_kg_mm3).scaled(-1.0))
         pairs.append(
             OverlapPair(
                 solids[o.a].step.path,
                 solids[o.b].step.path,
                 common.volume_mm3,
-                mass,
+                common.mass_kg * solids[lose].density_kg_mm3,
                 solids[keep].step.path,
             )
         )
+    # Exact totals, also where three or more solids share a region: each less dense solid is cut
+    # by its denser partners; what it loses is what was counted more than once.
+    losers = list(partners)
+    jobs = [(solids[i].step.shape, [solids[k].step.shape for k in partners[i]]) for i in losers]
+    tick = progress("resolving overlaps", len(jobs)) if progress else None
+    cuts = fork_map(_cut_properties, jobs, workers=workers, progress=tick)
+    failed = [solids[i].step.path for i, c in zip(losers, cuts, strict=True) if c is None]
+    if failed:
+        raise CadcogError(
+            f"{src}: OCCT could not cut the overlaps out of {', '.join(failed[:10])}; "
+            "--exclude them or fix the model"
+        )
+    removed = []
+    after: dict[int, MassProperties] = {}
+    for i, cut in zip(losers, cuts, strict=True):
+        assert cut is not None
+        after[i] = _scaled_lengths(cut, scale, 3)
+        lost = solids[i].props.volume_mm3 - after[i].volume_mm3
+        if lost > 0:
+            region = combine([solids[i].props, after[i].scaled(-1.0)])
+            removed.append(_with_mass_factor(region, solids[i].density_kg_mm3))
     as_is = [_with_mass_factor(b.props, b.density_kg_mm3) for b in bodies if b.density_kg_mm3 > 0]
     total_as_is = combine(as_is)
-    single = combine([*as_is, *corrections])
-    double_mass = sum(p.mass_kg for p in pairs)
+    double_mass = sum(r.mass_kg for r in removed)
+    single = combine([*as_is, *(r.scaled(-1.0) for r in removed)]) if removed else total_as_is
     fraction = double_mass / total_as_is.mass_kg
     shift = total_as_is.cog_mm - single.cog_mm
     ranked = tuple(sorted(pairs, key=lambda p: -p.mass_kg))
     summary = OverlapSummary(
         policy,
         ranked,
-        sum(p.volume_mm3 for p in pairs),
+        sum(r.volume_mm3 for r in removed),
         double_mass,
         fraction,
         (float(shift[0]), float(shift[1]), float(shift[2])),
@@ -815,27 +896,18 @@ def _handle_overlaps(
         )
     if policy != "resolve":
         return summary, []
-    partners: dict[int, list[int]] = {}
-    for o in found:
-        lose, keep = lighter(o)
-        partners.setdefault(lose, []).append(keep)
-    failed = []
-    for lose, keeps in partners.items():
-        body = solids[lose]
-        cut = cut_by(body.step.shape, [solids[k].step.shape for k in keeps])
-        if cut is None:
-            failed.append(body.step.path)
-            continue
-        new = _scaled_lengths(volume_properties(cut), scale, 3)
-        body.removed_mm3 = body.props.volume_mm3 - new.volume_mm3
-        body.props = new
+    for i, props in after.items():
+        solids[i].removed_mm3 = solids[i].props.volume_mm3 - props.volume_mm3
+        solids[i].props = props
     info = [
         f"--resolve-overlaps: {len(found)} overlapping pair(s) resolved, the denser solid of "
-        f"each keeping the common volume ({double_mass * 1e3:.4g} g no longer counted twice)"
+        f"each keeping the common volume ({double_mass * 1e3:.4g} g no longer counted more than "
+        "once)"
     ]
-    if failed:
-        raise CadcogError(
-            f"{src}: --resolve-overlaps: OCCT could not cut {', '.join(failed[:10])}; "
-            "--exclude them or --allow-overlap"
-        )
     return summary, info
+
+
+def _cut_properties(job: tuple[TopoDS_Shape, list[TopoDS_Shape]]) -> MassProperties | None:
+    """Unit-density properties of a solid minus its tools (None if OCCT fails)."""
+    cut = cut_by(*job)
+    return None if cut is None else volume_properties(cut)

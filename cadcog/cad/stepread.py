@@ -22,10 +22,14 @@ No build123d import is needed, only OCP.
 
 from __future__ import annotations
 
+import os
 import re
+import sys
+import tempfile
 import unicodedata
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from contextlib import contextmanager
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -48,7 +52,7 @@ from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc, XCAFDoc_DocumentTool, XCAFDoc_Material, XCAFDoc_ShapeTool
 
 from cadcog.errors import CadcogError
-from cadcog.units import LENGTH_UNIT_MM, density_kg_m3_from_named_unit
+from cadcog.units import LENGTH_UNIT_MM, density_kg_m3_from_step
 
 #: Instance names that exporters generate rather than users give: OCCT's label entries
 #: (``=>[0:1:1:4]``), bare NAUO ids and numbers. Such an instance is named by its product.
@@ -125,6 +129,7 @@ class StepBody:
     product_key: str
     material: XcafMaterial | None = None
     made_from_shell: bool = False
+    root: str = ""  # the common top assembly's name, when every body sits under one
 
     @property
     def path(self) -> str:
@@ -141,10 +146,16 @@ class StepBody:
         """Path of every assembly node above the body, from the root: ``a``, ``a/b``, ..."""
         return tuple("/".join(n.name for n in self.nodes[:k]) for k in range(1, len(self.nodes)))
 
+    @property
+    def short_path(self) -> str:
+        """The path below the common top assembly (how tables and messages show it)."""
+        prefix = f"{self.root}/" if self.root else ""
+        return self.path[len(prefix) :] if prefix and self.path.startswith(prefix) else self.path
+
     def match_names(self) -> tuple[str, ...]:
-        """Every name a pattern may match: the full path, each node's unique, instance and
-        product name (the body's own first)."""
-        names = [self.path]
+        """Every name a pattern may match: the full path, the path below the common top
+        assembly, each node's unique, instance and product name (the body's own first)."""
+        names = [self.path, self.short_path]
         for n in reversed(self.nodes):
             names.extend(v for v in (n.name, n.instance, n.product) if v)
         return tuple(dict.fromkeys(names))
@@ -224,7 +235,7 @@ def _xcaf_material(label: TDF_Label) -> XcafMaterial | None:
     name = clean_name(material.GetName().ToCString()) if material.GetName() else ""
     value = float(material.GetDensity())
     unit = material.GetDensName().ToCString() if material.GetDensName() else ""
-    density = density_kg_m3_from_named_unit(value, unit) if value > 0 else None
+    density = density_kg_m3_from_step(value, unit)
     return XcafMaterial(name or "unnamed material", density, f"{value:g} {unit}".strip())
 
 
@@ -323,26 +334,91 @@ def _split_part(shape: TopoDS_Shape) -> _Part:
     return _Part(solids, surface if n_faces else None)
 
 
-def _unique_names(raw: list[str]) -> list[str]:
-    """Siblings sharing a name get ``[k]`` (1-based, in order); unique names stay as they are.
-
-    Examples
-    --------
-    >>> _unique_names(["screw", "plate", "screw"])
-    ['screw[1]', 'plate', 'screw[2]']
-    """
+def _suffix_repeats(names: list[str]) -> list[str]:
     counts: dict[str, int] = {}
-    for name in raw:
+    for name in names:
         counts[name] = counts.get(name, 0) + 1
     seen: dict[str, int] = {}
     out = []
-    for name in raw:
+    for name in names:
         if counts[name] > 1:
             seen[name] = seen.get(name, 0) + 1
             out.append(f"{name}[{seen[name]}]")
         else:
             out.append(name)
     return out
+
+
+def _unique_names(raw: list[str]) -> list[str]:
+    """Siblings sharing a name get ``[k]`` (1-based, in order); unique names stay as they are.
+    A generated name that a sibling already has literally (``COMPOUND`` ×2 beside
+    ``COMPOUND[1]``) is suffixed again, until every name is unique.
+
+    Examples
+    --------
+    >>> _unique_names(["screw", "plate", "screw"])
+    ['screw[1]', 'plate', 'screw[2]']
+    >>> _unique_names(["COMPOUND", "COMPOUND", "COMPOUND[1]"])
+    ['COMPOUND[1][1]', 'COMPOUND[2]', 'COMPOUND[1][2]']
+    """
+    out = _suffix_repeats(raw)
+    while len(set(out)) < len(out):
+        out = _suffix_repeats(out)
+    return out
+
+
+class _Said:
+    def __init__(self) -> None:
+        self.text = ""
+
+    def getvalue(self) -> str:
+        return self.text
+
+
+@contextmanager
+def _captured_stdout() -> Iterator[_Said]:
+    """Capture what C++ code writes to file descriptor 1 (OCCT prints parse errors there)."""
+    said = _Said()
+    sys.stdout.flush()
+    saved = os.dup(1)
+    with tempfile.TemporaryFile(mode="w+b") as sink:
+        os.dup2(sink.fileno(), 1)
+        try:
+            yield said
+        finally:
+            os.dup2(saved, 1)
+            os.close(saved)
+            sink.seek(0)
+            said.text = sink.read().decode("utf-8", "replace")
+
+
+def _occt_reason(text: str) -> str:
+    """The first error OCCT printed, without its colour codes and stars."""
+    for line in text.splitlines():
+        line = re.sub(r"\x1b\[[0-9;]*m", "", line).strip(" *")
+        if "ERR" in line or "Fail" in line:
+            return line.replace("ERR StepFile : ", "").strip()
+    return ""
+
+
+def _unique_paths(bodies: list[StepBody]) -> list[StepBody]:
+    """A part's ``#k`` bodies may meet a sibling literally named so (``two#1``): such bodies
+    get ``~k`` (in file order) on their own name, so that every path is unique."""
+    counts: dict[str, int] = {}
+    for b in bodies:
+        counts[b.path] = counts.get(b.path, 0) + 1
+    if all(c == 1 for c in counts.values()):
+        return bodies
+    seen: dict[str, int] = {}
+    out = []
+    for b in bodies:
+        if counts[b.path] > 1:
+            seen[b.path] = seen.get(b.path, 0) + 1
+            last = b.nodes[-1]
+            renamed = Node(f"{last.name}~{seen[b.path]}", last.instance, last.product)
+            b = replace(b, nodes=(*b.nodes[:-1], renamed))
+        out.append(b)
+    return _unique_paths(out)
 
 
 def read_step(path: str | Path) -> StepModel:
@@ -362,6 +438,8 @@ def read_step(path: str | Path) -> StepModel:
         If the file is missing, unreadable as STEP, or holds no solid and no surface.
     """
     p = Path(path)
+    if p.is_dir():
+        raise CadcogError(f"{p}: is a directory, expected a STEP file")
     if not p.is_file():
         raise CadcogError(f"{p}: file not found")
     app = XCAFApp_Application.GetApplication_s()
@@ -372,17 +450,21 @@ def read_step(path: str | Path) -> StepModel:
     reader.SetMatMode(True)
     reader.SetColorMode(False)
     reader.SetLayerMode(False)
-    try:
-        status = reader.ReadFile(str(p))
-    except Exception as exc:  # OCCT raises plain exceptions on some corrupt files
-        raise CadcogError(f"{p}: cannot read as STEP ({exc})") from None
+    with _captured_stdout() as said:
+        try:
+            status = reader.ReadFile(str(p))
+        except Exception as exc:  # OCCT raises plain exceptions on some corrupt files
+            raise CadcogError(f"{p}: cannot read as STEP ({exc})") from None
     if status != IFSelect_ReturnStatus.IFSelect_RetDone:
-        raise CadcogError(f"{p}: cannot read as STEP (reader status {status.name})")
+        reason = _occt_reason(said.getvalue()) or f"reader status {status.name}"
+        raise CadcogError(f"{p}: cannot read as STEP ({reason})")
     lengths = Sequence_TCollection_AsciiString()
     reader.ChangeReader().FileUnits(
         lengths, Sequence_TCollection_AsciiString(), Sequence_TCollection_AsciiString()
     )
-    declared = tuple(lengths.Value(i).ToCString() for i in range(1, lengths.Length() + 1))
+    declared = tuple(  # INCH, MILLIMETRE (SolidWorks, HFSS) shown as inch, millimetre
+        lengths.Value(i).ToCString().lower() for i in range(1, lengths.Length() + 1)
+    )
     if not reader.Transfer(doc):
         raise CadcogError(f"{p}: the STEP file holds nothing OCCT can transfer to shapes")
     shape_tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
@@ -477,6 +559,11 @@ def read_step(path: str | Path) -> StepModel:
                 curve_only.append("/".join(n.name for n in here))
 
     walk([free.Value(i) for i in range(1, free.Length() + 1)], TopLoc_Location(), ())
+    bodies = _unique_paths(bodies)
+    firsts = {b.nodes[0].name for b in bodies}
+    if len(firsts) == 1 and all(len(b.nodes) > 1 for b in bodies):
+        root = firsts.pop()
+        bodies = [replace(b, root=root) for b in bodies]
     if not bodies:
         raise CadcogError(f"{p}: no solids and no surfaces found")
     return StepModel(p, tuple(bodies), declared, len(products), n_instances, tuple(curve_only))

@@ -16,7 +16,7 @@ from cadcog.errors import CadcogError
 from cadcog.fileio import round_floats
 from cadcog.inertia import PRODUCT_CONVENTIONS, products_of_inertia
 from cadcog.massreport import MassReport, build_mass_report, parse_point
-from cadcog.materials import LIBRARY, MaterialMap, load_materials
+from cadcog.materials import DENSITY_RANGE_KG_M3, LIBRARY, MaterialMap, load_materials
 from cadcog.units import UNIT_CHOICES
 
 
@@ -82,7 +82,8 @@ def add_parser(sub: Any) -> None:
     o.add_argument(
         "--resolve-overlaps",
         action="store_true",
-        help="subtract each common volume from the lighter solid of its pair",
+        help="cut each common volume out of the less dense solid of its pair (the denser keeps "
+        "it; on equal densities the one earlier in the file)",
     )
     p.add_argument("--strict", action="store_true", help="turn every note into an error (for CI)")
     p.add_argument(
@@ -140,6 +141,12 @@ def _materials(args: argparse.Namespace) -> MaterialMap | None:
     if args.materials is not None:
         return load_materials(args.materials)
     if args.density_kg_m3 is not None:
+        lo, hi = DENSITY_RANGE_KG_M3
+        if not lo <= args.density_kg_m3 <= hi:
+            raise CadcogError(
+                f"--density-kg-m3 {args.density_kg_m3:g} is implausible; expected kg/m³ between "
+                f"{lo:g} and {hi:g} (is it in g/cm³?)"
+            )
         return MaterialMap.uniform(args.density_kg_m3)
     return None
 
@@ -196,6 +203,14 @@ def _v(values: Any, digits: int = 3) -> str:
     return "[" + ", ".join(f"{round(float(v), digits) + 0.0:.{digits}f}" for v in values) + "]"
 
 
+def _count(n: int, one: str, many: str = "") -> str:
+    return f"{n} {one if n == 1 else many or one + 's'}"
+
+
+def _n(value: float, digits: int = 4) -> str:
+    return f"{round(float(value), digits) + 0.0:.{digits}f}"
+
+
 def print_report(report: MassReport, depth: int, products: str) -> None:
     """Readable report: audit, budget tree, totals, inertia, overlaps, envelope, notes."""
     r, a, b = report.result, report.result.audit, report.budget
@@ -204,17 +219,24 @@ def print_report(report: MassReport, depth: int, products: str) -> None:
         units += f" (overridden: {a.units_override}, lengths × {a.scale_to_mm:g})"
     print(f"{a.source}: declared unit {units}")
     print(
-        f"{a.n_products} products, {a.n_instances} instances: {a.n_solids} solids, "
-        f"{a.n_surfaces} surface bodies; densities from "
-        + ", ".join(f"{k} ×{n}" for k, n in a.density_sources.items())
+        f"{_count(a.n_products, 'product')}, {_count(a.n_instances, 'instance')}: "
+        f"{_count(a.n_solids, 'solid')}, {_count(a.n_surfaces, 'surface body', 'surface bodies')}"
+        "; densities from " + ", ".join(f"{k} ×{n}" for k, n in a.density_sources.items())
     )
     if a.excluded:
         print(f"excluded: {len(a.excluded)} bodies")
-    print(f"\n{'mass budget':<44}{'mass_kg':>11}{'share':>8}{'±_kg':>10}  cog_mm")
-    for level, node in b.root.walk(depth):
+    nodes = list(b.root.walk(depth))
+    width = min(max([len("mass budget")] + [2 * lv + len(n.name) for lv, n in nodes]) + 2, 64)
+    print(f"\n{'mass budget':<{width}}{'mass_kg':>11}{'share':>8}{'±_kg':>10}  cog_mm")
+    for level, node in nodes:
         sigma = "" if node.mass_sigma_kg is None else f"{node.mass_sigma_kg:.6f}"
-        name = ("  " * level + node.name)[:43]
-        print(f"{name:<44}{node.mass_kg:>11.6f}{node.share:>8.2%}{sigma:>10}  {_v(node.cog_mm, 2)}")
+        name = "  " * level + node.name
+        if len(name) > width - 2:
+            name = name[: width - 3] + "…"
+        print(
+            f"{name:<{width}}{node.mass_kg:>11.6f}{node.share:>8.2%}{sigma:>10}  "
+            f"{_v(node.cog_mm, 2)}"
+        )
     t = r.total
     line = f"\ntotal {t.mass_kg:.5f} kg"
     if b.mass_sigma_kg is not None:
@@ -232,10 +254,11 @@ def print_report(report: MassReport, depth: int, products: str) -> None:
     j = t.inertia_kg_mm2
     p = products_of_inertia(j, products)  # type: ignore[arg-type]
     print("\ninertia about the CoG, model axes (kg·mm²):")
-    print(f"  Ixx {j[0, 0]:.4f}  Iyy {j[1, 1]:.4f}  Izz {j[2, 2]:.4f}")
+    print(f"  Ixx {_n(j[0, 0])}  Iyy {_n(j[1, 1])}  Izz {_n(j[2, 2])}")
+    symbol = "P" if products == "positive" else "I"
     print(
-        f"  products ({PRODUCT_CONVENTIONS[products]}): Pxy {p['xy']:.4f}  Pxz {p['xz']:.4f}  "
-        f"Pyz {p['yz']:.4f}"
+        f"  {symbol}xy {_n(p['xy'])}  {symbol}xz {_n(p['xz'])}  {symbol}yz {_n(p['yz'])}"
+        f"  ({PRODUCT_CONVENTIONS[products]}; --products)"
     )
     pa = report.principal
     print("principal moments (kg·mm²) and axes (model components):")
@@ -249,17 +272,19 @@ def print_report(report: MassReport, depth: int, products: str) -> None:
     f = report.frame
     if f.label != "cog, axes +x,+y,+z":
         jf = report.frame_inertia_kg_mm2
-        print(f"\nin the frame at {f.label} (origin {_v(f.origin_mm)} mm):")
+        print(f"\nin the frame at {f.label} (origin {_v(f.origin_mm)} mm in model coordinates):")
         print(f"  CoG {_v(f.point_to_frame(t.cog_mm))} mm")
+        print("  inertia tensor about the origin, frame axes (kg·mm²; off-diagonal −∫ x·y dm):")
         for row in jf:
-            print("  " + "  ".join(f"{v:12.4f}" for v in row))
+            print("  " + "  ".join(f"{_n(v):>12}" for v in row))
     ov = r.overlaps
     if ov.pairs:
         print(f"\noverlaps ({ov.policy}): {ov.headline()}")
         for pair in ov.pairs[:10]:
             print(
                 f"  {report.short(pair.a)} & {report.short(pair.b)}: {pair.volume_mm3:.4g} mm³, "
-                f"{pair.mass_kg * 1e3:.4g} g (kept by {report.short(pair.kept_by)})"
+                f"{pair.mass_kg * 1e3:.4g} g ({'kept by' if ov.policy == 'resolve' else 'denser:'} "
+                f"{report.short(pair.kept_by)})"
             )
         if len(ov.pairs) > 10:
             print(f"  ... {len(ov.pairs) - 10} more in --json")

@@ -102,6 +102,25 @@ def test_step_materials_are_used_and_overridden_by_the_file(tmp_path):
     assert r2.bodies[1].density_kg_m3 == LIBRARY["copper C11000"].density_kg_m3
 
 
+def test_a_rule_that_matches_nothing_is_a_note_naming_it(tmp_path):
+    """A misspelt rule is silent in most tools: its bodies fall to the default rule."""
+    model = _model(tmp_path, nested_three_levels())
+    mats = _materials(
+        tmp_path,
+        '[materials]\n"plat*" = 1000.0\n"bracket_typo" = 2000.0\n"*" = 1000.0\n'
+        '[mass_uncertainty]\n"board/bracket[2]" = 0.05\n"bord" = 0.1\n',
+    )
+    r = model_mass_properties(model, mats)
+    flagged = [n for n in r.notes if "matches no body or assembly name" in n]
+    assert len(flagged) == 2, r.notes
+    assert "[materials] 'bracket_typo'" in flagged[0]
+    assert "[mass_uncertainty] 'bord'" in flagged[1]
+    # A path below the top assembly ("board/bracket[2]", without "sat/") names the item.
+    assert {b.item for b in r.bodies if b.sigma_rel is not None} == {"sat/board/bracket[2]"}
+    with pytest.raises(CadcogError, match="bracket_typo"):
+        model_mass_properties(model, mats, strict=True)
+
+
 def test_one_material_on_every_body_is_flagged_as_a_likely_default(tmp_path):
     top = Assembly("top")
     for k in range(3):
@@ -130,6 +149,11 @@ def test_materials_file_errors_name_the_key(tmp_path):
         _materials(tmp_path, '[growth_allowance]\n"x" = "new"\n')
     with pytest.raises(ParameterFileError, match=r"key 'mass_uncertainty\.x'.*fraction"):
         _materials(tmp_path, '[mass_uncertainty]\n"x" = 5\n')
+    # A misspelt table is named, with the tables a materials file may hold and a suggestion.
+    with pytest.raises(
+        ParameterFileError, match=r"key 'material'.*did you mean 'materials'.*growth_allowance"
+    ):
+        _materials(tmp_path, '[material]\n"*" = "FR-4"\n')
 
 
 # --- units -------------------------------------------------------------------------------------
@@ -246,7 +270,7 @@ def _nested_blocks(tmp_path, inner_density):
 
 def test_large_overlap_is_refused_with_a_short_summary(tmp_path):
     model = _nested_blocks(tmp_path, 19300.0)
-    with pytest.raises(CadcogError, match=r"1 overlapping pair\(s\) share 125 mm³") as err:
+    with pytest.raises(CadcogError, match=r"1 overlapping pair\(s\): 125 mm³ and") as err:
         model_mass_properties(model, None)
     assert len(str(err.value)) < 600 and "--resolve-overlaps" in str(err.value)
 
@@ -275,6 +299,44 @@ def test_resolve_overlaps_lets_the_denser_keep_the_common_volume(tmp_path):
     np.testing.assert_allclose(
         as_is.total.cog_mm - r.total.cog_mm, r.overlaps.cog_shift_mm, atol=1e-9
     )
+
+
+def test_three_solids_sharing_a_region_are_counted_exactly(tmp_path):
+    """Nested cubes (densities 1000 < 2000 < 3000): the innermost region lies in all three.
+    Counting each as it is adds the inner 8 mm³ twice and the middle shell once; the summary
+    must say so (pairwise sums would add the inner cube three times), and resolving must
+    remove exactly that."""
+    top = Assembly("top")
+    top.add(Part("a", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))], 1000.0, "A"))
+    top.add(Part("b", [((4.0, 4.0, 4.0), (1.0, 1.0, 1.0))], 2000.0, "B"))
+    top.add(Part("c", [((2.0, 2.0, 2.0), (2.0, 2.0, 2.0))], 3000.0, "C"))
+    model = _model(tmp_path, top)
+    r = model_mass_properties(model, None, overlaps="allow")
+    # a loses b's 64 mm³ (1000 kg/m³); b loses c's 8 mm³ (2000 kg/m³).
+    assert r.overlaps.volume_mm3 == pytest.approx(64 + 8)
+    assert r.overlaps.mass_kg == pytest.approx((64 * 1000 + 8 * 2000) * 1e-9)
+    resolved = model_mass_properties(model, None, overlaps="resolve")
+    assert r.total.mass_kg - resolved.total.mass_kg == pytest.approx(r.overlaps.mass_kg)
+    np.testing.assert_allclose(
+        r.total.cog_mm - resolved.total.cog_mm, r.overlaps.cog_shift_mm, atol=1e-12
+    )
+    want = combine(
+        [
+            box_properties([10, 10, 10], [5, 5, 5], mass_kg=1000e-9 * 1000),
+            box_properties([4, 4, 4], [3, 3, 3], mass_kg=1000e-9 * 64),
+            box_properties([2, 2, 2], [3, 3, 3], mass_kg=1000e-9 * 8),
+        ]
+    )
+    _assert_props(resolved.total, want, rtol=1e-9)
+
+
+def test_total_mass_scaling_scales_the_overlap_masses(tmp_path):
+    model = _nested_blocks(tmp_path, 19300.0)
+    r = model_mass_properties(model, None, overlaps="allow")
+    scaled = model_mass_properties(model, None, overlaps="allow", total_mass_kg=2 * r.total.mass_kg)
+    assert scaled.overlaps.mass_kg == pytest.approx(2 * r.overlaps.mass_kg)
+    assert scaled.overlaps.pairs[0].mass_kg == pytest.approx(2 * r.overlaps.pairs[0].mass_kg)
+    assert scaled.overlaps.mass_fraction == pytest.approx(r.overlaps.mass_fraction)
 
 
 def test_touching_solids_are_contact_not_overlap(tmp_path):

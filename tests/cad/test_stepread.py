@@ -153,8 +153,32 @@ def test_missing_and_corrupt_files_name_the_file(tmp_path):
         read_step(tmp_path / "nothere.step")
     bad = tmp_path / "bad.step"
     bad.write_text("ISO-10303-21;\nthis is not STEP\n", encoding="utf-8")
-    with pytest.raises(CadcogError, match=r"bad\.step: "):
-        read_step(bad)
+    with pytest.raises(CadcogError, match=r"bad\.step: cannot read as STEP \(.*Line 3"):
+        read_step(bad)  # OCCT's own reason, with the line, instead of a status name
+    whole = write_step(nested_three_levels(), tmp_path / "whole.step").read_text()
+    cut = tmp_path / "cut.step"
+    cut.write_text(whole[: len(whole) // 2], encoding="utf-8")  # a truncated download
+    with pytest.raises(CadcogError, match=r"cut\.step: cannot read as STEP \(.*end of file"):
+        read_step(cut)
+    with pytest.raises(CadcogError, match="is a directory, expected a STEP file"):
+        read_step(tmp_path)
+
+
+def test_names_an_exporter_already_suffixed_stay_unique(tmp_path):
+    """Siblings ``COMPOUND`` ×2 beside one literally named ``COMPOUND[1]``, and a two-body part
+    ``two`` (bodies ``two#1``, ``two#2``) beside a part literally named ``two#1``."""
+    box = ((1.0, 1.0, 1.0), (0.0, 0.0, 0.0))
+    top = Assembly("top")
+    for k, name in enumerate(["COMPOUND", "COMPOUND", "COMPOUND[1]"]):
+        top.add(Part(name, [box]), Place((3.0 * k, 0, 0)))
+    top.add(Part("two", [box, ((1.0, 1.0, 1.0), (2.0, 0.0, 0.0))]), Place((0, 5, 0)))
+    top.add(Part("two#1", [box]), Place((0, 9, 0)))
+    model = read_step(write_step(top, tmp_path / "names.step"))
+    paths = [b.path for b in model.bodies]
+    assert len(set(paths)) == len(paths) == 6, paths
+    assert paths[:3] == ["top/COMPOUND[1][1]", "top/COMPOUND[2]", "top/COMPOUND[1][2]"]
+    assert paths[3:] == ["top/two#1~1", "top/two#2", "top/two#1~2"]  # in file order
+    assert_same_solids(model, expected_boxes(top))
 
 
 angles = st.sampled_from([0.0, 15.0, 45.0, 90.0, 137.0, 180.0, 270.0])
