@@ -188,6 +188,39 @@ def ellipse_plot(
     plt.close(fig)
 
 
+def cog_ellipses(
+    estimates: Sequence[tuple[str, np.ndarray, np.ndarray]], path: Path, title: str = ""
+) -> None:
+    """Several CoG estimates, each with its 95 % ellipsoid, in the three body planes.
+
+    ``estimates`` holds ``(label, cog_mm (3,), cov_mm2 (3, 3))``: e.g. the CAD, the
+    measurement and the updated budget on one figure.
+    """
+    from scipy import stats
+
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, 3, figsize=(10, 3.6), dpi=120)
+    k95 = float(np.sqrt(stats.chi2.ppf(0.95, df=3)))
+    t = np.linspace(0, 2 * np.pi, 200)
+    circle = np.stack([np.cos(t), np.sin(t)])
+    for ax, (i, j) in zip(axes, [(0, 1), (0, 2), (1, 2)], strict=True):
+        for n, (label, cog, cov) in enumerate(estimates):
+            vals, vecs = np.linalg.eigh(cov[np.ix_([i, j], [i, j])])
+            pts = vecs @ (np.sqrt(np.maximum(vals, 0))[:, None] * circle) * k95
+            colour = f"C{n}"
+            ax.plot(cog[i] + pts[0], cog[j] + pts[1], color=colour, lw=1.2)
+            ax.plot(cog[i], cog[j], "+", color=colour, ms=10, label=label)
+        ax.set_xlabel(f"{'xyz'[i]} (mm)")
+        ax.set_ylabel(f"{'xyz'[j]} (mm)")
+        ax.set_aspect("equal", adjustable="datalim")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=len(estimates), fontsize=8)
+    fig.suptitle(title or "CoG estimates with their 95 % ellipsoids (projections)", fontsize=10)
+    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.25, top=0.88, wspace=0.35)
+    fig.savefig(path)
+    plt.close(fig)
+
+
 def model_views(
     meshes: Sequence[tuple[np.ndarray, np.ndarray, str]],
     cog_mm: np.ndarray,
@@ -251,8 +284,10 @@ def model_views(
     ]
     if envelope_corners_mm is not None:
         handles.append(plt.Line2D([], [], color="C2", ls="--", label="CoG envelope"))
-    axes[0].legend(handles=handles, fontsize=7, loc="best")
+    # A fixed legend place and layout: loc="best" and tight_layout both cost a draw over every
+    # triangle of the model (seconds on a large one).
+    fig.legend(handles=handles, fontsize=8, loc="lower center", ncol=len(handles))
     fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.06, right=0.98, bottom=0.18, top=0.88, wspace=0.3)
     fig.savefig(path)
     plt.close(fig)

@@ -9,6 +9,7 @@ form factor.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from itertools import combinations
 from math import comb
@@ -30,9 +31,10 @@ from cadcog.geometry import (
     ideal_reading,
 )
 from cadcog.massprops import MassProperties
-from cadcog.measurement import BodyBox, MEData
+from cadcog.measurement import BodyBox, CogEstimate, MEData, estimate_cog
 from cadcog.montecarlo import EstimatorOptions, Scenario, simulate
 from cadcog.paramfile import TableReader, read_toml
+from cadcog.readings import Suspension
 from cadcog.rig import MEVolume, Rig, me_cog_cov_mm2
 from cadcog.rigfile import default_rig_path, load_rig
 
@@ -57,7 +59,7 @@ class Setup:
     candidates: tuple[Candidate, ...]
     form_factor: str | None
     cog_limits_mm: FloatArray | None
-    solids: tuple[Any, ...]
+    bodies: tuple[Any, ...]  # cadcog.cad.stepmass.BodyResult: mass, CoG, uncertainty item
 
     @property
     def geometric_center_mm(self) -> FloatArray:
@@ -117,6 +119,32 @@ class Setup:
             me_masses_kg=tuple(v.mass_kg for v in self.me_volumes),
             me_edges_mm=tuple(v.cog_uncertainty_cube_mm for v in self.me_volumes),
         )
+
+
+def estimate_for_setup(
+    setup: Setup,
+    suspensions: Sequence[Suspension],
+    *,
+    wire_correction: bool = True,
+    self_calibrate: bool = False,
+    angle_sigma_deg: float | None = None,
+    point_sigma_mm: float | None = None,
+    min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+) -> CogEstimate:
+    """The spacecraft's compensated CoG from its suspensions, as ``cadcog estimate --setup``
+    computes it: the set-up's inclinometer, error model, bolt axes and measurement equipment."""
+    return estimate_cog(
+        suspensions,
+        setup.rig.inclinometer,
+        setup.me_data(),
+        model=setup.error_model(),
+        body=setup.body(),
+        wire_correction=wire_correction,
+        self_calibrate=self_calibrate,
+        angle_sigma_deg=angle_sigma_deg,
+        point_sigma_mm=point_sigma_mm,
+        min_angle_deg=min_angle_deg,
+    )
 
 
 def load_setup(path: str | Path) -> Setup:

@@ -47,6 +47,14 @@ MAX_ITERATIONS = 20
 #: Probability below which the CAD and the measurement disagree beyond their uncertainties.
 CONSISTENCY_PROBABILITY = 0.05
 
+#: Said whenever the CAD and the measurement disagree beyond their uncertainties.
+INCONSISTENT_NOTE = (
+    "The updated values assume the gap comes from the items' masses (and the unmodelled mass, "
+    "if one is allowed) within their uncertainties; it does not: look for a missing or "
+    "misplaced part, widen the uncertainties, allow an unmodelled mass in a region, or check "
+    "the test, before using them."
+)
+
 
 @dataclass(frozen=True)
 class Item:
@@ -140,6 +148,8 @@ class UpdateResult:
     cad: MassProperties
     cad_cog_cov_mm2: FloatArray
     cad_mass_sigma_kg: float
+    measured_mass_kg: float  # weighed
+    measured_mass_sigma_kg: float
     measured_cog_mm: FloatArray  # the spacecraft's, compensated with the weighed mass
     measured_cog_cov_mm2: FloatArray
     posterior: MassProperties
@@ -150,6 +160,7 @@ class UpdateResult:
     unmodelled_mass_kg: float | None
     unmodelled_mass_sigma_kg: float | None
     unmodelled_cog_mm: FloatArray | None
+    unmodelled_cog_cov_mm2: FloatArray | None
     chi2: float
     dof: int
     p_value: float
@@ -158,6 +169,25 @@ class UpdateResult:
     @property
     def consistent(self) -> bool:
         return self.p_value >= CONSISTENCY_PROBABILITY
+
+    def unmodelled_summary(self) -> str:
+        """``"147.7 ± 19.4 g at [14.5 ± 9.1, …] mm"``: the unmodelled mass and where it is
+        (1 σ); empty without an unmodelled mass."""
+        if self.unmodelled_mass_kg is None:
+            return ""
+        sigma_g = (self.unmodelled_mass_sigma_kg or 0.0) * 1e3
+        text = f"{self.unmodelled_mass_kg * 1e3:.1f} ± {sigma_g:.1f} g"
+        if self.unmodelled_cog_mm is not None and self.unmodelled_cog_cov_mm2 is not None:
+            sd = np.sqrt(np.maximum(np.diag(self.unmodelled_cog_cov_mm2), 0.0))
+            text += (
+                " at ["
+                + ", ".join(
+                    f"{round(float(c), 1) + 0.0:.1f} ± {e:.1f}"
+                    for c, e in zip(self.unmodelled_cog_mm, sd, strict=True)
+                )
+                + "] mm"
+            )
+        return text
 
     def ranked_items(self) -> list[ItemChange]:
         """Items by how far the data moved them (|pull|), largest first."""
@@ -178,6 +208,8 @@ class UpdateResult:
                 "cog_cov_mm2": self.cad_cog_cov_mm2.tolist(),
             },
             "measured": {
+                "mass_kg": self.measured_mass_kg,
+                "mass_sigma_kg": self.measured_mass_sigma_kg,
                 "cog_mm": self.measured_cog_mm.tolist(),
                 "cog_cov_mm2": self.measured_cog_cov_mm2.tolist(),
             },
@@ -203,8 +235,32 @@ class UpdateResult:
                 "cog_mm": None
                 if self.unmodelled_cog_mm is None
                 else self.unmodelled_cog_mm.tolist(),
+                "cog_cov_mm2": None
+                if self.unmodelled_cog_cov_mm2 is None
+                else self.unmodelled_cog_cov_mm2.tolist(),
             }
         return out
+
+
+def items_from_bodies(bodies: Sequence[Any]) -> tuple[list[Item], MassProperties | None]:
+    """The budget's uncertain items and the fixed rest, from bodies that carry ``properties``,
+    ``sigma_rel`` and ``item`` (``cadcog.cad.stepmass.BodyResult``): bodies of one item are
+    combined (they vary together); bodies without an uncertainty are fixed."""
+    groups: dict[str, list[Any]] = {}
+    fixed = []
+    for b in bodies:
+        if b.sigma_rel is None:
+            fixed.append(b.properties)
+        else:
+            groups.setdefault(b.item, []).append(b)
+    items = [
+        Item(key, combine(b.properties for b in members), members[0].sigma_rel)
+        for key, members in groups.items()
+        if members[0].sigma_rel > 0
+    ]
+    zero = [b.properties for members in groups.values() for b in members if b.sigma_rel == 0]
+    rest = fixed + zero
+    return items, (combine(rest) if rest else None)
 
 
 class _Model:
@@ -400,16 +456,22 @@ def update_budget(
         for k, i in enumerate(items)
     )
     u_mass = u_sigma = None
-    u_cog = None
+    u_cog = u_cog_cov = None
     if unmodelled is not None:
         u_mass = float(theta[n])
         u_sigma = float(np.sqrt(max(post_cov[n, n], 0.0)))
-        u_cog = theta[n + 1 : n + 4] / u_mass if abs(u_mass) > 0 else None
+        if abs(u_mass) > 0:  # c = h / m: its covariance by linear propagation from (m, h)
+            h = theta[n + 1 : n + 4]
+            u_cog = h / u_mass
+            jc = np.hstack([-h[:, None] / u_mass**2, np.eye(3) / u_mass])
+            u_cog_cov = jc @ post_cov[n : n + 4, n : n + 4] @ jc.T
     measured_cog, measured_cov = recompensate(measurement)
     return UpdateResult(
         cad,
         cov_d0[1:4, 1:4],
         float(np.sqrt(max(cov_d0[0, 0], 0.0))),
+        measurement.mass_kg,
+        measurement.mass_sigma_kg,
         measured_cog,
         measured_cov,
         posterior,
@@ -420,6 +482,7 @@ def update_budget(
         u_mass,
         u_sigma,
         u_cog,
+        u_cog_cov,
         chi2,
         4,
         float(stats.chi2.sf(chi2, df=4)),

@@ -165,14 +165,9 @@ def estimate_hangs(target: BenchTarget, suspensions: Sequence[Suspension]) -> Co
             model=ErrorModel.from_rig(rig),
             body=BodyBox.of_rig(rig),
         )
-    setup = target.setup
-    return estimate_cog(
-        suspensions,
-        setup.rig.inclinometer,
-        setup.me_data(),
-        model=setup.error_model(),
-        body=setup.body(),
-    )
+    from cadcog.spacecraft import estimate_for_setup
+
+    return estimate_for_setup(target.setup, suspensions)
 
 
 @dataclass(frozen=True)

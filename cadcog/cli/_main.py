@@ -13,6 +13,7 @@ import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from types import FrameType
+from typing import NoReturn
 
 from cadcog import __version__
 from cadcog.cli import (
@@ -26,6 +27,7 @@ from cadcog.cli import (
     plan,
     report,
     simulate,
+    update,
     validate,
 )
 from cadcog.errors import CadcogError
@@ -34,8 +36,28 @@ from cadcog.errors import CadcogError
 EXIT_USAGE = 2
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+class UsageError(CadcogError):
+    """A command line argparse refuses (unknown option, missing or malformed value)."""
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """An :class:`argparse.ArgumentParser` whose usage errors are one line naming the command,
+    raised as :class:`UsageError` so that :func:`main` returns 2 like any bad input (its
+    subcommand parsers are of this class too)."""
+
+    #: The subcommand being parsed, set by :func:`main`: the top-level parser reports a
+    #: subcommand's unrecognized arguments, and should name it.
+    command: str | None = None
+
+    def error(self, message: str) -> NoReturn:
+        command = self.prog.partition(" ")[2] or self.command  # "cadcog massprops" → massprops
+        if command:
+            raise UsageError(f"{command}: {message} (see `cadcog {command} --help`)")
+        raise UsageError(f"{message} (see `{self.prog} --help`)")
+
+
+def build_parser() -> OneLineParser:
+    parser = OneLineParser(
         prog="cadcog",
         description="Centre of gravity of small spacecraft from CAD and from a double-suspension "
         "inclinometer measurement.",
@@ -53,6 +75,7 @@ def build_parser() -> argparse.ArgumentParser:
     plan.add_parser(sub)
     check.add_parser(sub)
     acquire.add_parser(sub)
+    update.add_parser(sub)
     return parser
 
 
@@ -80,6 +103,59 @@ def _sigterm_raises() -> Iterator[None]:
         signal.signal(signal.SIGTERM, previous)
 
 
+def _subparsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    return {}
+
+
+def attach_dash_values(parser: argparse.ArgumentParser, argv: Sequence[str]) -> list[str]:
+    """``["--about", "-10,0,0"]`` → ``["--about=-10,0,0"]``: a value that starts with ``-``
+    after an option that takes one value, and is not itself an option of the command.
+
+    argparse reads such a value as an unknown option (negative vectors, suspension point ids
+    such as ``-x_30_-30``); the ``--opt=value`` form is what users would otherwise have to
+    know to type.
+    """
+    args = list(argv)
+    if not args or args[0] not in _subparsers(parser):
+        return args
+    sub = _subparsers(parser)[args[0]]
+    takes_value = {
+        o
+        for a in sub._actions
+        if a.nargs is None
+        and a.option_strings
+        and not isinstance(a, argparse._HelpAction)
+        and a.const is None
+        for o in a.option_strings
+        if o.startswith("--")
+    }
+    known = {o for a in sub._actions for o in a.option_strings}
+    out: list[str] = [args[0]]
+    i = 1
+    while i < len(args):
+        token = args[i]
+        if token == "--":
+            out.extend(args[i:])
+            break
+        nxt = args[i + 1] if i + 1 < len(args) else None
+        if (
+            token in takes_value
+            and nxt is not None
+            and nxt.startswith("-")
+            and nxt != "-"
+            and nxt.split("=", 1)[0] not in known
+        ):
+            out.append(f"{token}={nxt}")
+            i += 2
+            continue
+        out.append(token)
+        i += 1
+    return out
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI with ``argv`` (default: ``sys.argv[1:]``) and return the exit status.
 
@@ -87,8 +163,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     and returns 2; Ctrl-C returns 130 and SIGTERM 143, after every staged output is removed.
     """
     parser = build_parser()
-    args = parser.parse_args(argv)
+    words = list(sys.argv[1:] if argv is None else argv)
+    if words and words[0] in _subparsers(parser):
+        parser.command = words[0]
     try:
+        args = parser.parse_args(attach_dash_values(parser, words))
         with _sigterm_raises():
             status: int = args.func(args)
     except KeyboardInterrupt:

@@ -224,18 +224,22 @@ def run_setup(args: argparse.Namespace) -> int:
     """``--setup``: a spacecraft's compensated CoG compared with its CAD."""
     if args.rig is not None or args.object_mass_kg is not None or args.me_mass_kg is not None:
         raise CadcogError("--setup already gives the masses and the ME: drop --rig/--*-mass-kg")
-    from cadcog.spacecraft import compare_with_cad, load_setup
+    from cadcog.spacecraft import compare_with_cad, estimate_for_setup, load_setup
 
     setup = load_setup(args.setup)
     suspensions = read_readings(args.readings, setup.rig.inclinometer)
-    result = _estimate(
-        args,
-        suspensions,
-        setup.rig.inclinometer,
-        setup.me_data(),
-        setup.error_model(),
-        setup.body(),
-    )
+    try:
+        result = estimate_for_setup(
+            setup,
+            suspensions,
+            wire_correction=args.wire_correction is not False,
+            self_calibrate=args.self_calibrate_wire,
+            angle_sigma_deg=args.angle_sigma_deg,
+            point_sigma_mm=args.point_sigma_mm,
+            min_angle_deg=args.min_angle_deg,
+        )
+    except ValueError as exc:
+        raise CadcogError(f"{args.readings}: {exc}") from None
     return _emit(result, args.json, compare_with_cad(setup, result.cog_mm, result.cov_mm2))
 
 

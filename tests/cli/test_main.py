@@ -35,9 +35,58 @@ def test_help_lists_the_subcommands(capsys):
 
 
 def test_no_command_is_a_usage_error(capsys):
-    with pytest.raises(SystemExit) as info:
-        main([])
-    assert info.value.code == 2
+    assert main([]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "required: COMMAND" in err and "cadcog --help" in err
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["massprops"], "massprops: the following arguments are required: model"),
+        (["estimate", "r.csv", "--no-such-option"], "unrecognized arguments: --no-such-option"),
+        (["simulate", "--trials-per-pair"], "argument --trials-per-pair: expected one argument"),
+        (["simulate", "--trials-per-pair", "many"], "invalid int value: 'many'"),
+        (["massprops", "m.step", "--units", "furlong"], "invalid choice: 'furlong'"),
+    ],
+)
+def test_usage_errors_are_one_line_naming_the_command(capsys, argv, message):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert err.startswith(f"cadcog: error: {argv[0]}: ") and message in err
+    assert f"`cadcog {argv[0]} --help`" in err
+
+
+def test_values_that_start_with_a_dash_are_values(tmp_path, capsys):
+    """``--about -10,0,0`` and ``--points -x_…`` mean what they say, without ``=``."""
+    from cadcog.cli._main import attach_dash_values, build_parser
+
+    parser = build_parser()
+    argv = ["massprops", "m.step", "--about", "-10,0,0", "--json", "--units", "mm"]
+    assert attach_dash_values(parser, argv) == [
+        "massprops",
+        "m.step",
+        "--about=-10,0,0",
+        "--json",
+        "--units",
+        "mm",
+    ]
+    # An option after an option stays an option (a missing value is still an error).
+    assert attach_dash_values(parser, ["massprops", "m.step", "--about", "--json"]) == [
+        "massprops",
+        "m.step",
+        "--about",
+        "--json",
+    ]
+    assert main(["massprops", "m.step", "--about", "--json"]) == 2
+    assert "argument --about: expected one argument" in capsys.readouterr().err
+    # After "--" nothing is touched.
+    assert attach_dash_values(parser, ["massprops", "--", "-m.step"]) == [
+        "massprops",
+        "--",
+        "-m.step",
+    ]
 
 
 def test_unwritable_output_is_an_error_not_a_traceback(tmp_path, capsys):

@@ -1,0 +1,192 @@
+"""``cadcog update``: what the suspension test and the weighing say about the CAD."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from cadcog.errors import CadcogError
+from cadcog.fileio import dumps_json
+from cadcog.update import INCONSISTENT_NOTE
+
+#: Default 1-σ of the weighing (kg): a lab scale of 1 g resolution.
+DEFAULT_MASS_SIGMA_KG = 0.001
+
+
+def _region(text: str) -> tuple[float, ...]:
+    try:
+        values = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        values = ()
+    if len(values) != 6 or not all(np.isfinite(values)):
+        raise argparse.ArgumentTypeError(
+            f"expected six numbers X0,Y0,Z0,X1,Y1,Z1 (two opposite corners, mm), got {text!r}"
+        )
+    return values
+
+
+def add_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "update",
+        help="update the CAD mass budget from a measured CoG and a weighing",
+        description="Estimate the CoG from the readings as `estimate --setup` does, then find "
+        "the item masses (within the materials file's mass uncertainties), and optionally an "
+        "unmodelled mass in a region, that explain the measured CoG and the weighed mass: "
+        "which items most likely explain the gap, the updated mass, CoG and inertia with their "
+        "covariance, and whether the gap is larger than the uncertainties allow. See "
+        "docs/spacecraft.md.",
+    )
+    p.add_argument("readings", type=Path, help="readings CSV of the suspension test")
+    p.add_argument("--setup", type=Path, required=True, help="spacecraft set-up file (TOML)")
+    p.add_argument(
+        "--weighed-mass-kg",
+        type=float,
+        required=True,
+        help="the spacecraft's weighed mass, without the measurement equipment",
+    )
+    p.add_argument(
+        "--mass-sigma-kg",
+        type=float,
+        default=DEFAULT_MASS_SIGMA_KG,
+        help=f"1-σ uncertainty of the weighing (default {DEFAULT_MASS_SIGMA_KG:g} kg)",
+    )
+    p.add_argument(
+        "--unmodelled-region-mm",
+        type=_region,
+        help="allow an unmodelled mass (harness, fasteners, adhesive) somewhere in this box: "
+        "X0,Y0,Z0,X1,Y1,Z1",
+    )
+    p.add_argument(
+        "--unmodelled-mass-kg",
+        type=float,
+        default=0.0,
+        help="prior mean of the unmodelled mass (default 0)",
+    )
+    p.add_argument(
+        "--unmodelled-sigma-kg",
+        type=float,
+        help="prior 1-σ of the unmodelled mass (needed with --unmodelled-region-mm)",
+    )
+    p.add_argument("--report", type=Path, metavar="DIR", help="write an HTML report to DIR")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=run)
+
+
+def _positive(name: str, value: float | None, *, zero: bool = False) -> None:
+    if value is None:
+        return
+    if not np.isfinite(value) or value < 0 or (value == 0 and not zero):
+        kind = "a number ≥ 0" if zero else "a positive number"
+        raise CadcogError(f"--{name.replace('_', '-')} must be {kind}, got {value}")
+
+
+def run(args: argparse.Namespace) -> int:
+    from cadcog.readings import read_readings
+    from cadcog.spacecraft import estimate_for_setup, load_setup
+    from cadcog.update import Measurement, UnmodelledPrior, items_from_bodies, update_budget
+
+    _positive("weighed_mass_kg", args.weighed_mass_kg)
+    _positive("mass_sigma_kg", args.mass_sigma_kg)
+    _positive("unmodelled_mass_kg", args.unmodelled_mass_kg, zero=True)
+    _positive("unmodelled_sigma_kg", args.unmodelled_sigma_kg)
+    unmodelled = None
+    if args.unmodelled_region_mm is not None:
+        if args.unmodelled_sigma_kg is None:
+            raise CadcogError("--unmodelled-region-mm needs --unmodelled-sigma-kg (its prior 1 σ)")
+        r = np.array(args.unmodelled_region_mm)
+        unmodelled = UnmodelledPrior(
+            np.minimum(r[:3], r[3:]),
+            np.maximum(r[:3], r[3:]),
+            args.unmodelled_mass_kg,
+            args.unmodelled_sigma_kg,
+        )
+    elif args.unmodelled_sigma_kg is not None:
+        raise CadcogError("--unmodelled-sigma-kg goes with --unmodelled-region-mm")
+    setup = load_setup(args.setup)
+    suspensions = read_readings(args.readings, setup.rig.inclinometer)
+    try:
+        estimate = estimate_for_setup(setup, suspensions)
+    except ValueError as exc:
+        raise CadcogError(f"{args.readings}: {exc}") from None
+    items, fixed = items_from_bodies(setup.bodies)
+    measurement = Measurement(
+        estimate.assembly_cog_mm,
+        estimate.joint.cov_mm2,
+        args.weighed_mass_kg,
+        args.mass_sigma_kg,
+        setup.me_mass_kg,
+        setup.me_cog_mm,
+        setup.me_cog_cov_mm2,
+    )
+    try:
+        result = update_budget(items, fixed, measurement, unmodelled=unmodelled)
+    except ValueError as exc:
+        raise CadcogError(f"{args.setup}: {exc}; give items a [mass_uncertainty]") from None
+    if args.report is not None:
+        from cadcog.update_report import write_update_report
+
+        page = write_update_report(result, setup, estimate, args.readings, args.report)
+        print(f"report: {page}", file=sys.stderr)
+    if args.json:
+        print(dumps_json(result.to_dict()), end="")
+    else:
+        print_update(result)
+    for w in estimate.warnings:
+        print(f"cadcog: warning: {w}", file=sys.stderr)
+    return 0
+
+
+def _pm(value: float, sigma: float, digits: int) -> str:
+    return f"{round(float(value), digits) + 0.0:.{digits}f} ± {float(sigma):.{digits}f}"
+
+
+def print_update(r: Any) -> None:
+    """Readable report of an :class:`~cadcog.update.UpdateResult`."""
+    verdict = (
+        "consistent: the gap is within the uncertainties"
+        if r.consistent
+        else "the gap is LARGER than the CAD and measurement uncertainties allow"
+    )
+    print(f"CAD vs measurement: χ² = {r.chi2:.2f} ({r.dof} dof), p = {r.p_value:.3g}: {verdict}")
+    rows = [
+        (
+            "mass_kg",
+            _pm(r.cad.mass_kg, r.cad_mass_sigma_kg, 4),
+            _pm(r.measured_mass_kg, r.measured_mass_sigma_kg, 4) + " (weighed)",
+            _pm(r.posterior.mass_kg, r.posterior_mass_sigma_kg, 4),
+        )
+    ]
+    for k, axis in enumerate("xyz"):
+        rows.append(
+            (
+                f"cog_{axis}_mm",
+                _pm(r.cad.cog_mm[k], np.sqrt(r.cad_cog_cov_mm2[k, k]), 2),
+                _pm(r.measured_cog_mm[k], np.sqrt(r.measured_cog_cov_mm2[k, k]), 2),
+                _pm(r.posterior.cog_mm[k], np.sqrt(r.posterior_cog_cov_mm2[k, k]), 2),
+            )
+        )
+    header = ("(± 1 σ)", "CAD", "measured", "updated")
+    widths = [max(len(row[i]) for row in [header, *rows]) + 3 for i in range(3)]
+    print()
+    for row in [header, *rows]:
+        print("".join(f"{c:<{w}}" for c, w in zip(row, widths, strict=False)) + row[3])
+    ranked = r.ranked_items()[:8]
+    print("\nitems by how far the measurement moved them (change, 1 σ, in prior σ):")
+    width = max((len(c.key) for c in ranked), default=0)
+    for c in ranked:
+        print(
+            f"  {c.key:<{width}}  {c.delta_rel:+7.1%} ± {c.delta_sigma_rel:.1%}"
+            f"  ({c.delta_kg * 1e3:+.1f} g; {c.pull:+.2f} σ)"
+        )
+    if r.unmodelled_mass_kg is not None:
+        print(f"\nunmodelled mass: {r.unmodelled_summary()}")
+    if not r.consistent:
+        print(f"\n{INCONSISTENT_NOTE}")
+    j, s = r.posterior.inertia_kg_mm2, r.posterior_inertia_sigma_kg_mm2
+    print("\nupdated inertia about the CoG, model axes (kg·mm², ± 1 σ):")
+    for i in range(3):
+        print("  " + "  ".join(f"{j[i, k]:11.2f} ± {s[i, k]:7.2f}" for k in range(3)))
