@@ -103,6 +103,12 @@ def add_parser(sub: Any) -> None:
         help="rehearse a failure: a slipped wire on the 3rd hang, a swing that never settles, "
         "a stream that stops, a device speaking another protocol",
     )
+    p.add_argument(
+        "--report",
+        type=Path,
+        metavar="DIR",
+        help="write the test record (hangs, link, CoG, CAD comparison) as an HTML page to DIR",
+    )
     p.add_argument("--json", action="store_true", help="print the run's summary as JSON")
     p.set_defaults(func=run)
 
@@ -189,6 +195,8 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.bench.swing import SettleCriterion
 
     _check_numbers(args)
+    if args.report is not None and args.report.exists() and not args.report.is_dir():
+        raise CadcogError(f"--report {args.report}: exists and is not a directory")
     target = _target(args)
     try:
         criterion = SettleCriterion(
@@ -282,12 +290,17 @@ def _finish(args: argparse.Namespace, target: Any, result: Any, device: Any) -> 
             "error_mm": diff.tolist(),
             "mahalanobis": float(np.sqrt(diff @ np.linalg.solve(est.cov_mm2, diff))),
         }
+    data = result.to_dict()
+    if cad is not None:
+        data["cad"] = cad
+    if truth is not None:
+        data["simulated_truth"] = truth
+    page = None
+    if args.report is not None and est is not None:
+        from cadcog.bench.runreport import write_run_report
+
+        page = write_run_report(result, target, round_floats(data), args.report)
     if args.json:
-        data = result.to_dict()
-        if cad is not None:
-            data["cad"] = cad
-        if truth is not None:
-            data["simulated_truth"] = truth
         print(json.dumps(round_floats(data), indent=2, ensure_ascii=False))
     else:
         print(f"\nlink: {result.link}")
@@ -305,6 +318,10 @@ def _finish(args: argparse.Namespace, target: Any, result: Any, device: Any) -> 
                     + ", ".join(f"{v:+.3f}" for v in e)
                     + f"] mm, Mahalanobis distance {truth['mahalanobis']:.2f}"
                 )
+    if page is not None:
+        print(f"report: {page}", file=sys.stderr)
+    elif args.report is not None:
+        print("no report: fewer than two hangs recorded", file=sys.stderr)
     if est is not None:
         for w in est.warnings:
             print(f"cadcog: warning: {w}", file=sys.stderr)

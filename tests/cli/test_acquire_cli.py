@@ -97,6 +97,15 @@ def test_a_real_port_with_another_device_is_refused(tmp_path, capsys):
     assert "does not speak the cadcog protocol" in err and "GPGGA" in err
 
 
+def test_a_report_that_cannot_be_written_is_refused_before_the_run(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("", encoding="utf-8")
+    out = tmp_path / "r.csv"
+    assert main(["acquire", "--simulate", "--out", str(out), "--report", str(blocker), *FAST]) == 2
+    assert "exists and is not a directory" in capsys.readouterr().err
+    assert not out.exists()
+
+
 def test_bad_options_are_refused(tmp_path, capsys):
     out = str(tmp_path / "r.csv")
     assert main(["acquire", "--simulate", "--out", out, "--average-s", "0"]) == 2
@@ -113,9 +122,16 @@ def test_a_spacecraft_set_up_dry_run_compares_with_its_cad(tmp_path, capsys):
     out = tmp_path / "sat.csv"
     points = "+x_-30_30,-x_-30_90,-y_-30_-30,Z1"
     args = ["acquire", "--setup", str(setup), "--points", points, "--simulate", "--json"]
-    assert main([*args, "--seed", "1", "--out", str(out), *FAST]) == 0
+    report = tmp_path / "record"
+    assert main([*args, "--seed", "1", "--out", str(out), "--report", str(report), *FAST]) == 0
     data = json.loads(capsys.readouterr().out)
     assert [h["id"] for h in data["hangs"]] == points.split(",")
+    # The test record: the page, its figure, and the same summary as --json.
+    assert {p.name for p in report.iterdir()} == {"index.html", "cog.png", "acquire.json"}
+    assert json.loads((report / "acquire.json").read_text()) == data
+    page = (report / "index.html").read_text()
+    assert all(f'<td class="l">{i}</td>' in page for i in points.split(","))
+    assert "Measured − CAD" in page and "3U CoG envelope" in page
     assert data["cad"]["mahalanobis"] < np.sqrt(stats.chi2.ppf(0.999, 3))
     assert data["simulated_truth"]["mahalanobis"] < np.sqrt(stats.chi2.ppf(0.999, 3))
     assert main(["estimate", str(out), "--setup", str(setup), "--json"]) == 0
