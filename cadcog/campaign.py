@@ -23,7 +23,7 @@ from cadcog.errormodel import ErrorModel
 from cadcog.fileio import staged_file
 from cadcog.inclinometer import InclinometerConfig
 from cadcog.montecarlo import Scenario, draw_perturbations, hang
-from cadcog.readings import Suspension
+from cadcog.readings import Suspension, suspension_from_samples
 from cadcog.rig import Rig
 from cadcog.units import rad_to_deg
 
@@ -110,17 +110,7 @@ def campaign_suspensions(
         n = len(rs)
         pos = tuple(float(f"{c:.3f}") for c in rs[0].position_mm)
         out.append(
-            Suspension(
-                pid,
-                (pos[0], pos[1], pos[2]),
-                rs[0].top_face_up,
-                n,
-                float(x.mean()),
-                float(y.mean()),
-                float(x.std(ddof=1)) if n > 1 else None,
-                float(y.std(ddof=1)) if n > 1 else None,
-                line,
-            )
+            suspension_from_samples(pid, (pos[0], pos[1], pos[2]), rs[0].top_face_up, x, y, line)
         )
         line += n
     return out

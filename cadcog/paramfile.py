@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 import tomllib
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from cadcog import bounds
 from cadcog.errors import ParameterFileError
 
 
@@ -64,6 +66,10 @@ def _type_name(value: object) -> str:
     if isinstance(value, str):
         return f"string {value!r}"
     return f"{type(value).__name__} {value!r}"
+
+
+#: Names that may become file names: no separators, no dots, no control characters.
+IDENTIFIER_RE = re.compile(r"[A-Za-z][A-Za-z0-9_-]{0,63}")
 
 
 class TableReader:
@@ -138,6 +144,9 @@ class TableReader:
             raise self.error(name, f"expected a positive number, got {value!r}")
         if nonnegative and x < 0.0:
             raise self.error(name, f"expected a number >= 0, got {value!r}")
+        problem = bounds.check(name, x)
+        if problem is not None:
+            raise self.error(name, f"{problem}, got {value!r}")
         return x
 
     def vector(self, name: str, length: int = 3, *, positive: bool = False) -> tuple[float, ...]:
@@ -156,6 +165,9 @@ class TableReader:
                 raise self.error(name, f"element {i}: expected a finite number, got {item!r}")
             if positive and not x > 0.0:
                 raise self.error(name, f"element {i}: expected a positive number, got {item!r}")
+            problem = bounds.check(name, x)
+            if problem is not None:
+                raise self.error(name, f"element {i}: {problem}, got {item!r}")
             out.append(x)
         return tuple(out)
 
@@ -171,6 +183,18 @@ class TableReader:
             raise self.error(name, f"expected a non-empty string, got {_type_name(value)}")
         if choices is not None and value not in choices:
             raise self.error(name, f"expected one of {', '.join(choices)}; got {value!r}")
+        return value
+
+    def identifier(self, name: str) -> str:
+        """A name that is also safe as a file-name component: letters, digits, ``_`` and ``-``,
+        starting with a letter, at most 64 characters."""
+        value = self.string(name)
+        if not IDENTIFIER_RE.fullmatch(value):
+            raise self.error(
+                name,
+                "expected a name of letters, digits, '_' or '-' starting with a letter (at most "
+                f"64 characters; it names files), got {value!r}",
+            )
         return value
 
     def strings(self, name: str, *, choices: Sequence[str] | None = None) -> list[str]:
@@ -205,6 +229,10 @@ class TableReader:
             raise self.error(name, f"expected an integer >= {minimum}, got {value}")
         if choices is not None and value not in choices:
             raise self.error(name, f"expected one of {', '.join(map(str, choices))}; got {value}")
+        bound = bounds.bound_for(name)
+        problem = None if bound is None else bound.message(value)
+        if problem is not None:
+            raise self.error(name, f"{problem}, got {value}")
         return value
 
     def boolean(self, name: str, *, default: bool | None = None) -> bool:

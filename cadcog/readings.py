@@ -12,18 +12,23 @@ frame. Instead of ``inc_x_deg, inc_y_deg`` a file may give raw ADC readings
 ``top_face_up`` is true/false/1/0. Rows with the same ``point_id`` are samples of one suspension
 and are averaged. Blank lines and lines starting with ``#`` are skipped; extra columns are
 ignored. Every error names the file and the line.
+
+The file is read row by row and each suspension is kept as running sums (Welford's mean and
+variance), so memory does not grow with the number of samples; a line longer than
+:data:`MAX_LINE_CHARS` (``/dev/zero``, a binary file) is refused, not read into memory.
 """
 
 from __future__ import annotations
 
 import csv
 import math
-from collections.abc import Sequence
+import unicodedata
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
-import numpy as np
-
+from cadcog import bounds
 from cadcog.errors import ReadingsError
 from cadcog.inclinometer import InclinometerConfig, Verticals, verticals_from_readings
 
@@ -63,13 +68,82 @@ class Suspension:
     line: int
 
 
+#: Longest line read (characters): a readings row is under 200.
+MAX_LINE_CHARS = 100_000
+
+#: Longest point id (characters).
+MAX_ID_CHARS = 200
+
+
+@dataclass
+class _Running:
+    """Welford's running mean and sum of squared deviations."""
+
+    n: int = 0
+    mean: float = 0.0
+    m2: float = 0.0
+
+    def add(self, value: float) -> None:
+        self.n += 1
+        delta = value - self.mean
+        self.mean += delta / self.n
+        self.m2 += delta * (value - self.mean)
+
+    def std(self) -> float | None:
+        return math.sqrt(self.m2 / (self.n - 1)) if self.n > 1 else None
+
+
 @dataclass
 class _Group:
     position: tuple[float, float, float]
     top_face_up: bool
     line: int
-    x: list[float]
-    y: list[float]
+    x: _Running
+    y: _Running
+
+
+def id_problem(text: str) -> str | None:
+    """Why ``text`` cannot be a point id, or None: empty, too long, a comma (ids are listed
+    comma-separated on the command line) or a control character.
+
+    Examples
+    --------
+    >>> id_problem("S1") is None, id_problem("a,b")
+    (True, 'a comma (ids are listed comma-separated)')
+    >>> print(id_problem("S" + chr(0)))
+    a control character ('\\x00')
+    """
+    if not text:
+        return "empty"
+    if len(text) > MAX_ID_CHARS:
+        return f"longer than {MAX_ID_CHARS} characters"
+    if "," in text:
+        return "a comma (ids are listed comma-separated)"
+    bad = next((c for c in text if unicodedata.category(c)[0] == "C"), None)
+    if bad is not None:
+        return f"a control character ({bad!r})"
+    return None
+
+
+def _lines(f: Any, p: Path) -> Iterator[str]:
+    """The file's lines, each at most :data:`MAX_LINE_CHARS` long (else a ReadingsError)."""
+    number = 0
+    while True:
+        try:
+            line = f.readline(MAX_LINE_CHARS + 1)
+        except UnicodeDecodeError as exc:
+            raise ReadingsError(
+                f"{p}, line {number + 1}: not UTF-8 text ({exc.reason} at byte {exc.start})"
+            ) from None
+        if not line:
+            return
+        number += 1
+        if len(line) > MAX_LINE_CHARS:
+            raise ReadingsError(
+                f"{p}, line {number}: longer than {MAX_LINE_CHARS} characters: not a readings "
+                "CSV file"
+            )
+        yield line
 
 
 def read_readings(path: str | Path, config: InclinometerConfig | None = None) -> list[Suspension]:
@@ -95,20 +169,43 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
     """
     cfg = config or InclinometerConfig()
     p = Path(path)
+    if p.is_dir():
+        raise ReadingsError(f"{p}: is a directory, expected a readings CSV file")
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        f = p.open(encoding="utf-8-sig", newline="")
     except FileNotFoundError:
         raise ReadingsError(f"{p}: file not found") from None
-    except (IsADirectoryError, UnicodeDecodeError) as exc:
-        raise ReadingsError(f"{p}: cannot read as a UTF-8 CSV file ({exc})") from None
+    except OSError as exc:
+        raise ReadingsError(f"{p}: cannot read ({exc.strerror or exc})") from None
+    with f:
+        header, groups = _read_groups(csv.reader(_lines(f, p)), p, cfg)
+    if header is None:
+        raise ReadingsError(f"{p}: empty file, expected a header and readings")
+    if len(groups) < 2:
+        raise ReadingsError(
+            f"{p}: {len(groups)} distinct suspension point(s); the method needs at least two"
+        )
+    return [_average(pid, g) for pid, g in groups.items()]
+
+
+def _read_groups(
+    rows: Any, p: Path, cfg: InclinometerConfig
+) -> tuple[list[str] | None, dict[str, _Group]]:
+    """The header and the running sums of each point's samples, in order of appearance."""
 
     def fail(line: int, message: str) -> ReadingsError:
         return ReadingsError(f"{p}, line {line}: {message}")
 
-    rows = csv.reader(text.splitlines())
     header: list[str] | None = None
     groups: dict[str, _Group] = {}
-    for fields in rows:
+    fields_iter = iter(rows)
+    while True:
+        try:
+            fields = next(fields_iter)
+        except StopIteration:
+            break
+        except csv.Error as exc:
+            raise fail(rows.line_num, f"not CSV ({exc})") from None
         line = rows.line_num
         if not fields or not "".join(fields).strip() or fields[0].lstrip().startswith("#"):
             continue
@@ -141,13 +238,15 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
                 raise fail(
                     line, f"column {column}: expected a number, got {row[column]!r}"
                 ) from None
-            if not math.isfinite(value):
-                raise fail(line, f"column {column}: expected a finite number, got {row[column]!r}")
+            problem = bounds.check(column, value)
+            if problem is not None:
+                raise fail(line, f"column {column}: {problem}, got {row[column]!r}")
             return value
 
         pid = row["point_id"]
-        if not pid:
-            raise fail(line, "column point_id: empty")
+        problem = id_problem(pid)
+        if problem is not None:
+            raise fail(line, f"column point_id: {problem}")
         position = (number("x_mm"), number("y_mm"), number("z_mm"))
         flag = _BOOLS.get(row["top_face_up"].lower())
         if flag is None:
@@ -171,7 +270,9 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
             angles.append(value)
         group = groups.get(pid)
         if group is None:
-            groups[pid] = _Group(position, flag, line, [angles[0]], [angles[1]])
+            group = groups[pid] = _Group(position, flag, line, _Running(), _Running())
+            group.x.add(angles[0])
+            group.y.add(angles[1])
             continue
         if position != group.position:
             raise fail(
@@ -181,29 +282,38 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
             )
         if flag != group.top_face_up:
             raise fail(line, f"point {pid}: top_face_up differs from line {group.line}")
-        group.x.append(angles[0])
-        group.y.append(angles[1])
-    if header is None:
-        raise ReadingsError(f"{p}: empty file, expected a header and readings")
-    if len(groups) < 2:
-        raise ReadingsError(
-            f"{p}: {len(groups)} distinct suspension point(s); the method needs at least two"
-        )
-    return [_average(pid, g) for pid, g in groups.items()]
+        group.x.add(angles[0])
+        group.y.add(angles[1])
+    return header, groups
+
+
+def suspension_from_samples(
+    pid: str,
+    position_mm: tuple[float, float, float],
+    top_face_up: bool,
+    x_deg: Iterable[float],
+    y_deg: Iterable[float],
+    line: int,
+) -> Suspension:
+    """The :class:`Suspension` of samples in degrees, averaged exactly as a readings file's are
+    (the same running sums, so the same numbers to the last bit)."""
+    g = _Group(position_mm, top_face_up, line, _Running(), _Running())
+    for x, y in zip(x_deg, y_deg, strict=True):
+        g.x.add(float(x))
+        g.y.add(float(y))
+    return _average(pid, g)
 
 
 def _average(pid: str, g: _Group) -> Suspension:
-    x, y = np.array(g.x), np.array(g.y)
-    n = len(x)
     return Suspension(
         id=pid,
         position_mm=g.position,
         top_face_up=g.top_face_up,
-        n_samples=n,
-        inc_x_deg=float(x.mean()),
-        inc_y_deg=float(y.mean()),
-        std_x_deg=float(x.std(ddof=1)) if n > 1 else None,
-        std_y_deg=float(y.std(ddof=1)) if n > 1 else None,
+        n_samples=g.x.n,
+        inc_x_deg=g.x.mean,
+        inc_y_deg=g.y.mean,
+        std_x_deg=g.x.std(),
+        std_y_deg=g.y.std(),
         line=g.line,
     )
 

@@ -10,7 +10,6 @@ the file and the key.
 
 from __future__ import annotations
 
-import re
 from importlib import resources
 from itertools import combinations
 from pathlib import Path
@@ -25,8 +24,6 @@ from cadcog.paramfile import TableReader, read_toml
 from cadcog.rig import HoleSpec, MEVolume, ProofMass, Rig, SuspensionPoint
 
 #: Names used for files and JSON keys: letters, digits, underscore and hyphen.
-_NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
-
 #: Body names the ground truth uses itself; ME volumes may not take them.
 RESERVED_BODY_NAMES = ("proof_mass", "measurement_equipment", "assembly")
 
@@ -199,13 +196,7 @@ def _error_options(t: TableReader) -> ErrorOptions:
 
 
 def _name(t: TableReader, key: str) -> str:
-    value = t.string(key)
-    if not _NAME_RE.match(value):
-        raise t.error(
-            key,
-            f"expected a name of letters, digits, '_' or '-' starting with a letter, got {value!r}",
-        )
-    return value
+    return t.identifier(key)
 
 
 def _check_unique(tables: list[TableReader], values: list[str], key: str) -> None:

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from cadcog import gls, tolerances
+from cadcog import bounds, gls, tolerances
 from cadcog.envelope import CDS_COG_LIMITS_MM, check_envelope
 from cadcog.errormodel import ErrorModel
 from cadcog.errors import CadcogError
@@ -34,7 +34,7 @@ from cadcog.massprops import MassProperties
 from cadcog.measurement import BodyBox, CogEstimate, MEData, estimate_cog
 from cadcog.montecarlo import EstimatorOptions, Scenario, simulate
 from cadcog.paramfile import TableReader, read_toml
-from cadcog.readings import Suspension
+from cadcog.readings import Suspension, id_problem
 from cadcog.rig import MEVolume, Rig, me_cog_cov_mm2
 from cadcog.rigfile import default_rig_path, load_rig
 
@@ -152,7 +152,7 @@ def load_setup(path: str | Path) -> Setup:
     p = Path(path)
     base = p.parent
     root = TableReader(read_toml(p), p)
-    name = root.string("name")
+    name = root.identifier("name")
     from cadcog.cad.modelfile import load_model
 
     massprops = load_model(root, base)
@@ -182,6 +182,13 @@ def load_setup(path: str | Path) -> Setup:
         faces_value = cand_t.strings("faces", choices=list(FACES))
         spacing = cand_t.number("spacing_mm", positive=True)
         margin = cand_t.number("margin_mm", nonnegative=True)
+        count = sum(_grid_size(f, lo, hi, spacing, margin) for f in faces_value)
+        if count > bounds.MAX_CANDIDATES:
+            raise cand_t.error(
+                "spacing_mm",
+                f"{spacing:g} mm gives {count} candidate points on {', '.join(faces_value)}; "
+                f"at most {bounds.MAX_CANDIDATES} (every pair is screened): use a wider spacing",
+            )
         for f in faces_value:
             cands.extend(_grid(f, lo, hi, spacing, margin))
     if cand_t.has("points"):
@@ -195,7 +202,13 @@ def load_setup(path: str | Path) -> Setup:
                     f"{pos.tolist()} is inside the model's bounding box: a "
                     "suspension point must be on its surface",
                 ) from None
-            cands.append(Candidate(t.string("id"), pos, normal))
+            pid = t.string("id")
+            problem = id_problem(pid)
+            if problem is not None:
+                raise t.error("id", f"{pid!r}: {problem}")
+            if any(c.id == pid for c in cands):
+                raise t.error("id", f"duplicate candidate id {pid!r}")
+            cands.append(Candidate(pid, pos, normal))
             t.finish()
     cand_t.finish()
     root.finish()
@@ -219,14 +232,25 @@ def _triple(v: FloatArray) -> tuple[float, float, float]:
     return float(v[0]), float(v[1]), float(v[2])
 
 
+def _grid_counts(
+    face: str, lo: FloatArray, hi: FloatArray, spacing: float, margin: float
+) -> list[int]:
+    axis, _ = FACES[face]
+    return [max(int((hi[j] - lo[j] - 2 * margin) // spacing) + 1, 1) for j in range(3) if j != axis]
+
+
+def _grid_size(face: str, lo: FloatArray, hi: FloatArray, spacing: float, margin: float) -> int:
+    a, b = _grid_counts(face, lo, hi, spacing, margin)
+    return a * b
+
+
 def _grid(
     face: str, lo: FloatArray, hi: FloatArray, spacing: float, margin: float
 ) -> list[Candidate]:
     axis, sign = FACES[face]
     others = [j for j in range(3) if j != axis]
     axes = []
-    for j in others:
-        n = max(int((hi[j] - lo[j] - 2 * margin) // spacing) + 1, 1)
+    for j, n in zip(others, _grid_counts(face, lo, hi, spacing, margin), strict=True):
         span = (n - 1) * spacing
         mid = 0.5 * (lo[j] + hi[j])
         axes.append(mid - span / 2 + spacing * np.arange(n))

@@ -89,7 +89,7 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
     """Read and validate a CubeSat spec file."""
     p = Path(path)
     root = TableReader(read_toml(p), p)
-    name = root.string("name")
+    name = root.identifier("name")  # names the STEP and materials files `parts cubesat` writes
     units = root.integer("units", minimum=1)
     st = root.table("structure")
     width = st.number("width_mm", positive=True)
@@ -103,7 +103,7 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
     comps = []
     tables = root.tables("components")
     for t in tables:
-        cname = t.string("name")
+        cname = t.identifier("name")
         mat = _material(t, "material")
         c = t.vector("center_mm")
         center = (c[0], c[1], c[2])

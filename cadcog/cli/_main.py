@@ -15,7 +15,7 @@ from contextlib import contextmanager
 from types import FrameType
 from typing import NoReturn
 
-from cadcog import __version__
+from cadcog import __version__, bounds
 from cadcog.cli import (
     acquire,
     budget,
@@ -156,6 +156,36 @@ def attach_dash_values(parser: argparse.ArgumentParser, argv: Sequence[str]) -> 
     return out
 
 
+def check_option_values(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """Every numeric option finite and within its bound (:mod:`cadcog.bounds`, by the option's
+    name and unit suffix), before any work is done.
+
+    Raises
+    ------
+    UsageError
+        Naming the option, its value and the bound with its reason.
+    """
+    command = getattr(args, "command", None)
+    sub = _subparsers(parser).get(command or "")
+    if sub is None:
+        return
+    for action in sub._actions:
+        if not action.option_strings or action.dest not in vars(args):
+            continue
+        value = getattr(args, action.dest)
+        values = value if isinstance(value, tuple) else (value,)
+        for v in values:
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                continue
+            problem = bounds.check(action.dest, float(v)) if isinstance(v, float) else None
+            if isinstance(v, int):
+                bound = bounds.bound_for(action.dest)
+                problem = None if bound is None else bound.message(v)
+            if problem is not None:
+                option = max(action.option_strings, key=len)
+                raise UsageError(f"{command}: {option} {value!r}: {problem}")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI with ``argv`` (default: ``sys.argv[1:]``) and return the exit status.
 
@@ -168,6 +198,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.command = words[0]
     try:
         args = parser.parse_args(attach_dash_values(parser, words))
+        check_option_values(parser, args)
         with _sigterm_raises():
             status: int = args.func(args)
     except KeyboardInterrupt:

@@ -16,7 +16,7 @@ from cadcog.errors import CadcogError
 from cadcog.fileio import round_floats
 from cadcog.inertia import PRODUCT_CONVENTIONS, products_of_inertia
 from cadcog.massreport import MassReport, build_mass_report, parse_point
-from cadcog.materials import DENSITY_RANGE_KG_M3, LIBRARY, MaterialMap, load_materials
+from cadcog.materials import LIBRARY, MaterialMap, load_materials
 from cadcog.units import UNIT_CHOICES
 
 
@@ -140,13 +140,7 @@ def _materials(args: argparse.Namespace) -> MaterialMap | None:
             raise CadcogError(f"--{name.replace('_', '-')} must be a positive number, got {value}")
     if args.materials is not None:
         return load_materials(args.materials)
-    if args.density_kg_m3 is not None:
-        lo, hi = DENSITY_RANGE_KG_M3
-        if not lo <= args.density_kg_m3 <= hi:
-            raise CadcogError(
-                f"--density-kg-m3 {args.density_kg_m3:g} is implausible; expected kg/m³ between "
-                f"{lo:g} and {hi:g} (is it in g/cm³?)"
-            )
+    if args.density_kg_m3 is not None:  # its range is checked with every option (bounds.py)
         return MaterialMap.uniform(args.density_kg_m3)
     return None
 

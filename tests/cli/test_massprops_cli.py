@@ -107,7 +107,7 @@ def test_refusals_are_one_line_with_exit_2(model, tmp_path, capsys):
         (["massprops", str(step)], "no density for 5 solid(s)"),
         (["massprops", str(step), "--density-kg-m3", "1e3", "--axes", "+x,+x,+z"], "orthonormal"),
         (["massprops", str(step), "--density-kg-m3", "2.7"], "is it in g/cm³?"),
-        (["massprops", str(step), "--density-kg-m3", "-3"], "--density-kg-m3 must be a positive"),
+        (["massprops", str(step), "--density-kg-m3", "-3"], "--density-kg-m3 -3.0: expected at"),
         (["massprops", str(tmp_path / "none.step"), "--density-kg-m3", "1e3"], "file not found"),
     ]:
         assert main(argv) == 2

@@ -145,8 +145,9 @@ def test_the_cad_as_built_is_consistent_and_barely_changed(tmp_path, capsys, cub
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--weighed-mass-kg", "-2"], "--weighed-mass-kg must be a positive number"),
-        (["--weighed-mass-kg", "nan"], "--weighed-mass-kg must be a positive number"),
+        (["--weighed-mass-kg", "-2"], "--weighed-mass-kg -2.0: expected at least 0"),
+        (["--weighed-mass-kg", "nan"], "--weighed-mass-kg nan: expected a finite number"),
+        (["--weighed-mass-kg", "0"], "--weighed-mass-kg must be a positive number"),
         (
             ["--weighed-mass-kg", "2.6", "--unmodelled-region-mm=0,0,0,1,1,1"],
             "--unmodelled-region-mm needs --unmodelled-sigma-kg",
