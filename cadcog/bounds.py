@@ -7,7 +7,7 @@ key read through :class:`cadcog.paramfile.TableReader` and every numeric command
 (:func:`cadcog.cli._main.main`) is checked here, after the finiteness check, so that a value
 beyond what a small spacecraft, its test rig or the machine can hold is refused up front with
 the bound and the reason, instead of computing nonsense, running for hours or exhausting
-memory. The table in ``docs/validation.md`` lists them.
+memory. ``docs/inputs.md`` lists them (:func:`markdown_table`, checked by a test).
 
 Examples
 --------
@@ -83,7 +83,9 @@ NAMED_BOUNDS: dict[str, Bound] = {
     "trials": Bound(
         2, MAX_TRIALS_PER_PAIR, "Monte Carlo trials: about 1 s per 10⁶ on one core", integer=True
     ),
-    "points": Bound(2, 200, "suspension points: every pair is simulated", integer=True),
+    "points": Bound(
+        0, 200, "random suspension points, 0 for the rig's: every pair is simulated", True
+    ),
     "group_size": Bound(2, 12, "suspensions per estimate", integer=True),
     "max_set": Bound(2, 8, "hangs per set: every set of candidates is screened", integer=True),
     "campaigns": Bound(1, MAX_CAMPAIGNS, "simulated campaigns", integer=True),
@@ -123,3 +125,17 @@ def check(name: str, value: float) -> str | None:
         return "expected a number >= 0 (a standard deviation, noise or uncertainty)"
     bound = bound_for(name)
     return None if bound is None else bound.message(value)
+
+
+def markdown_table() -> str:
+    """The bounds as the Markdown table of ``docs/inputs.md``."""
+    rows = ["| name or unit suffix | accepted | why |", "|---|---|---|"]
+
+    def fmt(b: Bound, x: float) -> str:
+        return f"{int(x)}" if b.integer else f"{x:g}"
+
+    for suffix, b in sorted(UNIT_BOUNDS.items(), key=lambda kv: -len(kv[0])):
+        rows.append(f"| `*{suffix}` | {fmt(b, b.lo)} … {fmt(b, b.hi)} | {b.why} |")
+    for name, b in NAMED_BOUNDS.items():
+        rows.append(f"| `{name}` | {fmt(b, b.lo)} … {fmt(b, b.hi)} | {b.why} |")
+    return "\n".join(rows) + "\n"

@@ -38,6 +38,15 @@ BLOCK_TRIALS = 4096
 _ALLOCATOR_TUNED = False
 
 
+def _init_worker() -> None:
+    """Pool initializer: the allocator tuned, and Ctrl-C and SIGTERM left to the parent
+    (:func:`cadcog.parallel.worker_signals`)."""
+    from cadcog.parallel import worker_signals
+
+    worker_signals()
+    tune_allocator()
+
+
 def tune_allocator() -> None:
     """Let glibc keep freed arrays in its heap instead of unmapping them (once per process).
 
@@ -588,7 +597,7 @@ def simulate(
     kept: list[FloatArray] = []
     tune_allocator()
     if workers > 1:
-        with ProcessPoolExecutor(max_workers=workers, initializer=tune_allocator) as pool:
+        with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker) as pool:
             _collect(result, scenario, tasks, pool.map(_run_task, tasks), kept, progress)
     else:
         _collect(result, scenario, tasks, map(_run_task, tasks), kept, progress)

@@ -19,17 +19,28 @@ from typing import Any
 from cadcog import bounds
 from cadcog.errors import ParameterFileError
 
+#: Largest parameter file read (bytes): real ones are a few kB.
+MAX_TOML_BYTES = 10_000_000
+
 
 def read_toml(path: str | Path) -> dict[str, Any]:
     """Parse a TOML file, turning I/O and syntax errors into :class:`ParameterFileError`."""
     p = Path(path)
     try:
         with p.open("rb") as fh:
-            return tomllib.load(fh)
+            data = fh.read(MAX_TOML_BYTES + 1)  # bounded: /dev/zero is not a parameter file
     except FileNotFoundError:
         raise ParameterFileError(p, "", "file not found") from None
     except IsADirectoryError:
         raise ParameterFileError(p, "", "is a directory, expected a TOML file") from None
+    except OSError as exc:
+        raise ParameterFileError(p, "", f"cannot read ({exc.strerror or exc})") from None
+    if len(data) > MAX_TOML_BYTES:
+        raise ParameterFileError(
+            p, "", f"larger than {MAX_TOML_BYTES // 1_000_000} MB: not a parameter file"
+        )
+    try:
+        return tomllib.loads(data.decode("utf-8-sig"))
     except tomllib.TOMLDecodeError as exc:
         raise ParameterFileError(p, "", f"invalid TOML: {exc}") from None
     except UnicodeDecodeError as exc:
@@ -90,6 +101,7 @@ class TableReader:
         self._path = path
         self._prefix = prefix
         self._used: set[str] = set()
+        self._asked: set[str] = set()
 
     @property
     def path(self) -> Path:
@@ -104,6 +116,7 @@ class TableReader:
         return ParameterFileError(self._path, self.key(name), message)
 
     def has(self, name: str) -> bool:
+        self._asked.add(name)  # a key the reader knows, for finish()'s message
         return name in self._data
 
     def keys(self) -> list[str]:
@@ -271,7 +284,7 @@ class TableReader:
         """
         unknown = sorted(set(self._data) - self._used)
         if unknown:
-            known = sorted(set(expected or ()) | self._used)
+            known = sorted(set(expected or ()) | self._used | self._asked)
             close = difflib.get_close_matches(unknown[0], known, n=1)
             hint = f"did you mean {close[0]!r}? " if close else ""
             raise self.error(unknown[0], f"unknown key ({hint}known keys here: {', '.join(known)})")

@@ -126,23 +126,25 @@ def id_problem(text: str) -> str | None:
 
 
 def _lines(f: Any, p: Path) -> Iterator[str]:
-    """The file's lines, each at most :data:`MAX_LINE_CHARS` long (else a ReadingsError)."""
+    """The lines of a binary file, decoded one by one (so that an encoding error names its
+    line), each at most :data:`MAX_LINE_CHARS` bytes long (else a ReadingsError)."""
     number = 0
     while True:
-        try:
-            line = f.readline(MAX_LINE_CHARS + 1)
-        except UnicodeDecodeError as exc:
-            raise ReadingsError(
-                f"{p}, line {number + 1}: not UTF-8 text ({exc.reason} at byte {exc.start})"
-            ) from None
-        if not line:
+        raw = f.readline(MAX_LINE_CHARS + 1)
+        if not raw:
             return
         number += 1
-        if len(line) > MAX_LINE_CHARS:
+        if len(raw) > MAX_LINE_CHARS:
             raise ReadingsError(
                 f"{p}, line {number}: longer than {MAX_LINE_CHARS} characters: not a readings "
                 "CSV file"
             )
+        try:
+            line = raw.decode("utf-8-sig" if number == 1 else "utf-8")
+        except UnicodeDecodeError as exc:
+            raise ReadingsError(
+                f"{p}, line {number}: not UTF-8 text ({exc.reason} at column {exc.start + 1})"
+            ) from None
         yield line
 
 
@@ -172,7 +174,7 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
     if p.is_dir():
         raise ReadingsError(f"{p}: is a directory, expected a readings CSV file")
     try:
-        f = p.open(encoding="utf-8-sig", newline="")
+        f = p.open("rb")
     except FileNotFoundError:
         raise ReadingsError(f"{p}: file not found") from None
     except OSError as exc:

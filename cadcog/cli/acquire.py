@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.errors import CadcogError
-from cadcog.fileio import round_floats
+from cadcog.fileio import refuse_overwriting_inputs, round_floats
 from cadcog.rigfile import default_rig_path, load_rig
 
 FAULTS = ("none", "slip", "never-settle", "stall", "foreign")
@@ -195,6 +195,7 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.bench.swing import SettleCriterion
 
     _check_numbers(args)
+    refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
     if args.report is not None and args.report.exists() and not args.report.is_dir():
         raise CadcogError(f"--report {args.report}: exists and is not a directory")
     target = _target(args)

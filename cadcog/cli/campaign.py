@@ -10,6 +10,7 @@ from typing import Any
 from cadcog.campaign import simulated_readings, write_campaign
 from cadcog.errormodel import ErrorModel
 from cadcog.errors import CadcogError
+from cadcog.fileio import refuse_overwriting_inputs
 from cadcog.montecarlo import Scenario
 from cadcog.rigfile import default_rig_path, load_rig
 
@@ -57,6 +58,7 @@ def _model(args: argparse.Namespace, model: ErrorModel) -> ErrorModel:
 
 
 def run(args: argparse.Namespace) -> int:
+    refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
     if args.seed < 0:
         raise CadcogError("--seed must be non-negative")
     if args.setup is not None:

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.errors import CadcogError
-from cadcog.fileio import dumps_json, round_floats, staged_file
+from cadcog.fileio import dumps_json, refuse_overwriting_inputs, round_floats, staged_file
 from cadcog.paramfile import TableReader, read_toml
 
 #: Exit status when a requirement does not hold (bad input is 2, as everywhere).
@@ -47,12 +47,20 @@ def run(args: argparse.Namespace) -> int:
 
     started = time.perf_counter()
     path = args.requirements
-    root = TableReader(read_toml(path), path)
+    data = read_toml(path)
+    root = TableReader(data, path)
     req = load_requirements(root, path)
     if args.update_baseline and req.baseline_file is None:
         raise CadcogError(f"{path}: --update-baseline needs a [baseline] table with a file")
-    if args.junit is not None and args.junit.resolve() == path.resolve():
-        raise CadcogError(f"--junit {args.junit}: that is the requirements file")
+    if args.junit is not None:
+        inputs: dict[str, str | Path | None] = {
+            "the requirements file": path,
+            "the [baseline] file": req.baseline_file,
+        }
+        for key in ("model", "model_step", "materials"):
+            if isinstance(data.get(key), str):
+                inputs[f"its {key}"] = path.parent / data[key]
+        refuse_overwriting_inputs(args.junit, inputs)
     result = load_model(root, path.parent, strict=args.strict)
     root.finish()
     report = model_report(req, result)

@@ -82,10 +82,12 @@ def run_cubesat(args: argparse.Namespace) -> int:
 
     from cadcog.cad.assembly import write_assembly
     from cadcog.cad.cubesat import build_cubesat, load_cubesat, materials_toml
-    from cadcog.fileio import staged_output_dir
+    from cadcog.fileio import refuse_overwriting_inputs, staged_output_dir
 
     spec_path = args.spec or Path(str(resources.files("cadcog._rigs").joinpath("cubesat_3u.toml")))
     spec = load_cubesat(spec_path)
+    for name in (f"{spec.name}.step", f"{spec.name}_materials.toml"):
+        refuse_overwriting_inputs(args.out / name, {"SPEC": spec_path})
     asm, materials = build_cubesat(spec)
     with staged_output_dir(args.out) as stage:
         write_assembly(asm, stage / f"{spec.name}.step")

@@ -11,7 +11,7 @@ from typing import Any
 
 from cadcog.errormodel import INCLINOMETER_MODELS, WIRE_MODELS, ErrorModel
 from cadcog.errors import CadcogError
-from cadcog.fileio import round_floats, staged_file
+from cadcog.fileio import refuse_overwriting_inputs, round_floats, staged_file
 from cadcog.rigfile import default_rig_path, load_rig
 from cadcog.simulation import SimulationReport, SimulationSettings, run_simulation
 
@@ -86,10 +86,21 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
+#: Figure formats of ``--plot`` (by suffix).
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.plot is not None:
+        if args.plot.suffix.lower() not in PLOT_SUFFIXES:
+            raise CadcogError(
+                f"--plot {args.plot}: expected a file name ending in "
+                f"{', '.join(PLOT_SUFFIXES)} (the suffix sets the format)"
+            )
+        refuse_overwriting_inputs(args.plot, {"--rig": args.rig})
     rig = load_rig(args.rig or default_rig_path())
-    if args.trials < 2 or args.points < 0 or args.workers < 1 or args.seed < 0:
-        raise CadcogError("--trials-per-pair ≥ 2, --points ≥ 0, --workers ≥ 1, --seed ≥ 0")
+    if args.points == 1:
+        raise CadcogError("--points 1: give 0 (the rig's own points) or at least 2")
     if args.paper and args.self_calibrate_wire:
         raise CadcogError("--paper and --self-calibrate-wire exclude each other")
     model = ErrorModel.from_rig(rig)
