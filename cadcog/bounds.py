@@ -19,6 +19,7 @@ Examples
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -52,8 +53,9 @@ MASS_MAX_KG = 10_000.0
 #: Monte Carlo trials per pair of suspension points (`simulate`) or per finalist set (`plan`):
 #: about 0.5-1 s per 10⁶ on one core at the measured throughput (docs/performance.md).
 MAX_TRIALS_PER_PAIR = 10_000_000
-#: Raw samples per hang (`campaign`, rig files): a million rows is 40-50 MB of readings CSV.
-MAX_SAMPLES_PER_HANG = 1_000_000
+#: Raw samples per hang (`campaign`, `simulate`, rig files): 10⁵ is 1.4 h at 20 Hz; a virtual
+#: campaign holds about 500 bytes per sample in memory (300 MB for six such hangs).
+MAX_SAMPLES_PER_HANG = 100_000
 #: Candidate suspension points of a set-up: every pair is screened.
 MAX_CANDIDATES = 2_000
 #: Simulated campaigns (`validate`).
@@ -90,7 +92,7 @@ NAMED_BOUNDS: dict[str, Bound] = {
     "max_set": Bound(2, 8, "hangs per set: every set of candidates is screened", integer=True),
     "campaigns": Bound(1, MAX_CAMPAIGNS, "simulated campaigns", integer=True),
     "seed": Bound(0, 2**63 - 1, "seeds are non-negative 64-bit integers", integer=True),
-    "workers": Bound(1, 256, "processes", integer=True),
+    "workers": Bound(1, 64, "processes; more than the machine has CPUs only costs memory", True),
     "depth": Bound(0, 100, "levels of the budget tree shown", integer=True),
     "baud": Bound(300, 4_000_000, "serial line rates", integer=True),
     "max_redo": Bound(0, 100, "redos per hang", integer=True),
@@ -104,6 +106,7 @@ NAMED_BOUNDS: dict[str, Bound] = {
 NONNEGATIVE_WORDS = ("sigma", "noise", "uncertainty", "tolerance", "accuracy")
 
 
+@functools.lru_cache(maxsize=1024)
 def bound_for(name: str) -> Bound | None:
     """The bound of a key or option (its ``dest``), by name then by unit suffix."""
     key = name.lstrip("-").replace("-", "_")

@@ -58,6 +58,12 @@ class SensorModel:
         volts = (np.asarray(counts, dtype=float) + 0.5) * self.adc_reference_v / 2**self.adc_bits
         return np.asarray((volts - self.zero_v) / self.sensitivity_v_per_deg)
 
+    def count_to_deg(self, counts: float) -> float:
+        """:meth:`counts_to_deg` of one reading, without numpy (the same operations in the same
+        order, so the same bits): the readings reader calls it once per sample."""
+        volts = (counts + 0.5) * self.adc_reference_v / 2**self.adc_bits
+        return (volts - self.zero_v) / self.sensitivity_v_per_deg
+
     def deg_to_counts(self, angle_deg: npt.ArrayLike) -> FloatArray:
         """Inverse of :meth:`counts_to_deg` before rounding (real-valued counts)."""
         volts = np.asarray(angle_deg, dtype=float) * self.sensitivity_v_per_deg + self.zero_v

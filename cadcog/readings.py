@@ -100,6 +100,20 @@ class _Group:
     line: int
     x: _Running
     y: _Running
+    raw_position: tuple[str, str, str] = ("", "", "")  # as written in the point's first row
+    raw_flag: str = ""
+
+
+def _number(fields: list[str], col: dict[str, int], column: str, line: int, fail: Any) -> float:
+    """The number in ``column`` of a row, finite and within its name's bound."""
+    text = fields[col[column]].strip()
+    try:
+        value = float(text)
+    except ValueError:
+        raise fail(line, f"column {column}: expected a number, got {text!r}") from None
+    if not math.isfinite(value) or (column[-3:] == "_mm" and abs(value) > bounds.LENGTH_MAX_MM):
+        raise fail(line, f"column {column}: {bounds.check(column, value)}, got {text!r}")
+    return value
 
 
 def id_problem(text: str) -> str | None:
@@ -200,6 +214,10 @@ def _read_groups(
 
     header: list[str] | None = None
     groups: dict[str, _Group] = {}
+    max_counts = cfg.sensor.max_counts
+    counts = False
+    col: dict[str, int] = {}
+    angle_cols = DEG_COLUMNS
     fields_iter = iter(rows)
     while True:
         try:
@@ -228,64 +246,56 @@ def _read_groups(
                     f"(or {', '.join(COUNT_COLUMNS)} instead of the degree columns)",
                 )
             angle_cols = DEG_COLUMNS if has_deg else COUNT_COLUMNS
+            counts = not has_deg
+            col = {name: header.index(name) for name in (*BASE_COLUMNS, *angle_cols)}
             continue
         if len(fields) != len(header):
             raise fail(line, f"expected {len(header)} fields as in the header, got {len(fields)}")
-        row = dict(zip(header, (f.strip() for f in fields), strict=True))
-
-        def number(column: str, row: dict[str, str] = row, line: int = line) -> float:
-            try:
-                value = float(row[column])
-            except ValueError:
-                raise fail(
-                    line, f"column {column}: expected a number, got {row[column]!r}"
-                ) from None
-            problem = bounds.check(column, value)
+        pid = fields[col["point_id"]].strip()
+        raw_position = (fields[col["x_mm"]], fields[col["y_mm"]], fields[col["z_mm"]])
+        raw_flag = fields[col["top_face_up"]]
+        group = groups.get(pid)
+        if group is None or raw_position != group.raw_position or raw_flag != group.raw_flag:
+            # a new point, or a row that differs from its point's first: check it in full
+            problem = id_problem(pid)
             if problem is not None:
-                raise fail(line, f"column {column}: {problem}, got {row[column]!r}")
-            return value
-
-        pid = row["point_id"]
-        problem = id_problem(pid)
-        if problem is not None:
-            raise fail(line, f"column point_id: {problem}")
-        position = (number("x_mm"), number("y_mm"), number("z_mm"))
-        flag = _BOOLS.get(row["top_face_up"].lower())
-        if flag is None:
-            raise fail(
-                line,
-                f"column top_face_up: expected true, false, 1 or 0, got {row['top_face_up']!r}",
+                raise fail(line, f"column point_id: {problem}")
+            position = (
+                _number(fields, col, "x_mm", line, fail),
+                _number(fields, col, "y_mm", line, fail),
+                _number(fields, col, "z_mm", line, fail),
             )
-        angles = []
-        for column in angle_cols:
-            value = number(column)
-            if angle_cols is COUNT_COLUMNS:
-                if not 0 <= value <= cfg.sensor.max_counts:
+            flag = _BOOLS.get(raw_flag.strip().lower())
+            if flag is None:
+                raise fail(
+                    line,
+                    f"column top_face_up: expected true, false, 1 or 0, got {raw_flag.strip()!r}",
+                )
+            if group is None:
+                group = groups[pid] = _Group(
+                    position, flag, line, _Running(), _Running(), raw_position, raw_flag
+                )
+            elif position != group.position:
+                raise fail(
+                    line,
+                    f"point {pid} at {list(position)} mm, but line {group.line} puts it at "
+                    f"{list(group.position)} mm: one point_id must have one position",
+                )
+            elif flag != group.top_face_up:
+                raise fail(line, f"point {pid}: top_face_up differs from line {group.line}")
+        for column, running in zip(angle_cols, (group.x, group.y), strict=True):
+            value = _number(fields, col, column, line, fail)
+            if counts:
+                if not 0 <= value <= max_counts:
                     raise fail(
                         line,
                         f"column {column}: {value:g} outside the "
-                        f"{cfg.sensor.adc_bits}-bit ADC range 0..{cfg.sensor.max_counts}",
+                        f"{cfg.sensor.adc_bits}-bit ADC range 0..{max_counts}",
                     )
-                value = float(cfg.sensor.counts_to_deg(value))
+                value = cfg.sensor.count_to_deg(value)
             if abs(value) > 90.0:
                 raise fail(line, f"column {column}: angle {value:g}° is beyond ±90°")
-            angles.append(value)
-        group = groups.get(pid)
-        if group is None:
-            group = groups[pid] = _Group(position, flag, line, _Running(), _Running())
-            group.x.add(angles[0])
-            group.y.add(angles[1])
-            continue
-        if position != group.position:
-            raise fail(
-                line,
-                f"point {pid} at {list(position)} mm, but line {group.line} puts it at "
-                f"{list(group.position)} mm: one point_id must have one position",
-            )
-        if flag != group.top_face_up:
-            raise fail(line, f"point {pid}: top_face_up differs from line {group.line}")
-        group.x.add(angles[0])
-        group.y.add(angles[1])
+            running.add(value)
     return header, groups
 
 

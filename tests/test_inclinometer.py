@@ -72,3 +72,11 @@ def test_sensor_model_counts_and_lsb():
     true_deg = np.linspace(-60, 60, 10001)
     read = s.counts_to_deg(np.floor(s.deg_to_counts(true_deg) + 0.5))
     assert np.max(np.abs(read - true_deg)) <= s.lsb_deg / 2 + 1e-12
+
+
+@given(st.integers(0, 4095), st.sampled_from([10, 12, 16]))
+def test_one_reading_converts_to_the_same_bits_as_an_array(counts, bits):
+    from cadcog.inclinometer import SensorModel
+
+    sensor = SensorModel(adc_bits=bits)
+    assert sensor.count_to_deg(float(counts)) == float(sensor.counts_to_deg([counts])[0])
