@@ -280,7 +280,7 @@ CASES = [
     Case(
         "simulate-samples-huge",
         ["simulate", "--samples", "2000000000"],
-        r"--samples .*at most 1000000",
+        r"--samples .*at most 100000 \(samples per hang\)",
     ),
     # --- campaign ------------------------------------------------------------------------------
     Case(
