@@ -15,8 +15,8 @@ identical whatever the chunk size (blocks per vectorised batch) or the number of
 from __future__ import annotations
 
 import ctypes
+import multiprocessing
 from collections.abc import Callable, Iterable, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from functools import cached_property
 from itertools import combinations, pairwise
@@ -597,8 +597,12 @@ def simulate(
     kept: list[FloatArray] = []
     tune_allocator()
     if workers > 1:
-        with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker) as pool:
-            _collect(result, scenario, tasks, pool.map(_run_task, tasks), kept, progress)
+        # multiprocessing's pool, not concurrent.futures': leaving its block terminates the
+        # workers at once, so Ctrl-C or SIGTERM stops a long run in a moment instead of
+        # waiting for every queued task.
+        with multiprocessing.Pool(workers, initializer=_init_worker) as pool:
+            outputs = pool.imap(_run_task, tasks, chunksize=1)
+            _collect(result, scenario, tasks, outputs, kept, progress)
     else:
         _collect(result, scenario, tasks, map(_run_task, tasks), kept, progress)
     if keep_norms:
