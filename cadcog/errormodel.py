@@ -16,28 +16,26 @@ All lengths mm, angles degrees, forces N.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from cadcog.inclinometer import InclinometerConfig, SensorModel
+from cadcog.rig import (
+    INCLINOMETER_MODELS,
+    WIRE_MODELS,
+    ErrorOptions,
+    InclinometerModel,
+    Rig,
+    WireModel,
+    me_cog_sigma_mm,
+)
 from cadcog.units import deg_to_rad
-
-if TYPE_CHECKING:
-    from cadcog.rig import Rig
 
 FloatArray = npt.NDArray[np.float64]
 
-#: Standard gravity (m/s²), to turn masses into the wire tension W.
-STANDARD_GRAVITY_M_S2 = 9.80665
-
 SOURCES = ("me_cog", "inclinometer", "point_play", "wire_offset")
-
-InclinometerModel = Literal["hang-bias", "paper-averaged"]
-WireModel = Literal["paper", "elastica"]
-INCLINOMETER_MODELS: tuple[InclinometerModel, ...] = ("hang-bias", "paper-averaged")
-WIRE_MODELS: tuple[WireModel, ...] = ("paper", "elastica")
 
 
 # --- ME CoG ------------------------------------------------------------------------------------
@@ -67,19 +65,6 @@ class MECogPdf:
         dx = self.x_mm[1] - self.x_mm[0]
         c = np.cumsum(self.pdf) * dx
         return np.asarray(c - 0.5 * self.pdf * dx)
-
-
-def me_cog_sigma_mm(masses_kg: npt.ArrayLike, edges_mm: npt.ArrayLike) -> float:
-    """Per-axis standard deviation of the ME CoG error: ``√(Σ (m_k/m_ME)² a_k² / 12)``.
-
-    Examples
-    --------
-    >>> round(me_cog_sigma_mm([1, 1, 1, 1], [10, 10, 10, 10]), 6)  # 10/√12 · √(4/16)
-    1.443376
-    """
-    m = np.asarray(masses_kg, dtype=float)
-    a = np.asarray(edges_mm, dtype=float)
-    return float(np.sqrt(np.sum((m / m.sum() * a) ** 2) / 12.0))
 
 
 def me_cog_pdf(
@@ -197,23 +182,6 @@ def _mean_sqrt(rel: float) -> tuple[float, float]:
 
 
 # --- the model ---------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class ErrorOptions:
-    """The ``[error_model]`` table of a rig file: everything not already in its other tables.
-
-    Defaults are the paper's, or documented assumptions (``docs/montecarlo.md``).
-    """
-
-    samples: int = 10
-    inclinometer_model: InclinometerModel = "hang-bias"
-    sensor_noise_deg: float = 0.05
-    play_mm: float = 1.0
-    wire_model: WireModel = "paper"
-    wire_offset_max_mm: float = 1.0
-    wire_bending_stiffness_n_mm2: float = 30.0
-    wire_stiffness_rel_uncertainty: float = 0.5
-
-
 @dataclass(frozen=True)
 class WirePrior:
     """What the error model says about the wire offset of the hangs of one campaign.

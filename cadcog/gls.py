@@ -31,7 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.errormodel import ErrorModel, WireModel, wire_shape_factor
+from cadcog.errormodel import ErrorModel, wire_shape_factor
+from cadcog.rig import WireModel
 from cadcog.units import deg_to_rad
 
 FloatArray = npt.NDArray[np.float64]

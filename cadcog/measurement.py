@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog import gls, tolerances
-from cadcog.errormodel import STANDARD_GRAVITY_M_S2, ErrorModel
+from cadcog.errormodel import ErrorModel
 from cadcog.errors import DegenerateGeometryError, ReadingsError
 from cadcog.estimator import (
     Compensation,
@@ -30,6 +30,7 @@ from cadcog.geometry import FloatArray, axes_beyond_range, face_normal_of_point
 from cadcog.inclinometer import InclinometerConfig
 from cadcog.readings import Suspension, suspension_verticals
 from cadcog.rig import Rig
+from cadcog.units import STANDARD_GRAVITY_M_S2
 
 
 @dataclass(frozen=True)

@@ -25,10 +25,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.errormodel import STANDARD_GRAVITY_M_S2, ErrorModel, wire_shape_factor
+from cadcog.errormodel import ErrorModel, wire_shape_factor
 from cadcog.geometry import FACES, face_normal, face_plane_mm, ideal_reading
 from cadcog.gls import GLSBatch, LineErrors, WireTerm, cog_only, plumb_gls
 from cadcog.rig import Rig
+from cadcog.units import STANDARD_GRAVITY_M_S2
 
 FloatArray = npt.NDArray[np.float64]
 

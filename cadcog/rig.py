@@ -14,13 +14,15 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
+import numpy.typing as npt
 
-from cadcog.errormodel import STANDARD_GRAVITY_M_S2, ErrorOptions, me_cog_sigma_mm
 from cadcog.geometry import FloatArray, IdealReading, face_normal, ideal_reading
 from cadcog.inclinometer import InclinometerConfig
 from cadcog.massprops import MassProperties, box_properties, combine, cylinder_properties
+from cadcog.units import STANDARD_GRAVITY_M_S2
 
 
 @dataclass(frozen=True)
@@ -92,6 +94,42 @@ class MEVolume:
     @property
     def max_mm(self) -> FloatArray:
         return np.asarray(self.center_mm) + 0.5 * np.asarray(self.size_mm)
+
+
+InclinometerModel = Literal["hang-bias", "paper-averaged"]
+WireModel = Literal["paper", "elastica"]
+INCLINOMETER_MODELS: tuple[InclinometerModel, ...] = ("hang-bias", "paper-averaged")
+WIRE_MODELS: tuple[WireModel, ...] = ("paper", "elastica")
+
+
+@dataclass(frozen=True)
+class ErrorOptions:
+    """The ``[error_model]`` table of a rig file: everything not already in its other tables.
+
+    Defaults are the paper's, or documented assumptions (``docs/montecarlo.md``).
+    """
+
+    samples: int = 10
+    inclinometer_model: InclinometerModel = "hang-bias"
+    sensor_noise_deg: float = 0.05
+    play_mm: float = 1.0
+    wire_model: WireModel = "paper"
+    wire_offset_max_mm: float = 1.0
+    wire_bending_stiffness_n_mm2: float = 30.0
+    wire_stiffness_rel_uncertainty: float = 0.5
+
+
+def me_cog_sigma_mm(masses_kg: npt.ArrayLike, edges_mm: npt.ArrayLike) -> float:
+    """Per-axis standard deviation of the ME CoG error: ``√(Σ (m_k/m_ME)² a_k² / 12)``.
+
+    Examples
+    --------
+    >>> round(me_cog_sigma_mm([1, 1, 1, 1], [10, 10, 10, 10]), 6)  # 10/√12 · √(4/16)
+    1.443376
+    """
+    m = np.asarray(masses_kg, dtype=float)
+    a = np.asarray(edges_mm, dtype=float)
+    return float(np.sqrt(np.sum((m / m.sum() * a) ** 2) / 12.0))
 
 
 def me_cog_cov_mm2(volumes: tuple[MEVolume, ...]) -> FloatArray:

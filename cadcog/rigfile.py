@@ -17,11 +17,19 @@ from pathlib import Path
 import numpy as np
 
 from cadcog import tolerances
-from cadcog.errormodel import INCLINOMETER_MODELS, WIRE_MODELS, ErrorOptions
 from cadcog.geometry import AXIS_NAMES, FACES, face_plane_mm
 from cadcog.inclinometer import InclinometerConfig, SensorModel
 from cadcog.paramfile import TableReader, read_toml
-from cadcog.rig import HoleSpec, MEVolume, ProofMass, Rig, SuspensionPoint
+from cadcog.rig import (
+    INCLINOMETER_MODELS,
+    WIRE_MODELS,
+    ErrorOptions,
+    HoleSpec,
+    MEVolume,
+    ProofMass,
+    Rig,
+    SuspensionPoint,
+)
 
 #: Names used for files and JSON keys: letters, digits, underscore and hyphen.
 #: Body names the ground truth uses itself; ME volumes may not take them.

@@ -143,3 +143,7 @@ def areal_density_kg_m2_to_kg_mm2(areal_density_kg_m2: float) -> float:
     5e-07
     """
     return areal_density_kg_m2 / MM2_PER_M2
+
+
+#: Standard gravity (m/s²), to turn masses into the wire tension W.
+STANDARD_GRAVITY_M_S2 = 9.80665

@@ -9,7 +9,8 @@ from hypothesis import strategies as st
 from scipy import stats
 from scipy.integrate import solve_bvp
 
-from cadcog.errormodel import ErrorModel, me_cog_pdf, me_cog_sigma_mm, wire_offset_mm
+from cadcog.errormodel import ErrorModel, me_cog_pdf, wire_offset_mm
+from cadcog.rig import me_cog_sigma_mm
 
 PAPER_MASSES = (0.025, 0.085, 0.020, 0.046)
 

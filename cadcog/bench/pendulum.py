@@ -21,8 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.errormodel import STANDARD_GRAVITY_M_S2
-from cadcog.units import deg_to_rad
+from cadcog.units import STANDARD_GRAVITY_M_S2, deg_to_rad
 
 FloatArray = npt.NDArray[np.float64]
 

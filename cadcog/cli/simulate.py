@@ -9,9 +9,10 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from cadcog.errormodel import INCLINOMETER_MODELS, WIRE_MODELS, ErrorModel
+from cadcog.errormodel import ErrorModel
 from cadcog.errors import CadcogError
 from cadcog.fileio import refuse_overwriting_inputs, round_floats, staged_file
+from cadcog.rig import INCLINOMETER_MODELS, WIRE_MODELS
 from cadcog.rigfile import default_rig_path, load_rig
 from cadcog.simulation import SimulationReport, SimulationSettings, run_simulation
 
