@@ -24,8 +24,9 @@ from pathlib import Path
 
 import numpy as np
 
-from cadcog.errormodel import ErrorModel
-from cadcog.montecarlo import (
+from cadcog.method.errormodel import ErrorModel
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.uncertainty.montecarlo import (
     EstimatorOptions,
     Scenario,
     all_pairs,
@@ -34,7 +35,6 @@ from cadcog.montecarlo import (
     propagate,
     tune_allocator,
 )
-from cadcog.rigfile import default_rig_path, load_rig
 
 CADCOG = [sys.executable, "-m", "cadcog"]
 
@@ -82,8 +82,8 @@ def run_measured(argv: list[str]) -> tuple[float, float, str]:
 
 def naive_trial(sc: Scenario, model: ErrorModel, a: int, b: int, rng: np.random.Generator) -> None:
     """One trial of the paper's estimator in plain Python: the scale of what vectorising buys."""
-    from cadcog.estimator import PlumbLine, pair_estimate
-    from cadcog.montecarlo import _tangents
+    from cadcog.method.plumblines import PlumbLine, pair_estimate
+    from cadcog.uncertainty.montecarlo import _tangents
 
     ratio = sc.me_mass_kg / sc.total_mass_kg
     w = np.array(model.me_masses_kg) / sum(model.me_masses_kg) * np.array(model.me_edges_mm)

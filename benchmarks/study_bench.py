@@ -21,7 +21,7 @@ from cadcog.bench.recorder import Recorder
 from cadcog.bench.session import SimulatedOperator, run_session
 from cadcog.bench.simulator import DeviceSpec, SimulatedDevice, SimulatedLink
 from cadcog.bench.target import target_from_rig
-from cadcog.rigfile import default_rig_path, load_rig
+from cadcog.rig.file import default_rig_path, load_rig
 
 
 class _Watching(SimulatedOperator):

@@ -1,12 +1,13 @@
 """Do `cadcog estimate`'s uncertainties cover, and does `cadcog plan` predict what it gets?
 
-Virtual campaigns (:func:`cadcog.campaign.simulated_readings`: raw ADC counts with noise, a bias
-per hang, play and wire offset per hang, one ME error per campaign) are read back as
-`cadcog estimate` reads them (:func:`cadcog.campaign.campaign_suspensions`, equal to the CSV path:
-``tests/test_calibration.py``) and estimated by :func:`cadcog.measurement.estimate_cog`, the
-function behind the command. For each set of hangs it reports how often the reported 68 % and
-95 % ellipsoids (Mahalanobis² ≤ χ²₃) contain the true CoG, how often a clean line is flagged
-inconsistent, the self-calibrated wire scale's z-score coverage, and the realised 95 % error.
+Virtual campaigns (:func:`cadcog.validation.campaign.simulated_readings`: raw ADC counts with noise,
+a bias per hang, play and wire offset per hang, one ME error per campaign) are read back as `cadcog
+estimate` reads them (:func:`cadcog.validation.campaign.campaign_suspensions`, equal to the CSV
+path: ``tests/uncertainty/test_calibration.py``) and estimated by
+:func:`cadcog.method.estimate.estimate_cog`, the function behind the command. For each set of hangs
+it reports how often the reported 68 % and 95 % ellipsoids (Mahalanobis² ≤ χ²₃) contain the true
+CoG, how often a clean line is flagged inconsistent, the self-calibrated wire scale's z-score
+coverage, and the realised 95 % error.
 
 Run: ``.venv/bin/python benchmarks/study_calibration.py [--campaigns 2000]``; it prints the
 tables of ``docs/estimate.md`` (calibration) and ``docs/spacecraft.md`` (plan) and writes
@@ -23,12 +24,12 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
-from cadcog.campaign import campaign_suspensions, simulated_readings
-from cadcog.errormodel import ErrorModel
-from cadcog.inclinometer import InclinometerConfig
-from cadcog.measurement import BodyBox, MEData, estimate_cog
-from cadcog.montecarlo import Scenario
-from cadcog.rigfile import default_rig_path, load_rig
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.estimate import BodyBox, MEData, estimate_cog
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.rig.inclinometer import InclinometerConfig
+from cadcog.uncertainty.montecarlo import Scenario
+from cadcog.validation.campaign import campaign_suspensions, simulated_readings
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 
@@ -160,7 +161,8 @@ def main() -> None:
     )
     plan_rows = []
     if not args.no_cubesat:
-        from cadcog.spacecraft import load_setup, plan_test
+        from cadcog.spacecraft.plan import plan_test
+        from cadcog.spacecraft.setup import load_setup
 
         setup = load_setup(default_rig_path().parent / "cubesat_3u_setup.toml")
         t = time.perf_counter()

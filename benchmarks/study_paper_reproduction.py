@@ -15,11 +15,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from cadcog.errormodel import ErrorModel
-from cadcog.montecarlo import EstimatorOptions, Scenario, simulate
-from cadcog.rig import Rig
-from cadcog.rigfile import default_rig_path, load_rig
-from cadcog.simulation import SimulationSettings, run_simulation
+from cadcog.method.errormodel import ErrorModel
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.rig.parameters import Rig
+from cadcog.uncertainty.montecarlo import EstimatorOptions, Scenario, simulate
+from cadcog.uncertainty.random_points import SimulationSettings, run_simulation
 
 PAPER = {"weighted": False, "wire_correction": False}
 

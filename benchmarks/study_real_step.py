@@ -32,8 +32,8 @@ from OCP.TopExp import TopExp_Explorer
 
 from cadcog.cad.stepmass import model_mass_properties
 from cadcog.cad.stepread import read_step
-from cadcog.errors import CadcogError
-from cadcog.materials import MaterialMap
+from cadcog.core.errors import CadcogError
+from cadcog.mass.materials import MaterialMap
 
 
 def root_compound(path: Path) -> tuple[int, float, np.ndarray]:

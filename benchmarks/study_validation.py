@@ -1,10 +1,11 @@
 """Size and power of `cadcog validate`'s campaign verdict, and of the statistics it could use.
 
-Virtual campaigns on the paper rig (:func:`cadcog.campaign.simulated_readings`, read back as
-`cadcog validate` reads a CSV: :func:`cadcog.campaign.campaign_suspensions`) are validated by
-:func:`cadcog.validation.validate_campaign`, the function behind the command, against one null
-distribution of simulated whole campaigns (:func:`cadcog.validation.campaign_null`, 2000
-campaigns, the command's default). Three truths:
+Virtual campaigns on the paper rig (:func:`cadcog.validation.campaign.simulated_readings`, read back
+as `cadcog validate` reads a CSV: :func:`cadcog.validation.campaign.campaign_suspensions`) are
+validated by :func:`cadcog.validation.verification.validate_campaign`, the function behind the
+command, against one null distribution of simulated whole campaigns
+(:func:`cadcog.validation.verification.campaign_null`, 2000 campaigns, the command's default). Three
+truths:
 
 - ``clean``: campaigns from the error model itself (the false-alarm rate);
 - ``doubled``: every error's spread doubled about its mean (inclinometer accuracy and noise,
@@ -29,14 +30,14 @@ from dataclasses import replace
 import numpy as np
 from scipy import stats
 
-from cadcog.campaign import campaign_suspensions, simulated_readings
-from cadcog.errormodel import ErrorModel
-from cadcog.measurement import BodyBox, MEData, estimate_cog
-from cadcog.montecarlo import Scenario
-from cadcog.readings import Suspension
-from cadcog.rig import Rig
-from cadcog.rigfile import default_rig_path, load_rig
-from cadcog.validation import campaign_null, campaign_scenario, validate_campaign
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.estimate import BodyBox, MEData, estimate_cog
+from cadcog.method.readings import Suspension
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.rig.parameters import Rig
+from cadcog.uncertainty.montecarlo import Scenario
+from cadcog.validation.campaign import campaign_suspensions, simulated_readings
+from cadcog.validation.verification import campaign_null, campaign_scenario, validate_campaign
 
 
 def campaigns(rig: Rig, truth: str, seeds: range) -> list[list[Suspension]]:

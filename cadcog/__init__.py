@@ -5,6 +5,6 @@ Importing :mod:`cadcog` is cheap: nothing here imports build123d. The CAD layer 
 :mod:`cadcog.cad` and is imported only by code paths that build or read geometry.
 """
 
-__version__ = "0.1.0"
+from cadcog.core.version import __version__
 
 __all__ = ["__version__"]

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 from hypothesis import settings
 
-from cadcog.rig import Rig
-from cadcog.rigfile import default_rig_path, load_rig
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.rig.parameters import Rig
 
 # CI runs the same examples every time (a red CI is then a real regression, not a lucky draw);
 # local runs explore new examples. No deadline: this 2-core machine is shared and its timing
@@ -43,6 +43,6 @@ def paper_rig_text() -> str:
 def cubesat_setup():
     """The example 3U CubeSat set-up (builds its CAD with build123d: once per session)."""
     pytest.importorskip("build123d")
-    from cadcog.spacecraft import load_setup
+    from cadcog.spacecraft.setup import load_setup
 
     return load_setup(default_rig_path().parent / "cubesat_3u_setup.toml")

@@ -12,7 +12,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from cadcog.rigfile import default_rig_path
+from cadcog.rig.file import default_rig_path
 
 
 def paper_rig_dict() -> dict[str, Any]:
@@ -72,8 +72,8 @@ def ideal_rows(rig: Any, wire_offset_mm: float | None = None) -> list[str]:
     along the bolt axis (default: the offset the rig's error model expects, which
     ``cadcog estimate`` corrects); the row gives the wire exit, as a lab would.
     """
-    from cadcog.errormodel import ErrorModel
-    from cadcog.geometry import ideal_reading
+    from cadcog.method.errormodel import ErrorModel
+    from cadcog.rig.geometry import ideal_reading
 
     if wire_offset_mm is None:
         wire_offset_mm = ErrorModel.from_rig(rig).wire_prior(rig.weight_n).scale_mm

@@ -10,7 +10,7 @@ from __future__ import annotations
 import time
 from typing import Any, Protocol
 
-from cadcog.errors import CadcogError
+from cadcog.core.errors import CadcogError
 
 #: Default serial speed (bits/s) of the firmware in ``firmware/``.
 DEFAULT_BAUD = 115200

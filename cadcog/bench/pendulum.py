@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.units import STANDARD_GRAVITY_M_S2, deg_to_rad
+from cadcog.core.units import STANDARD_GRAVITY_M_S2, deg_to_rad
 
 FloatArray = npt.NDArray[np.float64]
 

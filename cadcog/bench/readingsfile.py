@@ -27,9 +27,9 @@ from pathlib import Path
 import numpy as np
 
 from cadcog.bench.recorder import DeviceUnits, HangData
-from cadcog.errors import CadcogError
-from cadcog.fileio import staged_file
-from cadcog.readings import Suspension
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import staged_file
+from cadcog.method.readings import Suspension
 
 _BEGIN = re.compile(r"^# hang (\S+) begin(.*)$")
 _END = re.compile(r"^# hang (\S+) end samples=(\d+)\s*$")
@@ -103,7 +103,8 @@ def parse_block(text: str) -> HangBlock:
 
 
 def suspension_of(block: HangBlock, units: DeviceUnits) -> Suspension:
-    """The averaged suspension of a block, computed as :func:`cadcog.readings.read_readings` does.
+    """The averaged suspension of a block, computed as :func:`cadcog.method.readings.read_readings`
+    does.
 
     Each row is converted to degrees, then averaged (mean and sample standard deviation).
     """

@@ -18,9 +18,9 @@ import numpy.typing as npt
 from cadcog.bench.link import ByteLink, LinkError
 from cadcog.bench.protocol import Header, LineParser, LinkStats, Sample
 from cadcog.bench.swing import SettleCriterion, SettleDetector, SwingRecord, analyse_swing
-from cadcog.errors import CadcogError
-from cadcog.geometry import axes_beyond_range
-from cadcog.inclinometer import InclinometerConfig
+from cadcog.core.errors import CadcogError
+from cadcog.rig.geometry import axes_beyond_range
+from cadcog.rig.inclinometer import InclinometerConfig
 
 FloatArray = npt.NDArray[np.float64]
 

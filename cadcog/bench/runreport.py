@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-import cadcog
-from cadcog.fileio import dumps_json, staged_output_dir
-from cadcog.html import CSS, img_tag, num, table, vec
+from cadcog.core.fileio import dumps_json, staged_output_dir
+from cadcog.core.version import __version__
+from cadcog.reports.html import CSS, img_tag, num, table, vec
 
 if TYPE_CHECKING:
     from cadcog.bench.session import SessionResult
@@ -39,7 +39,7 @@ def write_run_report(
     ``summary`` is the run's JSON form (``cadcog acquire --json``: the session, and ``cad``
     and ``simulated_truth`` when known). Needs an estimate (two hangs or more).
     """
-    from cadcog import plots
+    from cadcog.reports import plots
 
     est = result.estimate
     if est is None:
@@ -124,7 +124,7 @@ def render_html(
 <html lang="en"><head><meta charset="utf-8">
 <title>cadcog test record: {esc(target.name)}</title><style>{CSS}</style></head><body>
 <h1>Test record: {esc(target.name)}</h1>
-<p class="sub">cadcog {esc(cadcog.__version__)} · {kind} <code>{esc(target.source.name)}</code>
+<p class="sub">cadcog {esc(__version__)} · {kind} <code>{esc(target.source.name)}</code>
 · readings <code>{esc(result.path.name)}</code> · device {esc(result.device)}</p>
 <p>Link: {esc(result.link)}. Malformed lines repaired in the file: {result.repaired_lines}.</p>
 {resumed}

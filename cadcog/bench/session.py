@@ -32,9 +32,9 @@ from cadcog.bench.target import (
     inconsistent_ids,
     line_check,
 )
-from cadcog.errors import CadcogError
-from cadcog.measurement import CogEstimate
-from cadcog.readings import Suspension, read_readings
+from cadcog.core.errors import CadcogError
+from cadcog.method.estimate import CogEstimate
+from cadcog.method.readings import Suspension, read_readings
 
 #: A settled reading this far from the CAD expectation (degrees, either axis) is reported:
 #: a wrong point, a wrong face up, or a CAD CoG far off.

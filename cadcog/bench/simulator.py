@@ -1,14 +1,14 @@
 """A simulated measurement device: the physics of a hang, the sensor, the link's faults.
 
-Each hang draws, as :mod:`cadcog.campaign` does, the suspension point's play and wire offset and
-the inclinometer's bias (uniform ±accuracy per axis, fixed during the hang); the ME's CoG error
-is drawn once per device (one physical object). The equilibrium vertical comes from
-:func:`cadcog.montecarlo.hang`; about it the object swings as a damped compound pendulum
-(:mod:`cadcog.bench.pendulum`) from a random start, with periods from the CAD mass properties.
-The sensor adds white noise per conversion, saturates at its range and quantises (an analog
-sensor read by an ADC with oversampling, or a digital one sending angles). The link drops lines,
-corrupts bytes and inserts noise. Everything is drawn from one seeded generator, so a device
-with the same seed and the same sequence of calls gives the same bytes.
+Each hang draws, as :mod:`cadcog.validation.campaign` does, the suspension point's play and wire
+offset and the inclinometer's bias (uniform ±accuracy per axis, fixed during the hang); the ME's CoG
+error is drawn once per device (one physical object). The equilibrium vertical comes from
+:func:`cadcog.uncertainty.montecarlo.hang`; about it the object swings as a damped compound pendulum
+(:mod:`cadcog.bench.pendulum`) from a random start, with periods from the CAD mass properties. The
+sensor adds white noise per conversion, saturates at its range and quantises (an analog sensor read
+by an ADC with oversampling, or a digital one sending angles). The link drops lines, corrupts bytes
+and inserts noise. Everything is drawn from one seeded generator, so a device with the same seed and
+the same sequence of calls gives the same bytes.
 
 Two ways to run it:
 
@@ -33,8 +33,8 @@ import numpy as np
 from cadcog.bench.pendulum import SwingModes, swing_modes, swing_verticals
 from cadcog.bench.protocol import Header, format_header, format_sample
 from cadcog.bench.target import BenchTarget
-from cadcog.montecarlo import draw_perturbations, hang
-from cadcog.units import rad_to_deg
+from cadcog.core.units import rad_to_deg
+from cadcog.uncertainty.montecarlo import draw_perturbations, hang
 
 #: ``deg_per_lsb`` of the Murata SCL3300's angle outputs: angle = raw / 2¹⁴ × 90°.
 SCL3300_DEG_PER_LSB = 90.0 / 2**14
@@ -54,9 +54,9 @@ class DeviceSpec:
     oversample : int
         Conversions per sample (analog).
     noise_deg : float
-        White noise per conversion (analog) or per sample (digital), degrees. The analog default
-        is :data:`cadcog.campaign.DEFAULT_NOISE_DEG`; the digital one about the SCL3300's in its
-        low-noise inclination mode (an assumption).
+        White noise per conversion (analog) or per sample (digital), degrees. The analog default is
+        :data:`cadcog.validation.campaign.DEFAULT_NOISE_DEG`; the digital one about the SCL3300's in
+        its low-noise inclination mode (an assumption).
     """
 
     kind: Literal["analog", "digital"] = "analog"

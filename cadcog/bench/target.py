@@ -1,7 +1,7 @@
 """What the bench measures: a rig or a spacecraft set-up, its planned hangs, and the estimate.
 
 :func:`estimate_hangs` and :func:`line_check` are the bench's only calls into the estimator
-(:func:`cadcog.measurement.estimate_cog` and its result): when the estimator's options or result
+(:func:`cadcog.method.estimate.estimate_cog` and its result): when the estimator's options or result
 change, re-point these two functions and nothing else.
 """
 
@@ -14,17 +14,17 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from cadcog.errormodel import ErrorModel
-from cadcog.geometry import FloatArray, ideal_reading
-from cadcog.inclinometer import InclinometerConfig
-from cadcog.massprops import MassProperties, box_properties, combine
-from cadcog.measurement import BodyBox, CogEstimate, MEData, estimate_cog
-from cadcog.montecarlo import Scenario
-from cadcog.readings import Suspension
-from cadcog.rig import Rig
+from cadcog.mass.properties import MassProperties, box_properties, combine
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
+from cadcog.method.readings import Suspension
+from cadcog.rig.geometry import FloatArray, ideal_reading
+from cadcog.rig.inclinometer import InclinometerConfig
+from cadcog.rig.parameters import Rig
+from cadcog.uncertainty.montecarlo import Scenario
 
 if TYPE_CHECKING:
-    from cadcog.spacecraft import Setup
+    from cadcog.spacecraft.setup import Setup
 
 
 @dataclass(frozen=True)
@@ -165,7 +165,7 @@ def estimate_hangs(target: BenchTarget, suspensions: Sequence[Suspension]) -> Co
             model=ErrorModel.from_rig(rig),
             body=BodyBox.of_rig(rig),
         )
-    from cadcog.spacecraft import estimate_for_setup
+    from cadcog.spacecraft.setup import estimate_for_setup
 
     return estimate_for_setup(target.setup, suspensions)
 

@@ -39,7 +39,7 @@ from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape
 from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc_DocumentTool
 
-from cadcog.errors import CadcogError
+from cadcog.core.errors import CadcogError
 
 FloatArray = npt.NDArray[np.float64]
 

@@ -8,9 +8,9 @@ from typing import Any
 
 from cadcog.cad.export import write_step, write_stl
 from cadcog.cad.groundtruth import ground_truth
-from cadcog.cad.model import build_rig
-from cadcog.fileio import dumps_json, staged_output_dir
-from cadcog.rig import Rig
+from cadcog.cad.rigsolids import build_rig
+from cadcog.core.fileio import dumps_json, staged_output_dir
+from cadcog.rig.parameters import Rig
 
 GROUND_TRUTH_FILE = "ground_truth.json"
 STEP_FILE = "assembly.step"

@@ -18,9 +18,9 @@ from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
 from OCP.TopoDS import TopoDS_Shape
 
 from cadcog.cad.assembly import Assembly, Part, Placement
-from cadcog.errors import ParameterFileError
-from cadcog.materials import LIBRARY, MaterialMap
-from cadcog.paramfile import TableReader, read_toml, toml_string
+from cadcog.core.errors import ParameterFileError
+from cadcog.core.paramfile import TableReader, read_toml, toml_string
+from cadcog.mass.materials import LIBRARY, MaterialMap
 
 #: Rail length per unit (CDS: 1U 113.5 mm, 3U 340.5 mm).
 RAIL_PER_UNIT_MM = 113.5
@@ -228,7 +228,7 @@ def material_map(spec: CubeSatSpec, materials: dict[str, str]) -> MaterialMap:
 
 
 def materials_toml(spec: CubeSatSpec, materials: dict[str, str]) -> str:
-    """:func:`material_map` as a materials file for :func:`cadcog.materials.load_materials`."""
+    """:func:`material_map` as a materials file for :func:`cadcog.mass.materials.load_materials`."""
     m = material_map(spec, materials)
     lines = ["# materials of the example CubeSat, written by cadcog parts cubesat", "[materials]"]
     lines += [f"{toml_string(name)} = {toml_string(str(mat))}" for name, mat in m.rules]

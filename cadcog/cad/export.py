@@ -8,10 +8,10 @@ import build123d as bd
 from OCP.BRepMesh import BRepMesh_IncrementalMesh
 from OCP.StlAPI import StlAPI_Writer
 
-from cadcog import tolerances
 from cadcog.cad.assembly import step_timestamp
-from cadcog.errors import CadcogError
-from cadcog.units import deg_to_rad
+from cadcog.core import tolerances
+from cadcog.core.errors import CadcogError
+from cadcog.core.units import deg_to_rad
 
 
 def write_step(assembly: bd.Compound, path: Path) -> None:

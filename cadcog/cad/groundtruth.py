@@ -11,13 +11,13 @@ from typing import Any
 
 import numpy as np
 
-import cadcog
-from cadcog import tolerances
-from cadcog.cad.model import RigModel
 from cadcog.cad.occt import solid_properties
-from cadcog.massprops import MassProperties, combine
-from cadcog.rig import Rig
-from cadcog.units import density_kg_mm3_to_kg_m3
+from cadcog.cad.rigsolids import RigModel
+from cadcog.core import tolerances
+from cadcog.core.units import density_kg_mm3_to_kg_m3
+from cadcog.core.version import __version__
+from cadcog.mass.properties import MassProperties, combine
+from cadcog.rig.parameters import Rig
 
 FORMAT = "cadcog-ground-truth/1"
 
@@ -84,7 +84,7 @@ def ground_truth(rig: Rig, model: RigModel) -> dict[str, Any]:
     worst_error = max(ip.relative_error for ip in integrated.values())
     return {
         "format": FORMAT,
-        "cadcog_version": cadcog.__version__,
+        "cadcog_version": __version__,
         "rig": rig.name,
         "frame": FRAME,
         "bodies": bodies,

@@ -24,9 +24,9 @@ from pathlib import Path
 
 from cadcog.cad.stepmass import ModelMassProperties, OverlapPolicy, model_mass_properties
 from cadcog.cad.stepread import read_step
-from cadcog.materials import MaterialMap, load_materials
-from cadcog.paramfile import TableReader
-from cadcog.units import UNIT_CHOICES
+from cadcog.core.paramfile import TableReader
+from cadcog.core.units import UNIT_CHOICES
+from cadcog.mass.materials import MaterialMap, load_materials
 
 #: Keys :func:`load_model` reads (a file's other tables are its own).
 MODEL_KEYS = ("model", "model_step", "materials", "total_mass_kg", "units", "exclude", "overlaps")

@@ -2,8 +2,8 @@
 
 Each solid is integrated on its own (``BRepGProp.VolumeProperties_s`` with a requested relative
 error) and given its own density; assemblies are combined by mass with
-:func:`cadcog.massprops.combine`. Never use ``center(CenterOf.MASS)`` of a compound for this: it
-weights solids by volume, not by mass.
+:func:`cadcog.mass.properties.combine`. Never use ``center(CenterOf.MASS)`` of a compound for this:
+it weights solids by volume, not by mass.
 
 Properties "at unit density" use 1 kg/mm³ (or 1 kg/mm² for surfaces): multiply the mass and
 inertia by the real density to get a body's.
@@ -20,9 +20,9 @@ from OCP.GProp import GProp_GProps
 from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS_Shape
 
-from cadcog import tolerances
-from cadcog.errors import CadcogError
-from cadcog.massprops import MassProperties
+from cadcog.core import tolerances
+from cadcog.core.errors import CadcogError
+from cadcog.mass.properties import MassProperties
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -90,7 +90,7 @@ def rigid_transform(placement: TopLoc_Location) -> tuple[FloatArray, FloatArray]
     """Rotation (3 × 3) and translation (mm) of a rigid placement; None if it scales or shears.
 
     A placement is rigid when its scale factor is 1 and its rotation orthonormal, both to
-    :data:`cadcog.tolerances.RIGID_PLACEMENT_TOLERANCE`.
+    :data:`cadcog.core.tolerances.RIGID_PLACEMENT_TOLERANCE`.
     """
     t = placement.Transformation()
     if abs(t.ScaleFactor() - 1.0) > tolerances.RIGID_PLACEMENT_TOLERANCE:
@@ -108,7 +108,7 @@ def placed(
 
     Examples
     --------
-    >>> from cadcog.massprops import box_properties
+    >>> from cadcog.mass.properties import box_properties
     >>> b = box_properties([2.0, 4.0, 6.0], [1.0, 0, 0], mass_kg=1.0)
     >>> quarter = np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 1]])  # 90° about z
     >>> p = placed(b, quarter, np.array([0.0, 0, 10]))

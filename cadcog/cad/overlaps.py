@@ -1,14 +1,13 @@
 """Overlapping solids, found fast: bounding-box pruning, then a boolean only for candidates.
 
-Two solids whose interiors share volume would have that volume counted twice. Real models are
-full of contact (faces that touch, bolts in their holes modelled line-on-line) and of small
-interpenetrations at the modelling tolerance; those are not overlaps. A pair counts as
-overlapping only when its common volume exceeds both
-:data:`cadcog.tolerances.CONTACT_VOLUME_MM3` and :data:`cadcog.tolerances.CONTACT_VOLUME_RELATIVE`
-times the smaller solid's volume.
+Two solids whose interiors share volume would have that volume counted twice. Real models are full
+of contact (faces that touch, bolts in their holes modelled line-on-line) and of small
+interpenetrations at the modelling tolerance; those are not overlaps. A pair counts as overlapping
+only when its common volume exceeds both :data:`cadcog.core.tolerances.CONTACT_VOLUME_MM3` and
+:data:`cadcog.core.tolerances.CONTACT_VOLUME_RELATIVE` times the smaller solid's volume.
 
 Pruning: every solid's axis-aligned bounding box is computed once, and pairs whose boxes do not
-overlap by more than :data:`cadcog.tolerances.BOX_OVERLAP_MM` on every axis are dropped with
+overlap by more than :data:`cadcog.core.tolerances.BOX_OVERLAP_MM` on every axis are dropped with
 vectorised comparisons (blocks of rows, so memory stays bounded). Only the remaining candidates
 go through OCCT's boolean common (``BRepAlgoAPI_Common``), and only once per distinct
 configuration: two instanced parts in the same relative placement (the pins and housing of every
@@ -30,10 +29,10 @@ from OCP.collections import List_TopoDS_Shape
 from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS_Shape
 
-from cadcog import tolerances
 from cadcog.cad.occt import placed, rigid_transform, volume_properties
-from cadcog.massprops import MassProperties
-from cadcog.parallel import fork_map
+from cadcog.core import tolerances
+from cadcog.core.parallel import fork_map
+from cadcog.mass.properties import MassProperties
 
 FloatArray = npt.NDArray[np.float64]
 

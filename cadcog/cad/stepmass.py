@@ -15,7 +15,7 @@ reports what it found and what it did:
   density (kg/m²) by the materials file;
 - **overlaps** (shared volume, counted more than once) are found fast
   (:mod:`cadcog.cad.overlaps`) and summarised; the computation refuses only when the mass
-  counted more than once exceeds :data:`cadcog.tolerances.OVERLAP_REFUSE_MASS_FRACTION` of the
+  counted more than once exceeds :data:`cadcog.core.tolerances.OVERLAP_REFUSE_MASS_FRACTION` of the
   total, unless the caller chose to
   ``allow`` them (each solid counted as it is) or ``resolve`` them (the denser solid of each pair
   keeps the common volume);
@@ -39,20 +39,20 @@ from OCP.TopAbs import TopAbs_SHELL
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS, TopoDS_Shape
 
-from cadcog import tolerances
 from cadcog.cad.occt import placed, rigid_transform, surface_properties, volume_properties
 from cadcog.cad.overlaps import Overlap, Placed, bounding_boxes, cut_by, find_overlaps
 from cadcog.cad.stepread import StepBody, StepModel, length_unit_mm
-from cadcog.errors import CadcogError
-from cadcog.massprops import MassProperties, combine
-from cadcog.materials import DENSITY_RANGE_KG_M3, ItemRule, MaterialMap, glob_match
-from cadcog.parallel import fork_map
-from cadcog.units import (
+from cadcog.core import tolerances
+from cadcog.core.errors import CadcogError
+from cadcog.core.parallel import fork_map
+from cadcog.core.units import (
     LENGTH_UNIT_MM,
     UNIT_CHOICES,
     areal_density_kg_m2_to_kg_mm2,
     density_kg_m3_to_kg_mm3,
 )
+from cadcog.mass.materials import DENSITY_RANGE_KG_M3, ItemRule, MaterialMap, glob_match
+from cadcog.mass.properties import MassProperties, combine
 
 OverlapPolicy = Literal["check", "allow", "resolve"]
 

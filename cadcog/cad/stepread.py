@@ -51,8 +51,8 @@ from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
 from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc, XCAFDoc_DocumentTool, XCAFDoc_Material, XCAFDoc_ShapeTool
 
-from cadcog.errors import CadcogError
-from cadcog.units import LENGTH_UNIT_MM, density_kg_m3_from_step
+from cadcog.core.errors import CadcogError
+from cadcog.core.units import LENGTH_UNIT_MM, density_kg_m3_from_step
 
 #: Instance names that exporters generate rather than users give: OCCT's label entries
 #: (``=>[0:1:1:4]``), bare NAUO ids and numbers. Such an instance is named by its product.

@@ -1,8 +1,8 @@
 """Entry point of the ``cadcog`` command.
 
-Each subcommand lives in its own module with two functions: ``add_parser(subparsers)`` declares
-its arguments and ``run(args)`` does the work by calling the library; no maths happens here.
-User errors (:class:`cadcog.errors.CadcogError`) print one line on stderr and exit with status 2.
+Each subcommand lives in its own module with two functions: ``add_parser(subparsers)`` declares its
+arguments and ``run(args)`` does the work by calling the library; no maths happens here. User errors
+(:class:`cadcog.core.errors.CadcogError`) print one line on stderr and exit with status 2.
 """
 
 from __future__ import annotations
@@ -15,7 +15,6 @@ from contextlib import contextmanager
 from types import FrameType
 from typing import NoReturn
 
-from cadcog import __version__, bounds
 from cadcog.cli import (
     acquire,
     budget,
@@ -30,7 +29,9 @@ from cadcog.cli import (
     update,
     validate,
 )
-from cadcog.errors import CadcogError
+from cadcog.core import bounds
+from cadcog.core.errors import CadcogError
+from cadcog.core.version import __version__
 
 #: Exit status for bad input (same as argparse's usage errors).
 EXIT_USAGE = 2
@@ -157,7 +158,7 @@ def attach_dash_values(parser: argparse.ArgumentParser, argv: Sequence[str]) -> 
 
 
 def check_option_values(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
-    """Every numeric option finite and within its bound (:mod:`cadcog.bounds`, by the option's
+    """Every numeric option finite and within its bound (:mod:`cadcog.core.bounds`, by the option's
     name and unit suffix), before any work is done.
 
     Raises
@@ -189,7 +190,7 @@ def check_option_values(parser: argparse.ArgumentParser, args: argparse.Namespac
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI with ``argv`` (default: ``sys.argv[1:]``) and return the exit status.
 
-    Bad input (:class:`~cadcog.errors.CadcogError`, and I/O errors) prints one line on stderr
+    Bad input (:class:`~cadcog.core.errors.CadcogError`, and I/O errors) prints one line on stderr
     and returns 2; Ctrl-C returns 130 and SIGTERM 143, after every staged output is removed.
     """
     parser = build_parser()

@@ -10,9 +10,9 @@ from typing import Any
 
 import numpy as np
 
-from cadcog.errors import CadcogError
-from cadcog.fileio import refuse_overwriting_inputs, round_floats
-from cadcog.rigfile import default_rig_path, load_rig
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import refuse_overwriting_inputs, round_floats
+from cadcog.rig.file import default_rig_path, load_rig
 
 FAULTS = ("none", "slip", "never-settle", "stall", "foreign")
 
@@ -120,7 +120,8 @@ def _target(args: argparse.Namespace) -> Any:
     if args.setup is not None:
         if args.rig is not None:
             raise CadcogError("give --rig or --setup, not both")
-        from cadcog.spacecraft import load_setup, plan_test
+        from cadcog.spacecraft.plan import plan_test
+        from cadcog.spacecraft.setup import load_setup
 
         setup = load_setup(args.setup)
         if ids is None:
@@ -281,7 +282,7 @@ def _finish(args: argparse.Namespace, target: Any, result: Any, device: Any) -> 
     cad = None
     truth = None
     if est is not None and target.setup is not None:
-        from cadcog.spacecraft import compare_with_cad
+        from cadcog.spacecraft.setup import compare_with_cad
 
         cad = compare_with_cad(target.setup, est.cog_mm, est.cov_mm2)
     if est is not None and device is not None:

@@ -7,11 +7,11 @@ import json
 from pathlib import Path
 from typing import Any
 
-from cadcog.budget import error_budget
-from cadcog.errormodel import ErrorModel
-from cadcog.fileio import round_floats
-from cadcog.montecarlo import Scenario
-from cadcog.rigfile import default_rig_path, load_rig
+from cadcog.core.fileio import round_floats
+from cadcog.method.errormodel import ErrorModel
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.uncertainty.error_budget import error_budget
+from cadcog.uncertainty.montecarlo import Scenario
 
 
 def add_parser(sub: Any) -> None:

@@ -7,12 +7,12 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from cadcog.campaign import simulated_readings, write_campaign
-from cadcog.errormodel import ErrorModel
-from cadcog.errors import CadcogError
-from cadcog.fileio import refuse_overwriting_inputs
-from cadcog.montecarlo import Scenario
-from cadcog.rigfile import default_rig_path, load_rig
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import refuse_overwriting_inputs
+from cadcog.method.errormodel import ErrorModel
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.uncertainty.montecarlo import Scenario
+from cadcog.validation.campaign import simulated_readings, write_campaign
 
 
 def add_parser(sub: Any) -> None:
@@ -78,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def run_setup(args: argparse.Namespace) -> int:
-    from cadcog.spacecraft import load_setup
+    from cadcog.spacecraft.setup import load_setup
 
     if not args.points:
         raise CadcogError("--setup needs --points ID,ID,... (see cadcog plan)")

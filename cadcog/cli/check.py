@@ -8,9 +8,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from cadcog.errors import CadcogError
-from cadcog.fileio import dumps_json, refuse_overwriting_inputs, round_floats, staged_file
-from cadcog.paramfile import TableReader, read_toml
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import dumps_json, refuse_overwriting_inputs, round_floats, staged_file
+from cadcog.core.paramfile import TableReader, read_toml
 
 #: Exit status when a requirement does not hold (bad input is 2, as everywhere).
 EXIT_FAILED = 1
@@ -41,9 +41,9 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.baseline import baseline_dict, diff, load_baseline
     from cadcog.cad.modelfile import load_model
-    from cadcog.check import evaluate, load_requirements, model_report
+    from cadcog.spacecraft.baseline import baseline_dict, diff, load_baseline
+    from cadcog.spacecraft.requirements import evaluate, load_requirements, model_report
 
     started = time.perf_counter()
     path = args.requirements
@@ -75,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
     results = evaluate(req, report, changes)
     passed = all(r.passed for r in results)
     if args.junit is not None:
-        from cadcog.junit import junit_xml
+        from cadcog.reports.junit import junit_xml
 
         with staged_file(args.junit) as tmp:
             tmp.write_text(

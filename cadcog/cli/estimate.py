@@ -10,15 +10,15 @@ from typing import Any
 
 import numpy as np
 
-from cadcog import tolerances
-from cadcog.errormodel import ErrorModel
-from cadcog.errors import CadcogError
-from cadcog.fileio import round_floats
-from cadcog.inclinometer import InclinometerConfig
-from cadcog.measurement import BodyBox, CogEstimate, MEData, estimate_cog
-from cadcog.readings import Suspension, read_readings
-from cadcog.rig import Rig
-from cadcog.rigfile import load_rig
+from cadcog.core import tolerances
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import round_floats
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
+from cadcog.method.readings import Suspension, read_readings
+from cadcog.rig.file import load_rig
+from cadcog.rig.inclinometer import InclinometerConfig
+from cadcog.rig.parameters import Rig
 
 
 def _vector3(text: str) -> tuple[float, float, float]:
@@ -224,7 +224,7 @@ def run_setup(args: argparse.Namespace) -> int:
     """``--setup``: a spacecraft's compensated CoG compared with its CAD."""
     if args.rig is not None or args.object_mass_kg is not None or args.me_mass_kg is not None:
         raise CadcogError("--setup already gives the masses and the ME: drop --rig/--*-mass-kg")
-    from cadcog.spacecraft import compare_with_cad, estimate_for_setup, load_setup
+    from cadcog.spacecraft.setup import compare_with_cad, estimate_for_setup, load_setup
 
     setup = load_setup(args.setup)
     suspensions = read_readings(args.readings, setup.rig.inclinometer)
@@ -244,7 +244,7 @@ def run_setup(args: argparse.Namespace) -> int:
 
 
 def print_cad_comparison(cad: dict[str, Any]) -> None:
-    """Readable lines of :func:`cadcog.spacecraft.compare_with_cad`."""
+    """Readable lines of :func:`cadcog.spacecraft.setup.compare_with_cad`."""
     d, s = cad["difference_mm"], cad["difference_sigma"]
     print(
         "measured − CAD: ["

@@ -11,13 +11,13 @@ from typing import Any
 
 import numpy as np
 
-from cadcog.envelope import CDS_COG_LIMITS_MM
-from cadcog.errors import CadcogError
-from cadcog.fileio import round_floats
-from cadcog.inertia import PRODUCT_CONVENTIONS, products_of_inertia
-from cadcog.massreport import MassReport, build_mass_report, parse_point
-from cadcog.materials import LIBRARY, MaterialMap, load_materials
-from cadcog.units import UNIT_CHOICES
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import round_floats
+from cadcog.core.units import UNIT_CHOICES
+from cadcog.mass.inertia import PRODUCT_CONVENTIONS, products_of_inertia
+from cadcog.mass.materials import LIBRARY, MaterialMap, load_materials
+from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
+from cadcog.spacecraft.mass_summary import MassReport, build_mass_report, parse_point
 
 
 def _point(text: str) -> str | tuple[float, float, float]:
@@ -153,7 +153,7 @@ def run(args: argparse.Namespace) -> int:
     materials = _materials(args)
     from cadcog.cad.stepmass import OverlapPolicy, model_mass_properties
     from cadcog.cad.stepread import read_step
-    from cadcog.parallel import available_workers
+    from cadcog.core.parallel import available_workers
 
     model = read_step(args.model)
     policy: OverlapPolicy = (
@@ -181,7 +181,7 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise CadcogError(f"--about/--axes: {exc}") from None
     if args.report is not None:
-        from cadcog.spacecraft_report import write_mass_report
+        from cadcog.reports.massprops_report import write_mass_report
 
         page = write_mass_report(report, model, args.report)
         print(f"report: {page}", file=sys.stderr)

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from cadcog.rigfile import default_rig_path, load_rig
+from cadcog.rig.file import default_rig_path, load_rig
 
 
 def add_parser(sub: Any) -> None:
@@ -82,7 +82,7 @@ def run_cubesat(args: argparse.Namespace) -> int:
 
     from cadcog.cad.assembly import write_assembly
     from cadcog.cad.cubesat import build_cubesat, load_cubesat, materials_toml
-    from cadcog.fileio import refuse_overwriting_inputs, staged_output_dir
+    from cadcog.core.fileio import refuse_overwriting_inputs, staged_output_dir
 
     spec_path = args.spec or Path(str(resources.files("cadcog._rigs").joinpath("cubesat_3u.toml")))
     spec = load_cubesat(spec_path)

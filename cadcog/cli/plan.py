@@ -7,8 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
-from cadcog.errors import CadcogError
-from cadcog.fileio import round_floats
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import round_floats
 
 
 def add_parser(sub: Any) -> None:
@@ -29,7 +29,8 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.spacecraft import load_setup, plan_test
+    from cadcog.spacecraft.plan import plan_test
+    from cadcog.spacecraft.setup import load_setup
 
     if args.trials < 2 or args.max_set < 2 or args.seed < 0:
         raise CadcogError("--trials ≥ 2, --max-set ≥ 2, --seed ≥ 0")

@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from cadcog.errors import CadcogError
-from cadcog.rigfile import default_rig_path, load_rig
+from cadcog.core.errors import CadcogError
+from cadcog.rig.file import default_rig_path, load_rig
 
 
 def add_parser(sub: Any) -> None:
@@ -29,7 +29,7 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.report import build_report
+    from cadcog.reports.rig_report import build_report
 
     rig = load_rig(args.rig or default_rig_path())
     if args.seed < 0:

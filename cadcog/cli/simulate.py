@@ -9,12 +9,12 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from cadcog.errormodel import ErrorModel
-from cadcog.errors import CadcogError
-from cadcog.fileio import refuse_overwriting_inputs, round_floats, staged_file
-from cadcog.rig import INCLINOMETER_MODELS, WIRE_MODELS
-from cadcog.rigfile import default_rig_path, load_rig
-from cadcog.simulation import SimulationReport, SimulationSettings, run_simulation
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import refuse_overwriting_inputs, round_floats, staged_file
+from cadcog.method.errormodel import ErrorModel
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
+from cadcog.uncertainty.random_points import SimulationReport, SimulationSettings, run_simulation
 
 
 def add_parser(sub: Any) -> None:
@@ -146,7 +146,7 @@ def run(args: argparse.Namespace) -> int:
         if bar is not None:
             bar.close()
     if args.plot is not None:
-        from cadcog.plots import error_histogram
+        from cadcog.reports.plots import error_histogram
 
         with staged_file(args.plot) as tmp:
             error_histogram(

@@ -9,9 +9,9 @@ from typing import Any
 
 import numpy as np
 
-from cadcog.errors import CadcogError
-from cadcog.fileio import dumps_json
-from cadcog.update import INCONSISTENT_NOTE
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import dumps_json
+from cadcog.spacecraft.update import INCONSISTENT_NOTE
 
 #: Default 1-σ of the weighing (kg): a lab scale of 1 g resolution.
 DEFAULT_MASS_SIGMA_KG = 0.001
@@ -85,9 +85,14 @@ def _positive(name: str, value: float | None, *, zero: bool = False) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.readings import read_readings
-    from cadcog.spacecraft import estimate_for_setup, load_setup
-    from cadcog.update import Measurement, UnmodelledPrior, items_from_bodies, update_budget
+    from cadcog.method.readings import read_readings
+    from cadcog.spacecraft.setup import estimate_for_setup, load_setup
+    from cadcog.spacecraft.update import (
+        Measurement,
+        UnmodelledPrior,
+        items_from_bodies,
+        update_budget,
+    )
 
     _positive("weighed_mass_kg", args.weighed_mass_kg)
     _positive("mass_sigma_kg", args.mass_sigma_kg)
@@ -127,7 +132,7 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise CadcogError(f"{args.setup}: {exc}; give items a [mass_uncertainty]") from None
     if args.report is not None:
-        from cadcog.update_report import write_update_report
+        from cadcog.reports.update_report import write_update_report
 
         page = write_update_report(result, setup, estimate, args.readings, args.report)
         print(f"report: {page}", file=sys.stderr)
@@ -145,7 +150,7 @@ def _pm(value: float, sigma: float, digits: int) -> str:
 
 
 def print_update(r: Any) -> None:
-    """Readable report of an :class:`~cadcog.update.UpdateResult`."""
+    """Readable report of an :class:`~cadcog.spacecraft.update.UpdateResult`."""
     verdict = (
         "consistent: the gap is within the uncertainties"
         if r.consistent

@@ -7,11 +7,11 @@ import json
 from pathlib import Path
 from typing import Any
 
-from cadcog.errors import CadcogError
-from cadcog.fileio import round_floats
-from cadcog.readings import read_readings
-from cadcog.rigfile import default_rig_path, load_rig
-from cadcog.validation import DEFAULT_WINDOWS_MM, CampaignValidation, validate_campaign
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import round_floats
+from cadcog.method.readings import read_readings
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.validation.verification import DEFAULT_WINDOWS_MM, CampaignValidation, validate_campaign
 
 
 def _windows(text: str) -> tuple[float, ...]:

@@ -8,8 +8,8 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 from cadcog.bench.pendulum import swing_modes, swing_verticals
-from cadcog.massprops import box_properties
-from cadcog.units import STANDARD_GRAVITY_M_S2
+from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.mass.properties import box_properties
 
 
 def test_symmetric_body_is_the_textbook_compound_pendulum():

@@ -9,9 +9,9 @@ from cadcog.bench.protocol import ANALOG_EXAMPLE
 from cadcog.bench.readingsfile import ReadingsFile, block_text, parse_block, suspension_of
 from cadcog.bench.recorder import DeviceUnits, HangData
 from cadcog.bench.swing import SwingRecord
-from cadcog.errors import CadcogError
-from cadcog.inclinometer import InclinometerConfig
-from cadcog.readings import read_readings
+from cadcog.core.errors import CadcogError
+from cadcog.method.readings import read_readings
+from cadcog.rig.inclinometer import InclinometerConfig
 
 UNITS = DeviceUnits(ANALOG_EXAMPLE, InclinometerConfig())
 

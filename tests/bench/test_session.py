@@ -12,7 +12,7 @@ from cadcog.bench.session import AutoOperator, SimulatedOperator, run_session
 from cadcog.bench.simulator import DeviceSpec, SimulatedDevice, SimulatedLink, SimulatorSettings
 from cadcog.bench.swing import SettleCriterion
 from cadcog.bench.target import estimate_hangs
-from cadcog.readings import read_readings
+from cadcog.method.readings import read_readings
 
 #: A Mahalanobis distance beyond this happens with probability 0.001 for a 3-D normal error.
 MAHALANOBIS_999 = float(np.sqrt(stats.chi2.ppf(0.999, 3)))

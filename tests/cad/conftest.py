@@ -7,7 +7,7 @@ import pytest
 
 @pytest.fixture(scope="session")
 def paper_model(paper_rig):
-    from cadcog.cad.model import build_rig
+    from cadcog.cad.rigsolids import build_rig
 
     return build_rig(paper_rig)
 

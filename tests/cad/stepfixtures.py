@@ -30,7 +30,7 @@ from OCP.TopoDS import TopoDS_Shape
 from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc_DocumentTool
 
-from cadcog.massprops import MassProperties, box_properties
+from cadcog.mass.properties import MassProperties, box_properties
 
 
 def rotation(axis: tuple[float, float, float], deg: float) -> np.ndarray:

@@ -12,9 +12,9 @@ pytest.importorskip("build123d")
 import build123d as bd
 import trimesh
 
-from cadcog import tolerances
 from cadcog.cad.build import GROUND_TRUTH_FILE, STEP_FILE, STL_DIR
 from cadcog.cad.occt import solid_properties
+from cadcog.core import tolerances
 from tests.conftest import GOLDEN_DIR
 
 GOLDEN = GOLDEN_DIR / "paper_rig_ground_truth.json"

@@ -13,9 +13,9 @@ import pytest
 
 from cadcog.cad.stepmass import model_mass_properties
 from cadcog.cad.stepread import read_step
-from cadcog.errors import CadcogError, ParameterFileError
-from cadcog.massprops import box_properties, combine
-from cadcog.materials import LIBRARY, MaterialMap, load_materials
+from cadcog.core.errors import CadcogError, ParameterFileError
+from cadcog.mass.materials import LIBRARY, MaterialMap, load_materials
+from cadcog.mass.properties import box_properties, combine
 from tests.cad.stepfixtures import (
     Assembly,
     Part,
@@ -428,8 +428,8 @@ def test_cubesat_round_trip_matches_the_spec_closed_form(tmp_path):
     from the spec's numbers alone."""
     from cadcog.cad.assembly import write_assembly
     from cadcog.cad.cubesat import build_cubesat, load_cubesat
-    from cadcog.massprops import cylinder_properties
-    from cadcog.rigfile import default_rig_path
+    from cadcog.mass.properties import cylinder_properties
+    from cadcog.rig.file import default_rig_path
 
     spec = load_cubesat(default_rig_path().parent / "cubesat_3u.toml")
     asm, mats = build_cubesat(spec)

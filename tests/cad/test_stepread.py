@@ -20,8 +20,8 @@ from OCP.TopExp import TopExp_Explorer
 
 from cadcog.cad.occt import volume_properties
 from cadcog.cad.stepread import read_step
-from cadcog.errors import CadcogError
-from cadcog.massprops import combine
+from cadcog.core.errors import CadcogError
+from cadcog.mass.properties import combine
 from tests.cad.stepfixtures import (
     Assembly,
     Part,

@@ -35,7 +35,7 @@ def test_dry_run_records_every_hang_and_recovers_the_cog(tmp_path, capsys):
 
 
 def _rig():
-    from cadcog.rigfile import default_rig_path
+    from cadcog.rig.file import default_rig_path
 
     return str(default_rig_path())
 
@@ -116,7 +116,7 @@ def test_bad_options_are_refused(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_a_spacecraft_set_up_dry_run_compares_with_its_cad(tmp_path, capsys):
-    from cadcog.rigfile import default_rig_path
+    from cadcog.rig.file import default_rig_path
 
     setup = default_rig_path().parent / "cubesat_3u_setup.toml"
     out = tmp_path / "sat.csv"

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from cadcog.cli import main
-from cadcog.rigfile import default_rig_path
+from cadcog.rig.file import default_rig_path
 
 PARTS = default_rig_path().parent
 RIG = (PARTS / "paper_rig.toml").read_text(encoding="utf-8")

@@ -9,7 +9,7 @@ import xml.etree.ElementTree as ET
 import pytest
 
 from cadcog.cli import main
-from cadcog.rigfile import default_rig_path
+from cadcog.rig.file import default_rig_path
 
 PARTS = default_rig_path().parent
 REQUIREMENTS = PARTS / "cubesat_3u_requirements.toml"

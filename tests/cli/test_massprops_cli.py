@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from cadcog.cli import main
-from cadcog.massprops import combine
+from cadcog.mass.properties import combine
 from tests.cad.stepfixtures import (
     Assembly,
     Part,

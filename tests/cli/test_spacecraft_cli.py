@@ -12,7 +12,7 @@ from scipy import stats
 pytest.importorskip("build123d")
 
 from cadcog.cli import main
-from cadcog.rigfile import default_rig_path
+from cadcog.rig.file import default_rig_path
 
 SETUP = default_rig_path().parent / "cubesat_3u_setup.toml"
 
@@ -87,7 +87,8 @@ def test_plan_campaign_estimate_recovers_the_cad_cog(tmp_path, capsys, setup):
 
 
 def test_candidate_out_of_range_says_why(setup):
-    from cadcog.spacecraft import Candidate, plan_test
+    from cadcog.spacecraft.plan import plan_test
+    from cadcog.spacecraft.setup import Candidate
 
     far = Candidate(
         "edge", np.array([50.0, 0.0, setup.assembly_cog_mm[2] + 5.0]), np.array([1.0, 0.0, 0.0])
@@ -98,7 +99,7 @@ def test_candidate_out_of_range_says_why(setup):
 
 
 def test_cubesat_envelope_with_uncertainty(setup):
-    from cadcog.spacecraft import compare_with_cad
+    from cadcog.spacecraft.setup import compare_with_cad
 
     centre = setup.geometric_center_mm
     cov = np.eye(3) * 1.0

@@ -15,7 +15,7 @@ import pytest
 from scipy import stats
 
 from cadcog.cli import main
-from cadcog.rigfile import default_rig_path
+from cadcog.rig.file import default_rig_path
 
 PARTS = default_rig_path().parent
 SETUP = PARTS / "cubesat_3u_setup.toml"
@@ -68,7 +68,7 @@ def _mahalanobis2(cog, cov, truth) -> float:
 
 
 def test_a_heavier_battery_is_found_and_the_update_covers_the_truth(tmp_path, capsys):
-    from cadcog.spacecraft import load_setup
+    from cadcog.spacecraft.setup import load_setup
 
     # The battery is 8 % heavier than the CAD's density says: 2.7 of its prior σ (3 %).
     setup = _truth_setup(tmp_path, materials='[materials]\n"battery_pack" = 2808.0\n')
@@ -101,7 +101,7 @@ def test_a_heavier_battery_is_found_and_the_update_covers_the_truth(tmp_path, ca
 def test_a_harness_missing_from_the_cad_is_flagged_then_found_in_its_region(tmp_path, capsys):
     """A 152 g copper block (a harness bundle, say) is not in the CAD, and the battery is 6 %
     heavier: without a region the gap is flagged; with one, both are recovered."""
-    from cadcog.spacecraft import load_setup
+    from cadcog.spacecraft.setup import load_setup
 
     setup = _truth_setup(
         tmp_path, spec_extra=BALLAST, materials='[materials]\n"battery_pack" = 2756.0\n'

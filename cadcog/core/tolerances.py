@@ -1,0 +1,74 @@
+"""Every numerical tolerance cadcog uses, in one documented place.
+
+Lengths are in mm, relative values are dimensionless. Change a value here, not at the call site.
+"""
+
+#: Distance within which a point counts as lying on a plane or face (mm). Parameter files give
+#: positions to 1e-3 mm at best; 1e-6 mm only absorbs floating-point round-off.
+ON_SURFACE_MM = 1e-6
+
+#: Overlap depth below which two boxes are considered touching rather than intersecting (mm).
+CONTACT_MM = 1e-6
+
+#: Relative accuracy requested from OCCT's adaptive Gauss integration of volume properties
+#: (``BRepGProp.VolumeProperties_s`` with ``Eps``). Planar and cylindrical faces integrate
+#: exactly, so the achieved error is usually far smaller; the achieved estimate is reported.
+OCCT_INTEGRATION_EPS = 1e-9
+
+#: Chordal deflection used when tessellating B-rep solids for STL export (mm, absolute). The
+#: volume between a curved face and its inscribed tessellation is at most this deflection times
+#: the face area, which is how the STL cross-check's tolerance is derived.
+STL_DEFLECTION_MM = 1e-3
+
+#: Angular deflection for tessellation (degrees).
+STL_ANGULAR_DEFLECTION_DEG = 5.0
+
+#: Relative agreement expected between exact B-rep integration and the closed forms.
+CLOSED_FORM_RTOL = 1e-9
+
+#: Significant digits kept when writing floats to ground-truth JSON. Fifteen digits round-trip
+#: every value OCCT computes to well within its integration error, and drop the last-bit noise
+#: that differs between platforms, so golden files stay byte-stable.
+JSON_SIGNIFICANT_DIGITS = 15
+
+#: Entries of a vector or matrix smaller than this fraction of its largest entry are round-off
+#: (OCCT's integration leaves ~1e-13 relative residue in products of inertia that are exactly
+#: zero by symmetry) and are written to ground truth as 0.
+ROUNDOFF_RELATIVE = 1e-11
+
+#: Smallest angle between two plumb lines for their closest approach to be trusted (degrees).
+#: The estimate's sensitivity to a lateral error of either line grows as 1/sin(angle): ×11.5 at
+#: 5°. Pairs below this raise :class:`cadcog.core.errors.IllConditionedError`; the joint estimator
+#: skips them in its pair diagnostics. Configurable per call.
+MIN_PAIR_ANGLE_DEG = 5.0
+
+#: Probability below which a suspension's residual (squared distance of its line from the joint
+#: estimate over its variance, ~χ² with 2 degrees of freedom) flags it as inconsistent.
+OUTLIER_PROBABILITY = 0.003
+
+#: Axis-aligned boxes of two solids must overlap by more than this on every axis (mm) for the
+#: pair to be tested for overlap with a boolean; boxes that only touch are pruned.
+BOX_OVERLAP_MM = 1e-3
+
+#: A common volume of two solids at or below this (mm³) is contact, not overlap: touching faces
+#: and modelling-tolerance interpenetration of real CAD (0.004 mm³ is typical) stay below it.
+CONTACT_VOLUME_MM3 = 0.01
+
+#: ... and at or below this fraction of the smaller solid's volume.
+CONTACT_VOLUME_RELATIVE = 1e-6
+
+#: Overlapping solids double-count mass; above this fraction of the total mass the computation
+#: refuses (``--allow-overlap`` or ``--resolve-overlaps`` choose), below it each solid counts as
+#: it is and a note says how much was double-counted.
+OVERLAP_REFUSE_MASS_FRACTION = 1e-3
+
+#: A body's placement in an assembly is taken as rigid (rotation and translation, so its
+#: placement-free mass properties can be reused for every instance) when its scale factor is 1
+#: and its rotation is orthonormal to this tolerance; otherwise the placed shape is integrated.
+RIGID_PLACEMENT_TOLERANCE = 1e-9
+
+#: Self-calibration of the wire scale λ: the information the lines give on λ once the CoG is
+#: free, relative to what they would give if every offset moved its line sideways, below which
+#: λ is declared unidentifiable (the bolt axes lie along their verticals, or the CoG absorbs
+#: the offsets).
+WIRE_IDENTIFIABILITY = 1e-6

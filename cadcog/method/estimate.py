@@ -1,0 +1,385 @@
+"""From averaged readings to the compensated CoG with its uncertainty and diagnostics.
+
+This is the library behind ``cadcog estimate``: readings → verticals (eq. 2) → plumb lines →
+weighted joint estimate of the assembly CoG (METHOD.md §2) → ME compensation (eqs. 10, 16).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core import tolerances
+from cadcog.core.errors import DegenerateGeometryError, ReadingsError
+from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.method import gls
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.plumblines import (
+    Compensation,
+    JointEstimate,
+    PlumbLine,
+    WireScale,
+    _check_normal_matrix,
+    compensate_me,
+    line_consistency,
+    pair_diagnostics,
+)
+from cadcog.method.readings import Suspension, suspension_verticals
+from cadcog.rig.geometry import FloatArray, axes_beyond_range, face_normal_of_point
+from cadcog.rig.inclinometer import InclinometerConfig
+from cadcog.rig.parameters import Rig
+
+
+@dataclass(frozen=True)
+class MEData:
+    """What compensation needs: masses, the ME's CAD CoG and that CoG's covariance."""
+
+    object_mass_kg: float
+    me_mass_kg: float
+    me_cog_mm: FloatArray
+    me_cog_cov_mm2: FloatArray
+    source: str
+
+    @classmethod
+    def from_rig(cls, rig: Rig) -> MEData:
+        """Object = proof mass; ME mass, CoG and covariance from the rig's CAD model.
+
+        The closed forms used here equal the B-rep ground truth to 1e-9 (``tests/cad``), and
+        need no CAD kernel.
+        """
+        me = rig.analytic_me
+        return cls(
+            rig.proof_mass.mass_kg, me.mass_kg, me.cog_mm, rig.me_cog_cov_mm2, f"rig {rig.source}"
+        )
+
+
+@dataclass(frozen=True)
+class BodyBox:
+    """The box whose faces the suspension points sit on (or above): it gives the bolt axes.
+
+    The paper rig's proof mass ``[0, size]``; a spacecraft's bounding box.
+    """
+
+    lo_mm: FloatArray
+    hi_mm: FloatArray
+    source: str
+
+    def normals(self, suspensions: Sequence[Suspension]) -> FloatArray:
+        """Bolt axis (outward face normal) of each suspension point, shape (k, 3)."""
+        out = []
+        for s in suspensions:
+            try:
+                out.append(face_normal_of_point(s.position_mm, self.lo_mm, self.hi_mm))
+            except ValueError:
+                raise ReadingsError(
+                    f"line {s.line}: suspension {s.id} at {list(s.position_mm)} mm lies inside "
+                    f"the body ({self.source}): a suspension point must be on its surface"
+                ) from None
+        return np.array(out)
+
+    @classmethod
+    def of_rig(cls, rig: Rig) -> BodyBox:
+        return cls(np.zeros(3), np.asarray(rig.proof_mass.size_mm, float), f"rig {rig.source}")
+
+
+@dataclass(frozen=True)
+class CogEstimate:
+    """Result of :func:`estimate_cog`."""
+
+    suspensions: tuple[Suspension, ...]
+    verticals: FloatArray
+    joint: JointEstimate
+    compensation: Compensation | None
+    model: dict[str, Any]
+    n_normalized: int
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def assembly_cog_mm(self) -> FloatArray:
+        return self.joint.cog_mm
+
+    @property
+    def cog_mm(self) -> FloatArray:
+        """Compensated CoG, or the assembly CoG when no ME data was given."""
+        return self.assembly_cog_mm if self.compensation is None else self.compensation.cog_mm
+
+    @property
+    def cov_mm2(self) -> FloatArray:
+        return self.joint.cov_mm2 if self.compensation is None else self.compensation.cov_mm2
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-JSON form (keys documented in ``docs/estimate.md``)."""
+        comp = self.compensation
+        residuals = {r.id: r for r in self.joint.residuals}
+        wire = self.joint.wire
+        return {
+            "assembly_cog_mm": self.assembly_cog_mm.tolist(),
+            "assembly_cov_mm2": self.joint.cov_mm2.tolist(),
+            "cog_mm": self.cog_mm.tolist(),
+            "cov_mm2": self.cov_mm2.tolist(),
+            "sigma_mm": np.sqrt(np.diag(self.cov_mm2)).tolist(),
+            "compensation": (
+                {"applied": False}
+                if comp is None
+                else {
+                    "applied": True,
+                    "object_mass_kg": comp.object_mass_kg,
+                    "me_mass_kg": comp.me_mass_kg,
+                    "me_cog_mm": comp.me_cog_mm.tolist(),
+                }
+            ),
+            "wire": None
+            if wire is None
+            else {
+                "scale_mm": wire.scale_mm,
+                "sigma_mm": wire.sigma_mm,
+                "estimated": wire.estimated,
+                "prior_mm": wire.prior_mm,
+            },
+            "consistency": {
+                "chi2": self.joint.chi2,
+                "dof": self.joint.dof,
+                "p_value": self.joint.chi2_p_value,
+            },
+            "suspensions": [
+                {
+                    "id": s.id,
+                    "position_mm": list(s.position_mm),
+                    "top_face_up": s.top_face_up,
+                    "n_samples": s.n_samples,
+                    "inc_x_deg": s.inc_x_deg,
+                    "inc_y_deg": s.inc_y_deg,
+                    "std_x_deg": s.std_x_deg,
+                    "std_y_deg": s.std_y_deg,
+                    "vertical": u.tolist(),
+                    "residual_mm": residuals[s.id].distance_mm,
+                    "residual_sigma": residuals[s.id].normalized,
+                    "inconsistent": residuals[s.id].inconsistent,
+                }
+                for s, u in zip(self.suspensions, self.verticals, strict=True)
+            ],
+            "pairs": [p.to_dict() for p in self.joint.pairs],
+            "skipped_pairs": [
+                {"a": a, "b": b, "angle_deg": ang} for a, b, ang in self.joint.skipped_pairs
+            ],
+            "model": self.model,
+            "n_normalized": self.n_normalized,
+            "warnings": list(self.warnings),
+        }
+
+
+def default_model(config: InclinometerConfig | None = None) -> ErrorModel:
+    """The error model without a rig: the inclinometer's, the paper's other defaults."""
+    cfg = config or InclinometerConfig()
+    return ErrorModel((1.0,), (0.0,), accuracy_deg=cfg.accuracy_deg, lsb_deg=cfg.sensor.lsb_deg)
+
+
+def estimate_cog(
+    suspensions: Sequence[Suspension],
+    config: InclinometerConfig | None = None,
+    me: MEData | None = None,
+    *,
+    model: ErrorModel | None = None,
+    body: BodyBox | None = None,
+    wire_correction: bool = True,
+    self_calibrate: bool = False,
+    angle_sigma_deg: float | None = None,
+    point_sigma_mm: float | None = None,
+    min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+) -> CogEstimate:
+    """Compensated CoG of an object from its averaged suspensions, with its covariance.
+
+    The generalised least squares of :func:`cadcog.method.gls.plumb_gls`, the very estimator every
+    Monte Carlo runs: each line weighted by its lateral covariance from the error model (play
+    in the face plane, wire-offset scatter along the bolt axis, reading errors through eq. 2
+    at the distance of the CoG), each point moved along its bolt axis by the expected wire
+    offset, then the ME compensation (eqs. 10, 16).
+
+    Parameters
+    ----------
+    suspensions : sequence of Suspension
+        At least two, with distinct ids.
+    config : InclinometerConfig, optional
+        Axis signs and range (the paper's rig if omitted).
+    me : MEData, optional
+        Without it the result is the assembly CoG and says so in its warnings.
+    model : ErrorModel, optional
+        The error sources (default: :func:`default_model`).
+    body : BodyBox, optional
+        Gives each point's bolt axis. Without it the wire offset cannot be corrected: its mean
+        is then counted as an isotropic point error, and a warning says so.
+    wire_correction : bool
+        Correct the expected wire offset (default). False: take the points as given (the paper).
+    self_calibrate : bool
+        Estimate the wire offset scale λ with the CoG (three or more hangs).
+    angle_sigma_deg, point_sigma_mm : float, optional
+        Overrides: per-axis reading std, isotropic point std.
+    min_angle_deg : float
+        Pairs of plumb lines closer to parallel are left out of the pair diagnostics.
+
+    Raises
+    ------
+    cadcog.core.errors.IllConditionedError
+        If every pair of plumb lines is ill-conditioned.
+    cadcog.core.errors.DegenerateGeometryError
+        If the wire scale cannot be estimated (bolt axes along their verticals).
+    ValueError
+        Self-calibration with fewer than three hangs, or without a body.
+    """
+    cfg = config or InclinometerConfig()
+    mdl = model or default_model(cfg)
+    k = len(suspensions)
+    if self_calibrate and k < 3:
+        raise ValueError(
+            f"self-calibration of the wire needs three or more suspensions, got {k}: "
+            "with two, the CoG and the wire scale use up every measurement"
+        )
+    if self_calibrate and (body is None or not wire_correction):
+        raise ValueError("self-calibration of the wire needs the bolt axes (a rig or a set-up)")
+    v = suspension_verticals(suspensions, cfg)
+    warnings = _reading_warnings(suspensions, v.normalized, cfg)
+    weight_n = None if me is None else (me.object_mass_kg + me.me_mass_kg) * STANDARD_GRAVITY_M_S2
+    if body is not None:
+        normals = body.normals(suspensions)
+        if mdl.wire_model == "elastica" and weight_n is None and wire_correction:
+            raise ValueError("the elastica wire model needs the hung mass: give the ME data")
+        wire = gls.WireTerm.from_model(
+            mdl, weight_n or 1.0, correct=wire_correction, estimate=self_calibrate
+        )
+        errors = gls.LineErrors.from_model(
+            mdl,
+            [s.n_samples for s in suspensions],
+            angle_sigma_deg=angle_sigma_deg,
+            point_sigma_mm=point_sigma_mm,
+        )
+    else:
+        normals = np.zeros((k, 3))
+        wire = gls.WireTerm(mdl.wire_model)
+        prior = mdl.wire_prior(weight_n or 1.0)
+        iso = mdl.play_var_mm2 + prior.scatter_var_mm2 + prior.scale_var_mm2 + prior.scale_mm**2
+        errors = gls.LineErrors.from_model(
+            mdl,
+            [s.n_samples for s in suspensions],
+            angle_sigma_deg=angle_sigma_deg,
+            point_sigma_mm=np.sqrt(iso) if point_sigma_mm is None else point_sigma_mm,
+        )
+        if prior.scale_mm > 0:
+            warnings.append(
+                "no rig or set-up: the bolt axes are unknown, so the expected wire offset "
+                f"({prior.scale_mm:.2f} mm) is not corrected; it is counted as an isotropic "
+                "point error instead"
+            )
+    p = np.array([s.position_mm for s in suspensions], dtype=float).T[:, :, None]
+    u = v.u.T[:, :, None]
+    nrm = normals.T[:, :, None]
+    # Pair diagnostics first: they name the ill-conditioned case before any arithmetic on it.
+    pair_diagnostics(
+        [PlumbLine(s.id, p[:, j, 0], v.u[j]) for j, s in enumerate(suspensions)], min_angle_deg
+    )
+    batch = gls.plumb_gls(p, u, nrm, errors, wire)
+    _check_normal_matrix(gls.sym_to_full(batch.weights.sum(axis=1))[0])
+    wire_scale = None
+    if body is not None and (wire.scale_mm or wire.estimate):
+        wire_scale = _wire_scale(batch, wire, warnings)
+    virtual = batch.points_mm
+    lines = [PlumbLine(s.id, virtual[:, j, 0], v.u[j]) for j, s in enumerate(suspensions)]
+    pairs, skipped = pair_diagnostics(lines, min_angle_deg)
+    cog = batch.cog_mm[:, 0]
+    residuals, chi2, dof = line_consistency(
+        [s.id for s in suspensions], p, u, nrm, batch.shape, batch.weights,
+        batch.lateral_cov_mm2, wire, cog,
+    )  # fmt: skip
+    joint = JointEstimate(
+        cog,
+        gls.sym_to_full(batch.cov_mm2[:, 0]),
+        tuple(residuals),
+        tuple(pairs),
+        tuple(skipped),
+        chi2,
+        dof,
+        wire_scale,
+    )
+    for a, b, angle in joint.skipped_pairs:
+        warnings.append(
+            f"pair {a}-{b}: plumb lines meet at {angle:.2f}° (< {min_angle_deg:g}°), "
+            "ill-conditioned; left out of the pair table"
+        )
+    for r in joint.residuals:
+        if r.inconsistent:
+            warnings.append(
+                f"suspension {r.id}: its line passes {r.distance_mm:.2f} mm from the joint "
+                f"estimate ({r.normalized:.1f} σ, p = {r.p_value:.2g}): "
+                "inconsistent with the others"
+            )
+    comp = None
+    if me is None:
+        warnings.append(
+            "no measurement-equipment data: cog_mm is the CoG of the assembly (object + ME), "
+            "not compensated"
+        )
+    else:
+        comp = compensate_me(
+            joint.cog_mm,
+            joint.cov_mm2,
+            object_mass_kg=me.object_mass_kg,
+            me_mass_kg=me.me_mass_kg,
+            me_cog_mm=me.me_cog_mm,
+            me_cog_cov_mm2=me.me_cog_cov_mm2,
+        )
+    info = {
+        "estimator": "generalised least squares over all plumb lines",
+        "error_model": mdl.describe(),
+        "wire_correction": body is not None and wire_correction,
+        "wire_self_calibration": self_calibrate,
+        "angle_sigma_deg_override": angle_sigma_deg,
+        "point_sigma_mm_override": point_sigma_mm,
+        "bolt_axes": None if body is None else body.source,
+    }
+    return CogEstimate(tuple(suspensions), v.u, joint, comp, info, v.n_normalized, tuple(warnings))
+
+
+def _reading_warnings(
+    suspensions: Sequence[Suspension], normalized: npt.NDArray[np.bool_], cfg: InclinometerConfig
+) -> list[str]:
+    warnings = []
+    for s, norm in zip(suspensions, normalized, strict=True):
+        if norm:
+            warnings.append(
+                f"suspension {s.id}: sin²X + sin²Y > 1 (X = {s.inc_x_deg:.3f}°, "
+                f"Y = {s.inc_y_deg:.3f}°); the sines were normalised, the vertical is horizontal"
+            )
+        beyond = axes_beyond_range(s.inc_x_deg, s.inc_y_deg, cfg.range_deg)
+        if beyond:
+            warnings.append(
+                f"suspension {s.id}: {', '.join(beyond)} beyond the inclinometer's "
+                f"±{cfg.range_deg:g}° range; the reading may be saturated"
+            )
+    return warnings
+
+
+def _wire_scale(batch: gls.GLSBatch, wire: gls.WireTerm, warnings: list[str]) -> WireScale:
+    """The wire scale of an estimate; raises if self-calibration cannot determine it."""
+    if wire.estimate:
+        # What the lines would say about λ if every offset were across its line.
+        w = batch.weights
+        ref = float((batch.shape**2 * (w[0] + w[1] + w[2])).sum() / 2.0)
+        info = float(batch.scale_information[0])
+        if not info > tolerances.WIRE_IDENTIFIABILITY * ref:
+            raise DegenerateGeometryError(
+                "the wire offset scale cannot be estimated from these suspensions: the bolt "
+                "axes lie (nearly) along their verticals, or the CoG can absorb the offsets, so "
+                "a wire offset does not change the plumb lines' meeting; hang from points whose "
+                "bolt axes are tilted from the vertical, or drop --self-calibrate-wire"
+            )
+        sigma = float(np.sqrt(batch.scale_var_mm2[0]))
+        if sigma > max(wire.scale_mm, 0.1):
+            warnings.append(
+                f"wire scale poorly determined: λ = {batch.scale_mm[0]:.2f} ± {sigma:.2f} mm"
+            )
+        return WireScale(float(batch.scale_mm[0]), sigma, True, wire.scale_mm)
+    sigma = float(np.sqrt(max(float(batch.scale_var_mm2[0]), 0.0)))
+    return WireScale(float(batch.scale_mm[0]), sigma, False, wire.scale_mm)

@@ -1,0 +1,445 @@
+"""Generalised least squares of plumb lines, vectorised: the one estimator behind
+``cadcog estimate`` and every Monte Carlo (``simulate``, ``plan``, ``validate``).
+
+Hang ``i`` gives a plumb line through its virtual suspension point
+``pᵢ + λ fᵢ nᵢ`` (the nominal point, raised along the bolt axis ``nᵢ`` by the wire offset, see
+:class:`cadcog.method.errormodel.WirePrior`) along the measured upward vertical ``uᵢ``. Its lateral
+position near the CoG, at distance ``Lᵢ`` from the point, errs with the 3 × 3, rank-2 covariance
+
+    Sᵢ = Pᵢ Σ_point,ᵢ Pᵢ + Lᵢ² Σ_u,ᵢ,         Pᵢ = I − uᵢuᵢᵀ,
+
+where ``Σ_point = σ_play² (I − nnᵀ) + σ_axial² nnᵀ`` (the play in the face plane, the wire
+offset's scatter along the bolt axis) and ``Σ_u = σ_X² j_X j_Xᵀ + σ_Y² j_Y j_Yᵀ`` maps the
+reading errors through eq. 2 (``j = ∂u/∂X``, ``∂u/∂Y``). With ``Wᵢ = Sᵢ⁺`` the estimate
+minimises ``Σ rᵢᵀ Wᵢ rᵢ (+ (λ − λ₀)²/σ_λ²)`` over the CoG ``G`` (and the wire scale ``λ`` when
+it is uncertain or self-calibrated), ``rᵢ = G − pᵢ − λ fᵢ nᵢ``; its covariance is the inverse of
+the normal matrix. A first, equally weighted pass gives the distances ``Lᵢ``.
+
+Arrays are component-first, like :mod:`cadcog.uncertainty.montecarlo`'s: vectors have shape (3, k,
+n) for k lines of n trials (campaigns), symmetric 3 × 3 matrices are packed as (6, ...) in the order
+xx, yy, zz, xy, xz, yz (an array, or a tuple of arrays: the kernels only index the first axis). Sums
+over lines run over axis 1 of a vector, adding contiguous rows. Every operation is element-wise over
+the trials, so one trial (``n = 1``, what ``cadcog estimate`` runs) and a million give the same
+numbers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core.units import deg_to_rad
+from cadcog.method.errormodel import ErrorModel, wire_shape_factor
+from cadcog.rig.parameters import WireModel
+
+FloatArray = npt.NDArray[np.float64]
+
+#: Lateral variance added to every line (mm²) so that a model without any error source still
+#: gives finite, equal weights. Far below any physical variance (play alone is ~0.08 mm²).
+LATERAL_FLOOR_MM2 = 1e-9
+
+#: Smallest |u_z| used in the reading Jacobian (eq. 2 is singular at the horizontal).
+MIN_UZ = 1e-9
+
+
+# --- packed symmetric 3 × 3 algebra --------------------------------------------------------------
+#: Component-first vectors (3, ...) or packed matrices (6, ...): an array, or its components.
+Comp = FloatArray | Sequence[FloatArray]
+Vec = tuple[FloatArray, ...]
+Sym = tuple[FloatArray, ...]
+
+
+def sym_outer(a: Comp) -> Sym:
+    """``a aᵀ`` packed, for component-first ``a`` of shape (3, ...)."""
+    return (a[0] * a[0], a[1] * a[1], a[2] * a[2], a[0] * a[1], a[0] * a[2], a[1] * a[2])
+
+
+def sym_matvec(m: Comp, v: Comp) -> Vec:
+    """``M v`` for packed ``M`` (6, ...) and ``v`` (3, ...)."""
+    return (
+        m[0] * v[0] + m[3] * v[1] + m[4] * v[2],
+        m[3] * v[0] + m[1] * v[1] + m[5] * v[2],
+        m[4] * v[0] + m[5] * v[1] + m[2] * v[2],
+    )
+
+
+def sym_inv(m: Comp) -> tuple[Sym, FloatArray]:
+    """Inverse of packed symmetric matrices by the adjugate, and their determinants."""
+    c00 = m[1] * m[2] - m[5] * m[5]
+    c11 = m[0] * m[2] - m[4] * m[4]
+    c22 = m[0] * m[1] - m[3] * m[3]
+    c01 = m[4] * m[5] - m[3] * m[2]
+    c02 = m[3] * m[5] - m[4] * m[1]
+    c12 = m[3] * m[4] - m[0] * m[5]
+    det = m[0] * c00 + m[3] * c01 + m[4] * c02
+    r = 1.0 / det
+    return (c00 * r, c11 * r, c22 * r, c01 * r, c02 * r, c12 * r), np.asarray(det)
+
+
+def sym_to_full(m: Comp) -> FloatArray:
+    """Packed (6, ...) → full (..., 3, 3)."""
+    xx, yy, zz, xy, xz, yz = (np.asarray(c, dtype=float) for c in m)
+    full = np.stack([np.stack([xx, xy, xz]), np.stack([xy, yy, yz]), np.stack([xz, yz, zz])])
+    return np.asarray(np.moveaxis(full, (0, 1), (-2, -1)))
+
+
+def sym_from_full(a: npt.ArrayLike) -> FloatArray:
+    """Full (..., 3, 3) → packed (6, ...)."""
+    f = np.asarray(a, dtype=float)
+    return np.stack(
+        [f[..., 0, 0], f[..., 1, 1], f[..., 2, 2], f[..., 0, 1], f[..., 0, 2], f[..., 1, 2]]
+    )
+
+
+def _dot(a: Comp, b: Comp) -> FloatArray:
+    return np.asarray(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+
+
+def _lines_sum(x: tuple[FloatArray, ...]) -> tuple[FloatArray, ...]:
+    """Sum each component over the lines (its first axis)."""
+    return tuple(c.sum(axis=0) for c in x)
+
+
+def projector(u: Comp) -> Sym:
+    """``I − u uᵀ`` packed, for unit ``u`` (3, ...)."""
+    ux, uy, uz = u[0], u[1], u[2]
+    return (1.0 - ux * ux, 1.0 - uy * uy, 1.0 - uz * uz, -ux * uy, -ux * uz, -uy * uz)
+
+
+# --- the error model as the estimator sees it ----------------------------------------------------
+@dataclass(frozen=True)
+class LineErrors:
+    """Variances the line covariances are built from.
+
+    Attributes
+    ----------
+    play_var_mm2 : float
+        Suspension point along each face tangent (the play).
+    axial_var_mm2 : float
+        Suspension point along the bolt axis (the wire offset's per-hang scatter).
+    reading_var_rad2 : float or ndarray broadcastable to (k, n)
+        Each axis of a hang's mean reading.
+    point_var_mm2 : float, optional
+        An isotropic point variance replacing the play and axial terms (a user override).
+    """
+
+    play_var_mm2: float
+    axial_var_mm2: float
+    reading_var_rad2: float | FloatArray
+    point_var_mm2: float | None = None
+
+    @classmethod
+    def from_model(
+        cls,
+        model: ErrorModel,
+        samples: npt.ArrayLike | None = None,
+        *,
+        angle_sigma_deg: float | None = None,
+        point_sigma_mm: float | None = None,
+    ) -> LineErrors:
+        """The line errors of ``model``; ``samples`` per line, shape (k,) (default the model's).
+
+        ``angle_sigma_deg`` and ``point_sigma_mm`` override the reading and point uncertainty.
+        """
+        if angle_sigma_deg is not None:
+            reading: float | FloatArray = float(deg_to_rad(angle_sigma_deg)) ** 2
+        elif samples is None:
+            reading = model.reading_var_deg2() * float(deg_to_rad(1.0)) ** 2
+        else:
+            n = np.atleast_1d(np.asarray(samples, dtype=int))
+            per_line = np.array([model.reading_var_deg2(int(s)) for s in n.ravel()])
+            reading = per_line.reshape((*n.shape, 1)) * float(deg_to_rad(1.0)) ** 2
+        return cls(
+            model.play_var_mm2,
+            model.wire_prior(1.0).scatter_var_mm2,
+            reading,
+            None if point_sigma_mm is None else point_sigma_mm**2,
+        )
+
+
+@dataclass(frozen=True)
+class WireTerm:
+    """How the estimator treats the wire offset ``λ fᵢ`` along each bolt axis.
+
+    Attributes
+    ----------
+    model : "paper" or "elastica"
+        Sets the shape ``fᵢ`` (:func:`cadcog.method.errormodel.wire_shape_factor`).
+    scale_mm : float
+        ``λ₀``: the expected scale (0: no correction).
+    scale_var_mm2 : float
+        Its prior variance, shared by every hang: 0 for a known scale.
+    estimate : bool
+        Self-calibration: estimate λ from the data alone (the prior is dropped).
+    """
+
+    model: WireModel = "paper"
+    scale_mm: float = 0.0
+    scale_var_mm2: float = 0.0
+    estimate: bool = False
+
+    @property
+    def fixed(self) -> bool:
+        return not self.estimate and self.scale_var_mm2 == 0.0
+
+    @classmethod
+    def from_model(
+        cls, model: ErrorModel, weight_n: float, *, correct: bool = True, estimate: bool = False
+    ) -> WireTerm:
+        """The model's wire prior; ``correct=False`` ignores the expected offset (the paper)."""
+        if estimate and not correct:
+            raise ValueError("self-calibration of the wire needs the wire correction")
+        if not correct:
+            return cls(model.wire_model)
+        prior = model.wire_prior(weight_n)
+        return cls(model.wire_model, prior.scale_mm, prior.scale_var_mm2, estimate)
+
+
+@dataclass(frozen=True)
+class GLSBatch:
+    """Estimates of a batch of n trials of k lines.
+
+    Attributes
+    ----------
+    cog_mm : ndarray, shape (3, n)
+    cov_mm2 : ndarray, shape (6, n)
+        Packed covariance of the CoG (λ marginalised when it is uncertain).
+    scale_mm, scale_var_mm2 : ndarray, shape (n,)
+        Wire scale λ and its variance (0 when λ is known).
+    cov_cog_scale_mm2 : ndarray, shape (3, n)
+        Covariance of the CoG with λ.
+    scale_information : ndarray, shape (n,)
+        What the lines alone say about λ, ``1/σ_λ²`` once the CoG is free (0: unidentifiable).
+    points_mm : ndarray, shape (3, k, n)
+        Virtual suspension points at the estimated λ.
+    shape : ndarray, shape (k, n)
+        ``fᵢ``.
+    lateral_cov_mm2, weights : ndarray, shape (6, k, n)
+        ``Sᵢ`` and ``Wᵢ = Sᵢ⁺``.
+    """
+
+    cog_mm: FloatArray
+    cov_mm2: FloatArray
+    scale_mm: FloatArray
+    scale_var_mm2: FloatArray
+    cov_cog_scale_mm2: FloatArray
+    scale_information: FloatArray
+    points_mm: FloatArray
+    shape: FloatArray
+    lateral_cov_mm2: FloatArray
+    weights: FloatArray
+
+
+# --- kernels -------------------------------------------------------------------------------------
+def _lateral_2d(
+    u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors
+) -> tuple[Vec, Vec, tuple[FloatArray, FloatArray, FloatArray]]:
+    """``Sᵢ`` in an orthonormal basis of the plane ⊥ ``u``: ``(e₁, e₂, (m₁₁, m₁₂, m₂₂))``.
+
+    ``e₁ = (u_z, 0, −u_x)/ρ`` (ρ = √(u_x² + u_z²)) lies along ``∂u/∂X = cos X (1, 0, −u_x/u_z)``
+    and ``e₂ = u × e₁``; then ``∂u/∂X = (cos X ρ/u_z) e₁`` and
+    ``∂u/∂Y = (cos Y/ρ)(u_x u_y/u_z, 1)`` in the basis, with ``cos² X = 1 − u_x²``. The point's
+    covariance projects to ``c₁ I + (c₂ − c₁) m mᵀ``, ``m = (e₁·n, e₂·n)``.
+    """
+    ux, uy, uz = u[0], u[1], u[2]
+    rho2 = np.maximum(ux * ux + uz * uz, 1e-24)
+    rinv = 1.0 / np.sqrt(rho2)
+    e1 = (uz * rinv, np.zeros_like(rinv), -ux * rinv)
+    e2 = (-ux * uy * rinv, rho2 * rinv, -uy * uz * rinv)
+    if errors.point_var_mm2 is not None:
+        c1 = c2 = errors.point_var_mm2
+    else:
+        c1, c2 = errors.play_var_mm2, errors.axial_var_mm2
+    uz_safe = np.where(np.abs(uz) < MIN_UZ, np.copysign(MIN_UZ, uz), uz)
+    l2 = dist_mm * dist_mm * errors.reading_var_rad2
+    gx = l2 * (1.0 - ux * ux) * rho2 / (uz_safe * uz_safe)
+    gy = l2 * (1.0 - uy * uy) / rho2
+    a1 = ux * uy / uz_safe
+    base = c1 + LATERAL_FLOOR_MM2
+    m11 = base + gx + gy * a1 * a1
+    m12 = gy * a1
+    m22 = base + gy
+    if c2 != c1:
+        m1 = e1[0] * normals[0] + e1[2] * normals[2]
+        m2 = e2[0] * normals[0] + e2[1] * normals[1] + e2[2] * normals[2]
+        d = c2 - c1
+        m11 = m11 + d * m1 * m1
+        m12 = m12 + d * m1 * m2
+        m22 = m22 + d * m2 * m2
+    return e1, e2, (m11, m12, m22)
+
+
+def _assemble(e1: Vec, e2: Vec, a: FloatArray, b: FloatArray, c: FloatArray) -> Sym:
+    """``a e₁e₁ᵀ + b (e₁e₂ᵀ + e₂e₁ᵀ) + c e₂e₂ᵀ`` packed, for ``e₁`` with no y component."""
+    t0 = a * e1[0] + b * e2[0]
+    t2 = a * e1[2] + b * e2[2]
+    s0 = b * e1[0] + c * e2[0]
+    s1 = c * e2[1]
+    s2 = b * e1[2] + c * e2[2]
+    return (
+        e1[0] * t0 + e2[0] * s0,
+        e2[1] * s1,
+        e1[2] * t2 + e2[2] * s2,
+        e1[0] * b * e2[1] + e2[0] * s1,
+        e1[0] * t2 + e2[0] * s2,
+        e2[1] * s2,
+    )
+
+
+def lateral_covariance(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
+    """``Sᵢ``, packed (6, k, n), for unit verticals ``u``, bolt axes and point-CoG distances."""
+    e1, e2, (m11, m12, m22) = _lateral_2d(u, normals, dist_mm, errors)
+    return _assemble(e1, e2, m11, m12, m22)
+
+
+def line_weights(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
+    """``Wᵢ = Sᵢ⁺``, packed (6, k, n): the inverse of ``Sᵢ`` on the plane ⊥ ``u``."""
+    e1, e2, (m11, m12, m22) = _lateral_2d(u, normals, dist_mm, errors)
+    r = 1.0 / (m11 * m22 - m12 * m12)
+    return _assemble(e1, e2, m22 * r, -m12 * r, m11 * r)
+
+
+def solve_lines(
+    points_mm: Comp,
+    u: Comp,
+    normals: Comp,
+    shape: FloatArray,
+    weights: Comp,
+    wire: WireTerm,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Weighted least-squares CoG (and λ) of lines with given weights, summed over axis 1.
+
+    Returns ``(cog (3, n), cov (6, n), λ (n,), var λ (n,), cov(cog, λ) (3, n), information on
+    λ (n,))``.
+    """
+    a = _lines_sum(tuple(weights))
+    wp = sym_matvec(weights, points_mm)
+    b = _lines_sum(wp)
+    ainv, _ = sym_inv(a)
+    wn = sym_matvec(weights, normals)
+    c = _lines_sum(tuple(shape * w for w in wn))
+    ac = sym_matvec(ainv, c)
+    d = (shape * shape * _dot(normals, wn)).sum(axis=0)
+    info = np.maximum(d - _dot(c, ac), 0.0)  # what the lines say about λ once G is free
+    x0 = sym_matvec(ainv, b)
+    if wire.fixed:
+        lam = np.full(info.shape, wire.scale_mm)
+        x = np.stack([x0[i] + ac[i] * wire.scale_mm for i in range(3)])
+        zero = np.zeros_like(lam)
+        return x, np.stack(ainv), lam, zero, np.zeros_like(x), info
+    prior = 0.0 if wire.estimate else 1.0 / wire.scale_var_mm2
+    e = prior * wire.scale_mm - (shape * _dot(normals, wp)).sum(axis=0)
+    s = info + prior
+    with np.errstate(divide="ignore", invalid="ignore"):
+        var = 1.0 / s
+        lam = (e + _dot(c, x0)) * var
+        x = np.stack([x0[i] + ac[i] * lam for i in range(3)])
+        cov = np.stack([m + o * var for m, o in zip(ainv, sym_outer(ac), strict=True)])
+        cxl = np.stack([ac[i] * var for i in range(3)])
+    return x, cov, lam, var, cxl, info
+
+
+def equal_weight_point(points_mm: Comp, u: Comp) -> FloatArray:
+    """Least-squares point of lines with equal weights ``Pᵢ`` (eq. 8 for a pair): (3, n)."""
+    a = _lines_sum(projector(u))
+    uq = _dot(u, points_mm)
+    b = tuple((points_mm[i] - uq * u[i]).sum(axis=0) for i in range(3))
+    ainv, _ = sym_inv(a)
+    return np.stack(sym_matvec(ainv, b))
+
+
+def cog_only(
+    points_mm: FloatArray,
+    u: FloatArray,
+    normals: FloatArray,
+    errors: LineErrors,
+    wire: WireTerm,
+    *,
+    weighted: bool = True,
+) -> FloatArray:
+    """The CoG of :func:`plumb_gls` alone, (3, n): the Monte Carlo's fast path.
+
+    Identical arithmetic for a known wire scale (the common case); otherwise it calls
+    :func:`plumb_gls`.
+    """
+    if not wire.fixed:
+        return plumb_gls(points_mm, u, normals, errors, wire, weighted=weighted).cog_mm
+    if wire.scale_mm:
+        shape = 1.0 if wire.model == "paper" else wire_shape_factor(_dot(u, normals), wire.model)
+        q0 = points_mm + (wire.scale_mm * shape) * normals
+    else:
+        q0 = points_mm
+    g0 = equal_weight_point(q0, u)
+    if not weighted:
+        return g0
+    diff = g0[:, None, :] - q0
+    w = line_weights(u, normals, np.sqrt(_dot(diff, diff)), errors)
+    ainv, _ = sym_inv(_lines_sum(tuple(w)))
+    return np.stack(sym_matvec(ainv, _lines_sum(sym_matvec(w, q0))))
+
+
+def plumb_gls(
+    points_mm: FloatArray,
+    u: FloatArray,
+    normals: FloatArray,
+    errors: LineErrors,
+    wire: WireTerm,
+    *,
+    weighted: bool = True,
+) -> GLSBatch:
+    """The estimator: CoG (and λ) of n trials of k plumb lines, with covariances.
+
+    Parameters
+    ----------
+    points_mm : ndarray, shape (3, k, n or 1)
+        Nominal suspension points (where the wire leaves the object).
+    u : ndarray, shape (3, k, n)
+        Measured unit upward verticals.
+    normals : ndarray, shape (3, k, n or 1)
+        Bolt axes (outward normals of the faces the points sit on).
+    errors : LineErrors
+    wire : WireTerm
+    weighted : bool
+        False: every line weighs ``Pᵢ`` (equal-weight least squares: eq. 8 for a pair), the
+        paper's estimator; the covariance is then that of unit lateral errors.
+
+    Examples
+    --------
+    Two noise-free plumb lines through the origin, from points 100 mm away:
+
+    >>> p = np.array([[0.0, 0.0, 100.0], [60.0, 0.0, 80.0]]).T[:, :, None]  # (3, k=2, n=1)
+    >>> u = p / 100.0
+    >>> n = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]).T[:, :, None]
+    >>> b = plumb_gls(p, u, n, LineErrors(0.08, 0.08, 1e-6), WireTerm())
+    >>> np.round(b.cog_mm[:, 0], 9).tolist()
+    [0.0, 0.0, 0.0]
+    >>> bool(np.all(np.linalg.eigvalsh(sym_to_full(b.cov_mm2[:, 0])) > 0))
+    True
+    """
+    shape = (
+        np.ones(u.shape[1:])
+        if wire.model == "paper"
+        else wire_shape_factor(_dot(u, normals), wire.model)
+    )
+    q0 = points_mm + (wire.scale_mm * shape) * normals if wire.scale_mm else points_mm
+    if not weighted:
+        proj = projector(u)
+        equal = solve_lines(q0, u, normals, shape, proj, WireTerm(wire.model))
+        x, cov = equal[0], equal[1]
+        lam = equal[2] + wire.scale_mm
+        return GLSBatch(
+            x, cov, lam, equal[3], equal[4], equal[5], np.asarray(q0), shape, np.stack(proj),
+            np.stack(proj),
+        )  # fmt: skip
+    diff = equal_weight_point(q0, u)[:, None, :] - q0
+    dist = np.sqrt(_dot(diff, diff))
+    lateral = lateral_covariance(u, normals, dist, errors)
+    w = line_weights(u, normals, dist, errors)
+    x, cov, lam, var, cxl, info = solve_lines(points_mm, u, normals, shape, w, wire)
+    pts = points_mm + (lam * shape) * normals
+    return GLSBatch(
+        x, cov, lam, var, cxl, info, np.asarray(pts), shape, np.stack(lateral), np.stack(w)
+    )

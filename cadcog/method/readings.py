@@ -1,0 +1,342 @@
+"""Readings CSV files: one row per inclinometer sample, grouped into suspensions.
+
+Format (``docs/estimate.md``)::
+
+    point_id,x_mm,y_mm,z_mm,inc_x_deg,inc_y_deg,top_face_up
+    S1,45,20,82,-50.61,-14.22,true
+
+``x_mm, y_mm, z_mm`` is the suspension point (where the wire leaves the object) in the body
+frame. Instead of ``inc_x_deg, inc_y_deg`` a file may give raw ADC readings
+``inc_x_counts, inc_y_counts``, converted by the configured
+:class:`~cadcog.rig.inclinometer.SensorModel`.
+``top_face_up`` is true/false/1/0. Rows with the same ``point_id`` are samples of one suspension
+and are averaged. Blank lines and lines starting with ``#`` are skipped; extra columns are
+ignored. Every error names the file and the line.
+
+The file is read row by row and each suspension is kept as running sums (Welford's mean and
+variance), so memory does not grow with the number of samples; a line longer than
+:data:`MAX_LINE_CHARS` (``/dev/zero``, a binary file) is refused, not read into memory.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import unicodedata
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from cadcog.core import bounds
+from cadcog.core.errors import ReadingsError
+from cadcog.rig.inclinometer import InclinometerConfig, Verticals, verticals_from_readings
+
+BASE_COLUMNS = ("point_id", "x_mm", "y_mm", "z_mm", "top_face_up")
+DEG_COLUMNS = ("inc_x_deg", "inc_y_deg")
+COUNT_COLUMNS = ("inc_x_counts", "inc_y_counts")
+_BOOLS = {"true": True, "1": True, "false": False, "0": False}
+
+
+@dataclass(frozen=True)
+class Suspension:
+    """The averaged samples of one suspension.
+
+    Attributes
+    ----------
+    id : str
+    position_mm : tuple of 3 floats
+        Suspension point.
+    top_face_up : bool
+    n_samples : int
+    inc_x_deg, inc_y_deg : float
+        Mean readings, as the device reports them (degrees).
+    std_x_deg, std_y_deg : float or None
+        Sample standard deviations (None for a single sample).
+    line : int
+        Line of the file where the suspension first appears.
+    """
+
+    id: str
+    position_mm: tuple[float, float, float]
+    top_face_up: bool
+    n_samples: int
+    inc_x_deg: float
+    inc_y_deg: float
+    std_x_deg: float | None
+    std_y_deg: float | None
+    line: int
+
+
+#: Longest line read (characters): a readings row is under 200.
+MAX_LINE_CHARS = 100_000
+
+#: Longest point id (characters).
+MAX_ID_CHARS = 200
+
+
+@dataclass
+class _Running:
+    """Welford's running mean and sum of squared deviations."""
+
+    n: int = 0
+    mean: float = 0.0
+    m2: float = 0.0
+
+    def add(self, value: float) -> None:
+        self.n += 1
+        delta = value - self.mean
+        self.mean += delta / self.n
+        self.m2 += delta * (value - self.mean)
+
+    def std(self) -> float | None:
+        return math.sqrt(self.m2 / (self.n - 1)) if self.n > 1 else None
+
+
+@dataclass
+class _Group:
+    position: tuple[float, float, float]
+    top_face_up: bool
+    line: int
+    x: _Running
+    y: _Running
+    raw_position: tuple[str, str, str] = ("", "", "")  # as written in the point's first row
+    raw_flag: str = ""
+
+
+def _number(fields: list[str], col: dict[str, int], column: str, line: int, fail: Any) -> float:
+    """The number in ``column`` of a row, finite and within its name's bound."""
+    text = fields[col[column]].strip()
+    try:
+        value = float(text)
+    except ValueError:
+        raise fail(line, f"column {column}: expected a number, got {text!r}") from None
+    if not math.isfinite(value) or (column[-3:] == "_mm" and abs(value) > bounds.LENGTH_MAX_MM):
+        raise fail(line, f"column {column}: {bounds.check(column, value)}, got {text!r}")
+    return value
+
+
+def id_problem(text: str) -> str | None:
+    """Why ``text`` cannot be a point id, or None: empty, too long, a comma (ids are listed
+    comma-separated on the command line) or a control character.
+
+    Examples
+    --------
+    >>> id_problem("S1") is None, id_problem("a,b")
+    (True, 'a comma (ids are listed comma-separated)')
+    >>> print(id_problem("S" + chr(0)))
+    a control character ('\\x00')
+    """
+    if not text:
+        return "empty"
+    if len(text) > MAX_ID_CHARS:
+        return f"longer than {MAX_ID_CHARS} characters"
+    if "," in text:
+        return "a comma (ids are listed comma-separated)"
+    bad = next((c for c in text if unicodedata.category(c)[0] == "C"), None)
+    if bad is not None:
+        return f"a control character ({bad!r})"
+    return None
+
+
+def _lines(f: Any, p: Path) -> Iterator[str]:
+    """The lines of a binary file, decoded one by one (so that an encoding error names its
+    line), each at most :data:`MAX_LINE_CHARS` bytes long (else a ReadingsError)."""
+    number = 0
+    while True:
+        raw = f.readline(MAX_LINE_CHARS + 1)
+        if not raw:
+            return
+        number += 1
+        if len(raw) > MAX_LINE_CHARS:
+            raise ReadingsError(
+                f"{p}, line {number}: longer than {MAX_LINE_CHARS} characters: not a readings "
+                "CSV file"
+            )
+        try:
+            line = raw.decode("utf-8-sig" if number == 1 else "utf-8")
+        except UnicodeDecodeError as exc:
+            raise ReadingsError(
+                f"{p}, line {number}: not UTF-8 text ({exc.reason} at column {exc.start + 1})"
+            ) from None
+        yield line
+
+
+def read_readings(path: str | Path, config: InclinometerConfig | None = None) -> list[Suspension]:
+    """Read a readings CSV and average its samples per suspension point.
+
+    Parameters
+    ----------
+    path : path-like
+    config : InclinometerConfig, optional
+        Needed for raw counts (its sensor model); defaults to the paper's.
+
+    Returns
+    -------
+    list of Suspension
+        In order of first appearance.
+
+    Raises
+    ------
+    ReadingsError
+        Naming the file and line: missing columns, a non-numeric, NaN or infinite value, an
+        angle beyond ±90°, counts outside the ADC's range, a bad ``top_face_up``, one
+        ``point_id`` at two positions or with two orientations, fewer than two suspensions.
+    """
+    cfg = config or InclinometerConfig()
+    p = Path(path)
+    if p.is_dir():
+        raise ReadingsError(f"{p}: is a directory, expected a readings CSV file")
+    try:
+        f = p.open("rb")
+    except FileNotFoundError:
+        raise ReadingsError(f"{p}: file not found") from None
+    except OSError as exc:
+        raise ReadingsError(f"{p}: cannot read ({exc.strerror or exc})") from None
+    with f:
+        header, groups = _read_groups(csv.reader(_lines(f, p)), p, cfg)
+    if header is None:
+        raise ReadingsError(f"{p}: empty file, expected a header and readings")
+    if len(groups) < 2:
+        raise ReadingsError(
+            f"{p}: {len(groups)} distinct suspension point(s); the method needs at least two"
+        )
+    return [_average(pid, g) for pid, g in groups.items()]
+
+
+def _read_groups(
+    rows: Any, p: Path, cfg: InclinometerConfig
+) -> tuple[list[str] | None, dict[str, _Group]]:
+    """The header and the running sums of each point's samples, in order of appearance."""
+
+    def fail(line: int, message: str) -> ReadingsError:
+        return ReadingsError(f"{p}, line {line}: {message}")
+
+    header: list[str] | None = None
+    groups: dict[str, _Group] = {}
+    max_counts = cfg.sensor.max_counts
+    counts = False
+    col: dict[str, int] = {}
+    angle_cols = DEG_COLUMNS
+    fields_iter = iter(rows)
+    while True:
+        try:
+            fields = next(fields_iter)
+        except StopIteration:
+            break
+        except csv.Error as exc:
+            raise fail(rows.line_num, f"not CSV ({exc})") from None
+        line = rows.line_num
+        if not fields or not "".join(fields).strip() or fields[0].lstrip().startswith("#"):
+            continue
+        if header is None:
+            header = [f.strip() for f in fields]
+            missing = [c for c in BASE_COLUMNS if c not in header]
+            has_deg = all(c in header for c in DEG_COLUMNS)
+            has_counts = all(c in header for c in COUNT_COLUMNS)
+            if has_deg and has_counts:
+                raise fail(line, "give angles either in degrees or in counts, not both")
+            if not (has_deg or has_counts):
+                missing += [c for c in DEG_COLUMNS if c not in header]
+            if missing:
+                raise fail(
+                    line,
+                    f"missing column(s) {', '.join(missing)}; expected header "
+                    f"{','.join(BASE_COLUMNS[:4] + DEG_COLUMNS + BASE_COLUMNS[4:])} "
+                    f"(or {', '.join(COUNT_COLUMNS)} instead of the degree columns)",
+                )
+            angle_cols = DEG_COLUMNS if has_deg else COUNT_COLUMNS
+            counts = not has_deg
+            col = {name: header.index(name) for name in (*BASE_COLUMNS, *angle_cols)}
+            continue
+        if len(fields) != len(header):
+            raise fail(line, f"expected {len(header)} fields as in the header, got {len(fields)}")
+        pid = fields[col["point_id"]].strip()
+        raw_position = (fields[col["x_mm"]], fields[col["y_mm"]], fields[col["z_mm"]])
+        raw_flag = fields[col["top_face_up"]]
+        group = groups.get(pid)
+        if group is None or raw_position != group.raw_position or raw_flag != group.raw_flag:
+            # a new point, or a row that differs from its point's first: check it in full
+            problem = id_problem(pid)
+            if problem is not None:
+                raise fail(line, f"column point_id: {problem}")
+            position = (
+                _number(fields, col, "x_mm", line, fail),
+                _number(fields, col, "y_mm", line, fail),
+                _number(fields, col, "z_mm", line, fail),
+            )
+            flag = _BOOLS.get(raw_flag.strip().lower())
+            if flag is None:
+                raise fail(
+                    line,
+                    f"column top_face_up: expected true, false, 1 or 0, got {raw_flag.strip()!r}",
+                )
+            if group is None:
+                group = groups[pid] = _Group(
+                    position, flag, line, _Running(), _Running(), raw_position, raw_flag
+                )
+            elif position != group.position:
+                raise fail(
+                    line,
+                    f"point {pid} at {list(position)} mm, but line {group.line} puts it at "
+                    f"{list(group.position)} mm: one point_id must have one position",
+                )
+            elif flag != group.top_face_up:
+                raise fail(line, f"point {pid}: top_face_up differs from line {group.line}")
+        for column, running in zip(angle_cols, (group.x, group.y), strict=True):
+            value = _number(fields, col, column, line, fail)
+            if counts:
+                if not 0 <= value <= max_counts:
+                    raise fail(
+                        line,
+                        f"column {column}: {value:g} outside the "
+                        f"{cfg.sensor.adc_bits}-bit ADC range 0..{max_counts}",
+                    )
+                value = cfg.sensor.count_to_deg(value)
+            if abs(value) > 90.0:
+                raise fail(line, f"column {column}: angle {value:g}° is beyond ±90°")
+            running.add(value)
+    return header, groups
+
+
+def suspension_from_samples(
+    pid: str,
+    position_mm: tuple[float, float, float],
+    top_face_up: bool,
+    x_deg: Iterable[float],
+    y_deg: Iterable[float],
+    line: int,
+) -> Suspension:
+    """The :class:`Suspension` of samples in degrees, averaged exactly as a readings file's are
+    (the same running sums, so the same numbers to the last bit)."""
+    g = _Group(position_mm, top_face_up, line, _Running(), _Running())
+    for x, y in zip(x_deg, y_deg, strict=True):
+        g.x.add(float(x))
+        g.y.add(float(y))
+    return _average(pid, g)
+
+
+def _average(pid: str, g: _Group) -> Suspension:
+    return Suspension(
+        id=pid,
+        position_mm=g.position,
+        top_face_up=g.top_face_up,
+        n_samples=g.x.n,
+        inc_x_deg=g.x.mean,
+        inc_y_deg=g.y.mean,
+        std_x_deg=g.x.std(),
+        std_y_deg=g.y.std(),
+        line=g.line,
+    )
+
+
+def suspension_verticals(
+    suspensions: Sequence[Suspension], config: InclinometerConfig | None = None
+) -> Verticals:
+    """Upward verticals (eq. 2) of averaged suspensions, in their order."""
+    return verticals_from_readings(
+        [s.inc_x_deg for s in suspensions],
+        [s.inc_y_deg for s in suspensions],
+        [s.top_face_up for s in suspensions],
+        config,
+    )

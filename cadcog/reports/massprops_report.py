@@ -1,0 +1,252 @@
+"""``cadcog massprops --report DIR``: a spacecraft model's mass properties as one HTML page.
+
+The page holds the import audit (declared unit, products and instances, solids, surface bodies,
+overlaps, invalid topology, density sources, notes), the mass budget tree, the mass properties
+(inertia in both product conventions, principal moments and axes, the user's frame), three
+views of the model with its CoG, principal axes and CubeSat envelope, and every body. The
+figure is embedded, so ``index.html`` is self-contained; ``views.png`` and ``massprops.json``
+are written beside it. Files appear whole or not at all (staged, then moved).
+"""
+
+from __future__ import annotations
+
+import html
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from cadcog.core.fileio import dumps_json, staged_output_dir
+from cadcog.core.version import __version__
+from cadcog.mass.inertia import PRODUCT_CONVENTIONS, products_of_inertia
+from cadcog.reports.html import CSS, img_tag, num, table, vec
+from cadcog.spacecraft.mass_summary import MassReport
+
+if TYPE_CHECKING:
+    from cadcog.cad.stepread import StepModel
+
+REPORT_FILE = "index.html"
+
+#: Budget tree levels shown on the page (the JSON beside it has every level).
+PAGE_TREE_DEPTH = 4
+
+
+def envelope_corners(report: MassReport) -> np.ndarray | None:
+    """The CoG envelope box's 8 corners in model coordinates, or None without an envelope."""
+    env = report.envelope
+    if env is None:
+        return None
+    signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    return np.asarray(env.geometric_center_mm + (signs * env.limits_mm) @ report.frame.axes)
+
+
+def write_mass_report(report: MassReport, model: StepModel, out_dir: str | Path) -> Path:
+    """Write ``out_dir/index.html`` (with ``views.png`` and ``massprops.json``); its path."""
+    from cadcog.cad.tessellate import body_meshes
+    from cadcog.reports import plots
+
+    kept = {b.path for b in report.result.bodies}
+    meshes = body_meshes(
+        [b for b in model.bodies if b.path in kept], scale=report.result.audit.scale_to_mm
+    )
+    out = Path(out_dir)
+    with staged_output_dir(out) as stage:
+        views = stage / "views.png"
+        plots.model_views(
+            [(m.vertices_mm, m.triangles, m.kind) for m in meshes],
+            report.result.total.cog_mm,
+            report.principal.axes,
+            views,
+            envelope_corners_mm=envelope_corners(report),
+            title=f"{Path(report.result.audit.source).name}: CoG (+), principal axes",
+        )
+        (stage / "massprops.json").write_text(dumps_json(report.to_dict()), encoding="utf-8")
+        (stage / REPORT_FILE).write_text(render_html(report, views), encoding="utf-8")
+    return out / REPORT_FILE
+
+
+def _ok(flag: bool | None, yes: str = "yes", no: str = "no") -> str:
+    if flag is None:
+        return "n/a"
+    return f'<span class="ok">{yes}</span>' if flag else f'<span class="bad">{no}</span>'
+
+
+def _audit_rows(report: MassReport) -> list[list[str]]:
+    esc = html.escape
+    r, a = report.result, report.result.audit
+    ov = r.overlaps
+    units = ", ".join(a.declared_units) or "none declared"
+    if a.units_override:
+        units += f"; overridden to {a.units_override} (lengths × {a.scale_to_mm:g})"
+    surfaces = f"{a.n_surfaces}"
+    if a.left_out_surfaces:
+        area = sum(x for _, x in a.left_out_surfaces)
+        surfaces += f" ({len(a.left_out_surfaces)} left out: {area:.4g} mm², no areal density)"
+    sources = ", ".join(f"{esc(k)} ×{n}" for k, n in a.density_sources.items())
+    rows = [
+        ["declared length unit", esc(units)],
+        ["products / instances", f"{a.n_products} / {a.n_instances}"],
+        ["solids", str(a.n_solids)],
+        ["surface bodies", esc(surfaces)],
+        ["excluded bodies", str(len(a.excluded))],
+        [
+            "overlaps",
+            esc(ov.headline()) + f" (policy: {esc(ov.policy)})" if ov.pairs else "none",
+        ],
+        [
+            "contact pairs (ignored)",
+            f"{ov.n_contact} of {ov.n_candidates} candidate pairs",
+        ],
+        ["invalid topology (OCCT)", esc(", ".join(a.invalid_topology[:20])) or "none"],
+        ["closed shells made solid", esc(", ".join(a.closed_shells_made_solid[:20])) or "none"],
+        ["curve-only parts", esc(", ".join(a.curve_only_parts[:20])) or "none"],
+        ["density sources", sources],
+    ]
+    return rows
+
+
+def render_html(report: MassReport, views: Path) -> str:
+    esc = html.escape
+    r, b = report.result, report.budget
+    t = r.total
+    name = Path(r.audit.source).name
+    sigma_txt = ""
+    if b.mass_sigma_kg is not None:
+        sigma_txt = f" ± {b.mass_sigma_kg:.4f} kg (1 σ, {b.sigma_coverage:.0%} of the mass)"
+    cog_sigma = ""
+    if b.cog_cov_mm2 is not None:
+        cog_sigma = f" ± {vec(np.sqrt(np.diag(b.cog_cov_mm2)))} mm (1 σ)"
+    budget_rows = [
+        [
+            "&nbsp;" * 4 * level + esc(node.name),
+            f"{node.mass_kg:.6f}",
+            f"{node.share:.2%}",
+            "" if node.mass_sigma_kg is None else f"{node.mass_sigma_kg:.6f}",
+            f"{node.predicted_mass_kg:.6f}",
+            vec(node.cog_mm, 2),
+            str(node.n_bodies),
+        ]
+        for level, node in b.root.walk(PAGE_TREE_DEPTH)
+    ]
+    j = t.inertia_kg_mm2
+    inertia_rows = [[f"{'xyz'[i]}", *[num(v) for v in j[i]]] for i in range(3)]
+    product_rows = [
+        [esc(PRODUCT_CONVENTIONS[c]), *[num(v) for v in products_of_inertia(j, c).values()]]
+        for c in ("positive", "negative")
+    ]
+    pa = report.principal
+    principal_rows = [
+        [
+            f"{k + 1}",
+            f"{pa.moments_kg_mm2[k]:.4f}",
+            vec(pa.axes[k], 4),
+            f"{pa.angles_from_frame_deg()[k]:.2f}",
+        ]
+        for k in range(3)
+    ]
+    f = report.frame
+    jf = report.frame_inertia_kg_mm2
+    frame_rows = [[f"{'xyz'[i]}", *[num(v) for v in jf[i]]] for i in range(3)]
+    degenerate = " (two moments are equal: their axes are not unique)" if pa.degenerate else ""
+    budget_header = ["node", "mass (kg)", "share", "± (kg)", "predicted (kg)", "CoG (mm)", "bodies"]
+    env = report.envelope
+    envelope_html = "<p>No form factor or limits given (<code>--form-factor</code>).</p>"
+    if env is not None:
+        envelope_html = table(
+            ["axis", "offset (mm)", "limit (mm)", "margin (mm)", "1 σ (mm)"],
+            [
+                [
+                    "xyz"[i],
+                    f"{env.offset_mm[i]:+.2f}",
+                    f"±{env.limits_mm[i]:g}",
+                    f"{env.margin_mm[i]:.2f}",
+                    "" if env.sigma_mm is None else f"{env.sigma_mm[i]:.2f}",
+                ]
+                for i in range(3)
+            ],
+        ) + (
+            f"<p>{esc(env.form_factor or 'custom')} envelope around the geometric centre "
+            f"{vec(env.geometric_center_mm, 2)} mm: <b>{esc(env.verdict())}</b>; at the 95 % "
+            f"edge of the CAD uncertainty: {_ok(env.within_at_95)}. "
+            f"<span class='sub'>{esc(env.source)}</span></p>"
+        )
+    body_rows = [
+        [
+            esc(report.short(x.path)),
+            esc(x.kind),
+            esc(x.material),
+            esc(x.density_source),
+            f"{x.properties.mass_kg:.5f}",
+            vec(x.properties.cog_mm, 2),
+        ]
+        for x in r.bodies
+    ]
+    pair_rows = [
+        [
+            esc(report.short(p.a)),
+            esc(report.short(p.b)),
+            f"{p.volume_mm3:.4g}",
+            f"{p.mass_kg * 1e3:.4g}",
+            esc(report.short(p.kept_by)),
+        ]
+        for p in r.overlaps.pairs[:10]
+    ]
+    body_header = ["path", "kind", "material", "density source", "mass (kg)", "CoG (mm)"]
+    notes = "".join(f"<li>{esc(n)}</li>" for n in r.notes) or "<li>none</li>"
+    info = "".join(f"<li>{esc(n)}</li>" for n in r.info) or "<li>none</li>"
+    overlaps_html = (
+        '<div class="wide">'
+        + table(["a", "b", "common volume (mm³)", "counted twice (g)", "denser"], pair_rows, 2)
+        + "</div>"
+        if pair_rows
+        else ""
+    )
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>cadcog mass properties: {esc(name)}</title><style>{CSS}</style></head>
+<body>
+<h1>Mass properties: {esc(name)}</h1>
+<p class="sub">cadcog {esc(__version__)} · <code>{esc(r.audit.source)}</code></p>
+<nav><a href="#audit">Import audit</a><a href="#budget">Mass budget</a>
+<a href="#inertia">Inertia</a><a href="#views">Views</a><a href="#envelope">Envelope</a>
+<a href="#bodies">Bodies</a></nav>
+
+<p class="big">Mass <b>{t.mass_kg:.4f} kg</b>{sigma_txt}; CoG <b>{vec(t.cog_mm)} mm</b>{cog_sigma}
+(model frame).{f" With growth allowances: {b.predicted.mass_kg:.4f} kg." if b.growth_kg else ""}</p>
+
+<h2 id="audit">Import audit</h2>
+{table(["", ""], _audit_rows(report), 2)}
+{overlaps_html}
+<p>Notes (things to look at):</p><ul>{notes}</ul>
+<p>Done as asked:</p><ul>{info}</ul>
+
+<h2 id="budget">Mass budget</h2>
+<p>By assembly node (current best estimate; ± is 1 σ from the materials file's mass
+uncertainties, whose items vary independently; the predicted mass includes growth
+allowances).</p>
+{table(budget_header, budget_rows)}
+
+<h2 id="inertia">Inertia</h2>
+<p>About the CoG, model axes (kg·mm²); tensor entries off the diagonal are −∫ x·y dm.</p>
+{table(["", "x", "y", "z"], inertia_rows)}
+{table(["products of inertia", "xy", "xz", "yz"], product_rows)}
+<p>Principal moments and axes (model components){degenerate}:</p>
+{table(["", "moment (kg·mm²)", "axis", "angle from nearest model axis (°)"], principal_rows)}
+<p>In the frame at {esc(f.label)} (origin {vec(f.origin_mm)} mm): CoG
+{vec(f.point_to_frame(t.cog_mm))} mm; inertia about the origin (kg·mm²):</p>
+{table(["", "x", "y", "z"], frame_rows)}
+
+<h2 id="views">Views</h2>
+{img_tag(views, "three views of the model with its CoG and principal axes")}
+
+<h2 id="envelope">CoG envelope</h2>
+{envelope_html}
+
+<h2 id="bodies">Bodies</h2>
+<details><summary>{len(r.bodies)} bodies</summary>
+<div class="wide">{table(body_header, body_rows, 4)}</div>
+</details>
+<p class="sub">Every figure on this page is in massprops.json beside it.</p>
+</body></html>
+"""

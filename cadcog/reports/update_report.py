@@ -1,0 +1,154 @@
+"""``cadcog update --report DIR``: what the measurement says about the CAD, as one HTML page.
+
+The page holds the verdict (is the gap between CAD and measurement within their
+uncertainties?), the CAD, measured and updated mass and CoG side by side, a figure of the three
+CoG estimates with their 95 % ellipsoids, the items ranked by how far the data moved them, the
+unmodelled mass if one was allowed, and the updated inertia. ``update.json`` (the same numbers
+as ``cadcog update --json``) and ``cog.png`` are written beside ``index.html``; files appear
+whole or not at all (staged, then moved).
+"""
+
+from __future__ import annotations
+
+import html
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from cadcog.core.fileio import dumps_json, staged_output_dir
+from cadcog.core.version import __version__
+from cadcog.reports.html import CSS, img_tag, num, table
+from cadcog.spacecraft.update import INCONSISTENT_NOTE, UpdateResult
+
+if TYPE_CHECKING:
+    from cadcog.method.estimate import CogEstimate
+    from cadcog.spacecraft.setup import Setup
+
+REPORT_FILE = "index.html"
+
+#: Items listed on the page (the JSON beside it has them all).
+PAGE_ITEMS = 25
+
+
+def write_update_report(
+    result: UpdateResult, setup: Setup, estimate: CogEstimate, readings: Path, out_dir: str | Path
+) -> Path:
+    """Write ``out_dir/index.html`` (with ``cog.png`` and ``update.json``); its path."""
+    from cadcog.reports import plots
+
+    out = Path(out_dir)
+    with staged_output_dir(out) as stage:
+        figure = stage / "cog.png"
+        plots.cog_ellipses(
+            [
+                ("CAD", result.cad.cog_mm, result.cad_cog_cov_mm2),
+                ("measured", result.measured_cog_mm, result.measured_cog_cov_mm2),
+                ("updated", result.posterior.cog_mm, result.posterior_cog_cov_mm2),
+            ],
+            figure,
+            title=f"{setup.name}: spacecraft CoG, 95 % ellipsoids (projections)",
+        )
+        (stage / "update.json").write_text(dumps_json(result.to_dict()), encoding="utf-8")
+        page = render_html(result, setup, estimate, readings, figure)
+        (stage / REPORT_FILE).write_text(page, encoding="utf-8")
+    return out / REPORT_FILE
+
+
+def _sd(cov: np.ndarray) -> np.ndarray:
+    return np.sqrt(np.maximum(np.diag(cov), 0.0))
+
+
+def render_html(
+    r: UpdateResult, setup: Setup, estimate: CogEstimate, readings: Path, figure: Path
+) -> str:
+    esc = html.escape
+    verdict_cls = "ok" if r.consistent else "bad"
+    verdict = (
+        "consistent: the gap between CAD and measurement is within their uncertainties"
+        if r.consistent
+        else "the gap between CAD and measurement is larger than their uncertainties allow"
+    )
+    cad_sd, meas_sd, post_sd = (
+        _sd(r.cad_cog_cov_mm2),
+        _sd(r.measured_cog_cov_mm2),
+        _sd(r.posterior_cog_cov_mm2),
+    )
+    rows = [
+        [
+            "mass (kg)",
+            f"{r.cad.mass_kg:.4f} ± {r.cad_mass_sigma_kg:.4f}",
+            f"{r.measured_mass_kg:.4f} ± {r.measured_mass_sigma_kg:.4f} (weighed)",
+            f"{r.posterior.mass_kg:.4f} ± {r.posterior_mass_sigma_kg:.4f}",
+        ]
+    ]
+    for k in range(3):
+        rows.append(
+            [
+                f"CoG {'xyz'[k]} (mm)",
+                f"{num(r.cad.cog_mm[k], 2)} ± {cad_sd[k]:.2f}",
+                f"{num(r.measured_cog_mm[k], 2)} ± {meas_sd[k]:.2f}",
+                f"{num(r.posterior.cog_mm[k], 2)} ± {post_sd[k]:.2f}",
+            ]
+        )
+    ranked = r.ranked_items()
+    item_rows = [
+        [
+            esc(c.key),
+            f"{c.cad_mass_kg * 1e3:.1f}",
+            f"{c.prior_sigma_rel:.1%}",
+            f"{c.delta_rel:+.1%} ± {c.delta_sigma_rel:.1%}",
+            f"{c.delta_kg * 1e3:+.1f}",
+            f"{c.pull:+.2f}",
+        ]
+        for c in ranked[:PAGE_ITEMS]
+    ]
+    more = (
+        f"<p class='sub'>{len(ranked) - PAGE_ITEMS} more items in <code>update.json</code>.</p>"
+        if len(ranked) > PAGE_ITEMS
+        else ""
+    )
+    unmodelled = "<p>No unmodelled mass allowed (<code>--unmodelled-region-mm</code>).</p>"
+    if r.unmodelled_mass_kg is not None:
+        unmodelled = f"<p class='big'>{esc(r.unmodelled_summary())}</p>"
+    caveat = "" if r.consistent else f"<p class='note bad'>{esc(INCONSISTENT_NOTE)}</p>"
+    j, s = r.posterior.inertia_kg_mm2, r.posterior_inertia_sigma_kg_mm2
+    inertia_rows = [
+        ["xyz"[i], *[f"{num(j[i, k], 2)} ± {s[i, k]:.2f}" for k in range(3)]] for i in range(3)
+    ]
+    warnings = "".join(f"<li>{esc(w)}</li>" for w in estimate.warnings) or "<li>none</li>"
+    return f"""<!doctype html>
+<html lang="en"><head><meta charset="utf-8">
+<title>cadcog update: {esc(setup.name)}</title><style>{CSS}</style></head><body>
+<h1>{esc(setup.name)}: CAD against measurement</h1>
+<p class="sub">cadcog {esc(__version__)} · set-up <code>{esc(setup.source.name)}</code>
+· readings <code>{esc(readings.name)}</code> · {len(estimate.suspensions)} suspensions</p>
+<p class="big"><span class="{verdict_cls}">{esc(verdict)}</span>:
+χ² = {r.chi2:.2f} with {r.dof} degrees of freedom, p = {r.p_value:.3g}.</p>
+
+{caveat}
+<h2>Mass and CoG</h2>
+{table(["", "CAD (prior)", "measured", "updated (posterior)"], rows)}
+<p class="note">± is 1 σ. The CAD's σ comes from the materials file's mass uncertainties; the
+measured CoG is the suspension estimate compensated for the measurement equipment with the
+weighed mass; the updated values combine both (a Gaussian update about the most likely item
+masses). Model coordinates.</p>
+{img_tag(figure, "CAD, measured and updated CoG with 95 % ellipsoids")}
+
+<h2>Which items explain the gap</h2>
+{table(["item", "CAD mass (g)", "prior σ", "change", "change (g)", "pull (σ)"], item_rows)}
+{more}
+<p class="note">Pull is the change in the item's prior σ. Items whose change is small against
+their ± are not resolved by this measurement: a CoG and a mass give four numbers, so many items
+cannot all be told apart; the ranking says which explanations the data favour.</p>
+
+<h2>Unmodelled mass</h2>
+{unmodelled}
+
+<h2>Updated inertia about the CoG (kg·mm², model axes)</h2>
+{table(["", "x", "y", "z"], inertia_rows)}
+
+<h2>Estimator warnings</h2>
+<ul>{warnings}</ul>
+</body></html>
+"""

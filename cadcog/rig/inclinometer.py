@@ -1,0 +1,166 @@
+"""The dual-axis inclinometer: configuration, ADC sensor model and readings → vertical (eq. 2).
+
+Sign convention (METHOD.md §1): ``sin X = u·x_b`` and ``sin Y = u·y_b``, with ``u`` the upward
+vertical in body components, so X is positive when the body's +x axis points upward. A device
+whose axes read the other way is described by ``sign_x = -1`` / ``sign_y = -1`` in the
+configuration; readings are multiplied by the signs before anything else.
+
+Defaults are the paper's rig: a Posital Fraba ACS-060 (±60°, ±0.1° accuracy) read by an Arduino
+Uno's 10-bit ADC. The seed paper does not give the sensor's transfer function; the default
+assumes 4 V of output span over 120° (1/30 V per degree) centred on 2.5 V, read against a 5 V
+reference, which gives an LSB of 0.146°.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core.units import deg_to_rad, rad_to_deg
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class SensorModel:
+    """Analog inclinometer output read by an ADC: counts ↔ degrees.
+
+    ``angle_deg = (V - zero_v) / sensitivity_v_per_deg`` with ``V`` the centre of the ADC bin,
+    ``V = (counts + 0.5) · adc_reference_v / 2**adc_bits`` (an ADC reports the bin the voltage
+    falls in; the bin centre makes the quantisation error zero-mean, uniform in ±LSB/2).
+
+    Examples
+    --------
+    >>> s = SensorModel()
+    >>> round(s.lsb_deg, 4)
+    0.1465
+    >>> round(float(s.counts_to_deg(511.5)), 9)  # the 2.5 V bin boundary: 0 degrees
+    0.0
+    """
+
+    adc_bits: int = 10
+    adc_reference_v: float = 5.0
+    sensitivity_v_per_deg: float = 4.0 / 120.0
+    zero_v: float = 2.5
+
+    @property
+    def lsb_deg(self) -> float:
+        """Angle step of one ADC count (degrees)."""
+        return self.adc_reference_v / 2**self.adc_bits / self.sensitivity_v_per_deg
+
+    @property
+    def max_counts(self) -> int:
+        return int(2**self.adc_bits - 1)
+
+    def counts_to_deg(self, counts: npt.ArrayLike) -> FloatArray:
+        volts = (np.asarray(counts, dtype=float) + 0.5) * self.adc_reference_v / 2**self.adc_bits
+        return np.asarray((volts - self.zero_v) / self.sensitivity_v_per_deg)
+
+    def count_to_deg(self, counts: float) -> float:
+        """:meth:`counts_to_deg` of one reading, without numpy (the same operations in the same
+        order, so the same bits): the readings reader calls it once per sample."""
+        volts = (counts + 0.5) * self.adc_reference_v / 2**self.adc_bits
+        return (volts - self.zero_v) / self.sensitivity_v_per_deg
+
+    def deg_to_counts(self, angle_deg: npt.ArrayLike) -> FloatArray:
+        """Inverse of :meth:`counts_to_deg` before rounding (real-valued counts)."""
+        volts = np.asarray(angle_deg, dtype=float) * self.sensitivity_v_per_deg + self.zero_v
+        return np.asarray(volts * 2**self.adc_bits / self.adc_reference_v - 0.5)
+
+
+@dataclass(frozen=True)
+class InclinometerConfig:
+    """Range, accuracy, axis signs and ADC model of the inclinometer.
+
+    Attributes
+    ----------
+    range_deg : float
+        Each axis reads within ±range_deg (paper: 60).
+    accuracy_deg : float
+        Half-width of the uniform accuracy error (paper: 0.1).
+    sign_x, sign_y : int
+        +1 if the device follows the project convention on that axis, -1 if it reads reversed.
+    sensor : SensorModel
+    """
+
+    range_deg: float = 60.0
+    accuracy_deg: float = 0.1
+    sign_x: int = 1
+    sign_y: int = 1
+    sensor: SensorModel = field(default_factory=SensorModel)
+
+
+@dataclass(frozen=True)
+class Verticals:
+    """Upward verticals from readings, and how many needed normalising.
+
+    Attributes
+    ----------
+    u : ndarray, shape (n, 3)
+        Unit upward verticals in body components.
+    normalized : ndarray of bool, shape (n,)
+        True where ``sin²X + sin²Y > 1`` and the sines were scaled back onto the unit circle.
+    """
+
+    u: FloatArray
+    normalized: npt.NDArray[np.bool_]
+
+    @property
+    def n_normalized(self) -> int:
+        return int(np.count_nonzero(self.normalized))
+
+
+def verticals_from_readings(
+    inc_x_deg: npt.ArrayLike,
+    inc_y_deg: npt.ArrayLike,
+    top_face_up: npt.ArrayLike,
+    config: InclinometerConfig | None = None,
+) -> Verticals:
+    """Body-frame upward verticals from inclinometer readings (eq. 2).
+
+    ``u = (sin X, sin Y, s·√(1 − sin²X − sin²Y))`` with ``s = +1`` when the top face is up. Noise
+    can give ``sin²X + sin²Y > 1``; then both sines are divided by ``√(sin²X + sin²Y)`` and the z
+    component is 0 (the paper's normalisation), and the sample is flagged.
+
+    Parameters
+    ----------
+    inc_x_deg, inc_y_deg : array_like, shape (n,)
+        Readings as the device reports them (signs applied here).
+    top_face_up : array_like of bool, shape (n,)
+    config : InclinometerConfig, optional
+
+    Examples
+    --------
+    >>> v = verticals_from_readings([30.0], [0.0], [True])
+    >>> np.round(v.u, 6).tolist()
+    [[0.5, 0.0, 0.866025]]
+    >>> verticals_from_readings([60.0], [60.0], [True]).n_normalized
+    1
+    """
+    cfg = config or InclinometerConfig()
+    sx = np.sin(deg_to_rad(np.atleast_1d(inc_x_deg))) * cfg.sign_x
+    sy = np.sin(deg_to_rad(np.atleast_1d(inc_y_deg))) * cfg.sign_y
+    s = np.where(np.atleast_1d(np.asarray(top_face_up, dtype=bool)), 1.0, -1.0)
+    r2 = sx * sx + sy * sy
+    over = r2 > 1.0
+    scale = np.where(over, 1.0 / np.sqrt(np.where(over, r2, 1.0)), 1.0)
+    sx, sy = sx * scale, sy * scale
+    # After normalisation the z component is exactly 0, not the round-off of 1 − sx² − sy².
+    sz = np.where(over, 0.0, s * np.sqrt(np.clip(1.0 - sx * sx - sy * sy, 0.0, None)))
+    return Verticals(np.stack([sx, sy, sz], axis=-1), over)
+
+
+def readings_from_verticals(
+    u: npt.ArrayLike, config: InclinometerConfig | None = None
+) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_]]:
+    """Device readings (X, Y in degrees, top-face-up flag) for upward verticals ``u`` (n, 3).
+
+    The inverse of :func:`verticals_from_readings` for unit vectors.
+    """
+    cfg = config or InclinometerConfig()
+    v = np.atleast_2d(np.asarray(u, dtype=float))
+    x = rad_to_deg(np.arcsin(np.clip(v[:, 0], -1, 1))) * cfg.sign_x
+    y = rad_to_deg(np.arcsin(np.clip(v[:, 1], -1, 1))) * cfg.sign_y
+    return x, y, v[:, 2] > 0.0

@@ -1,0 +1,199 @@
+"""Test planning: which of a set-up's candidate suspension points to hang from.
+
+:func:`plan_test` screens every usable set of candidates by the covariance the estimator predicts
+for it, then simulates the best few; ``cadcog plan`` prints its :class:`Plan`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations
+from math import comb
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core import tolerances
+from cadcog.method import gls
+from cadcog.method.errormodel import ErrorModel
+from cadcog.rig.geometry import axes_beyond_range, ideal_reading
+from cadcog.spacecraft.setup import FloatArray, Setup
+from cadcog.uncertainty.montecarlo import EstimatorOptions, simulate
+
+
+@dataclass(frozen=True)
+class CandidateCheck:
+    id: str
+    inc_x_deg: float
+    inc_y_deg: float
+    usable: bool
+    reason: str
+
+
+@dataclass(frozen=True)
+class Plan:
+    checks: tuple[CandidateCheck, ...]
+    pairs: tuple[dict[str, Any], ...]
+    best_sets: tuple[dict[str, Any], ...]
+    recommended: dict[str, Any] | None
+    model: ErrorModel | None = None
+    trials: int = 0
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "candidates": [c.__dict__ for c in self.checks],
+            "pairs": list(self.pairs),
+            "best_sets": list(self.best_sets),
+            "recommended": self.recommended,
+            "error_model": None if self.model is None else self.model.describe(),
+            "estimator": EstimatorOptions().describe(),
+            "prediction": f"Monte Carlo of the estimator of cadcog estimate, {self.trials} "
+            "trials per finalist set; pairs and sets screened by their linearised covariance",
+        }
+
+
+#: Sets per size that are simulated after the linearised screening.
+PLAN_FINALISTS = 5
+
+#: Largest number of sets of one size screened exhaustively (greedy growth beyond).
+PLAN_MAX_SETS = 250_000
+
+#: Fixed standard normal draws turning a covariance into a 95 % norm quantile for screening.
+_SCREEN_DRAWS = 2000
+
+
+def _linearised_q95(cov: FloatArray, z: FloatArray) -> FloatArray:
+    """95 % quantile of |e| for e ~ N(0, C), for a stack of covariances C (m, 3, 3)."""
+    eig = np.clip(np.linalg.eigvalsh(cov), 0.0, None)  # the norm depends only on these
+    r = np.sqrt(eig @ (z * z).T)  # (m, draws)
+    return np.asarray(np.quantile(r, 0.95, axis=1))
+
+
+def plan_test(
+    setup: Setup,
+    *,
+    trials: int = 10_000,
+    max_set: int = 4,
+    seed: int = 0,
+    min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+) -> Plan:
+    """Check every candidate, screen every usable set of hangs, and recommend one.
+
+    Every set of 2 to ``max_set`` usable candidates whose plumb lines meet at ``min_angle_deg`` or
+    more is screened by the covariance the estimator predicts for it at the nominal readings
+    (:func:`cadcog.method.gls.plumb_gls`, with the ME term of eq. 16), exhaustively while there are
+    at most :data:`PLAN_MAX_SETS` sets of a size, growing the best set of the previous size beyond.
+    The :data:`PLAN_FINALISTS` best sets of each size are then simulated (``trials`` trials of the
+    same error model and estimator as ``cadcog campaign`` and ``cadcog estimate``); the
+    recommendation is the set with the smallest simulated 95 % CoG error.
+    """
+    g = setup.assembly_cog_mm
+    rng_deg = setup.rig.inclinometer_range_deg
+    checks = []
+    for c in setup.candidates:
+        r = ideal_reading(c.position_mm, g)
+        bad = axes_beyond_range(r.inc_x_deg, r.inc_y_deg, rng_deg)
+        reason = f"{' and '.join(bad)} beyond the ±{rng_deg:g}° range" if bad else ""
+        checks.append(CandidateCheck(c.id, r.inc_x_deg, r.inc_y_deg, not bad, reason))
+    usable = tuple(c for c, k in zip(setup.candidates, checks, strict=True) if k.usable)
+    model = setup.error_model()
+    if len(usable) < 2:
+        return Plan(tuple(checks), (), (), None, model, trials)
+    scenario = setup.scenario(usable)
+    n = len(usable)
+    u_nom = np.array([(scenario.points_mm[i] - g) for i in range(n)])
+    u_nom /= np.linalg.norm(u_nom, axis=1, keepdims=True)
+    cos = np.clip(np.abs(u_nom @ u_nom.T), 0.0, 1.0)
+    angle = np.degrees(np.arccos(cos))
+    z = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,))).standard_normal(
+        (_SCREEN_DRAWS, 3)
+    )
+
+    def conditioning(groups: npt.NDArray[np.int64]) -> FloatArray:
+        best = np.zeros(len(groups))
+        for a, b in combinations(range(groups.shape[1]), 2):
+            best = np.maximum(best, angle[groups[:, a], groups[:, b]])
+        return best
+
+    # At the nominal readings every line's weight is its own, whatever set it is in: the
+    # equal-weight pass of the estimator finds the CoG exactly, so each point's distance is
+    # known. One weight per candidate, then every set is a sum.
+    p_all = scenario.points_mm.T[:, :, None]
+    n_all = scenario.normals.T[:, :, None]
+    u_all = u_nom.T[:, :, None]
+    wire = gls.WireTerm.from_model(model, scenario.weight_n)
+    weights = gls.plumb_gls(p_all, u_all, n_all, gls.LineErrors.from_model(model), wire).weights
+    shape_all = (
+        np.ones(n)
+        if wire.model == "paper"
+        else gls.wire_shape_factor(np.sum(u_nom * scenario.normals, axis=1), wire.model)
+    )
+    ratio = scenario.me_mass_kg / scenario.pm_mass_kg
+
+    def predicted(groups: npt.NDArray[np.int64]) -> FloatArray:
+        """Compensated linearised covariances (m, 3, 3) of sets (m, k)."""
+        g_t = groups.T  # (k, m)
+        cov = gls.solve_lines(
+            p_all[:, g_t, 0],
+            u_all[:, g_t, 0],
+            n_all[:, g_t, 0],
+            shape_all[g_t],
+            weights[:, g_t, 0],
+            wire,
+        )[1]
+        return np.asarray(
+            (1 + ratio) ** 2 * gls.sym_to_full(cov) + ratio**2 * model.me_sigma_mm**2 * np.eye(3)
+        )
+
+    pair_idx = np.array(list(combinations(range(n), 2)))
+    pair_idx = pair_idx[conditioning(pair_idx) >= min_angle_deg]
+    if not len(pair_idx):
+        return Plan(tuple(checks), (), (), None, model, trials)
+    pair_q95 = _linearised_q95(predicted(pair_idx), z)
+    pairs = sorted(
+        (
+            {
+                "a": usable[a].id,
+                "b": usable[b].id,
+                "angle_deg": float(angle[a, b]),
+                "linearised_q95_mm": float(q),
+            }
+            for (a, b), q in zip(pair_idx, pair_q95, strict=True)
+        ),
+        key=lambda d: d["linearised_q95_mm"],
+    )
+    best_sets: list[dict[str, Any]] = []
+    current = pair_idx[int(np.argmin(pair_q95))]
+    for k in range(2, min(max_set, n) + 1):
+        if k == 2:
+            groups, lin = pair_idx, pair_q95
+        else:
+            if comb(n, k) <= PLAN_MAX_SETS:
+                groups = np.array(list(combinations(range(n), k)))
+            else:  # grow the best set of the previous size by one point
+                groups = np.array(
+                    [sorted((*current.tolist(), j)) for j in range(n) if j not in current]
+                )
+            groups = groups[conditioning(groups) >= min_angle_deg]
+            if not len(groups):
+                break
+            tr = np.trace(predicted(groups), axis1=1, axis2=2)
+            top = np.argsort(tr)[: 50 * PLAN_FINALISTS]
+            groups = groups[top]
+            lin = _linearised_q95(predicted(groups), z)
+        finalists = groups[np.argsort(lin)[:PLAN_FINALISTS]]
+        res = simulate(scenario, model, [tuple(f) for f in finalists], trials, seed + k)
+        i = int(np.argmin(res.group_q95_mm))
+        current = finalists[i]
+        best_sets.append(
+            {
+                "points": [usable[j].id for j in current],
+                "q95_mm": res.group_q95_mm[i],
+                "q50_mm": res.group_q50_mm[i],
+                "mean_mm": res.group_mean_mm[i],
+                "linearised_q95_mm": float(lin[np.argsort(lin)[i]]),
+            }
+        )
+    recommended = min(best_sets, key=lambda s: float(s["q95_mm"]))
+    return Plan(tuple(checks), tuple(pairs), tuple(best_sets), recommended, model, trials)

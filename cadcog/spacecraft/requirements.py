@@ -1,0 +1,414 @@
+"""Mass-properties requirements, checked the way a systems engineer would, for CI.
+
+A requirements file (TOML; ``parts/cubesat_3u_requirements.toml`` is the example) names the
+model as a set-up file does (:mod:`cadcog.cad.modelfile`) and the limits:
+
+- ``[mass]``: ``max_kg`` (the allowable) with a required ``margin`` on the *predicted* mass
+  (current best estimate plus growth allowances, AIAA S-120A's sense):
+  ``predicted ≤ max_kg × (1 − margin)``; ``min_kg`` (dispensers with a minimum) on the current
+  best estimate; ``[[mass.allocation]]`` entries ``node`` (a budget node: its path, its path
+  below the top assembly, or a pattern matching one node) with ``max_kg``;
+- ``[cog]``: the CubeSat envelope (``form_factor`` or ``limits_mm``, in ``axes``) around the
+  geometric centre, nominally and, with ``at_95 = true``, at the 95 % edge of the rolled-up CAD
+  uncertainty;
+- ``[inertia]``: in a frame (``about``, ``axes``): ``max_misalignment_deg`` of the principal
+  axes from the frame's, ``max_product_kg_mm2`` on the products of inertia, and
+  ``[[inertia.ratio]]`` bounds (``min``, ``max``) on a ratio of moments (``min``,
+  ``intermediate``, ``max`` principal moments, or ``xx``, ``yy``, ``zz`` in the frame);
+- ``[baseline]``: a committed baseline (``file``) and tolerances: any body whose mass or CoG
+  changed beyond them fails the check, with a readable diff (:mod:`cadcog.spacecraft.baseline`).
+
+:func:`evaluate` turns a model's :class:`~cadcog.spacecraft.mass_summary.MassReport` and the
+requirements into one :class:`RequirementResult` per requirement.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from cadcog.core.errors import ParameterFileError
+from cadcog.core.paramfile import TableReader
+from cadcog.mass.inertia import Frame, principal_axes, products_of_inertia
+from cadcog.mass.materials import glob_match
+from cadcog.spacecraft.baseline import BaselineDiff, Tolerances
+from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
+from cadcog.spacecraft.mass_budget import BudgetNode
+from cadcog.spacecraft.mass_summary import MassReport
+
+if TYPE_CHECKING:
+    from cadcog.cad.stepmass import ModelMassProperties
+
+MOMENT_NAMES = ("min", "intermediate", "max", "xx", "yy", "zz")
+
+
+@dataclass(frozen=True)
+class Allocation:
+    node: str
+    max_kg: float
+
+
+@dataclass(frozen=True)
+class Ratio:
+    numerator: str
+    denominator: str
+    min: float | None
+    max: float | None
+
+
+@dataclass(frozen=True)
+class Requirements:
+    """A validated requirements file (everything but the model)."""
+
+    name: str
+    source: Path
+    max_kg: float | None = None
+    margin: float = 0.0
+    min_kg: float | None = None
+    allocations: tuple[Allocation, ...] = ()
+    form_factor: str | None = None
+    cog_limits_mm: tuple[float, float, float] | None = None
+    cog_axes: str = "+x,+y,+z"
+    cog_at_95: bool = False
+    inertia_about: str | tuple[float, float, float] = "cog"
+    inertia_axes: str = "+x,+y,+z"
+    max_misalignment_deg: float | None = None
+    max_product_kg_mm2: float | None = None
+    ratios: tuple[Ratio, ...] = ()
+    baseline_file: Path | None = None
+    tolerances: Tolerances = field(default_factory=Tolerances)
+
+
+@dataclass(frozen=True)
+class RequirementResult:
+    """One checked requirement: what it says, what was found, and whether it holds."""
+
+    id: str
+    title: str
+    value: str
+    limit: str
+    passed: bool
+    detail: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "id": self.id,
+            "title": self.title,
+            "value": self.value,
+            "limit": self.limit,
+            "passed": self.passed,
+            "detail": self.detail,
+        }
+
+
+def _frame_axes(t: TableReader, key: str) -> str:
+    axes = t.string(key, default="+x,+y,+z")
+    try:
+        Frame.parse(axes, [0.0, 0.0, 0.0])
+    except ValueError as exc:
+        raise t.error(key, str(exc)) from None
+    return axes
+
+
+def load_requirements(root: TableReader, path: Path) -> Requirements:
+    """The requirement tables of a requirements file (its model keys are read elsewhere)."""
+    base = path.parent
+    name = root.string("name", default=path.stem)
+    kw: dict[str, Any] = {}
+    if root.has("mass"):
+        m = root.table("mass")
+        if m.has("max_kg"):
+            kw["max_kg"] = m.number("max_kg", positive=True)
+        kw["margin"] = m.number("margin", nonnegative=True, default=0.0)
+        if kw["margin"] >= 1.0:
+            raise m.error("margin", f"a fraction below 1 (10 % = 0.10), got {kw['margin']:g}")
+        if m.has("min_kg"):
+            kw["min_kg"] = m.number("min_kg", positive=True)
+        if m.has("allocation"):
+            kw["allocations"] = tuple(_allocation(a) for a in m.tables("allocation"))
+        m.finish()
+    if root.has("cog"):
+        c = root.table("cog")
+        if c.has("form_factor") and c.has("limits_mm"):
+            raise c.error("limits_mm", "give form_factor or limits_mm, not both")
+        if c.has("form_factor"):
+            kw["form_factor"] = c.string("form_factor", choices=list(CDS_COG_LIMITS_MM))
+        elif c.has("limits_mm"):
+            v = c.vector("limits_mm", positive=True)
+            kw["cog_limits_mm"] = (v[0], v[1], v[2])
+        else:
+            raise c.error("form_factor", "missing: give form_factor or limits_mm")
+        kw["cog_axes"] = _frame_axes(c, "axes")
+        kw["cog_at_95"] = c.boolean("at_95", default=False)
+        c.finish()
+    if root.has("inertia"):
+        i = root.table("inertia")
+        if i.has("about"):
+            kw["inertia_about"] = _about(i)
+        kw["inertia_axes"] = _frame_axes(i, "axes")
+        if i.has("max_misalignment_deg"):
+            kw["max_misalignment_deg"] = i.number("max_misalignment_deg", nonnegative=True)
+        if i.has("max_product_kg_mm2"):
+            kw["max_product_kg_mm2"] = i.number("max_product_kg_mm2", nonnegative=True)
+        if i.has("ratio"):
+            kw["ratios"] = tuple(_ratio(r) for r in i.tables("ratio"))
+        i.finish()
+    if root.has("baseline"):
+        b = root.table("baseline")
+        kw["baseline_file"] = base / b.string("file")
+        kw["tolerances"] = Tolerances(
+            b.number("mass_tolerance_kg", nonnegative=True, default=Tolerances().mass_kg),
+            b.number("cog_tolerance_mm", nonnegative=True, default=Tolerances().cog_mm),
+        )
+        b.finish()
+    return Requirements(name, path, **kw)
+
+
+def _allocation(t: TableReader) -> Allocation:
+    out = Allocation(t.string("node"), t.number("max_kg", positive=True))
+    t.finish()
+    return out
+
+
+def _about(t: TableReader) -> str | tuple[float, float, float]:
+    if t.is_string("about"):
+        return t.string("about", choices=("cog", "centre", "origin"))
+    v = t.vector("about")
+    return v[0], v[1], v[2]
+
+
+def _ratio(t: TableReader) -> Ratio:
+    r = Ratio(
+        t.string("numerator", choices=MOMENT_NAMES),
+        t.string("denominator", choices=MOMENT_NAMES),
+        t.number("min", positive=True) if t.has("min") else None,
+        t.number("max", positive=True) if t.has("max") else None,
+    )
+    if r.min is None and r.max is None:
+        raise t.error("min", "give min, max or both")
+    t.finish()
+    return r
+
+
+# --- evaluation ----------------------------------------------------------------------------------
+def find_node(root: BudgetNode, spec: str) -> BudgetNode:
+    """The one budget node ``spec`` names: its path, its path below the root, or a pattern.
+
+    Raises
+    ------
+    ValueError
+        If no node or several nodes match.
+    """
+    nodes = [n for _, n in root.walk()]
+    prefix = f"{root.path}/" if root.path else ""
+    exact = [n for n in nodes if spec in (n.path, n.path[len(prefix) :])]
+    if len(exact) == 1:
+        return exact[0]
+    found = [
+        n for n in nodes if glob_match(n.path, spec) or glob_match(n.path[len(prefix) :], spec)
+    ]
+    if len(found) != 1:
+        what = "no budget node" if not found else f"{len(found)} budget nodes"
+        raise ValueError(f"{what} match {spec!r}; nodes: {', '.join(n.path for n in nodes[:12])}")
+    return found[0]
+
+
+def _kg(x: float) -> str:
+    return f"{x:.4f} kg"
+
+
+def evaluate(
+    req: Requirements, report: MassReport, baseline: BaselineDiff | None
+) -> list[RequirementResult]:
+    """Every requirement of ``req`` against the model's ``report`` (and its baseline diff)."""
+    out: list[RequirementResult] = []
+    b = report.budget
+    cbe, predicted = b.root.mass_kg, b.predicted.mass_kg
+    if req.max_kg is not None:
+        limit = req.max_kg * (1.0 - req.margin)
+        sigma = "" if b.mass_sigma_kg is None else f", 1 σ {_kg(b.mass_sigma_kg)}"
+        out.append(
+            RequirementResult(
+                "mass.max",
+                f"predicted mass within {_kg(req.max_kg)} with a {req.margin:.0%} margin",
+                _kg(predicted),
+                f"≤ {_kg(limit)}",
+                predicted <= limit,
+                f"current best estimate {_kg(cbe)}, growth {_kg(predicted - cbe)}{sigma}; "
+                f"margin {(req.max_kg - predicted) / req.max_kg:.1%}",
+            )
+        )
+    if req.min_kg is not None:
+        out.append(
+            RequirementResult(
+                "mass.min",
+                f"mass at least {_kg(req.min_kg)}",
+                _kg(cbe),
+                f"≥ {_kg(req.min_kg)}",
+                cbe >= req.min_kg,
+            )
+        )
+    for alloc in req.allocations:
+        try:
+            node = find_node(b.root, alloc.node)
+        except ValueError as exc:
+            raise ParameterFileError(req.source, "mass.allocation.node", str(exc)) from None
+        out.append(
+            RequirementResult(
+                f"mass.allocation.{alloc.node}",
+                f"{node.path} within its allocation",
+                _kg(node.predicted_mass_kg),
+                f"≤ {_kg(alloc.max_kg)}",
+                node.predicted_mass_kg <= alloc.max_kg,
+                f"current best estimate {_kg(node.mass_kg)}",
+            )
+        )
+    env = report.envelope
+    if env is not None:
+        offset = ", ".join(f"{v:+.2f}" for v in env.offset_mm)
+        limits = ", ".join(f"±{v:g}" for v in env.limits_mm)
+        label = env.form_factor or "custom"
+        out.append(
+            RequirementResult(
+                "cog.envelope",
+                f"CoG within the {label} envelope",
+                f"[{offset}] mm",
+                f"[{limits}] mm",
+                env.within,
+                env.source,
+            )
+        )
+        if req.cog_at_95:
+            if env.sigma_mm is None:
+                out.append(
+                    RequirementResult(
+                        "cog.envelope_95",
+                        f"CoG within the {label} envelope at 95 %",
+                        "no uncertainty",
+                        f"[{limits}] mm",
+                        False,
+                        "the materials give no mass uncertainty to roll up: add "
+                        "[mass_uncertainty] rules",
+                    )
+                )
+            else:
+                edge = np.abs(env.offset_mm) + 1.959963984540054 * env.sigma_mm
+                out.append(
+                    RequirementResult(
+                        "cog.envelope_95",
+                        f"CoG within the {label} envelope at 95 %",
+                        "|offset| + 1.96 σ = [" + ", ".join(f"{v:.2f}" for v in edge) + "] mm",
+                        f"[{limits}] mm",
+                        bool(env.within_at_95),
+                        "σ from the rolled-up mass uncertainties",
+                    )
+                )
+    out.extend(_inertia_results(req, report))
+    if baseline is not None:
+        out.append(
+            RequirementResult(
+                "baseline",
+                f"no change beyond tolerances from {baseline.source.name}",
+                f"{len(baseline.changes)} change(s)",
+                f"mass ± {req.tolerances.mass_kg * 1e3:g} g, CoG ± {req.tolerances.cog_mm:g} mm",
+                not baseline.changes,
+                "; ".join(baseline.describe()),
+            )
+        )
+    return out
+
+
+def _inertia_results(req: Requirements, report: MassReport) -> list[RequirementResult]:
+    if req.max_misalignment_deg is None and req.max_product_kg_mm2 is None and not req.ratios:
+        return []
+    total = report.result.total
+    lo, hi = report.result.bbox_mm
+    named = {"cog": total.cog_mm, "centre": 0.5 * (lo + hi), "origin": np.zeros(3)}
+    about = req.inertia_about
+    origin = named[about] if isinstance(about, str) else np.asarray(about, dtype=float)
+    frame = Frame.parse(req.inertia_axes, origin)
+    r = frame.axes
+    central = principal_axes(r @ total.inertia_kg_mm2 @ r.T)  # CoG inertia, frame axes
+    j_frame = r @ total.inertia_about(origin) @ r.T
+    where = f"about {about if isinstance(about, str) else list(about)}, axes {req.inertia_axes}"
+    out = []
+    if req.max_misalignment_deg is not None:
+        angles = central.angles_from_frame_deg()
+        moments = central.moments_kg_mm2
+        scale = max(float(np.max(np.abs(moments))), 1e-300)
+        distinct = [
+            k
+            for k in range(3)
+            if all(abs(moments[k] - moments[m]) > 1e-6 * scale for m in range(3) if m != k)
+        ]
+        worst = float(max((angles[k] for k in distinct), default=0.0))
+        detail = "" if len(distinct) == 3 else "equal moments: only distinct principal axes count"
+        out.append(
+            RequirementResult(
+                "inertia.misalignment",
+                "principal axes aligned with the frame axes",
+                f"{worst:.2f}°",
+                f"≤ {req.max_misalignment_deg:g}°",
+                worst <= req.max_misalignment_deg,
+                detail or "angle of each principal axis from the nearest frame axis",
+            )
+        )
+    if req.max_product_kg_mm2 is not None:
+        p = products_of_inertia(j_frame, "positive")
+        worst_p = max(abs(v) for v in p.values())
+        out.append(
+            RequirementResult(
+                "inertia.products",
+                f"products of inertia {where}",
+                f"{worst_p:.3f} kg·mm²",
+                f"≤ {req.max_product_kg_mm2:g} kg·mm²",
+                worst_p <= req.max_product_kg_mm2,
+                ", ".join(f"P{k} {v:+.3f}" for k, v in p.items()),
+            )
+        )
+    values = {
+        "min": central.moments_kg_mm2[0],
+        "intermediate": central.moments_kg_mm2[1],
+        "max": central.moments_kg_mm2[2],
+        "xx": j_frame[0, 0],
+        "yy": j_frame[1, 1],
+        "zz": j_frame[2, 2],
+    }
+    for ratio in req.ratios:
+        value = float(values[ratio.numerator] / values[ratio.denominator])
+        ok = (ratio.min is None or value >= ratio.min) and (ratio.max is None or value <= ratio.max)
+        bounds = " and ".join(
+            x
+            for x in (
+                f"≥ {ratio.min:g}" if ratio.min is not None else "",
+                f"≤ {ratio.max:g}" if ratio.max is not None else "",
+            )
+            if x
+        )
+        out.append(
+            RequirementResult(
+                f"inertia.ratio.{ratio.numerator}/{ratio.denominator}",
+                f"moment ratio {ratio.numerator}/{ratio.denominator}",
+                f"{value:.4f}",
+                bounds,
+                ok,
+                where,
+            )
+        )
+    return out
+
+
+def model_report(req: Requirements, result: ModelMassProperties) -> MassReport:
+    """The mass report the requirements need (envelope in the ``[cog]`` axes)."""
+    from cadcog.spacecraft.mass_summary import build_mass_report
+
+    return build_mass_report(
+        result,
+        about="centre",
+        axes=req.cog_axes,
+        form_factor=req.form_factor,
+        cog_limits_mm=req.cog_limits_mm,
+    )

@@ -1,0 +1,285 @@
+"""A spacecraft from its CAD: its set-up file, and comparison of a measured CoG with the CAD.
+
+Test planning (which suspension points to use) is :mod:`cadcog.spacecraft.plan`.
+
+The set-up file (``parts/cubesat_3u_setup.toml`` is the example) names the model (a STEP file
+with a materials file, or a cadcog CubeSat spec), the measurement equipment (a rig's ME volumes,
+placed on the spacecraft), the inclinometer and error model (the rig's), the candidate suspension
+points (listed, or a grid on faces of the model's bounding box) and, optionally, the CubeSat
+form factor.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core import bounds, tolerances
+from cadcog.core.errors import CadcogError
+from cadcog.core.paramfile import TableReader, read_toml
+from cadcog.mass.properties import MassProperties
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
+from cadcog.method.readings import Suspension, id_problem
+from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.rig.geometry import (
+    FACES,
+    face_normal,
+    face_normal_of_point,
+)
+from cadcog.rig.parameters import MEVolume, Rig, me_cog_cov_mm2
+from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM, check_envelope
+from cadcog.uncertainty.montecarlo import Scenario
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Candidate:
+    id: str
+    position_mm: FloatArray
+    normal: FloatArray
+
+
+@dataclass(frozen=True)
+class Setup:
+    name: str
+    source: Path
+    mass: MassProperties  # the spacecraft without ME, from CAD
+    bbox_mm: tuple[FloatArray, FloatArray]
+    me_volumes: tuple[MEVolume, ...]
+    rig: Rig  # inclinometer, error model
+    candidates: tuple[Candidate, ...]
+    form_factor: str | None
+    cog_limits_mm: FloatArray | None
+    bodies: tuple[Any, ...]  # cadcog.cad.stepmass.BodyResult: mass, CoG, uncertainty item
+
+    @property
+    def geometric_center_mm(self) -> FloatArray:
+        lo, hi = self.bbox_mm
+        return np.asarray(0.5 * (lo + hi))
+
+    @property
+    def me_mass_kg(self) -> float:
+        return sum(v.mass_kg for v in self.me_volumes)
+
+    @property
+    def me_cog_mm(self) -> FloatArray:
+        m = np.array([v.mass_kg for v in self.me_volumes])
+        c = np.array([v.center_mm for v in self.me_volumes])
+        return np.asarray(m @ c / m.sum())
+
+    @property
+    def me_cog_cov_mm2(self) -> FloatArray:
+        return me_cog_cov_mm2(self.me_volumes)
+
+    def body(self) -> BodyBox:
+        """The model's bounding box: the faces the suspension points sit on (bolt axes)."""
+        lo, hi = self.bbox_mm
+        return BodyBox(np.asarray(lo), np.asarray(hi), f"setup {self.source}")
+
+    def me_data(self) -> MEData:
+        """What ME compensation needs: the spacecraft's CAD mass and the placed ME."""
+        return MEData(
+            self.mass.mass_kg,
+            self.me_mass_kg,
+            self.me_cog_mm,
+            self.me_cog_cov_mm2,
+            f"setup {self.source}",
+        )
+
+    @property
+    def assembly_cog_mm(self) -> FloatArray:
+        m, me = self.mass.mass_kg, self.me_mass_kg
+        return np.asarray((m * self.mass.cog_mm + me * self.me_cog_mm) / (m + me))
+
+    def scenario(self, candidates: tuple[Candidate, ...] | None = None) -> Scenario:
+        cands = self.candidates if candidates is None else candidates
+        return Scenario(
+            tuple(c.id for c in cands),
+            np.array([c.position_mm for c in cands]),
+            np.array([c.normal for c in cands]),
+            self.mass.cog_mm,
+            self.mass.mass_kg,
+            self.me_mass_kg,
+            self.me_cog_mm,
+        )
+
+    def error_model(self) -> ErrorModel:
+        model = ErrorModel.from_rig(self.rig)
+        return replace(
+            model,
+            me_masses_kg=tuple(v.mass_kg for v in self.me_volumes),
+            me_edges_mm=tuple(v.cog_uncertainty_cube_mm for v in self.me_volumes),
+        )
+
+
+def estimate_for_setup(
+    setup: Setup,
+    suspensions: Sequence[Suspension],
+    *,
+    wire_correction: bool = True,
+    self_calibrate: bool = False,
+    angle_sigma_deg: float | None = None,
+    point_sigma_mm: float | None = None,
+    min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+) -> CogEstimate:
+    """The spacecraft's compensated CoG from its suspensions, as ``cadcog estimate --setup``
+    computes it: the set-up's inclinometer, error model, bolt axes and measurement equipment."""
+    return estimate_cog(
+        suspensions,
+        setup.rig.inclinometer,
+        setup.me_data(),
+        model=setup.error_model(),
+        body=setup.body(),
+        wire_correction=wire_correction,
+        self_calibrate=self_calibrate,
+        angle_sigma_deg=angle_sigma_deg,
+        point_sigma_mm=point_sigma_mm,
+        min_angle_deg=min_angle_deg,
+    )
+
+
+def load_setup(path: str | Path) -> Setup:
+    """Read a set-up file, compute the model's mass properties and the candidates."""
+    p = Path(path)
+    base = p.parent
+    root = TableReader(read_toml(p), p)
+    name = root.identifier("name")
+    from cadcog.cad.modelfile import load_model
+
+    massprops = load_model(root, base)
+    form = None
+    if root.has("form_factor"):
+        form = root.string("form_factor", choices=list(CDS_COG_LIMITS_MM))
+    limits = None
+    if root.has("cog_limits_mm"):
+        limits = np.array(root.vector("cog_limits_mm", positive=True))
+    elif form is not None:
+        limits = np.array(CDS_COG_LIMITS_MM[form])
+    lo, hi = massprops.bbox_mm
+
+    me_t = root.table("measurement_equipment")
+    rig = load_rig(base / me_t.string("rig")) if me_t.has("rig") else load_rig(default_rig_path())
+    target = np.array(me_t.vector("base_center_mm"))
+    me_t.finish()
+    rig_base = np.array([*rig.analytic_me.cog_mm[:2], rig.proof_mass.size_mm[2]])
+    shift = target - rig_base
+    volumes = tuple(
+        replace(v, center_mm=_triple(np.asarray(v.center_mm) + shift)) for v in rig.me_volumes
+    )
+
+    cand_t = root.table("candidates")
+    cands: list[Candidate] = []
+    if cand_t.has("faces"):
+        faces_value = cand_t.strings("faces", choices=list(FACES))
+        spacing = cand_t.number("spacing_mm", positive=True)
+        margin = cand_t.number("margin_mm", nonnegative=True)
+        count = sum(_grid_size(f, lo, hi, spacing, margin) for f in faces_value)
+        if count > bounds.MAX_CANDIDATES:
+            raise cand_t.error(
+                "spacing_mm",
+                f"{spacing:g} mm gives {count} candidate points on {', '.join(faces_value)}; "
+                f"at most {bounds.MAX_CANDIDATES} (every pair is screened): use a wider spacing",
+            )
+        for f in faces_value:
+            cands.extend(_grid(f, lo, hi, spacing, margin))
+    if cand_t.has("points"):
+        for t in cand_t.tables("points"):
+            pos = np.array(t.vector("position_mm"))
+            try:
+                normal = face_normal_of_point(pos, lo, hi)
+            except ValueError:
+                raise t.error(
+                    "position_mm",
+                    f"{pos.tolist()} is inside the model's bounding box: a "
+                    "suspension point must be on its surface",
+                ) from None
+            pid = t.string("id")
+            problem = id_problem(pid)
+            if problem is not None:
+                raise t.error("id", f"{pid!r}: {problem}")
+            if any(c.id == pid for c in cands):
+                raise t.error("id", f"duplicate candidate id {pid!r}")
+            cands.append(Candidate(pid, pos, normal))
+            t.finish()
+    cand_t.finish()
+    root.finish()
+    if len(cands) < 2:
+        raise CadcogError(f"{p}: fewer than two candidate suspension points")
+    return Setup(
+        name,
+        p,
+        massprops.total,
+        (lo, hi),
+        volumes,
+        rig,
+        tuple(cands),
+        form,
+        limits,
+        tuple(massprops.bodies),
+    )
+
+
+def _triple(v: FloatArray) -> tuple[float, float, float]:
+    return float(v[0]), float(v[1]), float(v[2])
+
+
+def _grid_counts(
+    face: str, lo: FloatArray, hi: FloatArray, spacing: float, margin: float
+) -> list[int]:
+    axis, _ = FACES[face]
+    return [max(int((hi[j] - lo[j] - 2 * margin) // spacing) + 1, 1) for j in range(3) if j != axis]
+
+
+def _grid_size(face: str, lo: FloatArray, hi: FloatArray, spacing: float, margin: float) -> int:
+    a, b = _grid_counts(face, lo, hi, spacing, margin)
+    return a * b
+
+
+def _grid(
+    face: str, lo: FloatArray, hi: FloatArray, spacing: float, margin: float
+) -> list[Candidate]:
+    axis, sign = FACES[face]
+    others = [j for j in range(3) if j != axis]
+    axes = []
+    for j, n in zip(others, _grid_counts(face, lo, hi, spacing, margin), strict=True):
+        span = (n - 1) * spacing
+        mid = 0.5 * (lo[j] + hi[j])
+        axes.append(mid - span / 2 + spacing * np.arange(n))
+    out = []
+    for a in axes[0]:
+        for b in axes[1]:
+            pos = np.zeros(3)
+            pos[axis] = hi[axis] if sign > 0 else lo[axis]
+            pos[others[0]], pos[others[1]] = a, b
+            out.append(Candidate(f"{face}_{a:g}_{b:g}", pos, face_normal(face)))
+    return out
+
+
+# --- planning -------------------------------------------------------------------------------------
+def compare_with_cad(setup: Setup, cog_mm: FloatArray, cov_mm2: FloatArray) -> dict[str, Any]:
+    """Measured minus CAD CoG in mm and in sigmas, and the CubeSat envelope check."""
+    diff = cog_mm - setup.mass.cog_mm
+    sigma = np.sqrt(np.diag(cov_mm2))
+    maha = float(np.sqrt(diff @ np.linalg.solve(cov_mm2, diff)))
+    out: dict[str, Any] = {
+        "cad_cog_mm": setup.mass.cog_mm.tolist(),
+        "difference_mm": diff.tolist(),
+        "difference_sigma": (diff / sigma).tolist(),
+        "mahalanobis": maha,
+    }
+    if setup.cog_limits_mm is not None:
+        out["cubesat"] = check_envelope(
+            cog_mm,
+            setup.geometric_center_mm,
+            setup.cog_limits_mm,
+            cov_mm2=cov_mm2,
+            form_factor=setup.form_factor,
+        ).to_dict()
+    return out

@@ -1,0 +1,115 @@
+"""A virtual test campaign: the paper's experiment as a lab would record it.
+
+For each suspension point one hang is simulated from the error model
+(:class:`cadcog.method.errormodel.ErrorModel`, the same one every Monte Carlo draws from): the ME's
+real CoG error is drawn once for the whole campaign (it is one physical object), the wire's
+stiffness too (one wire); each hang draws its own suspension play and wire offset and, in the
+``hang-bias`` model, the inclinometer's bias (uniform ±accuracy per axis, fixed during the hang).
+Then ``model.samples`` raw samples per axis add sensor noise (``sensor_noise_deg``) and are
+quantised by the ADC to counts: the averaging and the quantisation happen here for real, where the
+Monte Carlo uses their closed forms. The result is a readings CSV with ``inc_x_counts,
+inc_y_counts`` columns: :func:`cadcog.method.readings.read_readings` reads it as it reads real data.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from cadcog.core.fileio import staged_file
+from cadcog.core.units import rad_to_deg
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.readings import Suspension, suspension_from_samples
+from cadcog.rig.inclinometer import InclinometerConfig
+from cadcog.rig.parameters import Rig
+from cadcog.uncertainty.montecarlo import Scenario, draw_perturbations, hang
+
+HEADER = "point_id,x_mm,y_mm,z_mm,inc_x_counts,inc_y_counts,top_face_up"
+
+
+@dataclass(frozen=True)
+class CampaignRow:
+    point_id: str
+    position_mm: tuple[float, float, float]
+    counts_x: int
+    counts_y: int
+    top_face_up: bool
+
+
+def virtual_campaign(rig: Rig, seed: int, model: ErrorModel | None = None) -> list[CampaignRow]:
+    """Rows of a simulated campaign over the rig's suspension points (the rig's error model)."""
+    return simulated_readings(
+        Scenario.from_rig(rig), model or ErrorModel.from_rig(rig), rig.inclinometer, seed
+    )
+
+
+def simulated_readings(
+    scenario: Scenario, model: ErrorModel, inclinometer: InclinometerConfig, seed: int
+) -> list[CampaignRow]:
+    """One simulated hang per point of ``scenario``, ``model.samples`` raw ADC readings each."""
+    rng = np.random.default_rng(seed)
+    k = len(scenario.ids)
+    pert = draw_perturbations(model.only("me_cog", "point_play", "wire_offset"), rng, 1, k)
+    u = hang(scenario, model, range(k), pert)[:, :, 0]  # (3, k)
+    sensor = inclinometer.sensor
+    a = model.accuracy_deg if "inclinometer" in model.sources else 0.0
+    noise = model.sensor_noise_deg if "inclinometer" in model.sources else 0.0
+    n = model.samples
+    per_sample = model.inclinometer_model == "paper-averaged"
+    signs = np.array([inclinometer.sign_x, inclinometer.sign_y])
+    rows = []
+    for j, pid in enumerate(scenario.ids):
+        # What the device reports for the true vertical, then its errors (in its own signs).
+        true_deg = rad_to_deg(np.arcsin(np.clip(u[:2, j], -1, 1))) * signs
+        bias = rng.uniform(-a, a, (n, 2) if per_sample else 2)
+        noisy = true_deg + bias + rng.normal(0.0, noise, (n, 2))
+        counts = np.clip(np.floor(sensor.deg_to_counts(noisy) + 0.5), 0, sensor.max_counts)
+        p = scenario.points_mm[j]
+        for cx, cy in counts.astype(int):
+            rows.append(
+                CampaignRow(
+                    pid,
+                    (float(p[0]), float(p[1]), float(p[2])),
+                    int(cx),
+                    int(cy),
+                    bool(u[2, j] > 0),
+                )
+            )
+    return rows
+
+
+def write_campaign(path: str | Path, rows: list[CampaignRow], comment: str = "") -> None:
+    """Write rows as a readings CSV (counts), atomically."""
+    lines = [f"# {c}" for c in comment.splitlines()] + [HEADER]
+    for r in rows:
+        x, y, z = r.position_mm
+        lines.append(
+            f"{r.point_id},{x:.3f},{y:.3f},{z:.3f},{r.counts_x},{r.counts_y},"
+            f"{str(r.top_face_up).lower()}"
+        )
+    with staged_file(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def campaign_suspensions(
+    rows: list[CampaignRow], inclinometer: InclinometerConfig
+) -> list[Suspension]:
+    """The averaged suspensions of campaign rows, as :func:`cadcog.method.readings.read_readings`
+    would read them back from the CSV (without the file; positions rounded as written)."""
+    groups: dict[str, list[CampaignRow]] = {}
+    for r in rows:
+        groups.setdefault(r.point_id, []).append(r)
+    out = []
+    line = 2
+    for pid, rs in groups.items():
+        x = inclinometer.sensor.counts_to_deg([r.counts_x for r in rs])
+        y = inclinometer.sensor.counts_to_deg([r.counts_y for r in rs])
+        n = len(rs)
+        pos = tuple(float(f"{c:.3f}") for c in rs[0].position_mm)
+        out.append(
+            suspension_from_samples(pid, (pos[0], pos[1], pos[2]), rs[0].top_face_up, x, y, line)
+        )
+        line += n
+    return out

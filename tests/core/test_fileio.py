@@ -1,0 +1,93 @@
+"""Staged outputs: whole or nothing, normal permissions, clear errors, clean on signals."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import refuse_overwriting_inputs, staged_file, staged_output_dir
+
+
+def test_a_staged_file_gets_the_umask_permissions(tmp_path):
+    old = os.umask(0o027)
+    try:
+        with staged_file(tmp_path / "out.csv") as tmp:
+            tmp.write_text("x\n", encoding="utf-8")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "out.csv").stat().st_mode & 0o777 == 0o640
+
+
+def test_a_failed_write_leaves_nothing(tmp_path):
+    with pytest.raises(RuntimeError), staged_file(tmp_path / "out.csv") as tmp:
+        tmp.write_text("partial", encoding="utf-8")
+        raise RuntimeError("boom")
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(RuntimeError), staged_output_dir(tmp_path / "dir") as stage:
+        (stage / "a.txt").write_text("partial", encoding="utf-8")
+        raise RuntimeError("boom")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_failed_write_removes_the_folders_it_created_and_only_those(tmp_path):
+    (tmp_path / "kept").mkdir()
+    with pytest.raises(RuntimeError), staged_file(tmp_path / "kept/new/deeper/out.csv"):
+        raise RuntimeError("boom")
+    with pytest.raises(RuntimeError), staged_output_dir(tmp_path / "kept/a/b/report"):
+        raise RuntimeError("boom")
+    assert [p.name for p in tmp_path.rglob("*")] == ["kept"]
+    with staged_output_dir(tmp_path / "kept/a/b/report") as stage:  # success keeps them
+        (stage / "x.txt").write_text("x", encoding="utf-8")
+    assert (tmp_path / "kept/a/b/report/x.txt").read_text(encoding="utf-8") == "x"
+
+
+def test_a_destination_that_cannot_be_replaced_is_named(tmp_path):
+    out = tmp_path / "report"
+    (out / "index.html").mkdir(parents=True)  # a folder where the page should go
+    with pytest.raises(CadcogError, match=r"report: cannot write here"):
+        with staged_output_dir(out) as stage:
+            (stage / "index.html").write_text("page", encoding="utf-8")
+    assert [p.name for p in tmp_path.iterdir()] == ["report"]  # the staging is gone
+
+
+def test_errors_name_the_path_given_not_the_temporary_one(tmp_path):
+    blocker = tmp_path / "file.txt"
+    blocker.write_text("", encoding="utf-8")
+    with pytest.raises(CadcogError, match=r"file\.txt/out\.csv: cannot write here"):
+        with staged_file(blocker / "out.csv"):
+            pass
+    with pytest.raises(CadcogError, match=r"file\.txt/report: cannot write here"):
+        with staged_output_dir(blocker / "report"):
+            pass
+    with pytest.raises(CadcogError, match="is a directory"):
+        with staged_file(tmp_path):
+            pass
+
+
+def test_an_output_that_is_an_input_is_refused(tmp_path):
+    rig = tmp_path / "r.toml"
+    with pytest.raises(CadcogError, match=r"r\.toml: is the command's input \(--rig\)"):
+        refuse_overwriting_inputs(tmp_path / "." / "r.toml", {"--rig": rig, "--setup": None})
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+def test_sigterm_during_report_leaves_no_staging_behind(tmp_path):
+    out = tmp_path / "report"
+    cmd = [sys.executable, "-m", "cadcog", "report", "--out", str(out)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not any(p.name.endswith(".partial") for p in tmp_path.iterdir()):
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 143, err
+    assert "terminated; nothing was written" in err
+    assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,116 @@
+"""Readings CSV parsing: averaging, raw counts, and every error with file and line."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from cadcog.core.errors import ReadingsError
+from cadcog.method.readings import read_readings
+from cadcog.rig.inclinometer import InclinometerConfig
+from tests.rigtools import HEADER, write_csv
+
+ROWS = [
+    "S1,0,0,100,10.0,5.0,true",
+    "S1,0,0,100,10.2,5.4,1",
+    "S1,0,0,100,10.4,5.2,TRUE",
+    "S2,100,0,0,-30.0,0.0,false",
+]
+
+
+def test_samples_are_averaged_with_count_and_sample_std(tmp_path):
+    s1, s2 = read_readings(write_csv(tmp_path / "r.csv", ROWS))
+    assert (s1.id, s1.n_samples, s1.top_face_up, s1.line) == ("S1", 3, True, 2)
+    assert s1.inc_x_deg == pytest.approx(10.2)
+    assert s1.std_x_deg == pytest.approx(np.std([10.0, 10.2, 10.4], ddof=1))
+    assert s1.inc_y_deg == pytest.approx(5.2)
+    assert (s2.n_samples, s2.top_face_up, s2.std_x_deg) == (1, False, None)
+    assert s2.position_mm == (100.0, 0.0, 0.0)
+
+
+def test_comments_blank_lines_and_extra_columns_are_ignored(tmp_path):
+    rows = ["# a comment", "", "S1,0,0,100,10,5,true,note", "S2,100,0,0,-30,0,0,x"]
+    path = write_csv(tmp_path / "r.csv", rows, HEADER + ",remark")
+    assert [s.id for s in read_readings(path)] == ["S1", "S2"]
+
+
+def test_raw_counts_go_through_the_sensor_model(tmp_path):
+    cfg = InclinometerConfig()
+    counts = float(np.round(cfg.sensor.deg_to_counts(30.0)))
+    rows = [f"S1,0,0,100,{counts:g},511.5,true", "S2,100,0,0,511.5,511.5,true"]
+    header = "point_id,x_mm,y_mm,z_mm,inc_x_counts,inc_y_counts,top_face_up"
+    s1, s2 = read_readings(write_csv(tmp_path / "r.csv", rows, header), cfg)
+    assert s1.inc_x_deg == pytest.approx(float(cfg.sensor.counts_to_deg(counts)))
+    assert abs(s1.inc_x_deg - 30.0) <= cfg.sensor.lsb_deg / 2
+    assert s2.inc_x_deg == pytest.approx(0.0)
+
+
+BAD = [
+    (
+        "missing column",
+        "point_id,x_mm,y_mm,inc_x_deg,inc_y_deg,top_face_up",
+        ROWS,
+        r"line 1: missing column\(s\) z_mm",
+    ),
+    (
+        "no angle columns",
+        "point_id,x_mm,y_mm,z_mm,top_face_up",
+        ["S1,0,0,1,true"],
+        r"line 1: missing column\(s\) inc_x_deg, inc_y_deg",
+    ),
+    ("both angle kinds", HEADER + ",inc_x_counts,inc_y_counts", ROWS, "not both"),
+    (
+        "non-numeric",
+        HEADER,
+        [*ROWS[:2], "S1,0,0,100,ten,5,true"],
+        "line 4: column inc_x_deg: expected a number, got 'ten'",
+    ),
+    (
+        "NaN",
+        HEADER,
+        [*ROWS, "S3,0,nan,1,1,1,true"],
+        "line 6: column y_mm: expected a finite number, got 'nan'",
+    ),
+    ("beyond 90", HEADER, [*ROWS, "S3,1,1,1,95,1,true"], r"line 6: column inc_x_deg: .*±90°"),
+    ("bad flag", HEADER, [*ROWS, "S3,1,1,1,5,1,yes"], "line 6: column top_face_up: expected"),
+    ("short row", HEADER, [*ROWS, "S3,1,1,1,5,1"], "line 6: expected 7 fields"),
+    (
+        "two positions",
+        HEADER,
+        [*ROWS, "S2,100,0,1,-30,0,false"],
+        "line 6: point S2 at .* but line 5 puts it at",
+    ),
+    (
+        "two orientations",
+        HEADER,
+        [*ROWS, "S2,100,0,0,-30,0,true"],
+        "line 6: point S2: top_face_up differs from line 5",
+    ),
+    ("one point", HEADER, ROWS[:3], "1 distinct suspension point"),
+    ("empty id", HEADER, [*ROWS, ",1,1,1,5,1,true"], "line 6: column point_id: empty"),
+]
+
+
+@pytest.mark.parametrize(
+    ("header", "rows", "message"), [b[1:] for b in BAD], ids=[b[0] for b in BAD]
+)
+def test_bad_files_name_file_and_line(tmp_path, header, rows, message):
+    path = write_csv(tmp_path / "bad.csv", rows, header)
+    with pytest.raises(ReadingsError, match=message) as info:
+        read_readings(path)
+    assert str(info.value).startswith(f"{path}")
+
+
+def test_counts_outside_the_adc(tmp_path):
+    header = "point_id,x_mm,y_mm,z_mm,inc_x_counts,inc_y_counts,top_face_up"
+    path = write_csv(tmp_path / "c.csv", ["S1,0,0,1,1024,3,true", "S2,1,0,0,3,3,true"], header)
+    with pytest.raises(ReadingsError, match="line 2: column inc_x_counts: 1024 outside the 10-bit"):
+        read_readings(path)
+
+
+def test_empty_and_missing_files(tmp_path):
+    (tmp_path / "empty.csv").write_text("", encoding="utf-8")
+    with pytest.raises(ReadingsError, match="empty file"):
+        read_readings(tmp_path / "empty.csv")
+    with pytest.raises(ReadingsError, match="file not found"):
+        read_readings(tmp_path / "none.csv")
