@@ -1,10 +1,61 @@
 """cadcog: centre-of-gravity determination for small spacecraft, from CAD and from a
 double-suspension measurement with a dual-axis inclinometer.
 
-Importing :mod:`cadcog` is cheap: nothing here imports build123d. The CAD layer lives in
-:mod:`cadcog.cad` and is imported only by code paths that build or read geometry.
+The main entry points are here (:mod:`cadcog.api`): :func:`mass_properties` of a STEP file,
+:func:`estimate` the CoG from readings, :func:`simulate` the method's error, :func:`validate` a
+campaign, :func:`plan` a spacecraft's test, :func:`check` requirements; :func:`load_rig` and
+:func:`load_setup` read parameter files. Each returns the result object the command prints,
+with ``to_dict()`` and ``to_json()``.
+
+Importing :mod:`cadcog` is cheap: these names are loaded on first use, and nothing imports
+build123d until CAD work is asked for.
+
+Examples
+--------
+>>> import cadcog
+>>> cadcog.load_rig().name
+'paper_rig'
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
 
 from cadcog.core.version import __version__
 
-__all__ = ["__version__"]
+if TYPE_CHECKING:
+    from cadcog.api import (
+        check,
+        estimate,
+        load_rig,
+        load_setup,
+        mass_properties,
+        plan,
+        simulate,
+        validate,
+    )
+
+__all__ = [
+    "__version__",
+    "check",
+    "estimate",
+    "load_rig",
+    "load_setup",
+    "mass_properties",
+    "plan",
+    "simulate",
+    "validate",
+]
+_API = frozenset(__all__) - {"__version__"}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _API:
+        from cadcog import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'cadcog' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_API})

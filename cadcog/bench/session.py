@@ -33,6 +33,7 @@ from cadcog.bench.target import (
     line_check,
 )
 from cadcog.core.errors import CadcogError
+from cadcog.core.results import JsonResult
 from cadcog.method.estimate import CogEstimate
 from cadcog.method.readings import Suspension, read_readings
 
@@ -102,7 +103,7 @@ class ConsoleOperator:
 
 
 @dataclass(frozen=True)
-class HangReport:
+class HangReport(JsonResult):
     """What happened to one attempt at a hang.
 
     Attributes
@@ -136,7 +137,7 @@ class HangReport:
 
 
 @dataclass
-class SessionResult:
+class SessionResult(JsonResult):
     """The outcome of a run."""
 
     path: Path

@@ -181,6 +181,16 @@ class SimulatedDevice:
         """The object's true CoG (the ME is compensated from CAD, so the truth is the CAD's)."""
         return np.asarray(self.scenario.pm_cog_mm)
 
+    def truth_check(self, cog_mm: np.ndarray, cov_mm2: np.ndarray) -> dict[str, object]:
+        """How far an estimate of this device's object lies from the truth: the error (mm) and
+        its Mahalanobis distance under the estimate's covariance (about 1-2 when it covers)."""
+        diff = np.asarray(cog_mm, dtype=float) - self.true_object_cog_mm
+        return {
+            "object_cog_mm": self.true_object_cog_mm.tolist(),
+            "error_mm": diff.tolist(),
+            "mahalanobis": float(np.sqrt(diff @ np.linalg.solve(cov_mm2, diff))),
+        }
+
     def request_header(self) -> None:
         """Answer a ``?``: the header goes out with the next sample."""
         self._next_header_s = min(self._next_header_s, self._next_sample_s)

@@ -45,6 +45,7 @@ from cadcog.cad.stepread import StepBody, StepModel, length_unit_mm
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 from cadcog.core.parallel import fork_map
+from cadcog.core.results import JsonResult
 from cadcog.core.units import (
     LENGTH_UNIT_MM,
     UNIT_CHOICES,
@@ -70,7 +71,7 @@ ProgressFactory = Callable[[str, int], Callable[[int], None]]
 
 
 @dataclass(frozen=True)
-class BodyResult:
+class BodyResult(JsonResult):
     """One body as counted.
 
     Attributes
@@ -150,7 +151,7 @@ class BodyResult:
 
 
 @dataclass(frozen=True)
-class OverlapPair:
+class OverlapPair(JsonResult):
     """An overlapping pair: its common volume, the mass that volume counts twice (at the less
     dense solid's density), and the denser solid (which keeps the volume when resolving)."""
 
@@ -176,7 +177,7 @@ class OverlapPair:
 
 
 @dataclass(frozen=True)
-class OverlapSummary:
+class OverlapSummary(JsonResult):
     """Overlaps found, and what they do to the totals.
 
     ``volume_mm3`` and ``mass_kg`` are what counting each solid as it is adds to the truth: the
@@ -219,7 +220,7 @@ class OverlapSummary:
 
 
 @dataclass(frozen=True)
-class ImportAudit:
+class ImportAudit(JsonResult):
     """What was found in the file and how it was read."""
 
     source: str
@@ -263,7 +264,7 @@ class ImportAudit:
 
 
 @dataclass(frozen=True)
-class ModelMassProperties:
+class ModelMassProperties(JsonResult):
     """Mass properties of a model, its bodies, the import audit, overlaps, notes and info."""
 
     total: MassProperties

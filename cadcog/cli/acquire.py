@@ -286,12 +286,7 @@ def _finish(args: argparse.Namespace, target: Any, result: Any, device: Any) -> 
 
         cad = compare_with_cad(target.setup, est.cog_mm, est.cov_mm2)
     if est is not None and device is not None:
-        diff = est.cog_mm - device.true_object_cog_mm
-        truth = {
-            "object_cog_mm": device.true_object_cog_mm.tolist(),
-            "error_mm": diff.tolist(),
-            "mahalanobis": float(np.sqrt(diff @ np.linalg.solve(est.cov_mm2, diff))),
-        }
+        truth = device.truth_check(est.cog_mm, est.cov_mm2)
     data = result.to_dict()
     if cad is not None:
         data["cad"] = cad

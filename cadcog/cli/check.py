@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 from typing import Any
 
-from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import dumps_json, refuse_overwriting_inputs, round_floats, staged_file
+from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
 from cadcog.core.paramfile import TableReader, read_toml
 
 #: Exit status when a requirement does not hold (bad input is 2, as everywhere).
@@ -41,18 +39,13 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.cad.modelfile import load_model
-    from cadcog.spacecraft.baseline import baseline_dict, diff, load_baseline
-    from cadcog.spacecraft.requirements import evaluate, load_requirements, model_report
+    from cadcog.spacecraft.requirements import check_requirements, load_requirements
 
     started = time.perf_counter()
     path = args.requirements
-    data = read_toml(path)
-    root = TableReader(data, path)
-    req = load_requirements(root, path)
-    if args.update_baseline and req.baseline_file is None:
-        raise CadcogError(f"{path}: --update-baseline needs a [baseline] table with a file")
     if args.junit is not None:
+        data = read_toml(path)
+        req = load_requirements(TableReader(data, path), path)
         inputs: dict[str, str | Path | None] = {
             "the requirements file": path,
             "the [baseline] file": req.baseline_file,
@@ -61,42 +54,20 @@ def run(args: argparse.Namespace) -> int:
             if isinstance(data.get(key), str):
                 inputs[f"its {key}"] = path.parent / data[key]
         refuse_overwriting_inputs(args.junit, inputs)
-    result = load_model(root, path.parent, strict=args.strict)
-    root.finish()
-    report = model_report(req, result)
-    changes = None
-    written = None
-    if req.baseline_file is not None:
-        if args.update_baseline:
-            with staged_file(req.baseline_file) as tmp:
-                tmp.write_text(dumps_json(baseline_dict(result)), encoding="utf-8")
-            written = req.baseline_file
-        changes = diff(load_baseline(req.baseline_file), result, req.tolerances, req.baseline_file)
-    results = evaluate(req, report, changes)
-    passed = all(r.passed for r in results)
+    check = check_requirements(path, strict=args.strict, update_baseline=args.update_baseline)
+    results, passed, written = check.results, check.passed, check.baseline_written
     if args.junit is not None:
         from cadcog.reports.junit import junit_xml
 
         with staged_file(args.junit) as tmp:
             tmp.write_text(
-                junit_xml(req.name, results, time.perf_counter() - started), encoding="utf-8"
+                junit_xml(check.name, results, time.perf_counter() - started), encoding="utf-8"
             )
     if args.json:
-        out = {
-            "name": req.name,
-            "requirements_file": str(path),
-            "model": result.audit.source,
-            "mass_kg": result.total.mass_kg,
-            "cog_mm": result.total.cog_mm.tolist(),
-            "passed": passed,
-            "requirements": [r.to_dict() for r in results],
-            "baseline": None if changes is None else changes.to_dict(),
-            "notes": list(result.notes),
-        }
-        print(json.dumps(round_floats(out), indent=2, ensure_ascii=False))
+        print(check.to_json())
     else:
         width = max((len(r.title) for r in results), default=20)
-        print(f"{req.name}: {len(results)} requirement(s), model {result.audit.source}")
+        print(f"{check.name}: {len(results)} requirement(s), model {check.model}")
         for r in results:
             mark = "pass" if r.passed else "FAIL"
             print(f"  {mark}  {r.title:<{width}}  {r.value}  (required {r.limit})")
@@ -104,7 +75,7 @@ def run(args: argparse.Namespace) -> int:
                 print(f"        {r.detail}")
         if written is not None:
             print(f"baseline written to {written}")
-        for n in result.notes:
+        for n in check.notes:
             print(f"note: {n}")
         failed = sum(1 for r in results if not r.passed)
         print(f"{'all requirements hold' if passed else f'{failed} requirement(s) FAILED'}")

@@ -22,6 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core import tolerances
+from cadcog.core.results import JsonResult
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -35,7 +36,7 @@ def _vec3(value: npt.ArrayLike, name: str) -> FloatArray:
 
 
 @dataclass(frozen=True, eq=False)
-class MassProperties:
+class MassProperties(JsonResult):
     """Mass, centre of gravity, central inertia and volume of a rigid body.
 
     Parameters

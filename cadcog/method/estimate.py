@@ -15,6 +15,7 @@ import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError, ReadingsError
+from cadcog.core.results import JsonResult
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.method import gls
 from cadcog.method.errormodel import ErrorModel
@@ -87,7 +88,7 @@ class BodyBox:
 
 
 @dataclass(frozen=True)
-class CogEstimate:
+class CogEstimate(JsonResult):
     """Result of :func:`estimate_cog`."""
 
     suspensions: tuple[Suspension, ...]
@@ -100,6 +101,7 @@ class CogEstimate:
 
     @property
     def assembly_cog_mm(self) -> FloatArray:
+        """CoG of the hung assembly, object and ME together (mm), before compensation."""
         return self.joint.cog_mm
 
     @property
@@ -109,6 +111,7 @@ class CogEstimate:
 
     @property
     def cov_mm2(self) -> FloatArray:
+        """Covariance (mm², 3 × 3) of :attr:`cog_mm`, the ME's CAD uncertainty included."""
         return self.joint.cov_mm2 if self.compensation is None else self.compensation.cov_mm2
 
     def to_dict(self) -> dict[str, Any]:

@@ -19,6 +19,7 @@ import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError, IllConditionedError
+from cadcog.core.results import JsonResult
 from cadcog.method import gls
 from cadcog.rig.geometry import angle_between_lines_deg, ideal_reading
 
@@ -67,7 +68,7 @@ class PlumbLine:
 
 
 @dataclass(frozen=True)
-class PairEstimate:
+class PairEstimate(JsonResult):
     """Closest approach of two plumb lines (eq. 8).
 
     Attributes

@@ -159,6 +159,7 @@ class Rig:
 
     @property
     def inclinometer_range_deg(self) -> float:
+        """Measurement range of the inclinometer (degrees, each axis)."""
         return self.inclinometer.range_deg
 
     @property
@@ -169,6 +170,7 @@ class Rig:
     # --- derived geometry -------------------------------------------------------------------
     @property
     def hole_radius_mm(self) -> float:
+        """Radius of the suspension holes (mm)."""
         return 0.5 * self.holes.diameter_mm
 
     @property
@@ -212,6 +214,7 @@ class Rig:
         return combine([box, *holes])
 
     def analytic_me_volume(self, volume: MEVolume) -> MassProperties:
+        """Closed-form mass properties of one ME sub-volume (a homogeneous box)."""
         return box_properties(volume.size_mm, volume.center_mm, mass_kg=volume.mass_kg)
 
     @cached_property

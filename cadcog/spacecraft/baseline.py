@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from cadcog.core.errors import ParameterFileError
+from cadcog.core.results import JsonResult
 
 if TYPE_CHECKING:
     from cadcog.cad.stepmass import ModelMassProperties
@@ -69,7 +70,7 @@ class Change:
 
 
 @dataclass(frozen=True)
-class BaselineDiff:
+class BaselineDiff(JsonResult):
     source: Path
     changes: tuple[Change, ...]
 

@@ -19,6 +19,8 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.results import JsonResult
+
 FloatArray = npt.NDArray[np.float64]
 
 #: CoG limits around the geometric centre (mm, x y z; z along the rails), per form factor.
@@ -41,7 +43,7 @@ Z95 = 1.959963984540054
 
 
 @dataclass(frozen=True)
-class EnvelopeCheck:
+class EnvelopeCheck(JsonResult):
     """A CoG checked against the envelope, nominally and at the 95 % edge of its uncertainty.
 
     Attributes

@@ -30,6 +30,7 @@ from typing import Any, Protocol
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.results import JsonResult
 from cadcog.mass.properties import MassProperties, combine
 
 FloatArray = npt.NDArray[np.float64]
@@ -55,7 +56,7 @@ class BudgetLine(Protocol):
 
 
 @dataclass(frozen=True)
-class BudgetNode:
+class BudgetNode(JsonResult):
     """One node of the budget tree (an assembly, or a body at a leaf).
 
     Attributes
@@ -112,7 +113,7 @@ class BudgetNode:
 
 
 @dataclass(frozen=True)
-class MassBudget:
+class MassBudget(JsonResult):
     """The budget tree and the rolled-up totals.
 
     Attributes

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.results import JsonResult
 from cadcog.mass.inertia import (
     PRODUCT_CONVENTIONS,
     Frame,
@@ -45,7 +46,7 @@ REFERENCE_POINTS = ("cog", "origin", "centre")
 
 
 @dataclass(frozen=True)
-class MassReport:
+class MassReport(JsonResult):
     """Everything ``cadcog massprops`` reports about a model.
 
     Attributes
@@ -85,6 +86,7 @@ class MassReport:
 
     @property
     def geometric_center_mm(self) -> FloatArray:
+        """Centre of the model's bounding box (mm): a CubeSat's geometric centre."""
         lo, hi = self.result.bbox_mm
         return np.asarray(0.5 * (lo + hi))
 

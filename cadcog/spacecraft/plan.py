@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core import tolerances
+from cadcog.core.results import JsonResult
 from cadcog.method import gls
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.geometry import axes_beyond_range, ideal_reading
@@ -32,7 +33,10 @@ class CandidateCheck:
 
 
 @dataclass(frozen=True)
-class Plan:
+class Plan(JsonResult):
+    """A test plan: every candidate checked (usable or why not), the pairs and the best sets
+    with their predicted errors, and the recommended set (``None`` when nothing is usable)."""
+
     checks: tuple[CandidateCheck, ...]
     pairs: tuple[dict[str, Any], ...]
     best_sets: tuple[dict[str, Any], ...]

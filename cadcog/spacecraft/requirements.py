@@ -29,9 +29,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import numpy.typing as npt
 
-from cadcog.core.errors import ParameterFileError
+from cadcog.core.errors import CadcogError, ParameterFileError
 from cadcog.core.paramfile import TableReader
+from cadcog.core.results import JsonResult
 from cadcog.mass.inertia import Frame, principal_axes, products_of_inertia
 from cadcog.mass.materials import glob_match
 from cadcog.spacecraft.baseline import BaselineDiff, Tolerances
@@ -83,7 +85,7 @@ class Requirements:
 
 
 @dataclass(frozen=True)
-class RequirementResult:
+class RequirementResult(JsonResult):
     """One checked requirement: what it says, what was found, and whether it holds."""
 
     id: str
@@ -411,4 +413,113 @@ def model_report(req: Requirements, result: ModelMassProperties) -> MassReport:
         axes=req.cog_axes,
         form_factor=req.form_factor,
         cog_limits_mm=req.cog_limits_mm,
+    )
+
+
+@dataclass(frozen=True)
+class CheckResult(JsonResult):
+    """A model checked against its requirements: what ``cadcog check`` prints.
+
+    Attributes
+    ----------
+    name : str
+        The requirements' name.
+    requirements_file : Path
+    model : str
+        The model's source, as its import audit names it.
+    mass_kg : float
+    cog_mm : ndarray, shape (3,)
+        The model's CoG (mm).
+    results : tuple of RequirementResult
+        One per requirement, in file order (baseline comparisons included).
+    baseline : BaselineDiff or None
+        What changed since the committed baseline, if the file names one.
+    notes : tuple of str
+        The model's notes (surfaces left out, overlaps counted, units).
+    baseline_written : Path or None
+        The baseline file, when ``update_baseline`` rewrote it.
+    """
+
+    name: str
+    requirements_file: Path
+    model: str
+    mass_kg: float
+    cog_mm: npt.NDArray[np.float64]
+    results: tuple[RequirementResult, ...]
+    baseline: BaselineDiff | None
+    notes: tuple[str, ...]
+    baseline_written: Path | None = None
+
+    @property
+    def passed(self) -> bool:
+        """Every requirement holds."""
+        return all(r.passed for r in self.results)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "name": self.name,
+            "requirements_file": str(self.requirements_file),
+            "model": self.model,
+            "mass_kg": self.mass_kg,
+            "cog_mm": self.cog_mm.tolist(),
+            "passed": self.passed,
+            "requirements": [r.to_dict() for r in self.results],
+            "baseline": None if self.baseline is None else self.baseline.to_dict(),
+            "notes": list(self.notes),
+        }
+
+
+def check_requirements(
+    path: str | Path, *, strict: bool = False, update_baseline: bool = False
+) -> CheckResult:
+    """Check the model a requirements file names against it (``cadcog check``).
+
+    Parameters
+    ----------
+    path : str or Path
+        The requirements file (TOML; ``docs/ci.md`` documents its tables). Its model (a STEP
+        file with materials, or a cadcog CubeSat spec) and baseline are relative to it.
+    strict : bool
+        A note about the model (surfaces left out, overlaps counted, units) is an error.
+    update_baseline : bool
+        First write the model's current mass properties to the ``[baseline]`` file (staged,
+        then renamed), then compare with it.
+
+    Raises
+    ------
+    CadcogError
+        The file, a key or the model is not what is expected (naming the file and key), or
+        ``update_baseline`` without a ``[baseline]`` file.
+    """
+    from cadcog.cad.modelfile import load_model
+    from cadcog.core.fileio import dumps_json, staged_file
+    from cadcog.core.paramfile import read_toml
+    from cadcog.spacecraft.baseline import baseline_dict, diff, load_baseline
+
+    path = Path(path)
+    root = TableReader(read_toml(path), path)
+    req = load_requirements(root, path)
+    if update_baseline and req.baseline_file is None:
+        raise CadcogError(f"{path}: --update-baseline needs a [baseline] table with a file")
+    result = load_model(root, path.parent, strict=strict)
+    root.finish()
+    report = model_report(req, result)
+    changes = None
+    written = None
+    if req.baseline_file is not None:
+        if update_baseline:
+            with staged_file(req.baseline_file) as tmp:
+                tmp.write_text(dumps_json(baseline_dict(result)), encoding="utf-8")
+            written = req.baseline_file
+        changes = diff(load_baseline(req.baseline_file), result, req.tolerances, req.baseline_file)
+    return CheckResult(
+        name=req.name,
+        requirements_file=path,
+        model=result.audit.source,
+        mass_kg=result.total.mass_kg,
+        cog_mm=np.asarray(result.total.cog_mm, dtype=float),
+        results=tuple(evaluate(req, report, changes)),
+        baseline=changes,
+        notes=tuple(result.notes),
+        baseline_written=written,
     )

@@ -48,6 +48,10 @@ class Candidate:
 
 @dataclass(frozen=True)
 class Setup:
+    """A spacecraft's test set-up, read by :func:`load_setup`: its CAD mass properties and
+    bounding box, the measurement equipment placed on it, the rig (inclinometer and error
+    model), the candidate suspension points and the CubeSat envelope to check."""
+
     name: str
     source: Path
     mass: MassProperties  # the spacecraft without ME, from CAD
@@ -61,21 +65,25 @@ class Setup:
 
     @property
     def geometric_center_mm(self) -> FloatArray:
+        """Centre of the model's bounding box (mm)."""
         lo, hi = self.bbox_mm
         return np.asarray(0.5 * (lo + hi))
 
     @property
     def me_mass_kg(self) -> float:
+        """Mass of the measurement equipment (kg)."""
         return sum(v.mass_kg for v in self.me_volumes)
 
     @property
     def me_cog_mm(self) -> FloatArray:
+        """CoG of the measurement equipment as placed on the spacecraft (mm)."""
         m = np.array([v.mass_kg for v in self.me_volumes])
         c = np.array([v.center_mm for v in self.me_volumes])
         return np.asarray(m @ c / m.sum())
 
     @property
     def me_cog_cov_mm2(self) -> FloatArray:
+        """Covariance of the ME CoG from its volumes' uncertainty cubes (mm²)."""
         return me_cog_cov_mm2(self.me_volumes)
 
     def body(self) -> BodyBox:
@@ -95,10 +103,12 @@ class Setup:
 
     @property
     def assembly_cog_mm(self) -> FloatArray:
+        """CoG of spacecraft and ME together (mm): what the hangs measure."""
         m, me = self.mass.mass_kg, self.me_mass_kg
         return np.asarray((m * self.mass.cog_mm + me * self.me_cog_mm) / (m + me))
 
     def scenario(self, candidates: tuple[Candidate, ...] | None = None) -> Scenario:
+        """The Monte Carlo scenario of hanging from ``candidates`` (default: all of them)."""
         cands = self.candidates if candidates is None else candidates
         return Scenario(
             tuple(c.id for c in cands),
@@ -111,6 +121,7 @@ class Setup:
         )
 
     def error_model(self) -> ErrorModel:
+        """The rig's error model with this set-up's ME volumes."""
         model = ErrorModel.from_rig(self.rig)
         return replace(
             model,

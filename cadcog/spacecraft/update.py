@@ -37,6 +37,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy import stats
 
+from cadcog.core.results import JsonResult
 from cadcog.mass.properties import MassProperties, combine
 
 FloatArray = npt.NDArray[np.float64]
@@ -111,7 +112,7 @@ class Measurement:
 
 
 @dataclass(frozen=True)
-class ItemChange:
+class ItemChange(JsonResult):
     """How the update moved one item's mass."""
 
     key: str
@@ -142,7 +143,7 @@ class ItemChange:
 
 
 @dataclass(frozen=True)
-class UpdateResult:
+class UpdateResult(JsonResult):
     """The CAD before, the posterior after, and what explains the difference."""
 
     cad: MassProperties

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.results import JsonResult
 from cadcog.method.errormodel import SOURCES, ErrorModel, elastica_length_mm, me_cog_pdf
 from cadcog.rig.geometry import angle_between_lines_deg
 from cadcog.uncertainty.montecarlo import (
@@ -40,7 +41,7 @@ class SourceBudget:
 
 
 @dataclass(frozen=True)
-class Budget:
+class Budget(JsonResult):
     pair: tuple[str, str]
     pair_angle_deg: float
     sources: tuple[SourceBudget, ...]

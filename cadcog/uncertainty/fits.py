@@ -20,12 +20,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.results import JsonResult
+
 if TYPE_CHECKING:
     from cadcog.uncertainty.montecarlo import NormHistogram
 
 
 @dataclass(frozen=True)
-class NormFits:
+class NormFits(JsonResult):
     """Fits of error norms (mm)."""
 
     n: int

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core import tolerances
+from cadcog.core.results import JsonResult
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.geometry import angle_between_lines_deg
 from cadcog.rig.parameters import Rig
@@ -72,7 +73,10 @@ class SimulationSettings:
 
 
 @dataclass(frozen=True)
-class SimulationReport:
+class SimulationReport(JsonResult):
+    """What ``cadcog simulate`` reports: the settings, the error model, the groups simulated,
+    the streamed result (histograms by group) and the fits of the error norm."""
+
     settings: SimulationSettings
     scenario: Scenario
     model: ErrorModel
@@ -83,6 +87,7 @@ class SimulationReport:
 
     @property
     def q99_mm(self) -> float:
+        """99th percentile of the CoG error norm over every group and trial (mm)."""
         return self.result.histogram.quantile(0.99)
 
     @property
@@ -102,6 +107,7 @@ class SimulationReport:
         return out
 
     def worst_groups(self, count: int = 5) -> list[dict[str, Any]]:
+        """The ``count`` groups of points with the largest 95th-percentile error, worst first."""
         order = np.argsort(self.result.group_q95_mm)[::-1][:count]
         return [
             {

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.results import JsonResult
 from cadcog.method import gls
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox
@@ -65,7 +66,7 @@ def clopper_pearson(k: int, n: int, confidence: float = CONFIDENCE) -> tuple[flo
 
 
 @dataclass(frozen=True)
-class WindowCheck:
+class WindowCheck(JsonResult):
     """One row of the validation table (the paper's Table 2, with intervals).
 
     ``ci_low, ci_high`` is the Clopper-Pearson interval of ``p̂`` as if the pairs were
@@ -107,7 +108,7 @@ class WindowCheck:
 
 
 @dataclass(frozen=True)
-class Validation:
+class Validation(JsonResult):
     windows: tuple[WindowCheck, ...]
     measured_norms_mm: FloatArray
     pairs: tuple[tuple[str, str], ...]
@@ -317,7 +318,7 @@ def campaign_null(
 
 
 @dataclass(frozen=True)
-class CampaignVerdict:
+class CampaignVerdict(JsonResult):
     """The one campaign-level test: the line statistic against its simulated null."""
 
     statistic: float
@@ -327,6 +328,7 @@ class CampaignVerdict:
 
     @property
     def consistent(self) -> bool:
+        """The campaign is consistent with the model at the false-alarm rate ``level``."""
         return self.p_value >= self.level
 
     def to_dict(self) -> dict[str, Any]:
@@ -341,7 +343,7 @@ class CampaignVerdict:
 
 
 @dataclass(frozen=True)
-class CampaignValidation:
+class CampaignValidation(JsonResult):
     """A campaign checked against simulated campaigns on the same rig and suspension points."""
 
     validation: Validation
@@ -356,6 +358,7 @@ class CampaignValidation:
 
     @property
     def consistent(self) -> bool:
+        """The campaign verdict: consistent with the Monte Carlo's prediction."""
         return self.verdict.consistent
 
     def to_dict(self) -> dict[str, Any]:

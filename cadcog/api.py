@@ -1,0 +1,413 @@
+"""cadcog from Python: the main entry points, each returning the result object the CLI prints.
+
+Every function here is what one command does, without the printing: it reads the same files,
+applies the same defaults (``tests/test_api.py`` compares them with the parsers') and returns
+the same object, whose ``to_dict()`` is the command's ``--json`` and ``to_json()`` its text.
+Errors are the same too: a bad file or value raises :class:`~cadcog.core.errors.CadcogError`
+(its subclasses name the file, line or key), which the command prints in one line.
+
+Lengths are mm, masses kg, angles degrees, inertia kg·mm² (the names say so).
+
+Import them from :mod:`cadcog` itself (``cadcog.simulate``): importing cadcog stays fast, and
+each function imports what it needs (the CAD layer, build123d, only for CAD work).
+
+Examples
+--------
+>>> import cadcog
+>>> rig = cadcog.load_rig()  # the paper's rig
+>>> rig.name
+'paper_rig'
+>>> report = cadcog.simulate(rig, points=0, trials=200, seed=1)
+>>> report.fits.n > 0
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Literal
+
+if TYPE_CHECKING:
+    from cadcog.method.estimate import CogEstimate
+    from cadcog.rig.parameters import Rig
+    from cadcog.spacecraft.mass_summary import MassReport
+    from cadcog.spacecraft.plan import Plan
+    from cadcog.spacecraft.requirements import CheckResult
+    from cadcog.spacecraft.setup import Setup
+    from cadcog.uncertainty.random_points import SimulationReport
+    from cadcog.validation.verification import CampaignValidation
+
+__all__ = [
+    "check",
+    "estimate",
+    "load_rig",
+    "load_setup",
+    "mass_properties",
+    "plan",
+    "simulate",
+    "validate",
+]
+
+
+def load_rig(path: str | Path | None = None) -> Rig:
+    """A rig from its parameter file (TOML), or the paper's rig.
+
+    Parameters
+    ----------
+    path : str or Path, optional
+        The rig file (``docs/rig.md`` documents it); ``None`` for the rig of the paper.
+
+    Returns
+    -------
+    Rig
+        Validated: impossible rigs raise :class:`~cadcog.core.errors.ParameterFileError`
+        naming the file and key.
+
+    Examples
+    --------
+    >>> import cadcog
+    >>> rig = cadcog.load_rig()
+    >>> rig.name, len(rig.suspension_points), len(rig.me_volumes)
+    ('paper_rig', 6, 4)
+    """
+    from cadcog.rig.file import default_rig_path
+    from cadcog.rig.file import load_rig as _load_rig
+
+    return _load_rig(default_rig_path() if path is None else path)
+
+
+def load_setup(path: str | Path) -> Setup:
+    """A spacecraft's test set-up file: model, measurement equipment, candidate points.
+
+    ``docs/spacecraft.md`` documents the file; ``parts/cubesat_3u_setup.toml`` is an example.
+    """
+    from cadcog.spacecraft.setup import load_setup as _load_setup
+
+    return _load_setup(path)
+
+
+def _rig(rig: Rig | str | Path | None) -> Rig:
+    from cadcog.rig.parameters import Rig
+
+    return rig if isinstance(rig, Rig) else load_rig(rig)
+
+
+def mass_properties(
+    model: str | Path,
+    materials: str | Path | None = None,
+    *,
+    density_kg_m3: float | None = None,
+    total_mass_kg: float | None = None,
+    units: str | None = None,
+    exclude: Sequence[str] = (),
+    overlaps: Literal["check", "allow", "resolve"] = "check",
+    strict: bool = False,
+    about: str | Sequence[float] = "cog",
+    axes: str = "+x,+y,+z",
+    form_factor: str | None = None,
+    cog_limits_mm: Sequence[float] | None = None,
+    workers: int | None = None,
+) -> MassReport:
+    """Mass properties of a STEP file, solid by solid, with a mass budget (``cadcog massprops``).
+
+    Each solid is integrated exactly by OCCT at its global placement, given the density its
+    material rule assigns, and combined by mass; overlapping solids are refused unless
+    ``overlaps`` says what to do.
+
+    Parameters
+    ----------
+    model : str or Path
+        A STEP file (part or assembly, any exporter; its declared unit is converted to mm).
+    materials : str or Path, optional
+        Materials file (TOML): name patterns → material or density (``docs/spacecraft.md``).
+    density_kg_m3 : float, optional
+        One density for every solid, instead of a materials file.
+    total_mass_kg : float, optional
+        Scale the densities so the total matches a weighing.
+    units : str, optional
+        The file's true length unit when its declared one is wrong (never scales twice).
+    exclude : sequence of str
+        Glob patterns or paths of bodies or assemblies to leave out (before every check).
+    overlaps : {'check', 'allow', 'resolve'}
+        Refuse overlapping solids, count them as they are, or cut each common volume out of
+        the less dense solid.
+    strict : bool
+        Every note (surfaces left out, overlaps counted, units) becomes an error.
+    about, axes : str
+        Reference point (``'cog'``, ``'origin'``, ``'centre'`` or X,Y,Z in mm) and axes (signed
+        model axes such as ``'+y,-x,+z'``) of the inertia frame reported.
+    form_factor : str, optional
+        Check the CubeSat CoG envelope of this form factor (``'1U'`` … ``'12U'``).
+    cog_limits_mm : sequence of 3 floats, optional
+        A custom CoG envelope (half-widths, mm).
+    workers : int, optional
+        Processes for integration and overlap checks (default: the CPUs available).
+
+    Returns
+    -------
+    MassReport
+        Total mass properties, budget tree, inertia in the frame, envelope check, notes.
+
+    Examples
+    --------
+    ``docs/tutorial.md`` runs it on a STEP file it writes (a test runs the tutorial):
+
+    >>> import cadcog
+    >>> report = cadcog.mass_properties(  # doctest: +SKIP
+    ...     "sat.step", "materials.toml", form_factor="3U"
+    ... )
+    >>> report.total.mass_kg, report.total.cog_mm  # doctest: +SKIP
+    """
+    from cadcog.cad.stepmass import model_mass_properties
+    from cadcog.cad.stepread import read_step
+    from cadcog.core.errors import CadcogError
+    from cadcog.core.parallel import available_workers
+    from cadcog.mass.materials import MaterialMap, load_materials
+    from cadcog.spacecraft.mass_summary import build_mass_report
+
+    if materials is not None and density_kg_m3 is not None:
+        raise CadcogError("give either materials or density_kg_m3, not both")
+    material_map = (
+        load_materials(materials)
+        if materials is not None
+        else MaterialMap.uniform(density_kg_m3)
+        if density_kg_m3 is not None
+        else None
+    )
+    result = model_mass_properties(
+        read_step(model),
+        material_map,
+        total_mass_kg=total_mass_kg,
+        units=units,
+        exclude=list(exclude),
+        overlaps=overlaps,
+        strict=strict,
+        workers=workers or available_workers(),
+    )
+    return build_mass_report(
+        result, about=about, axes=axes, form_factor=form_factor, cog_limits_mm=cog_limits_mm
+    )
+
+
+def estimate(
+    readings: str | Path,
+    rig: Rig | str | Path | None = None,
+    *,
+    setup: Setup | str | Path | None = None,
+    wire_correction: bool = True,
+    self_calibrate_wire: bool = False,
+) -> CogEstimate:
+    """The compensated CoG from a readings CSV (``cadcog estimate --rig`` or ``--setup``).
+
+    Parameters
+    ----------
+    readings : str or Path
+        Readings CSV: one row per inclinometer sample (``docs/estimate.md``).
+    rig : Rig, str or Path, optional
+        The rig that was hung (default: the paper's rig). Ignored when ``setup`` is given.
+    setup : Setup, str or Path, optional
+        A spacecraft set-up instead of a rig: its inclinometer, error model and ME.
+    wire_correction : bool
+        Correct each point for the expected wire offset (default, as the command).
+    self_calibrate_wire : bool
+        Estimate the wire offset scale with the CoG (3 or more hangs).
+
+    Returns
+    -------
+    CogEstimate
+        The CoG (mm), its covariance (mm²), the per-line diagnostics and warnings.
+
+    Examples
+    --------
+    A virtual campaign on the paper's rig, written as a lab would record it, then estimated:
+
+    >>> import tempfile, pathlib, cadcog
+    >>> from cadcog.validation.campaign import virtual_campaign, write_campaign
+    >>> rig = cadcog.load_rig()
+    >>> csv = pathlib.Path(tempfile.mkdtemp()) / "campaign.csv"
+    >>> write_campaign(csv, virtual_campaign(rig, seed=1))
+    >>> est = cadcog.estimate(csv, rig)
+    >>> error_mm = est.cog_mm - rig.analytic_proof_mass.cog_mm
+    >>> bool((error_mm**2).sum() ** 0.5 < 3.0), est.cov_mm2.shape
+    (True, (3, 3))
+    """
+    from cadcog.method.errormodel import ErrorModel
+    from cadcog.method.estimate import BodyBox, MEData, estimate_cog
+    from cadcog.method.readings import read_readings
+    from cadcog.spacecraft.setup import Setup, estimate_for_setup
+
+    if setup is not None:
+        s = setup if isinstance(setup, Setup) else load_setup(setup)
+        return estimate_for_setup(
+            s,
+            read_readings(readings, s.rig.inclinometer),
+            wire_correction=wire_correction,
+            self_calibrate=self_calibrate_wire,
+        )
+    r = _rig(rig)
+    return estimate_cog(
+        read_readings(readings, r.inclinometer),
+        r.inclinometer,
+        MEData.from_rig(r),
+        model=ErrorModel.from_rig(r),
+        body=BodyBox.of_rig(r),
+        wire_correction=wire_correction,
+        self_calibrate=self_calibrate_wire,
+    )
+
+
+def simulate(
+    rig: Rig | str | Path | None = None,
+    *,
+    points: int = 25,
+    trials: int = 1000,
+    seed: int = 0,
+    group_size: int = 2,
+    min_angle_deg: float = 0.0,
+    wire_correction: bool = True,
+    paper: bool = False,
+    workers: int = 1,
+) -> SimulationReport:
+    """The Monte Carlo of the method over random suspension points (``cadcog simulate``).
+
+    Parameters
+    ----------
+    rig : Rig, str or Path, optional
+        The rig (default: the paper's).
+    points : int
+        Random suspension points drawn on the proof mass (0: the rig's own points).
+    trials : int
+        Trials per pair (or group) of points.
+    seed : int
+        Root seed: the same seed gives the same result whatever ``workers``.
+    group_size : int
+        2: pairs by eq. 8 as the paper; K > 2: the joint estimate over K points.
+    min_angle_deg : float
+        Leave out groups whose plumb lines meet at less than this.
+    wire_correction : bool
+        Correct each point for the expected wire offset, as ``estimate`` does.
+    paper : bool
+        The paper's Monte Carlo: averaged inclinometer model, no sensor noise, equal weights,
+        no wire correction.
+    workers : int
+        Processes.
+
+    Returns
+    -------
+    SimulationReport
+        Error statistics, Rayleigh/Maxwell fits and the error budget.
+
+    Examples
+    --------
+    >>> import cadcog
+    >>> r = cadcog.simulate(points=0, trials=500, seed=3)
+    >>> 0.0 < r.fits.q50_mm < 5.0
+    True
+    """
+    from cadcog.method.errormodel import ErrorModel
+    from cadcog.uncertainty.random_points import SimulationSettings, run_simulation
+
+    r = _rig(rig)
+    model = ErrorModel.from_rig(r)
+    if paper:
+        model = model.paper()
+    settings = SimulationSettings(
+        points,
+        trials,
+        seed,
+        group_size,
+        min_angle_deg,
+        weighted=not paper,
+        wire_correction=wire_correction and not paper,
+    )
+    return run_simulation(r, settings, model, workers=workers)
+
+
+def validate(
+    readings: str | Path,
+    rig: Rig | str | Path | None = None,
+    *,
+    windows_mm: Sequence[float] | None = None,
+    campaigns: int = 2000,
+    seed: int = 0,
+    level: float = 0.05,
+) -> CampaignValidation:
+    """Does a campaign's scatter match the Monte Carlo's prediction (``cadcog validate``)?
+
+    The Bernoulli check of METHOD.md §6 per window, and one campaign verdict with a
+    false-alarm rate of ``level`` against ``campaigns`` simulated whole campaigns.
+
+    Parameters
+    ----------
+    readings : str or Path
+        Readings CSV of the campaign (3 or more suspension points).
+    rig : Rig, str or Path, optional
+        The rig (default: the paper's).
+    windows_mm : sequence of float, optional
+        Error windows ε (mm); default those of the command, 0.5, 1, 1.5, 2 and 3 mm.
+    campaigns, seed : int
+        Simulated campaigns for the null distribution, and its seed.
+    level : float
+        False-alarm rate of the verdict, in (0, 1).
+    """
+    from cadcog.method.readings import read_readings
+    from cadcog.validation.verification import DEFAULT_WINDOWS_MM, validate_campaign
+
+    r = _rig(rig)
+    return validate_campaign(
+        r,
+        read_readings(readings, r.inclinometer),
+        DEFAULT_WINDOWS_MM if windows_mm is None else tuple(windows_mm),
+        n_campaigns=campaigns,
+        seed=seed,
+        level=level,
+    )
+
+
+def plan(
+    setup: Setup | str | Path, *, trials: int = 10_000, max_set: int = 4, seed: int = 0
+) -> Plan:
+    """Which candidate points to hang a spacecraft from (``cadcog plan``).
+
+    Parameters
+    ----------
+    setup : Setup, str or Path
+        The set-up (or its file).
+    trials : int
+        Monte Carlo trials per finalist set.
+    max_set : int
+        Largest set of hangs considered.
+    seed : int
+
+    Returns
+    -------
+    Plan
+        The recommended set, the finalists with their predicted errors, and the candidates
+        that cannot be used (with why).
+    """
+    from cadcog.spacecraft.plan import plan_test
+    from cadcog.spacecraft.setup import Setup
+
+    s = setup if isinstance(setup, Setup) else load_setup(setup)
+    return plan_test(s, trials=trials, max_set=max_set, seed=seed)
+
+
+def check(requirements: str | Path, *, strict: bool = False) -> CheckResult:
+    """Check a model against its mass-properties requirements (``cadcog check``).
+
+    Parameters
+    ----------
+    requirements : str or Path
+        The requirements file (``docs/ci.md``); it names the model and, optionally, a baseline.
+    strict : bool
+        A note about the model is an error.
+
+    Returns
+    -------
+    CheckResult
+        One result per requirement; ``.passed`` when all hold.
+    """
+    from cadcog.spacecraft.requirements import check_requirements
+
+    return check_requirements(requirements, strict=strict)
