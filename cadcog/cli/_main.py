@@ -84,24 +84,40 @@ class Terminated(BaseException):
     """SIGTERM, raised in the main thread so that staged outputs are cleaned up."""
 
 
+#: The signal that stopped the running command, if one did. An extension module being imported
+#: when the signal arrives turns the exception its handler raises into an ImportError
+#: ("initialization failed"), so :func:`main` also looks here.
+_STOPPED_BY: list[int] = []
+
+
 def _terminate(signum: int, frame: FrameType | None) -> None:
+    _STOPPED_BY.append(signum)
     raise Terminated(signum)
+
+
+def _interrupt(signum: int, frame: FrameType | None) -> None:
+    _STOPPED_BY.append(signum)
+    raise KeyboardInterrupt
 
 
 @contextmanager
 def _sigterm_raises() -> Iterator[None]:
-    """While the command runs, SIGTERM raises :class:`Terminated` (then the handler before is
+    """While the command runs, SIGTERM raises :class:`Terminated` and SIGINT
+    :class:`KeyboardInterrupt`, each noted in :data:`_STOPPED_BY` (then the handlers before are
     restored: tests call :func:`main` in-process)."""
     import threading
 
+    _STOPPED_BY.clear()
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     previous = signal.signal(signal.SIGTERM, _terminate)
+    previous_int = signal.signal(signal.SIGINT, _interrupt)
     try:
         yield
     finally:
         signal.signal(signal.SIGTERM, previous)
+        signal.signal(signal.SIGINT, previous_int)
 
 
 def _subparsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
@@ -193,14 +209,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     Bad input (:class:`~cadcog.core.errors.CadcogError`, and I/O errors) prints one line on stderr
     and returns 2; Ctrl-C returns 130 and SIGTERM 143, after every staged output is removed.
     """
-    parser = build_parser()
     words = list(sys.argv[1:] if argv is None else argv)
-    if words and words[0] in _subparsers(parser):
-        parser.command = words[0]
     try:
-        args = parser.parse_args(attach_dash_values(parser, words))
-        check_option_values(parser, args)
         with _sigterm_raises():
+            parser = build_parser()  # imports every command's module: a signal may come here
+            if words and words[0] in _subparsers(parser):
+                parser.command = words[0]
+            args = parser.parse_args(attach_dash_values(parser, words))
+            check_option_values(parser, args)
             status: int = args.func(args)
     except KeyboardInterrupt:
         print("cadcog: interrupted; nothing was written", file=sys.stderr)
@@ -217,4 +233,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as exc:  # an output path that cannot be written, a full disk, ...
         print(f"cadcog: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
+    except Exception:
+        if not _STOPPED_BY:
+            raise
+        # the signal's exception surfaced as another (an import cut short): stopped all the same
+        if _STOPPED_BY[0] == signal.SIGINT:
+            print("cadcog: interrupted; nothing was written", file=sys.stderr)
+            return 130
+        print("cadcog: terminated; nothing was written", file=sys.stderr)
+        return 143
     return status

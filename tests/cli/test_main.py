@@ -95,3 +95,41 @@ def test_unwritable_output_is_an_error_not_a_traceback(tmp_path, capsys):
     assert main(["campaign", "--out", str(target)]) == 2
     assert "cadcog: error:" in capsys.readouterr().err
     assert list(target.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("signum", "status", "word"), [(15, 143, "terminated"), (2, 130, "interrupted")]
+)
+def test_a_signal_that_surfaces_as_another_error_still_stops_cleanly(
+    monkeypatch, capsys, signum, status, word
+):
+    """A signal while an extension module initialises comes out as ImportError
+    ("initialization failed"), its cause the handler's exception: still one line, 143 or 130."""
+    import os
+    import time
+
+    from cadcog.cli import budget
+
+    def importing(args):
+        try:
+            os.kill(os.getpid(), signum)
+            time.sleep(5)
+        except BaseException as exc:
+            raise ImportError("initialization failed") from exc
+        return 0
+
+    monkeypatch.setattr(budget, "run", importing)
+    assert main(["budget"]) == status
+    err = capsys.readouterr().err
+    assert err == f"cadcog: {word}; nothing was written\n"
+
+
+def test_an_ordinary_bug_is_not_mistaken_for_a_signal(monkeypatch):
+    from cadcog.cli import budget
+
+    def broken(args):
+        raise ImportError("a real bug")
+
+    monkeypatch.setattr(budget, "run", broken)
+    with pytest.raises(ImportError, match="a real bug"):
+        main(["budget"])
