@@ -37,6 +37,10 @@ _END = re.compile(r"^# hang (\S+) end samples=(\d+)\s*$")
 BASE_COLUMNS = ("point_id", "x_mm", "y_mm", "z_mm")
 TAIL_COLUMNS = ("top_face_up", "t_s")
 
+#: The largest readings file resumed (it is read whole): an hour at 100 samples/s is about
+#: 20 MB, so this is ten hours of recording, and the memory it takes stays well under 1 GB.
+MAX_RESUME_BYTES = 200_000_000
+
 
 def columns(value_columns: tuple[str, str]) -> tuple[str, ...]:
     """The CSV header for a device's value columns."""
@@ -214,6 +218,13 @@ class ReadingsFile:
                 _write_durably(tmp, text, "w")
             _sync_dir(p.parent)
             return cls(p, units), [], 0
+        if not p.is_file():  # /dev/zero, a FIFO: nothing to resume, nothing to append to
+            raise CadcogError(f"{p}: exists and is not a regular file: give another --out")
+        if p.stat().st_size > MAX_RESUME_BYTES:
+            raise CadcogError(
+                f"{p}: {p.stat().st_size / 1e6:.0f} MB, larger than a test run writes "
+                f"({MAX_RESUME_BYTES // 1_000_000} MB): give another --out"
+            )
         try:
             text = p.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as exc:

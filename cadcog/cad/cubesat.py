@@ -20,6 +20,7 @@ from OCP.TopoDS import TopoDS_Shape
 from cadcog.cad.assembly import Assembly, Part, Placement
 from cadcog.core.errors import ParameterFileError
 from cadcog.core.paramfile import TableReader, read_toml, toml_string
+from cadcog.core.tolerances import MIN_SOLID_DIMENSION_MM
 from cadcog.mass.materials import LIBRARY, MaterialMap
 
 #: Rail length per unit (CDS: 1U 113.5 mm, 3U 340.5 mm).
@@ -92,9 +93,9 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
     name = root.identifier("name")  # names the STEP and materials files `parts cubesat` writes
     units = root.integer("units", minimum=1)
     st = root.table("structure")
-    width = st.number("width_mm", positive=True)
-    rail = st.number("rail_mm", positive=True)
-    panel = st.number("panel_mm", positive=True)
+    width = st.number("width_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
+    rail = st.number("rail_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
+    panel = st.number("panel_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
     smat = _material(st, "material")
     s_sigma = _uncertainty(st)
     st.finish()
@@ -109,11 +110,11 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
         center = (c[0], c[1], c[2])
         sigma = _uncertainty(t)
         if t.has("size_mm"):
-            s = t.vector("size_mm", positive=True)
+            s = t.vector("size_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
             comps.append(Component(cname, mat, center, (s[0], s[1], s[2]), None, sigma))
         else:
-            d = t.number("cylinder_diameter_mm", positive=True)
-            length = t.number("cylinder_length_mm", positive=True)
+            d = t.number("cylinder_diameter_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
+            length = t.number("cylinder_length_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
             comps.append(Component(cname, mat, center, None, (d, length), sigma))
         t.finish()
     root.finish()

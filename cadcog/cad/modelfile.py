@@ -22,7 +22,12 @@ import tempfile
 from dataclasses import replace
 from pathlib import Path
 
-from cadcog.cad.stepmass import ModelMassProperties, OverlapPolicy, model_mass_properties
+from cadcog.cad.stepmass import (
+    AllExcludedError,
+    ModelMassProperties,
+    OverlapPolicy,
+    model_mass_properties,
+)
 from cadcog.cad.stepread import read_step
 from cadcog.core.paramfile import TableReader
 from cadcog.core.units import UNIT_CHOICES
@@ -68,15 +73,18 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
     if t.has("overlaps"):
         value = t.string("overlaps", choices=("check", "allow", "resolve"))
         overlaps = "allow" if value == "allow" else "resolve" if value == "resolve" else "check"
-    result = model_mass_properties(
-        model,
-        materials,
-        total_mass_kg=total,
-        units=units,
-        exclude=exclude,
-        overlaps=overlaps,
-        strict=strict,
-    )
+    try:
+        result = model_mass_properties(
+            model,
+            materials,
+            total_mass_kg=total,
+            units=units,
+            exclude=exclude,
+            overlaps=overlaps,
+            strict=strict,
+        )
+    except AllExcludedError:
+        raise t.error("exclude", f"{exclude!r} excludes every body of the model") from None
     if t.has("model"):  # name the spec, not the temporary STEP it was read back from
         source = f"{base / t.string('model')} (built)"
         result = replace(result, audit=replace(result.audit, source=source))

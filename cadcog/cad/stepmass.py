@@ -70,6 +70,10 @@ WORST_PAIRS_SHOWN = 10
 ProgressFactory = Callable[[str, int], Callable[[int], None]]
 
 
+class AllExcludedError(CadcogError):
+    """The exclusion patterns leave no body to integrate."""
+
+
 @dataclass(frozen=True)
 class BodyResult(JsonResult):
     """One body as counted.
@@ -466,7 +470,8 @@ def model_mass_properties(
             for rule in _unmatched_rules(materials, model.bodies)
         )
     if not kept:
-        raise CadcogError(f"{src}: every body is excluded")
+        shown = " ".join(f"--exclude {p!r}" for p in exclude)
+        raise AllExcludedError(f"{shown}: excludes every body of {src}")
 
     bodies, audit_bits = _integrate(kept, scale, progress, workers)
     problems = audit_bits.pop("problems")

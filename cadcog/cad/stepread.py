@@ -52,6 +52,7 @@ from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc, XCAFDoc_DocumentTool, XCAFDoc_Material, XCAFDoc_ShapeTool
 
 from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import note_input
 from cadcog.core.units import LENGTH_UNIT_MM, density_kg_m3_from_step
 
 #: Instance names that exporters generate rather than users give: OCCT's label entries
@@ -442,6 +443,7 @@ def read_step(path: str | Path) -> StepModel:
         raise CadcogError(f"{p}: is a directory, expected a STEP file")
     if not p.is_file():
         raise CadcogError(f"{p}: file not found")
+    note_input(p, "the STEP model it reads")
     app = XCAFApp_Application.GetApplication_s()
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
     app.InitDocument(doc)

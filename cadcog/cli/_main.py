@@ -31,6 +31,7 @@ from cadcog.cli import (
 )
 from cadcog.core import bounds
 from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import guarding_inputs
 from cadcog.core.version import __version__
 
 #: Exit status for bad input (same as argparse's usage errors).
@@ -217,7 +218,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                 parser.command = words[0]
             args = parser.parse_args(attach_dash_values(parser, words))
             check_option_values(parser, args)
-            status: int = args.func(args)
+            with guarding_inputs():  # no output may replace a file the command read
+                status: int = args.func(args)
     except KeyboardInterrupt:
         print("cadcog: interrupted; nothing was written", file=sys.stderr)
         return 130

@@ -82,10 +82,12 @@ def run_setup(args: argparse.Namespace) -> int:
 
     if not args.points:
         raise CadcogError("--setup needs --points ID,ID,... (see cadcog plan)")
+    ids = [i.strip() for i in args.points.split(",")]
+    if len(set(ids)) != len(ids) or len(ids) < 2:  # before the (slow) CAD, as acquire does
+        raise CadcogError("--points: give at least two distinct point ids")
     _model(args, ErrorModel((1.0,), (0.0,)))  # check the overrides before the (slow) CAD
     setup = load_setup(args.setup)
     by_id = {c.id: c for c in setup.candidates}
-    ids = [i.strip() for i in args.points.split(",")]
     unknown = [i for i in ids if i not in by_id]
     if unknown:
         raise CadcogError(f"--points: unknown candidate(s) {', '.join(unknown)} in {args.setup}")

@@ -103,6 +103,12 @@ def run(args: argparse.Namespace) -> int:
         if args.unmodelled_sigma_kg is None:
             raise CadcogError("--unmodelled-region-mm needs --unmodelled-sigma-kg (its prior 1 σ)")
         r = np.array(args.unmodelled_region_mm)
+        flat = [axis for axis, lo, hi in zip("xyz", r[:3], r[3:], strict=True) if lo == hi]
+        if flat:
+            raise CadcogError(
+                f"--unmodelled-region-mm: the box has no extent along {', '.join(flat)} "
+                "(X0,Y0,Z0,X1,Y1,Z1 are opposite corners; give where the mass may be)"
+            )
         unmodelled = UnmodelledPrior(
             np.minimum(r[:3], r[3:]),
             np.maximum(r[:3], r[3:]),

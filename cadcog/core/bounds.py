@@ -99,6 +99,7 @@ NAMED_BOUNDS: dict[str, Bound] = {
     "time_scale": Bound(0.01, 10_000.0, "simulated device speed-up"),
     "level": Bound(1e-6, 0.5, "significance level of a test"),
     "candidates": Bound(2, MAX_CANDIDATES, "candidate points: every pair is screened", True),
+    "min_angle_deg": Bound(0.0, 90.0, "the angle between two plumb lines"),
 }
 
 

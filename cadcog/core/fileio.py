@@ -16,12 +16,52 @@ import os
 import shutil
 import tempfile
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
+from contextvars import ContextVar
 from pathlib import Path
 from typing import Any
 
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
+
+#: The files the running command has read (resolved path → what it was), while a command runs
+#: inside :func:`guarding_inputs`; staged outputs refuse to replace any of them.
+_INPUTS: ContextVar[dict[Path, str] | None] = ContextVar("cadcog_inputs", default=None)
+
+
+@contextmanager
+def guarding_inputs() -> Iterator[None]:
+    """While inside, every file read through :func:`note_input` is protected from the outputs.
+
+    The command line runs each command inside one: whatever a command reads (a rig file, a
+    set-up and the model it names, readings, a STEP file, a materials file), no staged output of
+    the same command may replace it, however the output's name was given.
+    """
+    token = _INPUTS.set({})
+    try:
+        yield
+    finally:
+        _INPUTS.reset(token)
+
+
+def note_input(path: str | Path, what: str) -> None:
+    """Record ``path`` as an input of the running command (a no-op outside
+    :func:`guarding_inputs`)."""
+    inputs = _INPUTS.get()
+    if inputs is not None:
+        with suppress(OSError, RuntimeError):
+            inputs.setdefault(Path(path).resolve(), what)
+
+
+def _refuse_inputs(destinations: list[tuple[Path, Path]]) -> None:
+    """Raise before anything is replaced if a destination is an input (shown, resolved) pairs."""
+    inputs = _INPUTS.get()
+    if not inputs:
+        return
+    for shown, dst in destinations:
+        what = inputs.get(dst.resolve())
+        if what is not None:
+            raise CadcogError(f"{shown}: is the command's input ({what}); write elsewhere")
 
 
 def _new_file_mode() -> int:
@@ -83,13 +123,14 @@ def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
     done = False
     try:
         yield stage
+        produced = [p for p in sorted(stage.rglob("*")) if p.is_file()]
+        _refuse_inputs([(out / p.relative_to(stage), out / p.relative_to(stage)) for p in produced])
         try:
             created += _make_dirs(out.resolve())
-            for src in sorted(stage.rglob("*")):
-                if src.is_file():
-                    dst = out / src.relative_to(stage)
-                    dst.parent.mkdir(parents=True, exist_ok=True)
-                    os.replace(src, dst)
+            for src in produced:
+                dst = out / src.relative_to(stage)
+                dst.parent.mkdir(parents=True, exist_ok=True)
+                os.replace(src, dst)
         except OSError as exc:
             raise _cannot_write(out, exc) from None
         done = True
@@ -148,6 +189,7 @@ def staged_file(path: str | Path) -> Iterator[Path]:
     done = False
     try:
         yield Path(tmp)
+        _refuse_inputs([(target, target)])
         try:
             os.chmod(tmp, _new_file_mode())
             os.replace(tmp, target)

@@ -18,6 +18,7 @@ from typing import Any
 
 from cadcog.core import bounds
 from cadcog.core.errors import ParameterFileError
+from cadcog.core.fileio import note_input
 
 #: Largest parameter file read (bytes): real ones are a few kB.
 MAX_TOML_BYTES = 10_000_000
@@ -39,6 +40,7 @@ def read_toml(path: str | Path) -> dict[str, Any]:
         raise ParameterFileError(
             p, "", f"larger than {MAX_TOML_BYTES // 1_000_000} MB: not a parameter file"
         )
+    note_input(p, "a parameter file it reads")
     try:
         return tomllib.loads(data.decode("utf-8-sig"))
     except tomllib.TOMLDecodeError as exc:
@@ -142,8 +144,12 @@ class TableReader:
         positive: bool = False,
         nonnegative: bool = False,
         default: float | None = None,
+        at_least: float | None = None,
     ) -> float:
-        """A finite real number (TOML integer or float, not boolean); ``default`` if absent."""
+        """A finite real number (TOML integer or float, not boolean); ``default`` if absent.
+
+        ``at_least`` is a smallest value beyond the key's unit bound (e.g. the smallest solid
+        dimension, :data:`cadcog.core.tolerances.MIN_SOLID_DIMENSION_MM`, for a CAD size)."""
         if default is not None and name not in self._data:
             self._used.add(name)
             return default
@@ -157,13 +163,22 @@ class TableReader:
             raise self.error(name, f"expected a positive number, got {value!r}")
         if nonnegative and x < 0.0:
             raise self.error(name, f"expected a number >= 0, got {value!r}")
+        if at_least is not None and x < at_least:
+            raise self.error(name, f"expected at least {at_least:g}, got {value!r}")
         problem = bounds.check(name, x)
         if problem is not None:
             raise self.error(name, f"{problem}, got {value!r}")
         return x
 
-    def vector(self, name: str, length: int = 3, *, positive: bool = False) -> tuple[float, ...]:
-        """An array of ``length`` finite numbers."""
+    def vector(
+        self,
+        name: str,
+        length: int = 3,
+        *,
+        positive: bool = False,
+        at_least: float | None = None,
+    ) -> tuple[float, ...]:
+        """An array of ``length`` finite numbers (each at least ``at_least`` if given)."""
         value = self._get(name)
         if not isinstance(value, list) or len(value) != length:
             raise self.error(
@@ -178,6 +193,8 @@ class TableReader:
                 raise self.error(name, f"element {i}: expected a finite number, got {item!r}")
             if positive and not x > 0.0:
                 raise self.error(name, f"element {i}: expected a positive number, got {item!r}")
+            if at_least is not None and x < at_least:
+                raise self.error(name, f"element {i}: expected at least {at_least:g}, got {item!r}")
             problem = bounds.check(name, x)
             if problem is not None:
                 raise self.error(name, f"element {i}: {problem}, got {item!r}")

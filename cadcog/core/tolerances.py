@@ -72,3 +72,8 @@ RIGID_PLACEMENT_TOLERANCE = 1e-9
 #: λ is declared unidentifiable (the bolt axes lie along their verticals, or the CoG absorbs
 #: the offsets).
 WIRE_IDENTIFIABILITY = 1e-6
+
+#: Smallest dimension (mm) of a solid cadcog builds from parameters (rig parts, the example
+#: CubeSat's panels and components). OCCT resolves 1e-7 mm, but a solid thinner than 10 µm is a
+#: typo in a parameter file, and boxes of 1e-300 mm make OCCT fail deep inside.
+MIN_SOLID_DIMENSION_MM = 0.01

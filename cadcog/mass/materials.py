@@ -274,6 +274,13 @@ def load_materials(path: str | Path) -> MaterialMap:
     """Read a materials file; unknown material names and bad values name the key."""
     p = Path(path)
     root = TableReader(read_toml(p), p)
+    for name in ("materials", "surfaces", "mass_uncertainty", "growth_allowance"):
+        if root.is_table(name):
+            for pattern in root.table(name).keys():
+                if any(ord(ch) < 32 or ord(ch) == 127 for ch in pattern):
+                    raise root.error(
+                        name, f"pattern {pattern!r} holds a control character: no name does"
+                    )
     rules: list[tuple[str, str | float]] = []
     if root.has("materials"):
         table = root.table("materials")

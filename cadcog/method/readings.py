@@ -30,6 +30,7 @@ from typing import Any
 
 from cadcog.core import bounds
 from cadcog.core.errors import ReadingsError
+from cadcog.core.fileio import note_input
 from cadcog.rig.inclinometer import InclinometerConfig, Verticals, verticals_from_readings
 
 BASE_COLUMNS = ("point_id", "x_mm", "y_mm", "z_mm", "top_face_up")
@@ -193,6 +194,7 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
         raise ReadingsError(f"{p}: file not found") from None
     except OSError as exc:
         raise ReadingsError(f"{p}: cannot read ({exc.strerror or exc})") from None
+    note_input(p, "the readings it reads")
     with f:
         header, groups = _read_groups(csv.reader(_lines(f, p)), p, cfg)
     if header is None:

@@ -18,6 +18,7 @@ import numpy as np
 
 from cadcog.core import tolerances
 from cadcog.core.paramfile import TableReader, read_toml
+from cadcog.core.tolerances import MIN_SOLID_DIMENSION_MM
 from cadcog.rig.geometry import AXIS_NAMES, FACES, face_plane_mm
 from cadcog.rig.inclinometer import InclinometerConfig, SensorModel
 from cadcog.rig.parameters import (
@@ -63,7 +64,7 @@ def load_rig(path: str | Path) -> Rig:
     name = _name(root, "name")
 
     pm_t = root.table("proof_mass")
-    size = pm_t.vector("size_mm", positive=True)
+    size = pm_t.vector("size_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
     proof_mass = ProofMass(
         size_mm=(size[0], size[1], size[2]),
         mass_kg=pm_t.number("mass_kg", positive=True),
@@ -73,8 +74,8 @@ def load_rig(path: str | Path) -> Rig:
 
     holes_t = root.table("holes")
     holes = HoleSpec(
-        diameter_mm=holes_t.number("diameter_mm", positive=True),
-        depth_mm=holes_t.number("depth_mm", positive=True),
+        diameter_mm=holes_t.number("diameter_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM),
+        depth_mm=holes_t.number("depth_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM),
         wire_exit_height_mm=holes_t.number("wire_exit_height_mm", nonnegative=True),
     )
     holes_t.finish()
@@ -96,7 +97,7 @@ def load_rig(path: str | Path) -> Rig:
     volume_tables = me_t.tables("volumes")
     volumes = []
     for t in volume_tables:
-        vsize = t.vector("size_mm", positive=True)
+        vsize = t.vector("size_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
         center = t.vector("center_mm")
         volumes.append(
             MEVolume(
@@ -137,6 +138,11 @@ def load_rig(path: str | Path) -> Rig:
     return rig
 
 
+#: Coarsest ADC step (degrees) a rig's inclinometer may have: one step of 1° already moves a
+#: plumb line by 17 mm per metre; the paper's 10-bit ADC has 0.146°.
+MAX_ADC_STEP_DEG = 1.0
+
+
 def _inclinometer(t: TableReader) -> InclinometerConfig:
     """The ``[inclinometer]`` table: range required, the rest defaulting to the paper's rig."""
     d, ds = InclinometerConfig(), SensorModel()
@@ -157,6 +163,14 @@ def _inclinometer(t: TableReader) -> InclinometerConfig:
             zero_v=t.number("zero_v", default=ds.zero_v),
         ),
     )
+    lsb = config.sensor.lsb_deg
+    if lsb > MAX_ADC_STEP_DEG:
+        key = "sensitivity_v_per_deg" if t.has("sensitivity_v_per_deg") else "adc_bits"
+        raise t.error(
+            key,
+            f"the ADC step is {lsb:.3g}° (adc_reference_v / 2^adc_bits / sensitivity_v_per_deg): "
+            f"expected at most {MAX_ADC_STEP_DEG:g}° for an inclinometer that can locate a CoG",
+        )
     t.finish()
     return config
 

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core import bounds
 from cadcog.core.results import JsonResult
 from cadcog.mass.inertia import (
     PRODUCT_CONVENTIONS,
@@ -162,6 +163,10 @@ def parse_point(text: str) -> str | tuple[float, float, float]:
         values = []
     if len(values) != 3 or not all(np.isfinite(values)):
         raise ValueError(f"expected cog, origin, centre or X,Y,Z in mm, got {text!r}")
+    for v in values:
+        problem = bounds.check("point_mm", v)
+        if problem is not None:
+            raise ValueError(f"{problem}, got {text!r}")
     return values[0], values[1], values[2]
 
 

@@ -129,6 +129,11 @@ def load_requirements(root: TableReader, path: Path) -> Requirements:
             raise m.error("margin", f"a fraction below 1 (10 % = 0.10), got {kw['margin']:g}")
         if m.has("min_kg"):
             kw["min_kg"] = m.number("min_kg", positive=True)
+            if "max_kg" in kw and kw["min_kg"] > kw["max_kg"]:
+                raise m.error(
+                    "min_kg",
+                    f"{kw['min_kg']:g} is above max_kg {kw['max_kg']:g}: no model can pass",
+                )
         if m.has("allocation"):
             kw["allocations"] = tuple(_allocation(a) for a in m.tables("allocation"))
         m.finish()

@@ -77,8 +77,11 @@ class UnmodelledPrior:
 
     def __post_init__(self) -> None:
         lo, hi = np.asarray(self.lo_mm, dtype=float), np.asarray(self.hi_mm, dtype=float)
-        if lo.shape != (3,) or hi.shape != (3,) or np.any(hi < lo):
-            raise ValueError("the unmodelled mass region needs lo ≤ hi, three values each")
+        if lo.shape != (3,) or hi.shape != (3,) or np.any(hi <= lo):
+            raise ValueError(
+                "the unmodelled mass region needs lo < hi on every axis, three values each "
+                "(a box: the prior places the mass uniformly in it)"
+            )
         if not (self.sigma_kg > 0 and self.mass_kg >= 0):
             raise ValueError("the unmodelled mass needs a positive σ and a mean ≥ 0")
         object.__setattr__(self, "lo_mm", lo)

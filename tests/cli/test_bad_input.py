@@ -230,7 +230,7 @@ CASES = [
     Case(
         "estimate-min-angle-huge",
         ["estimate", "r.csv", "--min-angle-deg", "400"],
-        r"estimate: --min-angle-deg 400\.0: expected at most 360",
+        r"estimate: --min-angle-deg 400\.0: expected at most 90 \(the angle between two plumb",
         {"r.csv": HEADER + GOOD_ROWS},
     ),
     Case(
@@ -541,6 +541,95 @@ CASES = [
         ["acquire", "--simulate", "--rig", "r.toml", "--out", "r.toml"],
         r"r\.toml: is the command's input \(--rig\)",
         {"r.toml": RIG},
+    ),
+    # --- found by the second audit (issue 11) --------------------------------------------------
+    Case(
+        "rig-adc-step-too-coarse",
+        ["budget", "--rig", "r.toml"],
+        r"r\.toml: key 'inclinometer\.sensitivity_v_per_deg': the ADC step is 4\.88e\+297°",
+        {
+            "r.toml": rig_with(
+                "sensitivity_v_per_deg = 0.0333333333333333", "sensitivity_v_per_deg = 1e-300"
+            )
+        },
+    ),
+    Case(
+        "spec-panel-thinner-than-a-solid",
+        ["parts", "cubesat", "sp.toml", "--out", "o"],
+        r"sp\.toml: key 'structure\.panel_mm': expected at least 0\.01, got 1e-300",
+        {"sp.toml": spec_with("panel_mm = 1.5", "panel_mm = 1e-300")},
+    ),
+    Case(
+        "simulate-min-angle-negative",
+        ["simulate", "--min-angle-deg", "-5"],
+        r"--min-angle-deg -5\.0: expected at least 0 \(the angle between two plumb lines\)",
+    ),
+    Case(
+        "massprops-about-huge",
+        ["massprops", "m.step", "--density-kg-m3", "1000", "--about", "1e308,0,0"],
+        r"argument --about: expected at most 20000 \(lengths and positions within 20 m\)",
+        {"m.step": _step},
+    ),
+    Case(
+        "massprops-exclude-everything",
+        ["massprops", "m.step", "--density-kg-m3", "1000", "--exclude", "*"],
+        r"--exclude '\*': excludes every body of m\.step",
+        {"m.step": _step},
+    ),
+    Case(
+        "materials-pattern-control-character",
+        ["massprops", "m.step", "--materials", "mat.toml"],
+        r"mat\.toml: key 'materials': pattern 'a\\x00b' holds a control character",
+        {"m.step": _step, "mat.toml": '[materials]\n"a\\u0000b" = 2700.0\n'},
+    ),
+    Case(
+        "requirements-min-above-max",
+        ["check", "q.toml"],
+        r"q\.toml: key 'mass\.min_kg': 5 is above max_kg 3\.2: no model can pass",
+        {"q.toml": requirements_with("min_kg = 1.0", "min_kg = 5.0")},
+    ),
+    Case(
+        "check-update-baseline-onto-requirements",
+        ["check", "q.toml", "--update-baseline"],
+        r"q\.toml: is the command's input \(a parameter file it reads\)",
+        {
+            "q.toml": REQUIREMENTS.replace(
+                f'"{(PARTS / "cubesat_3u_baseline.json").as_posix()}"', '"q.toml"'
+            )
+        },
+    ),
+    Case(
+        "campaign-setup-one-point",
+        ["campaign", "--setup", "s.toml", "--points", "Z1", "--out", "o.csv"],
+        r"--points: give at least two distinct point ids",
+        {"s.toml": SETUP},
+    ),
+    Case(
+        "campaign-setup-repeated-point",
+        ["campaign", "--setup", "s.toml", "--points", "Z1,Z1", "--out", "o.csv"],
+        r"--points: give at least two distinct point ids",
+        {"s.toml": SETUP},
+    ),
+    Case(
+        "update-region-flat",
+        [
+            "update",
+            "r.csv",
+            "--setup",
+            "s.toml",
+            "--weighed-mass-kg",
+            "2.6",
+            "--unmodelled-region-mm=0,0,0,0,10,10",
+            "--unmodelled-sigma-kg",
+            "0.05",
+        ],
+        r"--unmodelled-region-mm: the box has no extent along x",
+        {"r.csv": HEADER + GOOD_ROWS, "s.toml": SETUP},
+    ),
+    Case(
+        "acquire-out-not-a-regular-file",
+        ["acquire", "--simulate", "--out", "/dev/zero", "--non-interactive"],
+        r"/dev/zero: exists and is not a regular file",
     ),
 ]
 

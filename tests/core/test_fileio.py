@@ -11,7 +11,13 @@ import time
 import pytest
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import refuse_overwriting_inputs, staged_file, staged_output_dir
+from cadcog.core.fileio import (
+    guarding_inputs,
+    note_input,
+    refuse_overwriting_inputs,
+    staged_file,
+    staged_output_dir,
+)
 
 
 def test_a_staged_file_gets_the_umask_permissions(tmp_path):
@@ -91,3 +97,32 @@ def test_sigterm_during_report_leaves_no_staging_behind(tmp_path):
     assert proc.returncode == 143, err
     assert "terminated; nothing was written" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_outputs_never_replace_a_file_the_command_read(tmp_path):
+    """Inside guarding_inputs, a file noted as read is refused as an output, whatever the name
+    it is reached by (here through a folder and ``..``), and nothing of the output is moved."""
+    rig = tmp_path / "out" / "rig.png"
+    rig.parent.mkdir()
+    rig.write_text("the rig file")
+    with guarding_inputs():
+        note_input(tmp_path / "out" / ".." / "out" / "rig.png", "the rig it reads")
+        with pytest.raises(CadcogError, match=r"rig\.png: is the command's input \(the rig it"):
+            with staged_output_dir(tmp_path / "out") as stage:
+                (stage / "index.html").write_text("page")
+                (stage / "rig.png").write_bytes(b"png")
+        with pytest.raises(CadcogError, match=r"rig\.png: is the command's input"):
+            with staged_file(rig) as tmp:
+                tmp.write_text("other")
+    assert rig.read_text() == "the rig file"
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["rig.png"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_outside_a_command_inputs_are_not_tracked(tmp_path):
+    target = tmp_path / "a.txt"
+    target.write_text("old")
+    note_input(target, "ignored: no command is running")
+    with staged_file(target) as tmp:
+        tmp.write_text("new")
+    assert target.read_text() == "new"
