@@ -205,7 +205,10 @@ def estimate(
     readings : str or Path
         Readings CSV: one row per inclinometer sample (``docs/estimate.md``).
     rig : Rig, str or Path, optional
-        The rig that was hung (default: the paper's rig). Ignored when ``setup`` is given.
+        The rig that was hung: its inclinometer, error model, bolt axes and measurement
+        equipment, which is compensated. Without ``rig`` or ``setup``, as the command without
+        ``--rig``: the CoG of the hung assembly, ME included, with the default inclinometer and
+        isotropic line weights.
     setup : Setup, str or Path, optional
         A spacecraft set-up instead of a rig: its inclinometer, error model and ME.
     wire_correction : bool
@@ -242,6 +245,17 @@ def estimate(
         return estimate_for_setup(
             s,
             read_readings(readings, s.rig.inclinometer),
+            wire_correction=wire_correction,
+            self_calibrate=self_calibrate_wire,
+        )
+    if rig is None:
+        from cadcog.rig.inclinometer import InclinometerConfig
+
+        config = InclinometerConfig()
+        return estimate_cog(
+            read_readings(readings, config),
+            config,
+            None,
             wire_correction=wire_correction,
             self_calibrate=self_calibrate_wire,
         )

@@ -103,6 +103,12 @@ def test_estimate_is_what_the_command_prints(campaign_csv, capsys) -> None:
     assert json.loads(mine.to_json())["cog_mm"] == pytest.approx(mine.cog_mm.tolist(), rel=1e-9)
 
 
+def test_estimate_without_a_rig_is_the_command_without_one(campaign_csv, capsys) -> None:
+    mine = cadcog.estimate(campaign_csv)
+    assert mine.compensation is None
+    assert mine.to_json() == _cli_json(capsys, "estimate", str(campaign_csv))
+
+
 def test_validate_is_what_the_command_prints(campaign_csv, capsys) -> None:
     mine = cadcog.validate(campaign_csv, campaigns=40, seed=3)
     assert mine.to_json() == _cli_json(
