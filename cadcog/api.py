@@ -24,9 +24,13 @@ True
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
+
+from cadcog.core.errors import CadcogError
 
 if TYPE_CHECKING:
     from cadcog.method.estimate import CogEstimate
@@ -48,6 +52,49 @@ __all__ = [
     "simulate",
     "validate",
 ]
+
+
+def _fail(function: str, name: str, value: object, expected: str) -> CadcogError:
+
+    shown = repr(value)
+    if len(shown) > 60:
+        shown = shown[:57] + "..."
+    return CadcogError(f"{function}({name}={shown}): {expected}")
+
+
+def _numbers(function: str, **values: object) -> None:
+    """The checks the command line applies to its numeric options (types, then the bounds of
+    :mod:`cadcog.core.bounds`, by the same names), for keyword arguments."""
+    from cadcog.core import bounds
+
+    for name, value in values.items():
+        if value is None:
+            continue
+        items = list(value) if isinstance(value, (list, tuple)) else [value]
+        bound = bounds.bound_for(name)
+        for v in items:
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise _fail(function, name, value, f"expected a number, got {type(v).__name__}")
+            if bound is not None and bound.integer and not isinstance(v, int):
+                raise _fail(function, name, value, "expected an integer")
+            problem = bounds.check(name, float(v))
+            if problem is not None:
+                raise _fail(function, name, value, problem)
+
+
+def _path(function: str, name: str, value: object) -> Path:
+    """A file argument: a str or path-like, else a clear error (with the keyword it may be)."""
+    if isinstance(value, (str, os.PathLike)):
+        return Path(value)
+    kind = type(value).__name__
+    hint = {"Setup": " (a set-up goes in setup=)", "Rig": " (a rig goes in rig=)"}.get(kind, "")
+    raise _fail(function, name, value, f"expected a file path (str or Path), got {kind}{hint}")
+
+
+def _as_user_error(function: str, source: object, exc: ValueError) -> CadcogError:
+    """A ValueError about the data (not the arguments), as the command reports it."""
+
+    return CadcogError(f"{source}: {exc}" if source is not None else f"{function}: {exc}")
 
 
 def load_rig(path: str | Path | None = None) -> Rig:
@@ -74,7 +121,7 @@ def load_rig(path: str | Path | None = None) -> Rig:
     from cadcog.rig.file import default_rig_path
     from cadcog.rig.file import load_rig as _load_rig
 
-    return _load_rig(default_rig_path() if path is None else path)
+    return _load_rig(default_rig_path() if path is None else _path("load_rig", "path", path))
 
 
 def load_setup(path: str | Path) -> Setup:
@@ -84,13 +131,23 @@ def load_setup(path: str | Path) -> Setup:
     """
     from cadcog.spacecraft.setup import load_setup as _load_setup
 
-    return _load_setup(path)
+    return _load_setup(_path("load_setup", "path", path))
 
 
-def _rig(rig: Rig | str | Path | None) -> Rig:
+def _rig(function: str, rig: Rig | str | Path | None) -> Rig:
     from cadcog.rig.parameters import Rig
 
-    return rig if isinstance(rig, Rig) else load_rig(rig)
+    if isinstance(rig, Rig):
+        return rig
+    return load_rig(None if rig is None else _path(function, "rig", rig))
+
+
+def _setup(function: str, setup: Setup | str | Path) -> Setup:
+    from cadcog.spacecraft.setup import Setup
+
+    if isinstance(setup, Setup):
+        return setup
+    return load_setup(_path(function, "setup", setup))
 
 
 def mass_properties(
@@ -100,7 +157,7 @@ def mass_properties(
     density_kg_m3: float | None = None,
     total_mass_kg: float | None = None,
     units: str | None = None,
-    exclude: Sequence[str] = (),
+    exclude: str | Sequence[str] = (),
     overlaps: Literal["check", "allow", "resolve"] = "check",
     strict: bool = False,
     about: str | Sequence[float] = "cog",
@@ -127,16 +184,18 @@ def mass_properties(
         Scale the densities so the total matches a weighing.
     units : str, optional
         The file's true length unit when its declared one is wrong (never scales twice).
-    exclude : sequence of str
+    exclude : str or sequence of str
         Glob patterns or paths of bodies or assemblies to leave out (before every check).
     overlaps : {'check', 'allow', 'resolve'}
         Refuse overlapping solids, count them as they are, or cut each common volume out of
         the less dense solid.
     strict : bool
         Every note (surfaces left out, overlaps counted, units) becomes an error.
-    about, axes : str
-        Reference point (``'cog'``, ``'origin'``, ``'centre'`` or X,Y,Z in mm) and axes (signed
-        model axes such as ``'+y,-x,+z'``) of the inertia frame reported.
+    about : str or sequence of 3 floats
+        Reference point of the inertia frame reported: ``'cog'``, ``'origin'``, ``'centre'``
+        (of the bounding box) or X, Y, Z in mm.
+    axes : str
+        Axes of that frame as signed model axes, such as ``'+y,-x,+z'``.
     form_factor : str, optional
         Check the CubeSat CoG envelope of this form factor (``'1U'`` … ``'12U'``).
     cog_limits_mm : sequence of 3 floats, optional
@@ -157,37 +216,50 @@ def mass_properties(
     >>> report = cadcog.mass_properties(  # doctest: +SKIP
     ...     "sat.step", "materials.toml", form_factor="3U"
     ... )
-    >>> report.total.mass_kg, report.total.cog_mm  # doctest: +SKIP
+    >>> report.result.total.mass_kg, report.result.total.cog_mm  # doctest: +SKIP
     """
     from cadcog.cad.stepmass import model_mass_properties
     from cadcog.cad.stepread import read_step
-    from cadcog.core.errors import CadcogError
     from cadcog.core.parallel import available_workers
     from cadcog.mass.materials import MaterialMap, load_materials
     from cadcog.spacecraft.mass_summary import build_mass_report
 
+    f = "mass_properties"
     if materials is not None and density_kg_m3 is not None:
-        raise CadcogError("give either materials or density_kg_m3, not both")
+        raise CadcogError(f"{f}: give either materials or density_kg_m3, not both")
+    _numbers(f, density_kg_m3=density_kg_m3, total_mass_kg=total_mass_kg, workers=workers)
+    if total_mass_kg is not None and not total_mass_kg > 0:
+        raise _fail(f, "total_mass_kg", total_mass_kg, "expected a positive mass")
+    if cog_limits_mm is not None:
+        _numbers(f, cog_limits_mm=list(cog_limits_mm))
+        if len(cog_limits_mm) != 3 or min(cog_limits_mm) <= 0:
+            raise _fail(f, "cog_limits_mm", cog_limits_mm, "expected three positive half-widths")
+    patterns = [exclude] if isinstance(exclude, str) else list(exclude)  # one pattern, not letters
+    if not all(isinstance(p, str) for p in patterns):
+        raise _fail(f, "exclude", exclude, "expected a pattern or a list of patterns (str)")
     material_map = (
-        load_materials(materials)
+        load_materials(_path(f, "materials", materials))
         if materials is not None
         else MaterialMap.uniform(density_kg_m3)
         if density_kg_m3 is not None
         else None
     )
     result = model_mass_properties(
-        read_step(model),
+        read_step(_path(f, "model", model)),
         material_map,
         total_mass_kg=total_mass_kg,
         units=units,
-        exclude=list(exclude),
+        exclude=patterns,
         overlaps=overlaps,
         strict=strict,
         workers=workers or available_workers(),
     )
-    return build_mass_report(
-        result, about=about, axes=axes, form_factor=form_factor, cog_limits_mm=cog_limits_mm
-    )
+    try:
+        return build_mass_report(
+            result, about=about, axes=axes, form_factor=form_factor, cog_limits_mm=cog_limits_mm
+        )
+    except ValueError as exc:
+        raise _fail(f, "about/axes", (about, axes), str(exc)) from None
 
 
 def estimate(
@@ -219,7 +291,8 @@ def estimate(
     Returns
     -------
     CogEstimate
-        The CoG (mm), its covariance (mm²), the per-line diagnostics and warnings.
+        The CoG (mm), its covariance (mm²), the per-line diagnostics and warnings; with a
+        set-up, ``.cad`` compares it with the CAD CoG and the CubeSat envelope.
 
     Examples
     --------
@@ -238,37 +311,47 @@ def estimate(
     from cadcog.method.errormodel import ErrorModel
     from cadcog.method.estimate import BodyBox, MEData, estimate_cog
     from cadcog.method.readings import read_readings
-    from cadcog.spacecraft.setup import Setup, estimate_for_setup
+    from cadcog.spacecraft.setup import compare_with_cad, estimate_for_setup
 
-    if setup is not None:
-        s = setup if isinstance(setup, Setup) else load_setup(setup)
-        return estimate_for_setup(
-            s,
-            read_readings(readings, s.rig.inclinometer),
-            wire_correction=wire_correction,
-            self_calibrate=self_calibrate_wire,
-        )
-    if rig is None:
-        from cadcog.rig.inclinometer import InclinometerConfig
+    f = "estimate"
+    path = _path(f, "readings", readings)
+    if setup is not None and rig is not None:
+        raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
+    try:
+        if setup is not None:
+            s = _setup(f, setup)
+            est = estimate_for_setup(
+                s,
+                read_readings(path, s.rig.inclinometer),
+                wire_correction=wire_correction,
+                self_calibrate=self_calibrate_wire,
+            )
+            return replace(est, cad=compare_with_cad(s, est.cog_mm, est.cov_mm2))
+        if rig is None:
+            from cadcog.rig.inclinometer import InclinometerConfig
 
-        config = InclinometerConfig()
+            config = InclinometerConfig()
+            return estimate_cog(
+                read_readings(path, config),
+                config,
+                None,
+                wire_correction=wire_correction,
+                self_calibrate=self_calibrate_wire,
+            )
+        r = _rig(f, rig)
         return estimate_cog(
-            read_readings(readings, config),
-            config,
-            None,
+            read_readings(path, r.inclinometer),
+            r.inclinometer,
+            MEData.from_rig(r),
+            model=ErrorModel.from_rig(r),
+            body=BodyBox.of_rig(r),
             wire_correction=wire_correction,
             self_calibrate=self_calibrate_wire,
         )
-    r = _rig(rig)
-    return estimate_cog(
-        read_readings(readings, r.inclinometer),
-        r.inclinometer,
-        MEData.from_rig(r),
-        model=ErrorModel.from_rig(r),
-        body=BodyBox.of_rig(r),
-        wire_correction=wire_correction,
-        self_calibrate=self_calibrate_wire,
-    )
+    except CadcogError:
+        raise
+    except ValueError as exc:  # a combination of options and data the estimator refuses
+        raise _as_user_error(f, path, exc) from None
 
 
 def simulate(
@@ -322,7 +405,19 @@ def simulate(
     from cadcog.method.errormodel import ErrorModel
     from cadcog.uncertainty.random_points import SimulationSettings, run_simulation
 
-    r = _rig(rig)
+    f = "simulate"
+    _numbers(
+        f,
+        points=points,
+        trials=trials,
+        seed=seed,
+        group_size=group_size,
+        min_angle_deg=min_angle_deg,
+        workers=workers,
+    )
+    if points == 1:
+        raise _fail(f, "points", points, "give 0 (the rig's own points) or at least 2")
+    r = _rig(f, rig)
     model = ErrorModel.from_rig(r)
     if paper:
         model = model.paper()
@@ -335,7 +430,12 @@ def simulate(
         weighted=not paper,
         wire_correction=wire_correction and not paper,
     )
-    return run_simulation(r, settings, model, workers=workers)
+    try:
+        return run_simulation(r, settings, model, workers=workers)
+    except CadcogError:
+        raise
+    except ValueError as exc:
+        raise _as_user_error(f, None, exc) from None
 
 
 def validate(
@@ -360,23 +460,51 @@ def validate(
         The rig (default: the paper's).
     windows_mm : sequence of float, optional
         Error windows ε (mm); default those of the command, 0.5, 1, 1.5, 2 and 3 mm.
-    campaigns, seed : int
-        Simulated campaigns for the null distribution, and its seed.
+    campaigns : int
+        Simulated whole campaigns for the null distribution (at least 20).
+    seed : int
+        Seed of those simulations.
     level : float
         False-alarm rate of the verdict, in (0, 1).
+
+    Returns
+    -------
+    CampaignValidation
+        The per-window table, the campaign verdict (``.consistent``) and its null distribution.
     """
     from cadcog.method.readings import read_readings
     from cadcog.validation.verification import DEFAULT_WINDOWS_MM, validate_campaign
 
-    r = _rig(rig)
-    return validate_campaign(
-        r,
-        read_readings(readings, r.inclinometer),
-        DEFAULT_WINDOWS_MM if windows_mm is None else tuple(windows_mm),
-        n_campaigns=campaigns,
-        seed=seed,
-        level=level,
-    )
+    f = "validate"
+    path = _path(f, "readings", readings)
+    _numbers(f, campaigns=campaigns, seed=seed, level=level)
+    if campaigns < 20:
+        raise _fail(f, "campaigns", campaigns, "expected at least 20 (a null distribution)")
+    if windows_mm is not None:
+        if isinstance(windows_mm, (str, bytes)) or not isinstance(windows_mm, Sequence):
+            raise _fail(f, "windows_mm", windows_mm, "expected a sequence of numbers (mm)")
+        _numbers(f, windows_mm=list(windows_mm))
+        if not windows_mm or min(windows_mm) <= 0:
+            raise _fail(f, "windows_mm", windows_mm, "expected positive windows (mm)")
+    r = _rig(f, rig)
+    suspensions = read_readings(path, r.inclinometer)
+    if len(suspensions) < 3:
+        raise CadcogError(
+            f"{path}: validation needs 3 or more suspension points, got {len(suspensions)}"
+        )
+    try:
+        return validate_campaign(
+            r,
+            suspensions,
+            DEFAULT_WINDOWS_MM if windows_mm is None else tuple(windows_mm),
+            n_campaigns=campaigns,
+            seed=seed,
+            level=level,
+        )
+    except CadcogError:
+        raise
+    except ValueError as exc:
+        raise _as_user_error(f, path, exc) from None
 
 
 def plan(
@@ -391,8 +519,9 @@ def plan(
     trials : int
         Monte Carlo trials per finalist set.
     max_set : int
-        Largest set of hangs considered.
+        Largest set of hangs considered (2 to 8).
     seed : int
+        Seed of the Monte Carlo of the finalists.
 
     Returns
     -------
@@ -401,10 +530,9 @@ def plan(
         that cannot be used (with why).
     """
     from cadcog.spacecraft.plan import plan_test
-    from cadcog.spacecraft.setup import Setup
 
-    s = setup if isinstance(setup, Setup) else load_setup(setup)
-    return plan_test(s, trials=trials, max_set=max_set, seed=seed)
+    _numbers("plan", trials=trials, max_set=max_set, seed=seed)
+    return plan_test(_setup("plan", setup), trials=trials, max_set=max_set, seed=seed)
 
 
 def check(requirements: str | Path, *, strict: bool = False) -> CheckResult:
@@ -424,4 +552,4 @@ def check(requirements: str | Path, *, strict: bool = False) -> CheckResult:
     """
     from cadcog.spacecraft.requirements import check_requirements
 
-    return check_requirements(requirements, strict=strict)
+    return check_requirements(_path("check", "requirements", requirements), strict=strict)

@@ -131,3 +131,96 @@ def test_a_bad_file_raises_the_error_the_command_prints(tmp_path) -> None:
     bad.write_text("point_id,x_mm\n1,2\n")
     with pytest.raises(CadcogError, match=r"r\.csv"):
         cadcog.estimate(bad)
+
+
+BAD_CALLS = [
+    (
+        lambda: cadcog.simulate(trials="100"),
+        r"simulate\(trials='100'\): expected a number, got str",
+    ),
+    (lambda: cadcog.simulate(trials=2.5), r"simulate\(trials=2\.5\): expected an integer"),
+    (lambda: cadcog.simulate(trials=-5), r"simulate\(trials=-5\): expected at least 2"),
+    (lambda: cadcog.simulate(points=-1), r"simulate\(points=-1\): expected at least 0"),
+    (lambda: cadcog.simulate(points=1), r"simulate\(points=1\): give 0"),
+    (lambda: cadcog.simulate(seed=-1), r"simulate\(seed=-1\): expected at least 0"),
+    (
+        lambda: cadcog.simulate(min_angle_deg=-5),
+        r"simulate\(min_angle_deg=-5\): expected at least 0",
+    ),
+    (lambda: cadcog.simulate(workers=0), r"simulate\(workers=0\): expected at least 1"),
+    (
+        lambda: cadcog.simulate(rig=["a.toml"]),
+        r"simulate\(rig=\['a\.toml'\]\): expected a file path",
+    ),
+    (lambda: cadcog.plan("s.toml", max_set=1), r"plan\(max_set=1\): expected at least 2"),
+    (
+        lambda: cadcog.validate("r.csv", campaigns=5),
+        r"validate\(campaigns=5\): expected at least 20",
+    ),
+    (
+        lambda: cadcog.validate("r.csv", windows_mm=1.0),
+        r"validate\(windows_mm=1\.0\): expected a sequence",
+    ),
+    (lambda: cadcog.validate("r.csv", level=2.0), r"validate\(level=2\.0\): expected at most 0\.5"),
+    (
+        lambda: cadcog.mass_properties("m.step", density_kg_m3=2.7),
+        r"mass_properties\(density_kg_m3=2\.7\): expected at least 10 .*g/cm³",
+    ),
+    (
+        lambda: cadcog.mass_properties("m.step", density_kg_m3="2700"),
+        r"mass_properties\(density_kg_m3='2700'\): expected a number",
+    ),
+    (
+        lambda: cadcog.mass_properties("m.step", density_kg_m3=2700, total_mass_kg=-1.0),
+        r"mass_properties\(total_mass_kg=-1\.0\): expected at least 0",
+    ),
+    (
+        lambda: cadcog.mass_properties("m.step", density_kg_m3=2700, cog_limits_mm=[1, 2]),
+        r"mass_properties\(cog_limits_mm=\[1, 2\]\): expected three positive half-widths",
+    ),
+    (
+        lambda: cadcog.mass_properties("m.step", "mat.toml", density_kg_m3=2700),
+        r"give either materials or density_kg_m3",
+    ),
+    (
+        lambda: cadcog.estimate("r.csv", cadcog.load_rig(), setup="s.toml"),
+        r"estimate: give rig or setup, not both",
+    ),
+]
+
+
+@pytest.mark.parametrize(("call", "message"), BAD_CALLS, ids=[m for _, m in BAD_CALLS])
+def test_bad_arguments_raise_one_clear_error_naming_them(call, message, tmp_path, monkeypatch):
+    """Before any file is read (none of these exist): the argument, its value and what was
+    expected, as the command line says it of its options."""
+    from cadcog.core.errors import CadcogError
+
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(CadcogError, match=message):
+        call()
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_setup_passed_as_the_rig_gets_a_hint(campaign_csv) -> None:
+    from cadcog.core.errors import CadcogError
+
+    fake = type("Setup", (), {})()  # the message goes by the type's name
+    with pytest.raises(CadcogError, match=r"estimate\(rig=.*\): expected a file path .*setup="):
+        cadcog.estimate(campaign_csv, fake)
+
+
+@pytest.mark.slow
+def test_one_exclusion_pattern_is_one_pattern(tmp_path) -> None:
+    """exclude='plate' leaves out the plate, not bodies matching the letters p, l, a, t, e."""
+    from tests.cad.stepfixtures import Assembly, Part, write_step
+
+    top = Assembly("sat")
+    top.add(Part("box", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))]))
+    top.add(Part("plate", [((10.0, 10.0, 1.0), (0.0, 0.0, 20.0))]))
+    step = tmp_path / "m.step"
+    write_step(top, step)
+    whole = cadcog.mass_properties(step, density_kg_m3=1000.0, workers=1)
+    kept = cadcog.mass_properties(step, density_kg_m3=1000.0, exclude="plate", workers=1)
+    assert whole.result.total.mass_kg == pytest.approx(1.1e-3, rel=1e-9)  # 1000 + 100 mm³
+    assert kept.result.total.mass_kg == pytest.approx(1.0e-3, rel=1e-9)
+    assert kept.result.total.cog_mm == pytest.approx([5.0, 5.0, 5.0], abs=1e-9)  # corner at 0

@@ -65,6 +65,34 @@ def test_api_page_references_resolve_and_are_documented() -> None:
     assert not missing, f"public names without a docstring: {missing}"
 
 
+COMBINED = re.compile(r"^\s*\w+, \w+[\w, ]* : ", re.M)
+
+
+def test_documented_parameters_are_one_per_entry() -> None:
+    """``a, b : float`` renders as two rows with one text and one default (the first's)."""
+    found = []
+    for name in _documented():
+        obj = _resolve(name)
+        members = (
+            [obj]
+            + [
+                v
+                for k, v in vars(obj).items()
+                if not k.startswith("_")
+                and (inspect.isfunction(v) or inspect.isclass(v))
+                and getattr(v, "__module__", None) == getattr(obj, "__name__", None)
+            ]
+            if inspect.ismodule(obj)
+            else [obj]
+        )
+        found += [
+            f"{name}: {m.group(0).strip()}"
+            for o in members
+            for m in COMBINED.finditer(inspect.getdoc(o) or "")
+        ]
+    assert not found, found
+
+
 def test_the_checker_sees_a_missing_docstring() -> None:
     class Result:
         """Documented."""

@@ -280,10 +280,12 @@ class ModelMassProperties(JsonResult):
 
     @property
     def solids(self) -> tuple[BodyResult, ...]:
+        """The bodies with a volume (surface bodies aside)."""
         return tuple(b for b in self.bodies if b.kind == "solid")
 
     @property
     def bbox_mm(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper corners of the model's bounding box (mm), after exclusions."""
         return np.asarray(self.audit.bbox_mm[0]), np.asarray(self.audit.bbox_mm[1])
 
     def to_dict(self) -> dict[str, Any]:

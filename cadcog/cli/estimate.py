@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -12,7 +12,6 @@ import numpy as np
 
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import round_floats
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
 from cadcog.method.readings import Suspension, read_readings
@@ -168,15 +167,14 @@ def _estimate(
         raise CadcogError(f"{args.readings}: {exc}") from None
 
 
-def _emit(result: CogEstimate, as_json: bool, cad: dict[str, Any] | None = None) -> int:
+def _emit(result: CogEstimate, as_json: bool) -> int:
     """Print an estimate (JSON or table, with the CAD comparison if any); warnings to stderr."""
     if as_json:
-        data = result.to_dict() if cad is None else {**result.to_dict(), "cad": cad}
-        print(json.dumps(round_floats(data), indent=2, ensure_ascii=False))
+        print(result.to_json())
     else:
         print_estimate(result)
-        if cad is not None:
-            print_cad_comparison(cad)
+        if result.cad is not None:
+            print_cad_comparison(result.cad)
     for w in result.warnings:
         print(f"cadcog: warning: {w}", file=sys.stderr)
     return 0
@@ -240,7 +238,8 @@ def run_setup(args: argparse.Namespace) -> int:
         )
     except ValueError as exc:
         raise CadcogError(f"{args.readings}: {exc}") from None
-    return _emit(result, args.json, compare_with_cad(setup, result.cog_mm, result.cov_mm2))
+    cad = compare_with_cad(setup, result.cog_mm, result.cov_mm2)
+    return _emit(replace(result, cad=cad), args.json)
 
 
 def print_cad_comparison(cad: dict[str, Any]) -> None:

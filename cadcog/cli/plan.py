@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 from typing import Any
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import round_floats
 
 
 def add_parser(sub: Any) -> None:
@@ -16,9 +14,9 @@ def add_parser(sub: Any) -> None:
         "plan",
         help="plan the suspension test of a spacecraft from its CAD",
         description="For each candidate suspension point: is the inclinometer in range? For "
-        "each pair and set: the 95 %% error the estimator's covariance predicts; the best sets "
+        "each pair and set: the 95 % error the estimator's covariance predicts; the best sets "
         "are then simulated with the error model and the estimator of cadcog estimate, and the "
-        "one with the smallest simulated 95 %% error is recommended. See docs/spacecraft.md.",
+        "one with the smallest simulated 95 % error is recommended. See docs/spacecraft.md.",
     )
     p.add_argument("setup", type=Path, help="set-up file (TOML)")
     p.add_argument("--trials", type=int, default=10_000, help="Monte Carlo trials per finalist set")
@@ -37,14 +35,7 @@ def run(args: argparse.Namespace) -> int:
     setup = load_setup(args.setup)
     plan = plan_test(setup, trials=args.trials, max_set=args.max_set, seed=args.seed)
     if args.json:
-        out = {
-            "mass_kg": setup.mass.mass_kg,
-            "cad_cog_mm": setup.mass.cog_mm.tolist(),
-            "me_mass_kg": setup.me_mass_kg,
-            "me_share": setup.me_mass_kg / setup.mass.mass_kg,
-            **plan.to_dict(),
-        }
-        print(json.dumps(round_floats(out), indent=2, ensure_ascii=False))
+        print(plan.to_json())
         return 0
     m = setup.mass
     cog = ", ".join(f"{c:.3f}" for c in m.cog_mm)

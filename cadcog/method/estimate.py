@@ -89,7 +89,29 @@ class BodyBox:
 
 @dataclass(frozen=True)
 class CogEstimate(JsonResult):
-    """Result of :func:`estimate_cog`."""
+    """Result of :func:`estimate_cog`.
+
+    Attributes
+    ----------
+    suspensions : tuple of Suspension
+        The averaged hangs, in file order.
+    verticals : ndarray, shape (k, 3)
+        Each hang's measured vertical in the body frame.
+    joint : JointEstimate
+        The joint estimate of the hung assembly over every hang: its CoG and covariance, the
+        per-line residuals, the pairwise estimates, the wire offset scale.
+    compensation : Compensation or None
+        The ME compensation (eq. 10/16), None when no ME was given.
+    model : dict
+        The error model and estimator options used, as the JSON shows them.
+    n_normalized : int
+        Readings whose vertical needed renormalising (beyond the sensor's range).
+    warnings : tuple of str
+        What the user should know (inconsistent hangs, poor conditioning).
+    cad : dict or None
+        For a spacecraft set-up: the comparison with its CAD CoG and CubeSat envelope
+        (:func:`cadcog.spacecraft.setup.compare_with_cad`), as ``estimate --setup`` prints it.
+    """
 
     suspensions: tuple[Suspension, ...]
     verticals: FloatArray
@@ -98,6 +120,7 @@ class CogEstimate(JsonResult):
     model: dict[str, Any]
     n_normalized: int
     warnings: tuple[str, ...] = field(default=())
+    cad: dict[str, Any] | None = None
 
     @property
     def assembly_cog_mm(self) -> FloatArray:
@@ -172,6 +195,7 @@ class CogEstimate(JsonResult):
             "model": self.model,
             "n_normalized": self.n_normalized,
             "warnings": list(self.warnings),
+            **({} if self.cad is None else {"cad": self.cad}),
         }
 
 

@@ -146,7 +146,11 @@ def me_cog_cov_mm2(volumes: tuple[MEVolume, ...]) -> FloatArray:
 
 @dataclass(frozen=True)
 class Rig:
-    """A validated rig. Build one with :func:`cadcog.rig.file.load_rig`."""
+    """A validated rig: read one with ``cadcog.load_rig(path)`` (:func:`cadcog.rig.file.load_rig`).
+
+    Lengths in mm and masses in kg in the body frame of ``docs/rig.md``; the ``analytic_*``
+    methods are the closed forms the CAD is checked against.
+    """
 
     name: str
     source: Path

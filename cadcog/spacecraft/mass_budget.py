@@ -140,6 +140,7 @@ class MassBudget(JsonResult):
 
     @property
     def growth_kg(self) -> float:
+        """Mass growth allowance of the whole model (kg): predicted minus current mass."""
         return self.predicted.mass_kg - self.root.mass_kg
 
     def to_dict(self) -> dict[str, Any]:

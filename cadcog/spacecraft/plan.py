@@ -35,7 +35,31 @@ class CandidateCheck:
 @dataclass(frozen=True)
 class Plan(JsonResult):
     """A test plan: every candidate checked (usable or why not), the pairs and the best sets
-    with their predicted errors, and the recommended set (``None`` when nothing is usable)."""
+    with their predicted errors, and the recommended set (``None`` when nothing is usable).
+
+    Attributes
+    ----------
+    checks : tuple of CandidateCheck
+        Each candidate point: its nominal readings, whether it is usable and why not.
+    pairs : tuple of dict
+        Usable pairs, best first: ids ``a``, ``b``, ``angle_deg`` between their plumb lines and
+        the linearised 95 % error ``linearised_q95_mm``.
+    best_sets : tuple of dict
+        The simulated finalists of each size: ``points`` (ids), ``q50_mm``, ``q95_mm``,
+        ``mean_mm`` (Monte Carlo of the estimator) and ``linearised_q95_mm``.
+    recommended : dict or None
+        The set to hang from, as an entry of ``best_sets``.
+    model : ErrorModel or None
+        The error model the prediction assumed.
+    trials : int
+        Monte Carlo trials per finalist set.
+    mass_kg : float
+        The spacecraft's CAD mass (kg), without the measurement equipment.
+    me_mass_kg : float
+        The measurement equipment's mass (kg).
+    cad_cog_mm : tuple of 3 floats
+        The spacecraft's CAD CoG (mm).
+    """
 
     checks: tuple[CandidateCheck, ...]
     pairs: tuple[dict[str, Any], ...]
@@ -43,9 +67,16 @@ class Plan(JsonResult):
     recommended: dict[str, Any] | None
     model: ErrorModel | None = None
     trials: int = 0
+    mass_kg: float = 0.0
+    cad_cog_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    me_mass_kg: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
         return {
+            "mass_kg": self.mass_kg,
+            "cad_cog_mm": list(self.cad_cog_mm),
+            "me_mass_kg": self.me_mass_kg,
+            "me_share": self.me_mass_kg / self.mass_kg if self.mass_kg else 0.0,
             "candidates": [c.__dict__ for c in self.checks],
             "pairs": list(self.pairs),
             "best_sets": list(self.best_sets),
@@ -55,6 +86,11 @@ class Plan(JsonResult):
             "prediction": f"Monte Carlo of the estimator of cadcog estimate, {self.trials} "
             "trials per finalist set; pairs and sets screened by their linearised covariance",
         }
+
+
+def _masses(setup: Setup) -> tuple[float, tuple[float, float, float], float]:
+    c = setup.mass.cog_mm
+    return setup.mass.mass_kg, (float(c[0]), float(c[1]), float(c[2])), setup.me_mass_kg
 
 
 #: Sets per size that are simulated after the linearised screening.
@@ -103,7 +139,7 @@ def plan_test(
     usable = tuple(c for c, k in zip(setup.candidates, checks, strict=True) if k.usable)
     model = setup.error_model()
     if len(usable) < 2:
-        return Plan(tuple(checks), (), (), None, model, trials)
+        return Plan(tuple(checks), (), (), None, model, trials, *_masses(setup))
     scenario = setup.scenario(usable)
     n = len(usable)
     u_nom = np.array([(scenario.points_mm[i] - g) for i in range(n)])
@@ -153,7 +189,7 @@ def plan_test(
     pair_idx = np.array(list(combinations(range(n), 2)))
     pair_idx = pair_idx[conditioning(pair_idx) >= min_angle_deg]
     if not len(pair_idx):
-        return Plan(tuple(checks), (), (), None, model, trials)
+        return Plan(tuple(checks), (), (), None, model, trials, *_masses(setup))
     pair_q95 = _linearised_q95(predicted(pair_idx), z)
     pairs = sorted(
         (
@@ -200,4 +236,6 @@ def plan_test(
             }
         )
     recommended = min(best_sets, key=lambda s: float(s["q95_mm"]))
-    return Plan(tuple(checks), tuple(pairs), tuple(best_sets), recommended, model, trials)
+    return Plan(
+        tuple(checks), tuple(pairs), tuple(best_sets), recommended, model, trials, *_masses(setup)
+    )

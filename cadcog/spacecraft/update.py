@@ -35,7 +35,6 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy import stats
 
 from cadcog.core.results import JsonResult
 from cadcog.mass.properties import MassProperties, combine
@@ -489,7 +488,7 @@ def update_budget(
         u_cog_cov,
         chi2,
         4,
-        float(stats.chi2.sf(chi2, df=4)),
+        float(_chi2_sf(chi2, 4)),
         iterations,
     )
 
@@ -512,3 +511,10 @@ def _numeric_jacobian(f: Any, x: FloatArray, scale: FloatArray) -> FloatArray:
         e[k] = h
         out[:, k] = (f(x + e) - f(x - e)) / (2 * h)
     return out
+
+
+def _chi2_sf(x: float, df: int) -> float:
+    """χ² survival function (scipy.stats imported here: a second at start-up otherwise)."""
+    from scipy import stats
+
+    return float(stats.chi2.sf(x, df=df))

@@ -133,3 +133,17 @@ def test_an_ordinary_bug_is_not_mistaken_for_a_signal(monkeypatch):
     monkeypatch.setattr(budget, "run", broken)
     with pytest.raises(ImportError, match="a real bug"):
         main(["budget"])
+
+
+def test_the_commands_load_without_scipy_or_cad() -> None:
+    """`cadcog --version` and `--help` stay fast: scipy.stats (a second) and build123d (three)
+    are imported only by the functions that need them."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, cadcog.cli._main\n"
+        "heavy = [m for m in ('scipy', 'build123d', 'OCP', 'matplotlib') if m in sys.modules]\n"
+        "assert not heavy, heavy\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)
