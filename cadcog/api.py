@@ -24,6 +24,7 @@ True
 
 from __future__ import annotations
 
+import numbers
 import os
 from collections.abc import Sequence
 from dataclasses import replace
@@ -55,7 +56,7 @@ __all__ = [
 
 
 def _fail(function: str, name: str, value: object, expected: str) -> CadcogError:
-
+    """The one-line error about argument ``name`` of ``function``."""
     shown = repr(value)
     if len(shown) > 60:
         shown = shown[:57] + "..."
@@ -73,9 +74,9 @@ def _numbers(function: str, **values: object) -> None:
         items = list(value) if isinstance(value, (list, tuple)) else [value]
         bound = bounds.bound_for(name)
         for v in items:
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
+            if isinstance(v, bool) or not isinstance(v, numbers.Real):  # numpy's count too
                 raise _fail(function, name, value, f"expected a number, got {type(v).__name__}")
-            if bound is not None and bound.integer and not isinstance(v, int):
+            if bound is not None and bound.integer and not isinstance(v, numbers.Integral):
                 raise _fail(function, name, value, "expected an integer")
             problem = bounds.check(name, float(v))
             if problem is not None:
@@ -93,7 +94,6 @@ def _path(function: str, name: str, value: object) -> Path:
 
 def _as_user_error(function: str, source: object, exc: ValueError) -> CadcogError:
     """A ValueError about the data (not the arguments), as the command reports it."""
-
     return CadcogError(f"{source}: {exc}" if source is not None else f"{function}: {exc}")
 
 

@@ -201,6 +201,13 @@ def test_bad_arguments_raise_one_clear_error_naming_them(call, message, tmp_path
     assert list(tmp_path.iterdir()) == []
 
 
+def test_numpy_numbers_are_numbers() -> None:
+    import numpy as np
+
+    report = cadcog.simulate(points=np.int64(0), trials=np.int64(50), seed=np.int64(1))
+    assert report.fits.n == 50 * len(report.groups)
+
+
 def test_a_setup_passed_as_the_rig_gets_a_hint(campaign_csv) -> None:
     from cadcog.core.errors import CadcogError
 
