@@ -41,12 +41,27 @@ def test_the_rig_files_are_package_data() -> None:
 def test_a_wheel_imports_and_runs(tmp_path: Path) -> None:
     """Build the wheel, install it without dependencies beside the test environment's, and run
     the command from it (not from the source tree)."""
+    import shutil
     import subprocess
     import sys
 
+    # a copy of the sources: setuptools writes build/ and *.egg-info beside them
+    junk = (".venv", ".git", "build", "*.egg-info", "__pycache__", ".*_cache", ".hypothesis")
+    source = tmp_path / "src"
+    shutil.copytree(ROOT, source, ignore=shutil.ignore_patterns(*junk))
     wheel_dir = tmp_path / "wheel"
     subprocess.run(
-        [sys.executable, "-m", "pip", "wheel", "-q", "--no-deps", "-w", str(wheel_dir), str(ROOT)],
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "-q",
+            "--no-deps",
+            "-w",
+            str(wheel_dir),
+            str(source),
+        ],
         check=True,
         capture_output=True,
     )
