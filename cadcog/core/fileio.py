@@ -53,15 +53,15 @@ def note_input(path: str | Path, what: str) -> None:
             inputs.setdefault(Path(path).resolve(), what)
 
 
-def _refuse_inputs(destinations: list[tuple[Path, Path]]) -> None:
-    """Raise before anything is replaced if a destination is an input (shown, resolved) pairs."""
+def _refuse_inputs(destinations: list[Path]) -> None:
+    """Raise, before anything is replaced, if a destination is a file the command read."""
     inputs = _INPUTS.get()
     if not inputs:
         return
-    for shown, dst in destinations:
+    for dst in destinations:
         what = inputs.get(dst.resolve())
         if what is not None:
-            raise CadcogError(f"{shown}: is the command's input ({what}); write elsewhere")
+            raise CadcogError(f"{dst}: is the command's input ({what}); write elsewhere")
 
 
 def _new_file_mode() -> int:
@@ -124,7 +124,7 @@ def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
     try:
         yield stage
         produced = [p for p in sorted(stage.rglob("*")) if p.is_file()]
-        _refuse_inputs([(out / p.relative_to(stage), out / p.relative_to(stage)) for p in produced])
+        _refuse_inputs([out / p.relative_to(stage) for p in produced])
         try:
             created += _make_dirs(out.resolve())
             for src in produced:
@@ -189,7 +189,7 @@ def staged_file(path: str | Path) -> Iterator[Path]:
     done = False
     try:
         yield Path(tmp)
-        _refuse_inputs([(target, target)])
+        _refuse_inputs([target])
         try:
             os.chmod(tmp, _new_file_mode())
             os.replace(tmp, target)

@@ -105,7 +105,8 @@ class CogEstimate(JsonResult):
     model : dict
         The error model and estimator options used, as the JSON shows them.
     n_normalized : int
-        Readings whose vertical needed renormalising (beyond the sensor's range).
+        Suspensions whose readings gave sin²X + sin²Y > 1 (noise near 90°): their sines were
+        rescaled and the vertical's z component set to 0.
     warnings : tuple of str
         What the user should know (inconsistent hangs, poor conditioning).
     cad : dict or None
