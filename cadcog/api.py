@@ -449,7 +449,7 @@ def validate(
 ) -> CampaignValidation:
     """Does a campaign's scatter match the Monte Carlo's prediction (``cadcog validate``)?
 
-    The Bernoulli check of METHOD.md §6 per window, and one campaign verdict with a
+    The Bernoulli check of docs/method.md §6 per window, and one campaign verdict with a
     false-alarm rate of ``level`` against ``campaigns`` simulated whole campaigns.
 
     Parameters

@@ -1,4 +1,4 @@
-"""Error sources of the double-suspension method (METHOD.md §4), each a documented model.
+"""Error sources of the double-suspension method (docs/method.md §4), each a documented model.
 
 - **ME CoG** (§4.1): each ME sub-volume's real CoG is uniform in a cube of edge ``a_k`` around its
   CAD CoG; the ME CoG error per axis is ``Σ w_k U_k`` with ``w_k = m_k/m_ME``: its exact PDF is

@@ -1,7 +1,7 @@
 """From averaged readings to the compensated CoG with its uncertainty and diagnostics.
 
 This is the library behind ``cadcog estimate``: readings → verticals (eq. 2) → plumb lines →
-weighted joint estimate of the assembly CoG (METHOD.md §2) → ME compensation (eqs. 10, 16).
+weighted joint estimate of the assembly CoG (docs/method.md §2) → ME compensation (eqs. 10, 16).
 """
 
 from __future__ import annotations

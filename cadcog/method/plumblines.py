@@ -1,4 +1,4 @@
-"""The double-suspension estimator (METHOD.md §2-3).
+"""The double-suspension estimator (docs/method.md §2-3).
 
 Each suspension gives a plumb line in the body frame: through the suspension point ``p``, along
 the upward vertical ``u``; the CoG lies on it, below ``p``. Two lines give the CoG as the
@@ -257,7 +257,7 @@ def least_squares_point(
 ) -> tuple[FloatArray, FloatArray]:
     """Point minimising ``Σ w_i · dist(x, line_i)²`` and the normal matrix ``Σ w_i P_i``.
 
-    ``x = (Σ w_i P_i)⁻¹ Σ w_i P_i p_i`` with ``P_i = I − u_i u_iᵀ`` (METHOD.md §2).
+    ``x = (Σ w_i P_i)⁻¹ Σ w_i P_i p_i`` with ``P_i = I − u_i u_iᵀ`` (docs/method.md §2).
 
     Parameters
     ----------

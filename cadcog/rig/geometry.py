@@ -1,7 +1,7 @@
 """Body-frame geometry shared by the rig model and the estimator.
 
-Body frame (METHOD.md §1): origin at a vertex of the proof mass, x along its longest edge, y along
-its shortest, z completing a right-handed frame; the proof mass occupies ``[0, size]`` on each
+Body frame (docs/method.md §1): origin at a vertex of the proof mass, x along its longest edge, y
+along its shortest, z completing a right-handed frame; the proof mass occupies ``[0, size]`` on each
 axis. Faces are named by their outward normal: ``+x``, ``-x``, ``+y``, ``-y``, ``+z``, ``-z``.
 
 The inclinometer frame is a pure translation of the body frame. Readings follow the project's

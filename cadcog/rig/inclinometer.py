@@ -1,6 +1,6 @@
 """The dual-axis inclinometer: configuration, ADC sensor model and readings → vertical (eq. 2).
 
-Sign convention (METHOD.md §1): ``sin X = u·x_b`` and ``sin Y = u·y_b``, with ``u`` the upward
+Sign convention (docs/method.md §1): ``sin X = u·x_b`` and ``sin Y = u·y_b``, with ``u`` the upward
 vertical in body components, so X is positive when the body's +x axis points upward. A device
 whose axes read the other way is described by ``sign_x = -1`` / ``sign_y = -1`` in the
 configuration; readings are multiplied by the signs before anything else.

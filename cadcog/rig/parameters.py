@@ -78,7 +78,7 @@ class MEVolume:
     """One sub-volume of the measurement equipment: a homogeneous box.
 
     ``cog_uncertainty_cube_mm`` is the edge of the cube, centred on the CAD CoG, in which the real
-    CoG of this sub-volume is taken to lie with uniform probability (METHOD.md §4.1).
+    CoG of this sub-volume is taken to lie with uniform probability (docs/method.md §4.1).
     """
 
     name: str

@@ -1,4 +1,4 @@
-"""Monte Carlo of the double-suspension method (METHOD.md §5), vectorised and streamed.
+"""Monte Carlo of the double-suspension method (docs/method.md §5), vectorised and streamed.
 
 For a group of suspension points (a pair, or all points for the joint estimator) every trial draws
 the error sources of :mod:`cadcog.method.errormodel`, hangs the object physically (the true virtual

@@ -1,4 +1,4 @@
-"""Experimental verification (METHOD.md §6, eqs. 14-15), with a test of stated size.
+"""Experimental verification (docs/method.md §6, eqs. 14-15), with a test of stated size.
 
 Each measured pair of suspensions gives a compensated CoG whose error norm ``|e|`` is a trial;
 success is ``|e| < ε``. The simulated CDF ``F(ε)`` predicts the success probability, the
