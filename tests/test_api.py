@@ -231,3 +231,23 @@ def test_one_exclusion_pattern_is_one_pattern(tmp_path) -> None:
     assert whole.result.total.mass_kg == pytest.approx(1.1e-3, rel=1e-9)  # 1000 + 100 mm³
     assert kept.result.total.mass_kg == pytest.approx(1.0e-3, rel=1e-9)
     assert kept.result.total.cog_mm == pytest.approx([5.0, 5.0, 5.0], abs=1e-9)  # corner at 0
+
+
+def test_large_results_print_in_one_short_line(campaign_csv) -> None:
+    """A notebook shows a result's repr: one line, shapes and lengths instead of contents."""
+    est = cadcog.estimate(campaign_csv, cadcog.load_rig())
+    text = repr(est)
+    assert "\n" not in text and len(text) < 400, text
+    assert text.startswith("CogEstimate(suspensions=<tuple of 6>, verticals=<array 6×3>")
+    assert "n_normalized=0" in text
+
+
+def test_short_field_texts() -> None:
+    import numpy as np
+
+    from cadcog.core.results import _short
+
+    assert _short(np.zeros((4, 2))) == "<array 4×2>"
+    assert _short(np.array([1.0, 2.0])) == "[1.0, 2.0]"
+    assert _short(list(range(10))) == "<list of 10>"
+    assert _short("x" * 100).endswith("...") and len(_short("x" * 100)) == 60

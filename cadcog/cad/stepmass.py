@@ -267,7 +267,7 @@ class ImportAudit(JsonResult):
         }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class ModelMassProperties(JsonResult):
     """Mass properties of a model, its bodies, the import audit, overlaps, notes and info."""
 

@@ -6,9 +6,13 @@ obtained in Python serialises to exactly what the command prints.
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 from cadcog.core.fileio import dumps_json
+
+#: Longest text of one field in a result's repr.
+_REPR_FIELD_CHARS = 60
 
 
 class JsonResult:
@@ -30,3 +34,30 @@ class JsonResult:
     def to_json(self) -> str:
         """The JSON text ``--json`` prints for this result (two-space indent, no final newline)."""
         return dumps_json(self.to_dict()).rstrip("\n")
+
+    def __repr__(self) -> str:
+        """One line for a notebook: numbers and short texts as they are, arrays by their shape,
+        collections by their length, nested results by their type (``to_dict()`` has it all).
+
+        Large results use it (their dataclass is declared with ``repr=False``); a plan's full
+        dataclass repr runs to a hundred kilobytes.
+        """
+        if not dataclasses.is_dataclass(self):
+            return object.__repr__(self)
+        parts = []
+        for f in dataclasses.fields(self):
+            parts.append(f"{f.name}={_short(getattr(self, f.name))}")
+        return f"{type(self).__name__}({', '.join(parts)})"
+
+
+def _short(value: Any) -> str:
+    """A field of a result, in a few characters."""
+    shape = getattr(value, "shape", None)
+    if shape is not None and getattr(value, "size", 0) > 3:
+        return f"<array {'×'.join(str(n) for n in shape)}>"
+    if isinstance(value, (list, tuple, dict, set)) and len(value) > 3:
+        return f"<{type(value).__name__} of {len(value)}>"
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return f"<{type(value).__name__}>"
+    text = repr(value.tolist() if shape is not None else value)
+    return text if len(text) <= _REPR_FIELD_CHARS else text[: _REPR_FIELD_CHARS - 3] + "..."

@@ -87,7 +87,7 @@ class BodyBox:
         return cls(np.zeros(3), np.asarray(rig.proof_mass.size_mm, float), f"rig {rig.source}")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class CogEstimate(JsonResult):
     """Result of :func:`estimate_cog`.
 

@@ -112,7 +112,7 @@ class BudgetNode(JsonResult):
         }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class MassBudget(JsonResult):
     """The budget tree and the rolled-up totals.
 

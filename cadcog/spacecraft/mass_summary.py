@@ -46,7 +46,7 @@ FloatArray = npt.NDArray[np.float64]
 REFERENCE_POINTS = ("cog", "origin", "centre")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class MassReport(JsonResult):
     """Everything ``cadcog massprops`` reports about a model.
 

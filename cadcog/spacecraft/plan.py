@@ -32,7 +32,7 @@ class CandidateCheck:
     reason: str
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class Plan(JsonResult):
     """A test plan: every candidate checked (usable or why not), the pairs and the best sets
     with their predicted errors, and the recommended set (``None`` when nothing is usable).

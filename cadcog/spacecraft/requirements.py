@@ -421,7 +421,7 @@ def model_report(req: Requirements, result: ModelMassProperties) -> MassReport:
     )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class CheckResult(JsonResult):
     """A model checked against its requirements: what ``cadcog check`` prints.
 

@@ -144,7 +144,7 @@ class ItemChange(JsonResult):
         }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class UpdateResult(JsonResult):
     """The CAD before, the posterior after, and what explains the difference."""
 

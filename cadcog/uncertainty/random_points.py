@@ -72,7 +72,7 @@ class SimulationSettings:
         return EstimatorOptions(self.weighted, self.wire_correction, self.self_calibrate)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class SimulationReport(JsonResult):
     """What ``cadcog simulate`` reports: the settings, the error model, the groups simulated,
     the streamed result (histograms by group) and the fits of the error norm."""

@@ -342,7 +342,7 @@ class CampaignVerdict(JsonResult):
         }
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class CampaignValidation(JsonResult):
     """A campaign checked against simulated campaigns on the same rig and suspension points."""
 
