@@ -27,7 +27,6 @@ from __future__ import annotations
 import numbers
 import os
 from collections.abc import Sequence
-from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
@@ -311,7 +310,7 @@ def estimate(
     from cadcog.method.errormodel import ErrorModel
     from cadcog.method.estimate import BodyBox, MEData, estimate_cog
     from cadcog.method.readings import read_readings
-    from cadcog.spacecraft.setup import compare_with_cad, estimate_for_setup
+    from cadcog.spacecraft.setup import estimate_for_setup
 
     f = "estimate"
     path = _path(f, "readings", readings)
@@ -320,13 +319,13 @@ def estimate(
     try:
         if setup is not None:
             s = _setup(f, setup)
-            est = estimate_for_setup(
+            return estimate_for_setup(
                 s,
                 read_readings(path, s.rig.inclinometer),
                 wire_correction=wire_correction,
                 self_calibrate=self_calibrate_wire,
+                compare=True,
             )
-            return replace(est, cad=compare_with_cad(s, est.cog_mm, est.cov_mm2))
         if rig is None:
             from cadcog.rig.inclinometer import InclinometerConfig
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -222,7 +221,7 @@ def run_setup(args: argparse.Namespace) -> int:
     """``--setup``: a spacecraft's compensated CoG compared with its CAD."""
     if args.rig is not None or args.object_mass_kg is not None or args.me_mass_kg is not None:
         raise CadcogError("--setup already gives the masses and the ME: drop --rig/--*-mass-kg")
-    from cadcog.spacecraft.setup import compare_with_cad, estimate_for_setup, load_setup
+    from cadcog.spacecraft.setup import estimate_for_setup, load_setup
 
     setup = load_setup(args.setup)
     suspensions = read_readings(args.readings, setup.rig.inclinometer)
@@ -235,11 +234,11 @@ def run_setup(args: argparse.Namespace) -> int:
             angle_sigma_deg=args.angle_sigma_deg,
             point_sigma_mm=args.point_sigma_mm,
             min_angle_deg=args.min_angle_deg,
+            compare=True,
         )
     except ValueError as exc:
         raise CadcogError(f"{args.readings}: {exc}") from None
-    cad = compare_with_cad(setup, result.cog_mm, result.cov_mm2)
-    return _emit(replace(result, cad=cad), args.json)
+    return _emit(result, args.json)
 
 
 def print_cad_comparison(cad: dict[str, Any]) -> None:

@@ -139,10 +139,14 @@ def estimate_for_setup(
     angle_sigma_deg: float | None = None,
     point_sigma_mm: float | None = None,
     min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
+    compare: bool = False,
 ) -> CogEstimate:
     """The spacecraft's compensated CoG from its suspensions, as ``cadcog estimate --setup``
-    computes it: the set-up's inclinometer, error model, bolt axes and measurement equipment."""
-    return estimate_cog(
+    computes it: the set-up's inclinometer, error model, bolt axes and measurement equipment.
+
+    With ``compare``, the result's ``cad`` holds :func:`compare_with_cad` of it (what the
+    command prints after the estimate)."""
+    estimate = estimate_cog(
         suspensions,
         setup.rig.inclinometer,
         setup.me_data(),
@@ -154,6 +158,9 @@ def estimate_for_setup(
         point_sigma_mm=point_sigma_mm,
         min_angle_deg=min_angle_deg,
     )
+    if not compare:
+        return estimate
+    return replace(estimate, cad=compare_with_cad(setup, estimate.cog_mm, estimate.cov_mm2))
 
 
 def load_setup(path: str | Path) -> Setup:
