@@ -221,11 +221,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             with guarding_inputs():  # no output may replace a file the command read
                 status: int = args.func(args)
     except KeyboardInterrupt:
-        print("cadcog: interrupted; nothing was written", file=sys.stderr)
-        return 130
+        return _stopped(signal.SIGINT)
     except Terminated:
-        print("cadcog: terminated; nothing was written", file=sys.stderr)
-        return 143
+        return _stopped(signal.SIGTERM)
     except CadcogError as exc:
         print(f"cadcog: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
@@ -239,9 +237,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not _STOPPED_BY:
             raise
         # the signal's exception surfaced as another (an import cut short): stopped all the same
-        if _STOPPED_BY[0] == signal.SIGINT:
-            print("cadcog: interrupted; nothing was written", file=sys.stderr)
-            return 130
-        print("cadcog: terminated; nothing was written", file=sys.stderr)
-        return 143
+        return _stopped(_STOPPED_BY[0])
     return status
+
+
+def _stopped(signum: int) -> int:
+    """Say that a signal stopped the command, and return its exit status (128 + signal)."""
+    word = "interrupted" if signum == signal.SIGINT else "terminated"
+    print(f"cadcog: {word}; nothing was written", file=sys.stderr)
+    return 128 + signum
