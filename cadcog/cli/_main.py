@@ -195,10 +195,7 @@ def check_option_values(parser: argparse.ArgumentParser, args: argparse.Namespac
         for v in values:
             if isinstance(v, bool) or not isinstance(v, (int, float)):
                 continue
-            problem = bounds.check(action.dest, float(v)) if isinstance(v, float) else None
-            if isinstance(v, int):
-                bound = bounds.bound_for(action.dest)
-                problem = None if bound is None else bound.message(v)
+            problem = bounds.check(action.dest, float(v))  # the API checks its arguments so too
             if problem is not None:
                 option = max(action.option_strings, key=len)
                 raise UsageError(f"{command}: {option} {value!r}: {problem}")
