@@ -5,7 +5,8 @@
   the command and its workers together (sampled from /proc every 20 ms);
 - the same with ``--paper`` (the paper's equal-weight estimator, no wire correction);
 - ``cadcog validate`` on a virtual campaign (2000 simulated whole campaigns, the default);
-- the kernel's cost per trial on one core, and a naive per-trial Python loop for scale.
+- the cost of a trial on one core: in ``simulate`` (campaigns of 25 hangs, every pair estimated
+  from each), and for one pair drawing its own errors; a naive per-trial Python loop for scale.
 
 Run: ``.venv/bin/python benchmarks/bench_montecarlo.py [--trials-per-pair 33334]``. Results
 are recorded in ``docs/performance.md``; this machine is shared, so expect ±30 %.
@@ -33,6 +34,7 @@ from cadcog.uncertainty.montecarlo import (
     draw_perturbations,
     draw_points,
     propagate,
+    simulate,
     tune_allocator,
 )
 
@@ -136,13 +138,20 @@ def main() -> None:
     for name, opts in (("default", EstimatorOptions()), ("--paper", EstimatorOptions.paper())):
         m = model if name == "default" else model.paper()
         t = time.process_time()
+        simulate(sc, m, all_pairs(25), 4096, seed=0, options=opts)
+        dt = (time.process_time() - t) / (300 * 4096)
+        print(
+            f"simulate, one core ({name}): {dt * 1e9:.0f} ns a trial (300 pairs x 4096 campaigns of"
+            " 25 hangs: draws and physics per hang, estimate per pair, histograms)"
+        )
+        t = time.process_time()
         trials = 0
         for _ in range(30):
             pert = draw_perturbations(m, rng, 16_384, 2)
             propagate(sc, m, (0, 1), pert, opts)
             trials += 16_384
         dt = (time.process_time() - t) / trials
-        print(f"kernel, one core ({name}): {dt * 1e9:.0f} ns a trial (draws + physics + estimate)")
+        print(f"one pair alone, one core ({name}): {dt * 1e9:.0f} ns a trial (own draws + physics)")
     pairs = all_pairs(25)
     t = time.perf_counter()
     for i in range(5000):

@@ -98,9 +98,20 @@ def _dot(a: Comp, b: Comp) -> FloatArray:
     return np.asarray(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
 
 
+def _rows_sum(c: FloatArray) -> FloatArray:
+    """Sum over the first axis, row by row: what ``c.sum(axis=0)`` gives (numpy adds the rows of
+    an outer axis in order), without a reduction's overhead for the usual two or three lines."""
+    if c.shape[0] == 1:
+        return np.asarray(c[0])
+    total = c[0] + c[1]
+    for row in c[2:]:
+        total += row
+    return np.asarray(total)
+
+
 def _lines_sum(x: tuple[FloatArray, ...]) -> tuple[FloatArray, ...]:
     """Sum each component over the lines (its first axis)."""
-    return tuple(c.sum(axis=0) for c in x)
+    return tuple(_rows_sum(c) for c in x)
 
 
 def projector(u: Comp) -> Sym:
@@ -234,72 +245,90 @@ class GLSBatch:
 
 
 # --- kernels -------------------------------------------------------------------------------------
-def _lateral_2d(
-    u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors
-) -> tuple[Vec, Vec, tuple[FloatArray, FloatArray, FloatArray]]:
-    """``Sᵢ`` in an orthonormal basis of the plane ⊥ ``u``: ``(e₁, e₂, (m₁₁, m₁₂, m₂₂))``.
+def _lateral_parts(
+    u: Comp, normals: Comp, errors: LineErrors
+) -> tuple[tuple[FloatArray, FloatArray], Vec, Vec, Vec]:
+    """``Sᵢ`` in an orthonormal basis of the plane ⊥ ``u``, as ``m⁰ + L² mᴸ``.
 
-    ``e₁ = (u_z, 0, −u_x)/ρ`` (ρ = √(u_x² + u_z²)) lies along ``∂u/∂X = cos X (1, 0, −u_x/u_z)``
-    and ``e₂ = u × e₁``; then ``∂u/∂X = (cos X ρ/u_z) e₁`` and
-    ``∂u/∂Y = (cos Y/ρ)(u_x u_y/u_z, 1)`` in the basis, with ``cos² X = 1 − u_x²``. The point's
-    covariance projects to ``c₁ I + (c₂ − c₁) m mᵀ``, ``m = (e₁·n, e₂·n)``.
+    Returns ``((e₁ₓ, e₁_z), e₂, m⁰, mᴸ)`` with ``m = (m₁₁, m₁₂, m₂₂)``: ``L`` (the distance from
+    the point to the CoG) enters only through the reading term, so the rest of a line's
+    covariance is known before the CoG is. ``e₁ = (u_z, 0, −u_x)/ρ`` (ρ = √(u_x² + u_z²)) lies
+    along ``∂u/∂X = cos X (1, 0, −u_x/u_z)`` and ``e₂ = u × e₁``; then
+    ``∂u/∂X = (cos X ρ/u_z) e₁`` and ``∂u/∂Y = (cos Y/ρ)(u_x u_y/u_z, 1)`` in the basis, with
+    ``cos² X = 1 − u_x²``. The point's covariance projects to ``c₁ I + (c₂ − c₁) m mᵀ``,
+    ``m = (e₁·n, e₂·n)``.
     """
     ux, uy, uz = u[0], u[1], u[2]
     rho2 = np.maximum(ux * ux + uz * uz, 1e-24)
     rinv = 1.0 / np.sqrt(rho2)
-    e1 = (uz * rinv, np.zeros_like(rinv), -ux * rinv)
+    e1 = (uz * rinv, -ux * rinv)
     e2 = (-ux * uy * rinv, rho2 * rinv, -uy * uz * rinv)
     if errors.point_var_mm2 is not None:
         c1 = c2 = errors.point_var_mm2
     else:
         c1, c2 = errors.play_var_mm2, errors.axial_var_mm2
-    uz_safe = np.where(np.abs(uz) < MIN_UZ, np.copysign(MIN_UZ, uz), uz)
-    l2 = dist_mm * dist_mm * errors.reading_var_rad2
-    gx = l2 * (1.0 - ux * ux) * rho2 / (uz_safe * uz_safe)
-    gy = l2 * (1.0 - uy * uy) / rho2
+    uz_safe = np.copysign(np.maximum(np.abs(uz), MIN_UZ), uz)
+    var = errors.reading_var_rad2
+    hx = var * (1.0 - ux * ux) * rho2 / (uz_safe * uz_safe)
+    hy = var * (1.0 - uy * uy) / rho2
     a1 = ux * uy / uz_safe
+    ha = hy * a1
+    m_l = (hx + ha * a1, ha, hy)
     base = c1 + LATERAL_FLOOR_MM2
-    m11 = base + gx + gy * a1 * a1
-    m12 = gy * a1
-    m22 = base + gy
-    if c2 != c1:
-        m1 = e1[0] * normals[0] + e1[2] * normals[2]
-        m2 = e2[0] * normals[0] + e2[1] * normals[1] + e2[2] * normals[2]
-        d = c2 - c1
-        m11 = m11 + d * m1 * m1
-        m12 = m12 + d * m1 * m2
-        m22 = m22 + d * m2 * m2
-    return e1, e2, (m11, m12, m22)
+    if c2 == c1:
+        zero = np.zeros_like(rho2)
+        return e1, e2, (zero + base, zero, zero + base), m_l
+    m1 = e1[0] * normals[0] + e1[1] * normals[2]
+    m2 = e2[0] * normals[0] + e2[1] * normals[1] + e2[2] * normals[2]
+    d = c2 - c1
+    dm1 = d * m1
+    return e1, e2, (base + dm1 * m1, dm1 * m2, base + d * m2 * m2), m_l
 
 
-def _assemble(e1: Vec, e2: Vec, a: FloatArray, b: FloatArray, c: FloatArray) -> Sym:
-    """``a e₁e₁ᵀ + b (e₁e₂ᵀ + e₂e₁ᵀ) + c e₂e₂ᵀ`` packed, for ``e₁`` with no y component."""
+def _lateral_2d(
+    u: Comp, normals: Comp, dist2_mm2: FloatArray, errors: LineErrors
+) -> tuple[tuple[FloatArray, FloatArray], Vec, Vec]:
+    """``(e₁, e₂, (m₁₁, m₁₂, m₂₂))`` of :func:`_lateral_parts` at squared distances ``L²``."""
+    e1, e2, m0, m_l = _lateral_parts(u, normals, errors)
+    return e1, e2, tuple(a + dist2_mm2 * b for a, b in zip(m0, m_l, strict=True))
+
+
+def _assemble(
+    e1: tuple[FloatArray, FloatArray], e2: Vec, a: FloatArray, b: FloatArray, c: FloatArray
+) -> Sym:
+    """``a e₁e₁ᵀ + b (e₁e₂ᵀ + e₂e₁ᵀ) + c e₂e₂ᵀ`` packed; ``e₁`` has no y component and is given
+    as ``(e₁ₓ, e₁_z)``."""
     t0 = a * e1[0] + b * e2[0]
-    t2 = a * e1[2] + b * e2[2]
+    t2 = a * e1[1] + b * e2[2]
     s0 = b * e1[0] + c * e2[0]
     s1 = c * e2[1]
-    s2 = b * e1[2] + c * e2[2]
+    s2 = b * e1[1] + c * e2[2]
     return (
         e1[0] * t0 + e2[0] * s0,
         e2[1] * s1,
-        e1[2] * t2 + e2[2] * s2,
+        e1[1] * t2 + e2[2] * s2,
         e1[0] * b * e2[1] + e2[0] * s1,
         e1[0] * t2 + e2[0] * s2,
         e2[1] * s2,
     )
 
 
+def _inverse_2d(m: Vec) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``(a, b, c)`` of the inverse of ``[[m₁₁, m₁₂], [m₁₂, m₂₂]]``."""
+    r = 1.0 / (m[0] * m[2] - m[1] * m[1])
+    return m[2] * r, -m[1] * r, m[0] * r
+
+
 def lateral_covariance(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
     """``Sᵢ``, packed (6, k, n), for unit verticals ``u``, bolt axes and point-CoG distances."""
-    e1, e2, (m11, m12, m22) = _lateral_2d(u, normals, dist_mm, errors)
-    return _assemble(e1, e2, m11, m12, m22)
+    e1, e2, m = _lateral_2d(u, normals, dist_mm * dist_mm, errors)
+    return _assemble(e1, e2, *m)
 
 
 def line_weights(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
     """``Wᵢ = Sᵢ⁺``, packed (6, k, n): the inverse of ``Sᵢ`` on the plane ⊥ ``u``."""
-    e1, e2, (m11, m12, m22) = _lateral_2d(u, normals, dist_mm, errors)
-    r = 1.0 / (m11 * m22 - m12 * m12)
-    return _assemble(e1, e2, m22 * r, -m12 * r, m11 * r)
+    e1, e2, m = _lateral_2d(u, normals, dist_mm * dist_mm, errors)
+    return _assemble(e1, e2, *_inverse_2d(m))
 
 
 def solve_lines(
@@ -346,9 +375,130 @@ def equal_weight_point(points_mm: Comp, u: Comp) -> FloatArray:
     """Least-squares point of lines with equal weights ``Pᵢ`` (eq. 8 for a pair): (3, n)."""
     a = _lines_sum(projector(u))
     uq = _dot(u, points_mm)
-    b = tuple((points_mm[i] - uq * u[i]).sum(axis=0) for i in range(3))
+    b = tuple(_rows_sum(points_mm[i] - uq * u[i]) for i in range(3))
     ainv, _ = sym_inv(a)
     return np.stack(sym_matvec(ainv, b))
+
+
+@dataclass(frozen=True)
+class PreparedLines:
+    """What the estimator needs of each line before it knows the others, for a known wire scale.
+
+    A line's weight depends on the other lines only through its distance ``L`` to the CoG, and
+    only through the reading term: its lateral covariance in the plane ⊥ ``u`` is
+    ``M = M⁰ + L² Mᴸ`` (:func:`_lateral_parts`), and since the adjugate of a 2 × 2 matrix is
+    linear, ``W = E adj(M) Eᵀ / det M = (W⁰ + L² W¹) / (d₀ + d₁ L² + d₂ L⁴)`` with
+    ``W⁰ = E adj(M⁰) Eᵀ``, ``W¹ = E adj(Mᴸ) Eᵀ`` and ``E = [e₁ e₂]``. Built once per line by
+    :func:`prepare_lines`; :func:`combine_lines` then estimates groups of them. The Monte Carlo
+    prepares every hang of its simulated campaigns once and combines them group by group. Each
+    attribute is a tuple of arrays of shape (k, n), or (k, 1) for what does not vary between
+    trials.
+
+    Attributes
+    ----------
+    q_mm : tuple of 3 arrays
+        Virtual suspension points (the nominal ones moved by the expected wire offset).
+    proj : tuple of 6 arrays
+        ``Pᵢ = I − uᵢuᵢᵀ`` packed.
+    proj_q_mm : tuple of 3 arrays
+        ``Pᵢ qᵢ``.
+    w0, w1 : tuple of 6 arrays
+        ``W⁰`` (1/mm²) and ``W¹`` (1/rad²), packed.
+    det : tuple of 3 arrays
+        ``(d₀, d₁, d₂)``.
+    w0_q, w1_q : tuple of 3 arrays
+        ``W⁰ qᵢ`` and ``W¹ qᵢ``.
+    weighted : bool
+        False: only the equal-weight parts were prepared.
+    """
+
+    q_mm: Vec
+    proj: Sym
+    proj_q_mm: Vec
+    w0: Sym
+    w1: Sym
+    det: Vec
+    w0_q: Vec
+    w1_q: Vec
+    weighted: bool
+
+    def take(self, rows: int | slice | npt.NDArray[np.intp]) -> PreparedLines:
+        """Some of the lines: ``rows`` an index (a view, shape (1, n)), a slice (a view) or an
+        array of indices (a copy, shape (len(rows), n))."""
+        pick = slice(rows, rows + 1) if isinstance(rows, int) else rows
+        parts = (self.q_mm, self.proj, self.proj_q_mm, self.w0, self.w1, self.det, self.w0_q,
+                 self.w1_q)  # fmt: skip
+        q, proj, proj_q, w0, w1, det, w0_q, w1_q = (tuple(c[pick] for c in p) for p in parts)
+        return PreparedLines(q, proj, proj_q, w0, w1, det, w0_q, w1_q, self.weighted)
+
+
+#: Arrays of one prepared line that vary between trials (``q_mm`` aside): what a Monte Carlo
+#: chunk holds per hang and campaign.
+PREPARED_ROWS = 30
+
+
+def prepare_lines(
+    points_mm: Comp,
+    u: Comp,
+    normals: Comp,
+    errors: LineErrors,
+    wire: WireTerm,
+    *,
+    weighted: bool = True,
+) -> PreparedLines:
+    """The per-line parts of :func:`cog_only` for lines ``(3, k, n)`` and a known wire scale."""
+    if not wire.fixed:
+        raise ValueError("prepared lines need a known wire scale (no prior spread, no estimate)")
+    if wire.scale_mm:
+        shape = 1.0 if wire.model == "paper" else wire_shape_factor(_dot(u, normals), wire.model)
+        q = tuple(points_mm[i] + (wire.scale_mm * shape) * normals[i] for i in range(3))
+    else:
+        q = tuple(points_mm[i] for i in range(3))
+    uq = _dot(u, q)
+    proj_q = tuple(q[i] - uq * u[i] for i in range(3))
+    if not weighted:
+        return PreparedLines(q, projector(u), proj_q, (), (), (), (), (), weighted)
+    e1, e2, (a0, b0, c0), (a1, b1, c1) = _lateral_parts(u, normals, errors)
+    w0 = _assemble(e1, e2, c0, -b0, a0)  # E adj(M⁰) Eᵀ
+    w1 = _assemble(e1, e2, c1, -b1, a1)
+    det = (a0 * c0 - b0 * b0, a0 * c1 + a1 * c0 - 2.0 * b0 * b1, a1 * c1 - b1 * b1)
+    return PreparedLines(
+        q, projector(u), proj_q, w0, w1, det, sym_matvec(w0, q), sym_matvec(w1, q), weighted
+    )
+
+
+def _sum_slots(slots: Sequence[Vec]) -> tuple[FloatArray, ...]:
+    """Sum packed parts over the slots (element-wise: line by line)."""
+    total = [c0 + c1 for c0, c1 in zip(slots[0], slots[1], strict=True)]
+    for more in slots[2:]:
+        for t, c in zip(total, more, strict=True):
+            t += c
+    return tuple(total)
+
+
+def combine_lines(slots: Sequence[PreparedLines]) -> FloatArray:
+    """CoGs of groups of prepared lines, as :func:`cog_only` estimates them: shape (3, m, n).
+
+    ``slots`` holds two or more sets of m lines each (:meth:`PreparedLines.take`): group ``j`` is
+    made of line ``j`` of every set.
+    """
+    if len(slots) < 2:
+        raise ValueError("a group needs at least two lines")
+    ainv, _ = sym_inv(_sum_slots([s.proj for s in slots]))
+    g0 = sym_matvec(ainv, _sum_slots([s.proj_q_mm for s in slots]))
+    if not slots[0].weighted:
+        return np.stack(np.broadcast_arrays(*g0))
+    weights, rhs = [], []
+    for slot in slots:
+        q = slot.q_mm
+        diff = (g0[0] - q[0], g0[1] - q[1], g0[2] - q[2])
+        l2 = _dot(diff, diff)
+        d0, d1, d2 = slot.det
+        r = 1.0 / (d0 + l2 * (d1 + l2 * d2))
+        weights.append(tuple((w0 + l2 * w1) * r for w0, w1 in zip(slot.w0, slot.w1, strict=True)))
+        rhs.append(tuple((a + l2 * b) * r for a, b in zip(slot.w0_q, slot.w1_q, strict=True)))
+    ainv, _ = sym_inv(_sum_slots(weights))
+    return np.stack(np.broadcast_arrays(*sym_matvec(ainv, _sum_slots(rhs))))
 
 
 def cog_only(
@@ -362,23 +512,14 @@ def cog_only(
 ) -> FloatArray:
     """The CoG of :func:`plumb_gls` alone, (3, n): the Monte Carlo's fast path.
 
-    Identical arithmetic for a known wire scale (the common case); otherwise it calls
-    :func:`plumb_gls`.
+    For a known wire scale (the common case) the same equations without the covariances and λ
+    (:func:`prepare_lines` then :func:`combine_lines`); otherwise it calls :func:`plumb_gls`.
     """
     if not wire.fixed:
         return plumb_gls(points_mm, u, normals, errors, wire, weighted=weighted).cog_mm
-    if wire.scale_mm:
-        shape = 1.0 if wire.model == "paper" else wire_shape_factor(_dot(u, normals), wire.model)
-        q0 = points_mm + (wire.scale_mm * shape) * normals
-    else:
-        q0 = points_mm
-    g0 = equal_weight_point(q0, u)
-    if not weighted:
-        return g0
-    diff = g0[:, None, :] - q0
-    w = line_weights(u, normals, np.sqrt(_dot(diff, diff)), errors)
-    ainv, _ = sym_inv(_lines_sum(tuple(w)))
-    return np.stack(sym_matvec(ainv, _lines_sum(sym_matvec(w, q0))))
+    prepared = prepare_lines(points_mm, u, normals, errors, wire, weighted=weighted)
+    slots = [prepared.take(i) for i in range(len(prepared.proj[0]))]
+    return combine_lines(slots)[:, 0, :]
 
 
 def plumb_gls(
@@ -435,9 +576,9 @@ def plumb_gls(
             np.stack(proj),
         )  # fmt: skip
     diff = equal_weight_point(q0, u)[:, None, :] - q0
-    dist = np.sqrt(_dot(diff, diff))
-    lateral = lateral_covariance(u, normals, dist, errors)
-    w = line_weights(u, normals, dist, errors)
+    e1, e2, m = _lateral_2d(u, normals, _dot(diff, diff), errors)
+    lateral = _assemble(e1, e2, *m)
+    w = _assemble(e1, e2, *_inverse_2d(m))
     x, cov, lam, var, cxl, info = solve_lines(points_mm, u, normals, shape, w, wire)
     pts = points_mm + (lam * shape) * normals
     return GLSBatch(

@@ -1,15 +1,18 @@
 """Monte Carlo of the double-suspension method (docs/method.md §5), vectorised and streamed.
 
-For a group of suspension points (a pair, or all points for the joint estimator) every trial draws
-the error sources of :mod:`cadcog.method.errormodel`, hangs the object physically (the true virtual
-suspension points and the true assembly CoG give the true verticals), reads the inclinometer with
-its errors, estimates the CoG from the *nominal* points with the estimator of ``cadcog estimate``
-(:mod:`cadcog.method.gls`), compensates the ME with its CAD CoG, and compares with the true
-proof-mass CoG.
+A trial is one group's estimate (a pair, or more points for the joint estimator) in one simulated
+campaign. A campaign hangs the object once from every point some group uses: it draws the error
+sources of :mod:`cadcog.method.errormodel` (one ME CoG error, each hang's play, wire offset and
+reading errors), hangs the object physically (the true virtual suspension points and the true
+assembly CoG give the true verticals) and reads the inclinometer with its errors. Each group then
+estimates the CoG from the *nominal* points of its hangs with the estimator of ``cadcog
+estimate`` (:mod:`cadcog.method.gls`), compensates the ME with its CAD CoG, and compares with the
+true proof-mass CoG. A group's trials are independent (one per campaign); the groups of one
+campaign share its hangs and its ME error, as the pairs of one lab campaign do.
 
-Reproducibility: trials come in blocks of :data:`BLOCK_TRIALS`; block ``b`` of group ``g`` draws
-from its own generator seeded by ``SeedSequence(seed, spawn_key=(g, b))``. Results are therefore
-identical whatever the chunk size (blocks per vectorised batch) or the number of workers.
+Reproducibility: campaigns come in blocks of :data:`BLOCK_TRIALS`; block ``b`` draws from its own
+generator seeded by ``SeedSequence(seed, spawn_key=(b,))``. Results are therefore identical
+whatever the chunk size (blocks per vectorised batch) or the number of workers.
 """
 
 from __future__ import annotations
@@ -27,7 +30,17 @@ import numpy.typing as npt
 
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.method.errormodel import ErrorModel, wire_shape_factor
-from cadcog.method.gls import GLSBatch, LineErrors, WireTerm, cog_only, plumb_gls
+from cadcog.method.gls import (
+    PREPARED_ROWS,
+    GLSBatch,
+    LineErrors,
+    PreparedLines,
+    WireTerm,
+    cog_only,
+    combine_lines,
+    plumb_gls,
+    prepare_lines,
+)
 from cadcog.rig.geometry import FACES, face_normal, face_plane_mm, ideal_reading
 from cadcog.rig.parameters import Rig
 
@@ -318,6 +331,40 @@ def compensated_errors(scenario: Scenario, assembly_cog_mm: FloatArray) -> Float
     return np.asarray(r_pm - scenario.pm_cog_mm)
 
 
+def measured_verticals(
+    scenario: Scenario, model: ErrorModel, group: Sequence[int], pert: Perturbations
+) -> FloatArray:
+    """What the inclinometer reads hanging from each point of ``group``: unit verticals (3, k, n).
+
+    The physics (:func:`hang`) and the reading errors of ``pert`` back through eq. 2.
+    """
+    u_true = hang(scenario, model, group, pert)
+    return _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
+
+
+def group_errors(
+    scenario: Scenario,
+    model: ErrorModel,
+    group: Sequence[int],
+    u: FloatArray,
+    options: EstimatorOptions = EstimatorOptions(),
+) -> FloatArray:
+    """CoG errors (estimated − true, mm), shape (n, 3), of ``group``'s estimates from readings.
+
+    The estimator of ``cadcog estimate`` on the nominal points and the measured verticals ``u``
+    (3, k, n), through its CoG-only path :func:`cadcog.method.gls.cog_only`, then the ME
+    compensation with the ME's CAD CoG.
+    """
+    idx = np.asarray(group)
+    p = scenario.points_mm[idx].T[:, :, None]
+    nrm = scenario.normals[idx].T[:, :, None]
+    wire = WireTerm.from_model(
+        model, scenario.weight_n, correct=options.wire_correction, estimate=options.self_calibrate
+    )
+    cog = cog_only(p, u, nrm, LineErrors.from_model(model), wire, weighted=options.weighted)
+    return compensated_errors(scenario, cog)
+
+
 def propagate(
     scenario: Scenario,
     model: ErrorModel,
@@ -327,20 +374,11 @@ def propagate(
 ) -> FloatArray:
     """CoG errors (estimated − true, mm), shape (n, 3), for given perturbations.
 
-    Deterministic: the physics and the estimator, with no random draws (what
-    :func:`estimate_trials` does, through the estimator's CoG-only path
-    :func:`cadcog.method.gls.cog_only`), then the ME compensation with the ME's CAD CoG.
+    Deterministic: :func:`measured_verticals` then :func:`group_errors` (what
+    :func:`estimate_trials` does, through the estimator's CoG-only path).
     """
-    idx = np.asarray(group)
-    p = scenario.points_mm[idx].T[:, :, None]
-    nrm = scenario.normals[idx].T[:, :, None]
-    u_true = hang(scenario, model, group, pert)
-    u = _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
-    wire = WireTerm.from_model(
-        model, scenario.weight_n, correct=options.wire_correction, estimate=options.self_calibrate
-    )
-    cog = cog_only(p, u, nrm, LineErrors.from_model(model), wire, weighted=options.weighted)
-    return compensated_errors(scenario, cog)
+    u = measured_verticals(scenario, model, group, pert)
+    return group_errors(scenario, model, group, u, options)
 
 
 def simulate_block(
@@ -389,15 +427,22 @@ class NormHistogram:
     def add_counts(self, counts: npt.NDArray[np.int64]) -> None:
         self.counts += counts
 
+    #: Norms binned per pass of :meth:`count` (its temporaries stay under ~3 MB).
+    COUNT_SLICE = 1 << 16
+
     @classmethod
-    def count(cls, norms_mm: FloatArray) -> npt.NDArray[np.int64]:
+    def count(cls, norms_mm: npt.ArrayLike) -> npt.NDArray[np.int64]:
         """Bin counts of ``norms_mm`` (add them to several histograms at the cost of one)."""
-        x = np.asarray(norms_mm, dtype=float)
+        x = np.asarray(norms_mm, dtype=float).ravel()
         nb = cls.n_bins()
-        with np.errstate(divide="ignore"):
-            j = np.floor(np.log(x * (1.0 / cls.LO_MM)) * (1.0 / np.log1p(cls.REL_WIDTH)))
-        idx = np.clip(np.nan_to_num(j, nan=nb, neginf=-1.0), -1, nb) + 1
-        return np.bincount(idx.astype(np.int64), minlength=nb + 2)
+        counts = np.zeros(nb + 2, dtype=np.int64)
+        for lo in range(0, x.size, cls.COUNT_SLICE):
+            part = x[lo : lo + cls.COUNT_SLICE]
+            with np.errstate(divide="ignore"):
+                j = np.floor(np.log(part * (1.0 / cls.LO_MM)) * (1.0 / np.log1p(cls.REL_WIDTH)))
+            idx = np.clip(np.nan_to_num(j, nan=nb, neginf=-1.0), -1, nb) + 1
+            counts += np.bincount(idx.astype(np.int64), minlength=nb + 2)
+        return counts
 
     def merge(self, other: NormHistogram) -> None:
         self.counts += other.counts
@@ -477,71 +522,164 @@ class SimulationResult:
         return np.asarray(np.sqrt(np.maximum(var, 0.0)))
 
 
-_Job = tuple[Scenario, ErrorModel, EstimatorOptions, int, tuple[int, ...], int, int, int]
+@dataclass(frozen=True)
+class _Task:
+    """Groups simulated by one worker call, over every campaign.
 
-
-def _run_group(job: _Job) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Simulate one group: its norms, axis sums and axis sums of squares.
-
-    Blocks draw from their own generators; ``chunk_blocks`` of them are concatenated and
-    estimated in one vectorised batch. The kernels are element-wise over trials, so the batch
-    size changes the speed, never the numbers.
+    Attributes
+    ----------
+    groups : tuple of tuple of int
+        Their point indices.
+    hangs : tuple of int
+        The points every campaign hangs from (the union over *all* groups, sorted): each
+        campaign draws the errors of all of them, so every task sees the same campaigns.
     """
-    scenario, model, options, g, group, trials, seed, chunk_blocks = job
-    n_blocks = -(-trials // BLOCK_TRIALS)
-    norms = np.empty(trials)
-    s1 = np.zeros(3)
-    s2 = np.zeros(3)
-    for start in range(0, n_blocks, chunk_blocks):
-        perts = []
-        for b in range(start, min(start + chunk_blocks, n_blocks)):
-            n = min(BLOCK_TRIALS, trials - b * BLOCK_TRIALS)
-            rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(g, b)))
-            perts.append(draw_perturbations(model, rng, n, len(group)))
-        pert = Perturbations(
-            *(np.concatenate([getattr(p, f) for p in perts], axis=-1) for f in _PERT_FIELDS)
-        )
-        e = propagate(scenario, model, group, pert, options)
-        lo = start * BLOCK_TRIALS
-        norms[lo : lo + len(e)] = np.sqrt(np.einsum("ij,ij->i", e, e))
-        s1 += e.sum(axis=0)
-        s2 += np.einsum("ij,ij->j", e, e)
-    return norms, s1, s2
+
+    scenario: Scenario
+    model: ErrorModel
+    options: EstimatorOptions
+    groups: tuple[tuple[int, ...], ...]
+    screened: tuple[bool, ...]
+    hangs: tuple[int, ...]
+    trials: int
+    seed: int
+    chunk_blocks: int
+    keep: bool
 
 
-_PERT_FIELDS = ("me_mm", "play_mm", "wire", "reading_deg")
-
-
-_Task = tuple[list[_Job], list[bool], bool]
 _GroupSummary = tuple[FloatArray, FloatArray, float, float, float, float, FloatArray | None]
+
+
+def campaign_perturbations(
+    model: ErrorModel, n_hangs: int, trials: int, seed: int, block: int
+) -> Perturbations:
+    """Draws of block ``block`` of :data:`BLOCK_TRIALS` campaigns of ``n_hangs`` hangs each.
+
+    The block draws from ``SeedSequence(seed, spawn_key=(block,))``: a campaign's draws depend on
+    the seed and its index only.
+    """
+    n = min(BLOCK_TRIALS, trials - block * BLOCK_TRIALS)
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(block,)))
+    return draw_perturbations(model, rng, n, n_hangs)
+
+
+def _hangs_subset(pert: Perturbations, cols: Sequence[int], per_hang_wire: bool) -> Perturbations:
+    """The draws of some hangs of the campaigns (the ME error and an elastica wire are shared)."""
+    idx = np.asarray(cols)
+    return Perturbations(
+        pert.me_mm,
+        pert.play_mm[:, idx],
+        pert.wire[idx] if per_hang_wire else pert.wire,
+        pert.reading_deg[:, idx],
+    )
+
+
+def _add_errors(
+    j: int, lo: int, e: FloatArray, norms: FloatArray, s1: FloatArray, s2: FloatArray
+) -> None:
+    """Group ``j``'s errors (n, 3) of the campaigns from ``lo`` into its norms and sums."""
+    norms[j, lo : lo + len(e)] = np.sqrt(np.einsum("ij,ij->i", e, e))
+    s1[j] += e.sum(axis=0)
+    s2[j] += np.einsum("ij,ij->j", e, e)
 
 
 def _run_task(
     task: _Task,
 ) -> tuple[list[_GroupSummary], npt.NDArray[np.int64], npt.NDArray[np.int64]]:
-    """Simulate a batch of groups; return per-group summaries and the batch's histograms."""
-    jobs, screened, keep = task
-    hist, hist_s = NormHistogram(), NormHistogram()
-    out: list[_GroupSummary] = []
-    for job, scr in zip(jobs, screened, strict=True):
-        norms, s1, s2 = _run_group(job)
+    """Simulate a task's groups over every campaign; per-group summaries and the histograms.
+
+    Campaigns come in chunks of ``chunk_blocks`` blocks: their draws for every hang of the
+    simulation, the physics and readings of the hangs this task's groups use, then each
+    group's estimate from those readings. Everything is element-wise over campaigns, so the
+    chunking changes the speed, never the numbers.
+    """
+    sc, model, options = task.scenario, task.model, task.options
+    used = sorted(set().union(*task.groups))
+    col = {h: j for j, h in enumerate(used)}
+    pos = {h: j for j, h in enumerate(task.hangs)}
+    per_hang_wire = model.wire_model == "paper"
+    norms = np.empty((len(task.groups), task.trials))
+    s1 = np.zeros((len(task.groups), 3))
+    s2 = np.zeros((len(task.groups), 3))
+    n_blocks = -(-task.trials // BLOCK_TRIALS)
+    # Chunks of at most chunk_blocks blocks, fewer if the prepared hangs would outgrow their
+    # budget, and balanced (9 blocks in chunks of 5 and 4, not 8 and 1).
+    fit = PREPARED_BYTES // (PREPARED_ROWS * 8 * len(used) * BLOCK_TRIALS)
+    n_chunks = -(-n_blocks // max(1, min(task.chunk_blocks, fit)))
+    per_chunk = -(-n_blocks // n_chunks)
+    cols = [pos[h] for h in used]
+    wire = WireTerm.from_model(
+        model, sc.weight_n, correct=options.wire_correction, estimate=options.self_calibrate
+    )
+    errors = LineErrors.from_model(model)
+    for start in range(0, n_blocks, per_chunk):
+        lo = start * BLOCK_TRIALS
+        hi = min((start + per_chunk) * BLOCK_TRIALS, task.trials)
+        # The physics block by block (its temporaries stay small), the estimates by chunk.
+        u = np.empty((3, len(used), hi - lo))
+        for b in range(start, min(start + per_chunk, n_blocks)):
+            pert = campaign_perturbations(model, len(task.hangs), task.trials, task.seed, b)
+            at = b * BLOCK_TRIALS - lo
+            sub = _hangs_subset(pert, cols, per_hang_wire)
+            u[:, :, at : at + pert.me_mm.shape[1]] = measured_verticals(sc, model, used, sub)
+        if not wire.fixed:  # the wire scale is estimated: the full estimator, group by group
+            for j, group in enumerate(task.groups):
+                e = group_errors(sc, model, group, u[:, [col[h] for h in group]], options)
+                _add_errors(j, lo, e, norms, s1, s2)
+            continue
+        # Each hang's share of the estimator once (a few hangs at a time: the temporaries stay
+        # small), then every group from its hangs' shares.
+        prepared: list[PreparedLines] = []
+        for h0 in range(0, len(used), PREPARE_HANGS):
+            few = used[h0 : h0 + PREPARE_HANGS]
+            part = prepare_lines(
+                sc.points_mm[few].T[:, :, None], u[:, h0 : h0 + len(few)],
+                sc.normals[few].T[:, :, None], errors, wire, weighted=options.weighted,
+            )  # fmt: skip
+            prepared += [part.take(i) for i in range(len(few))]
+        del u
+        for j, group in enumerate(task.groups):
+            cog = combine_lines([prepared[col[h]] for h in group])[:, 0, :]
+            _add_errors(j, lo, compensated_errors(sc, cog), norms, s1, s2)
+    scr = np.asarray(task.screened)
+    if scr.all():  # the usual cases first: no copy of the norms
         counts = NormHistogram.count(norms)
-        hist.add_counts(counts)
-        if scr:
-            hist_s.add_counts(counts)
-        q50, q95 = _exact_quantiles(norms, (0.5, 0.95))
+        counts_s = counts.copy()
+    elif not scr.any():
+        counts = NormHistogram.count(norms)
+        counts_s = np.zeros_like(counts)
+    else:
+        counts_s = NormHistogram.count(norms[scr])
+        counts = counts_s + NormHistogram.count(norms[~scr])
+    out: list[_GroupSummary] = []
+    for j in range(len(task.groups)):
+        q50, q95 = _exact_quantiles(norms[j], (0.5, 0.95))
         out.append(
             (
-                s1,
-                s2,
-                float(np.sum(norms * norms)),  # not np.dot: no BLAS threads
+                s1[j],
+                s2[j],
+                float(np.sum(norms[j] * norms[j])),  # not np.dot: no BLAS threads
                 q50,
                 q95,
-                float(norms.mean()),
-                norms if keep else None,
+                float(norms[j].mean()),
+                norms[j].copy() if task.keep else None,
             )
         )
-    return out, hist.counts, hist_s.counts
+    return out, counts, counts_s
+
+
+_PERT_FIELDS = ("me_mm", "play_mm", "wire", "reading_deg")
+
+#: Memory (bytes) of a chunk's prepared hangs (:class:`cadcog.method.gls.PreparedLines`,
+#: :data:`cadcog.method.gls.PREPARED_ROWS` floats per campaign and hang): bounds the chunk size.
+PREPARED_BYTES = 32 << 20
+
+#: Hangs prepared per call: bounds the preparation's temporaries.
+PREPARE_HANGS = 5
+
+#: Norms (bytes) one task holds at most: with many trials per group, groups are spread over more
+#: tasks so that memory stays flat in the number of trials.
+TASK_NORM_BYTES = 32 << 20
 
 
 def simulate(
@@ -554,11 +692,18 @@ def simulate(
     *,
     screened: Sequence[bool] | None = None,
     keep_norms: bool = False,
-    chunk_blocks: int = 4,
+    chunk_blocks: int = 8,
     workers: int = 1,
     progress: Callable[[int], None] | None = None,
 ) -> SimulationResult:
-    """Run ``trials_per_group`` trials for each group of suspension indices.
+    """Simulate ``trials_per_group`` campaigns; estimate every group from each of them.
+
+    A campaign hangs the object once from every point that some group uses, with its own
+    draws of every error source (one ME CoG error, each hang's play, wire offset and reading
+    errors); each group's estimate uses that campaign's hangs, as a group of hangs of one lab
+    campaign would. A trial is one group's estimate in one campaign. Each group's trials are
+    therefore independent (one per campaign) and its error has exactly the distribution of
+    independent draws; the groups of one campaign share hangs, as at the bench.
 
     Parameters
     ----------
@@ -566,6 +711,7 @@ def simulate(
     groups : sequence of sequences of int
         Indices into ``scenario``'s points: pairs, or larger groups (joint estimate).
     trials_per_group : int
+        Simulated campaigns.
     seed : int
         Root seed; the results depend on it, not on ``chunk_blocks`` or ``workers``.
     screened : sequence of bool, optional
@@ -573,26 +719,32 @@ def simulate(
     keep_norms : bool
         Also keep every norm (8 bytes a trial).
     chunk_blocks : int
-        Blocks of :data:`BLOCK_TRIALS` trials estimated per vectorised batch (memory ∝ this).
+        Most blocks of :data:`BLOCK_TRIALS` campaigns simulated per vectorised batch (fewer when
+        their prepared hangs would exceed :data:`PREPARED_BYTES`).
     workers : int
         Processes to spread the groups over.
     progress : callable, optional
-        Called with the number of trials finished after each of the ``4 × workers`` batches of
-        groups.
+        Called with the number of trials finished after each batch of groups.
     """
     if trials_per_group < 2:
         raise ValueError("trials_per_group must be at least 2")
     if seed < 0:
         raise ValueError("seed must be non-negative")
-    jobs: list[_Job] = [
-        (scenario, model, options, g, tuple(group), trials_per_group, seed, chunk_blocks)
-        for g, group in enumerate(groups)
-    ]
-    flags = [True] * len(jobs) if screened is None else list(screened)
-    n_tasks = max(1, min(len(jobs), 4 * workers))
-    bounds = np.linspace(0, len(jobs), n_tasks + 1).astype(int)
-    tasks: list[_Task] = [
-        (jobs[lo:hi], flags[lo:hi], keep_norms) for lo, hi in pairwise(bounds) if hi > lo
+    if not groups:
+        raise ValueError("no group to simulate")
+    if chunk_blocks < 1:
+        raise ValueError("chunk_blocks must be at least 1")
+    tgroups = [tuple(int(i) for i in g) for g in groups]
+    flags = [True] * len(tgroups) if screened is None else [bool(f) for f in screened]
+    hangs = tuple(sorted(set().union(*tgroups)))
+    norm_bytes = 8 * trials_per_group * len(tgroups)
+    n_tasks = min(len(tgroups), max(2 * workers, -(-norm_bytes // TASK_NORM_BYTES)))
+    bounds = np.linspace(0, len(tgroups), n_tasks + 1).astype(int)
+    common = (hangs, trials_per_group, seed, chunk_blocks, keep_norms)
+    tasks = [
+        _Task(scenario, model, options, tuple(tgroups[lo:hi]), tuple(flags[lo:hi]), *common)
+        for lo, hi in pairwise(bounds)
+        if hi > lo
     ]
     result = SimulationResult(NormHistogram(), NormHistogram())
     kept: list[FloatArray] = []
@@ -623,20 +775,19 @@ def _collect(
     for task, (summaries, counts, counts_s) in zip(tasks, outputs, strict=True):
         result.histogram.counts += counts
         result.screened_histogram.counts += counts_s
-        for job, (s1, s2, ss, q50, q95, mean, norms) in zip(task[0], summaries, strict=True):
-            trials = job[5]
-            result.n_trials += trials
+        for group, (s1, s2, ss, q50, q95, mean, norms) in zip(task.groups, summaries, strict=True):
+            result.n_trials += task.trials
             result.axis_sum_mm += s1
             result.axis_sumsq_mm2 += s2
             result.norm_sumsq_mm2 += ss
-            result.groups.append(tuple(scenario.ids[i] for i in job[4]))
+            result.groups.append(tuple(scenario.ids[i] for i in group))
             result.group_q50_mm.append(q50)
             result.group_q95_mm.append(q95)
             result.group_mean_mm.append(mean)
             if norms is not None:
                 kept.append(norms)
         if progress is not None:
-            progress(sum(job[5] for job in task[0]))
+            progress(task.trials * len(task.groups))
 
 
 def _exact_quantiles(x: FloatArray, qs: Sequence[float]) -> list[float]:

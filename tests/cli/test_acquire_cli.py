@@ -20,8 +20,13 @@ def test_dry_run_records_every_hang_and_recovers_the_cog(tmp_path, capsys):
     out = tmp_path / "run" / "readings.csv"
     assert main(["acquire", "--simulate", "--seed", "2", "--out", str(out), "--json", *FAST]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert [h["id"] for h in data["hangs"]] == ["S1", "S2", "S3", "S4", "S5", "S6"]
-    assert all(h["outcome"] == "recorded" and h["period_s"] > 0.4 for h in data["hangs"])
+    # The simulated device streams in (scaled) real time, so what a hang's mean holds depends on
+    # the scheduling: now and then the consistency check (a test at its stated level) asks for
+    # a hang again, and the non-interactive operator redoes it.
+    kept = [h for h in data["hangs"] if h["outcome"] != "redone"]
+    assert [h["id"] for h in kept] == ["S1", "S2", "S3", "S4", "S5", "S6"]
+    assert all(h["outcome"] == "recorded" and h["period_s"] > 0.4 for h in kept)
+    assert len(data["hangs"]) - len(kept) <= 1
     assert data["simulated_truth"]["mahalanobis"] < np.sqrt(stats.chi2.ppf(0.999, 3))
     # The same file through `cadcog estimate` gives the same CoG.
     assert main(["estimate", str(out), "--rig", _rig(), "--wire-correction", "--json"]) == 0

@@ -19,7 +19,7 @@ from cadcog.rig.file import default_rig_path
 
 PARTS = default_rig_path().parent
 SETUP = PARTS / "cubesat_3u_setup.toml"
-POINTS = "-x_30_-30,-x_30_90,+y_30_-30,-y_-30_-30"  # `cadcog plan`'s recommendation
+POINTS = "+x_-30_-30,-x_30_-30,+y_30_-30,-y_-30_-30"  # `cadcog plan`'s recommendation
 CHI2_999 = stats.chi2.ppf(0.999, df=3)
 
 BALLAST = """

@@ -242,3 +242,46 @@ def test_self_calibration_refuses_what_it_cannot_do(paper_rig):
         estimate_cog(two, paper_rig.inclinometer, me, model=model, body=body, self_calibrate=True)
     with pytest.raises(ValueError, match="needs the bolt axes"):
         estimate_cog(sus, paper_rig.inclinometer, me, model=model, self_calibrate=True)
+
+
+@settings(max_examples=40)
+@given(
+    st.integers(2, 5),
+    st.sampled_from(["paper", "elastica"]),
+    st.booleans(),
+    st.floats(0.0, 1.0),
+    st.integers(0, 2**31),
+)
+def test_prepared_lines_give_the_full_estimators_cog(k, wire_model, weighted, scale, seed):
+    """The Monte Carlo's path (each hang prepared once, several groups combined from the
+    prepared hangs in one call) against plumb_gls, which `cadcog estimate` runs, on random
+    lines."""
+    rng = np.random.default_rng(seed)
+    n, hangs = 7, k + 2
+    cog = rng.normal(0, 20, 3)
+    d = rng.normal(size=(hangs, 3))
+    d[:, 2] = np.abs(d[:, 2]) + 0.5  # upward verticals, |u_z| away from 0 (eq. 2)
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    p = cog + rng.uniform(60, 200, (hangs, 1)) * d
+    nrm = rng.normal(size=(hangs, 3))
+    nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
+    u = d.T[:, :, None] + rng.normal(0, 3e-3, (3, hangs, n))
+    u /= np.linalg.norm(u, axis=0, keepdims=True)
+    errors = gls.LineErrors(0.08, 0.05, 1.2e-6)
+    wire = gls.WireTerm(wire_model, scale)
+    prepared = gls.prepare_lines(p.T[:, :, None], u, nrm.T[:, :, None], errors, wire,
+                                 weighted=weighted)  # fmt: skip
+    groups = [sorted(rng.choice(hangs, size=k, replace=False).tolist()) for _ in range(3)]
+    idx = np.array(groups)  # three groups at once: slot i holds the i-th hang of each
+    combined = gls.combine_lines([prepared.take(idx[:, i]) for i in range(k)])
+    assert combined.shape == (3, 3, n)
+    for j, group in enumerate(groups):
+        full = gls.plumb_gls(p[group].T[:, :, None], u[:, group], nrm[group].T[:, :, None],
+                             errors, wire, weighted=weighted)  # fmt: skip
+        scale_mm = np.sqrt(np.max(gls.sym_to_full(full.cov_mm2[:, 0]).diagonal()))
+        np.testing.assert_allclose(combined[:, j], full.cog_mm, atol=1e-9 * max(scale_mm, 1.0))
+    with pytest.raises(ValueError, match="at least two lines"):
+        gls.combine_lines([prepared.take(0)])
+    with pytest.raises(ValueError, match="known wire scale"):
+        gls.prepare_lines(p.T[:, :, None], u, nrm.T[:, :, None], errors,
+                          gls.WireTerm(wire_model, scale, 0.01))  # fmt: skip

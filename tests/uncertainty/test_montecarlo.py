@@ -94,15 +94,26 @@ def test_same_seed_same_numbers_whatever_the_chunking_or_workers(scenario, model
 
 
 def test_streamed_axis_moments_match_direct_computation(scenario, model):
-    pairs = all_pairs(6)[:3]
+    """The streamed results against a direct computation: each block of campaigns drawn for
+    every hang of the simulation (points 0-3 here), each pair estimated from its two hangs."""
+    pairs = [(0, 1), (0, 2), (1, 3)]
     res = simulate(scenario, model, pairs, 5000, seed=1, chunk_blocks=1, keep_norms=True)
-    errors = []
-    for g, pair in enumerate(pairs):
-        for b in range(2):
-            n = min(4096, 5000 - b * 4096)
-            rng = np.random.default_rng(np.random.SeedSequence(1, spawn_key=(g, b)))
-            errors.append(simulate_block(scenario, model, pair, n, rng))
-    e = np.concatenate(errors)
+    errors: list[list[np.ndarray]] = [[] for _ in pairs]
+    for b in range(2):
+        n = min(4096, 5000 - b * 4096)
+        rng = np.random.default_rng(np.random.SeedSequence(1, spawn_key=(b,)))
+        pert = draw_perturbations(model, rng, n, 4)  # hangs 0, 1, 2, 3
+        for g, pair in enumerate(pairs):
+            cols = list(pair)
+            own = replace(
+                pert,
+                play_mm=pert.play_mm[:, cols],
+                wire=pert.wire[cols],
+                reading_deg=pert.reading_deg[:, cols],
+            )
+            errors[g].append(propagate(scenario, model, pair, own))
+    per_pair = [np.concatenate(e) for e in errors]
+    e = np.concatenate(per_pair)
     np.testing.assert_allclose(res.axis_mean_mm, e.mean(axis=0), atol=1e-12)
     np.testing.assert_allclose(res.axis_std_mm, e.std(axis=0, ddof=1), rtol=1e-9)
     np.testing.assert_allclose(res.norms_mm, np.linalg.norm(e, axis=1))
@@ -113,6 +124,33 @@ def test_streamed_axis_moments_match_direct_computation(scenario, model):
     for q in (0.5, 0.95):
         exact = np.quantile(res.norms_mm, q)
         assert abs(res.histogram.quantile(q) / exact - 1) < 2 * res.histogram.REL_WIDTH
+
+
+def test_groups_of_one_campaign_share_its_me_error_and_hangs(scenario, model):
+    """One ME CoG error per campaign: with it the only source, every group of a campaign errs
+    alike. Pairs sharing a hang share its reading errors; disjoint pairs are independent."""
+    pairs = [(0, 1), (0, 2), (2, 3), (4, 5)]
+    me = simulate(scenario, model.only("me_cog"), pairs, 3000, seed=2, keep_norms=True)
+    rows = me.norms_mm.reshape(len(pairs), 3000)
+    assert rows[0].std() > 0.01
+    np.testing.assert_allclose(rows, np.broadcast_to(rows[0], rows.shape), rtol=1e-9)
+    incl = simulate(scenario, model.only("inclinometer"), pairs, 20_000, seed=2, keep_norms=True)
+    r = np.corrcoef(incl.norms_mm.reshape(len(pairs), 20_000))
+    assert r[0, 1] > 0.1  # (0, 1) and (0, 2) share hang 0
+    assert abs(r[0, 3]) < 0.03  # (0, 1) and (4, 5): disjoint; 0.03 is 4 standard errors
+
+
+def test_a_groups_errors_are_those_of_independent_draws(scenario, model):
+    """Sharing hangs between groups changes no group's distribution: the 95 % quantile of a pair
+    simulated among others matches independent draws of that pair alone, to the sampling error
+    (4 standard errors of the difference, from the binomial law of the order statistic)."""
+    pair = (1, 4)
+    res = simulate(scenario, model, [(0, 1), pair, (2, 4)], 40_000, seed=5)
+    alone = simulate_block(scenario, model, pair, 40_000, np.random.default_rng(11))
+    ref = np.linalg.norm(alone, axis=1)
+    se = np.sqrt(0.95 * 0.05 / 40_000)  # in probability; both samples have it: 4·√2 of them
+    lo, hi = np.quantile(ref, [0.95 - 5.7 * se, 0.95 + 5.7 * se])
+    assert lo < res.group_q95_mm[1] < hi
 
 
 def test_drawn_points_respect_range_face_and_me(paper_rig):
