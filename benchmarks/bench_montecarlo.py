@@ -1,8 +1,10 @@
 """Monte Carlo speed and memory, measured through the command line, as a user runs it.
 
-- ``cadcog simulate`` with 10⁷ trials (25 points, 300 pairs × 33 334), 2 workers: wall time
-  of the whole command (start-up, simulation, fits, output) and the peak resident memory of
-  the command and its workers together (sampled from /proc every 20 ms);
+- ``cadcog simulate`` with 10⁷ trials (25 points, 300 pairs × 33 334 campaigns), 2 workers: wall
+  time of the whole command (start-up, simulation, fits, output), then in a second run the peak
+  memory of the command and its workers together, sampled from /proc every 20 ms: resident sets
+  summed (shared pages counted in every process) and proportional set sizes summed (each shared
+  page split between its sharers);
 - the same with ``--paper`` (the paper's equal-weight estimator, no wire correction);
 - ``cadcog validate`` on a virtual campaign (2000 simulated whole campaigns, the default);
 - the cost of a trial on one core: in ``simulate`` (campaigns of 25 hangs, every pair estimated
@@ -41,35 +43,52 @@ from cadcog.uncertainty.montecarlo import (
 CADCOG = [sys.executable, "-m", "cadcog"]
 
 
-def _tree_rss_kb(pid: int) -> int:
-    """Resident memory of a process and all its descendants (kB), from /proc."""
-    total, stack = 0, [pid]
+def _tree_memory_kb(pid: int) -> tuple[int, int]:
+    """Resident and proportional set sizes (kB) of a process and all its descendants, from /proc.
+
+    The resident sets count the pages the workers share with the command (the interpreter,
+    numpy, cadcog: forked, copy-on-write) once per process; the proportional set sizes split
+    each shared page between its sharers, so their sum is the memory the tree really holds.
+    """
+    rss = pss = 0
+    stack = [pid]
     while stack:
         p = stack.pop()
         try:
-            with open(f"/proc/{p}/status", encoding="ascii") as fh:
+            with open(f"/proc/{p}/smaps_rollup", encoding="ascii") as fh:
                 for line in fh:
-                    if line.startswith("VmRSS:"):
-                        total += int(line.split()[1])
+                    if line.startswith("Rss:"):
+                        rss += int(line.split()[1])
+                    elif line.startswith("Pss:"):
+                        pss += int(line.split()[1])
             for task in os.listdir(f"/proc/{p}/task"):
                 with open(f"/proc/{p}/task/{task}/children", encoding="ascii") as fh:
                     stack.extend(int(c) for c in fh.read().split())
         except (FileNotFoundError, ProcessLookupError):
             continue
-    return total
+    return rss, pss
 
 
-def run_measured(argv: list[str]) -> tuple[float, float, str]:
-    """Wall time (s), peak tree RSS (MB) and stdout of a command."""
+def run_timed(argv: list[str]) -> float:
+    """Wall time (s) of a command, with nothing else running in this process (reading the
+    memory of the command from /proc, as :func:`run_measured` does, costs CPU time)."""
+    t = time.perf_counter()
+    subprocess.run(argv, stdout=subprocess.DEVNULL, check=True)
+    return time.perf_counter() - t
+
+
+def run_measured(argv: list[str]) -> tuple[float, float, float, str]:
+    """Wall time (s), peak tree RSS and PSS (MB) and stdout of a command."""
     t = time.perf_counter()
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, text=True)
-    peak = 0
+    peak_rss = peak_pss = 0
     done = threading.Event()
 
     def sample() -> None:
-        nonlocal peak
+        nonlocal peak_rss, peak_pss
         while not done.is_set():
-            peak = max(peak, _tree_rss_kb(proc.pid))
+            rss, pss = _tree_memory_kb(proc.pid)
+            peak_rss, peak_pss = max(peak_rss, rss), max(peak_pss, pss)
             time.sleep(0.02)
 
     th = threading.Thread(target=sample)
@@ -79,7 +98,7 @@ def run_measured(argv: list[str]) -> tuple[float, float, str]:
     th.join()
     if proc.returncode:
         raise SystemExit(f"{' '.join(argv)} failed ({proc.returncode})")
-    return time.perf_counter() - t, peak / 1024.0, out
+    return time.perf_counter() - t, peak_rss / 1024.0, peak_pss / 1024.0, out
 
 
 def naive_trial(sc: Scenario, model: ErrorModel, a: int, b: int, rng: np.random.Generator) -> None:
@@ -115,19 +134,21 @@ def main() -> None:
     base += ["--workers", str(args.workers), "--json"]
     n = 300 * args.trials_per_pair
     for name, extra in (("cadcog's estimator (default)", []), ("--paper", ["--paper"])):
-        wall, rss, _ = run_measured([*base, *extra])
+        wall = run_timed([*base, *extra])
+        _, rss, pss, _ = run_measured([*base, *extra])
         print(
             f"simulate {name}: {n:.3g} trials, {args.workers} workers: {wall:.2f} s whole "
-            f"command, {n / wall / 1e6:.2f}e6 trials/s, peak RSS (command + workers) {rss:.0f} MB"
+            f"command, {n / wall / 1e6:.2f}e6 trials/s, peak memory of command + workers: "
+            f"RSS {rss:.0f} MB, PSS {pss:.0f} MB"
         )
-    wall, rss, _ = run_measured([*CADCOG, "--version"])
+    wall, _, _, _ = run_measured([*CADCOG, "--version"])
     print(f"start-up alone (cadcog --version): {wall:.2f} s")
 
     with tempfile.TemporaryDirectory() as tmp:
         csv = Path(tmp) / "c.csv"
         subprocess.run([*CADCOG, "campaign", "--seed", "1", "--out", str(csv)], check=True,
                        capture_output=True)  # fmt: skip
-        wall, rss, _ = run_measured([*CADCOG, "validate", str(csv), "--json"])
+        wall, rss, _, _ = run_measured([*CADCOG, "validate", str(csv), "--json"])
         print(f"validate (2000 simulated campaigns): {wall:.2f} s whole command, {rss:.0f} MB")
 
     rig = load_rig(default_rig_path())

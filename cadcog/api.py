@@ -374,7 +374,7 @@ def simulate(
     points : int
         Random suspension points drawn on the proof mass (0: the rig's own points).
     trials : int
-        Trials per pair (or group) of points.
+        Simulated campaigns; each gives one trial of every pair (or group) of points.
     seed : int
         Root seed: the same seed gives the same result whatever ``workers``.
     group_size : int

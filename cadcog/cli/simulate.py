@@ -37,7 +37,7 @@ def add_parser(sub: Any) -> None:
         type=int,
         default=1000,
         dest="trials",
-        help="trials per pair or group (default 1000)",
+        help="simulated campaigns, each giving one trial of every pair or group (default 1000)",
     )
     p.add_argument("--seed", type=int, default=0, help="root seed (default 0)")
     p.add_argument(

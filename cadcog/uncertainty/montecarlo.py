@@ -738,7 +738,10 @@ def simulate(
     flags = [True] * len(tgroups) if screened is None else [bool(f) for f in screened]
     hangs = tuple(sorted(set().union(*tgroups)))
     norm_bytes = 8 * trials_per_group * len(tgroups)
-    n_tasks = min(len(tgroups), max(2 * workers, -(-norm_bytes // TASK_NORM_BYTES)))
+    # Every task draws and prepares all the campaigns' hangs: as few tasks as memory allows, two
+    # per worker when there are several (the faster worker takes a third).
+    per_worker = 2 if workers > 1 else 1
+    n_tasks = min(len(tgroups), max(per_worker * workers, -(-norm_bytes // TASK_NORM_BYTES)))
     bounds = np.linspace(0, len(tgroups), n_tasks + 1).astype(int)
     common = (hangs, trials_per_group, seed, chunk_blocks, keep_norms)
     tasks = [

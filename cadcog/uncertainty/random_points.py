@@ -43,6 +43,7 @@ class SimulationSettings:
     points : int
         Random suspension points (0: the rig's own points).
     trials_per_group : int
+        Simulated campaigns (one trial of every group each).
     seed : int
     group_size : int
         2 for pairs; K > 2 for the joint estimate over K points.
