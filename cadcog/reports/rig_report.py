@@ -267,7 +267,8 @@ lines at {budget.pair_angle_deg:.1f}°, the median pair of the rig), by linear p
 
 <h2 id="mc">Monte Carlo</h2>
 <p>{f.n} trials: {len(sim.groups)} pairs of {len(sim.scenario.ids)} random suspension points,
-{sim.settings.trials_per_group} trials each (seed {sim.settings.seed}), each estimated as
+{sim.settings.trials_per_group} trials each (seed {sim.settings.seed}): each simulated campaign
+hangs the object once from every point and estimates every pair from those hangs, as
 <code>cadcog estimate</code> does. Error model: {esc(sim.model.summary())}.</p>
 {
         table(
