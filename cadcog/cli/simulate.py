@@ -44,7 +44,7 @@ def add_parser(sub: Any) -> None:
         "--group-size",
         type=int,
         default=2,
-        help="2: pairs by eq. 8 (the paper); K > 2: joint estimate over K points",
+        help="2: pairs (eq. 8 with --paper); K > 2: joint estimate over K points",
     )
     p.add_argument(
         "--min-angle-deg",
@@ -176,6 +176,11 @@ def print_report(report: SimulationReport) -> None:
         f"estimator: {est['estimator']}, wire correction {'on' if s.wire_correction else 'off'}"
         + (", wire self-calibrated" if s.self_calibrate else "")
     )
+    if report.unidentifiable_groups:
+        print(
+            f"left out: {report.unidentifiable_groups} groups whose points cannot determine the "
+            "wire scale (cadcog estimate --self-calibrate-wire refuses them)"
+        )
     print(f"\n|e| median {f.q50_mm:.3f} mm, 95 % {f.q95_mm:.3f} mm, 99 % {report.q99_mm:.3f} mm")
     sc = report.screened
     if "q95_mm" in sc:

@@ -392,11 +392,7 @@ def _reading_warnings(
 def _wire_scale(batch: gls.GLSBatch, wire: gls.WireTerm, warnings: list[str]) -> WireScale:
     """The wire scale of an estimate; raises if self-calibration cannot determine it."""
     if wire.estimate:
-        # What the lines would say about λ if every offset were across its line.
-        w = batch.weights
-        ref = float((batch.shape**2 * (w[0] + w[1] + w[2])).sum() / 2.0)
-        info = float(batch.scale_information[0])
-        if not info > tolerances.WIRE_IDENTIFIABILITY * ref:
+        if not gls.scale_identifiable(batch)[0]:
             raise DegenerateGeometryError(
                 "the wire offset scale cannot be estimated from these suspensions: the bolt "
                 "axes lie (nearly) along their verticals, or the CoG can absorb the offsets, so "

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core import tolerances
 from cadcog.core.units import deg_to_rad
 from cadcog.method.errormodel import ErrorModel, wire_shape_factor
 from cadcog.rig.parameters import WireModel
@@ -369,6 +370,20 @@ def solve_lines(
         cov = np.stack([m + o * var for m, o in zip(ainv, sym_outer(ac), strict=True)])
         cxl = np.stack([ac[i] * var for i in range(3)])
     return x, cov, lam, var, cxl, info
+
+
+def scale_identifiable(batch: GLSBatch) -> npt.NDArray[np.bool_]:
+    """Whether each trial's lines determine the wire scale λ (self-calibration), shape (n,).
+
+    The information the lines give on λ once the CoG is free, against what they would give if
+    every offset moved its line sideways, must exceed
+    :data:`cadcog.core.tolerances.WIRE_IDENTIFIABILITY`: it does not when the bolt axes lie
+    along their verticals, or when the CoG absorbs the offsets (every point on one face, whose
+    offsets all move the lines alike).
+    """
+    w = np.asarray(batch.weights)
+    ref = (batch.shape**2 * (w[0] + w[1] + w[2])).sum(axis=0) / 2.0
+    return np.asarray(batch.scale_information > tolerances.WIRE_IDENTIFIABILITY * ref)
 
 
 def equal_weight_point(points_mm: Comp, u: Comp) -> FloatArray:

@@ -234,7 +234,7 @@ def _measured_verticals(u_true: FloatArray, err_x: FloatArray, err_y: FloatArray
 
 @dataclass(frozen=True)
 class Perturbations:
-    """Random draws of one batch of trials for a group of k suspensions.
+    """Random draws of one batch of n campaigns (trials) of k hangs each.
 
     Attributes
     ----------
@@ -260,8 +260,9 @@ def draw_perturbations(
 ) -> Perturbations:
     """Draw every enabled error source for ``n`` trials of ``k`` suspensions (others are 0).
 
-    Draws are single precision (an error needs no more than 7 digits; it halves their cost);
-    everything computed from them is double precision.
+    Draws are single precision (an error needs no more than 7 digits; it halves their cost).
+    What is computed from them is double precision, but for the sine of a reading error and its
+    cosine (:func:`_measured_verticals`), single precision like the error itself.
     """
     me = model.sample_me_errors(rng, n)
     play = model.sample_play(rng, n, k)
@@ -577,10 +578,47 @@ def _hangs_subset(pert: Perturbations, cols: Sequence[int], per_hang_wire: bool)
 def _add_errors(
     j: int, lo: int, e: FloatArray, norms: FloatArray, s1: FloatArray, s2: FloatArray
 ) -> None:
-    """Group ``j``'s errors (n, 3) of the campaigns from ``lo`` into its norms and sums."""
-    norms[j, lo : lo + len(e)] = np.sqrt(np.einsum("ij,ij->i", e, e))
+    """Group ``j``'s errors (n, 3) of the campaigns from ``lo`` into its norms and sums.
+
+    The norms element by element (not ``einsum``, whose order of summation depends on the
+    number of rows): a campaign's norm is the same whatever chunk it was computed in.
+    """
+    sq = e * e
+    norms[j, lo : lo + len(e)] = np.sqrt(sq[:, 0] + sq[:, 1] + sq[:, 2])
     s1[j] += e.sum(axis=0)
-    s2[j] += np.einsum("ij,ij->j", e, e)
+    s2[j] += sq.sum(axis=0)
+
+
+def _estimate_slice(
+    task: _Task,
+    u: FloatArray,
+    lo: int,
+    used: Sequence[int],
+    wire: WireTerm,
+    errors: LineErrors,
+    stats: tuple[FloatArray, FloatArray, FloatArray],
+) -> None:
+    """Every group's estimate from the readings ``u`` (3, len(used), n) of campaigns ``lo`` on."""
+    sc, model, options = task.scenario, task.model, task.options
+    col = {h: j for j, h in enumerate(used)}
+    if not wire.fixed:  # the wire scale is estimated: the full estimator, group by group
+        for j, group in enumerate(task.groups):
+            e = group_errors(sc, model, group, u[:, [col[h] for h in group]], options)
+            _add_errors(j, lo, e, *stats)
+        return
+    # Each hang's share of the estimator once (a few hangs at a time: the temporaries stay
+    # small), then every group from its hangs' shares.
+    prepared: list[PreparedLines] = []
+    for h0 in range(0, len(used), PREPARE_HANGS):
+        few = list(used[h0 : h0 + PREPARE_HANGS])
+        part = prepare_lines(
+            sc.points_mm[few].T[:, :, None], u[:, h0 : h0 + len(few)],
+            sc.normals[few].T[:, :, None], errors, wire, weighted=options.weighted,
+        )  # fmt: skip
+        prepared += [part.take(i) for i in range(len(few))]
+    for j, group in enumerate(task.groups):
+        cog = combine_lines([prepared[col[h]] for h in group])[:, 0, :]
+        _add_errors(j, lo, compensated_errors(sc, cog), *stats)
 
 
 def _run_task(
@@ -595,15 +633,15 @@ def _run_task(
     """
     sc, model, options = task.scenario, task.model, task.options
     used = sorted(set().union(*task.groups))
-    col = {h: j for j, h in enumerate(used)}
     pos = {h: j for j, h in enumerate(task.hangs)}
     per_hang_wire = model.wire_model == "paper"
     norms = np.empty((len(task.groups), task.trials))
     s1 = np.zeros((len(task.groups), 3))
     s2 = np.zeros((len(task.groups), 3))
+    stats = (norms, s1, s2)
     n_blocks = -(-task.trials // BLOCK_TRIALS)
     # Chunks of at most chunk_blocks blocks, fewer if the prepared hangs would outgrow their
-    # budget, and balanced (9 blocks in chunks of 5 and 4, not 8 and 1).
+    # budget (then estimated in slices), and balanced (9 blocks in chunks of 5 and 4, not 8 and 1).
     fit = PREPARED_BYTES // (PREPARED_ROWS * 8 * len(used) * BLOCK_TRIALS)
     n_chunks = -(-n_blocks // max(1, min(task.chunk_blocks, fit)))
     per_chunk = -(-n_blocks // n_chunks)
@@ -622,25 +660,12 @@ def _run_task(
             at = b * BLOCK_TRIALS - lo
             sub = _hangs_subset(pert, cols, per_hang_wire)
             u[:, :, at : at + pert.me_mm.shape[1]] = measured_verticals(sc, model, used, sub)
-        if not wire.fixed:  # the wire scale is estimated: the full estimator, group by group
-            for j, group in enumerate(task.groups):
-                e = group_errors(sc, model, group, u[:, [col[h] for h in group]], options)
-                _add_errors(j, lo, e, norms, s1, s2)
-            continue
-        # Each hang's share of the estimator once (a few hangs at a time: the temporaries stay
-        # small), then every group from its hangs' shares.
-        prepared: list[PreparedLines] = []
-        for h0 in range(0, len(used), PREPARE_HANGS):
-            few = used[h0 : h0 + PREPARE_HANGS]
-            part = prepare_lines(
-                sc.points_mm[few].T[:, :, None], u[:, h0 : h0 + len(few)],
-                sc.normals[few].T[:, :, None], errors, wire, weighted=options.weighted,
-            )  # fmt: skip
-            prepared += [part.take(i) for i in range(len(few))]
+        # The estimates in slices whose prepared hangs fit PREPARED_BYTES (less than a block
+        # when the hangs are many).
+        step = max(1, PREPARED_BYTES // (PREPARED_ROWS * 8 * len(used)))
+        for a in range(0, hi - lo, step):
+            _estimate_slice(task, u[:, :, a : a + step], lo + a, used, wire, errors, stats)
         del u
-        for j, group in enumerate(task.groups):
-            cog = combine_lines([prepared[col[h]] for h in group])[:, 0, :]
-            _add_errors(j, lo, compensated_errors(sc, cog), norms, s1, s2)
     scr = np.asarray(task.screened)
     if scr.all():  # the usual cases first: no copy of the norms
         counts = NormHistogram.count(norms)
@@ -668,8 +693,6 @@ def _run_task(
     return out, counts, counts_s
 
 
-_PERT_FIELDS = ("me_mm", "play_mm", "wire", "reading_deg")
-
 #: Memory (bytes) of a chunk's prepared hangs (:class:`cadcog.method.gls.PreparedLines`,
 #: :data:`cadcog.method.gls.PREPARED_ROWS` floats per campaign and hang): bounds the chunk size.
 PREPARED_BYTES = 32 << 20
@@ -677,8 +700,8 @@ PREPARED_BYTES = 32 << 20
 #: Hangs prepared per call: bounds the preparation's temporaries.
 PREPARE_HANGS = 5
 
-#: Norms (bytes) one task holds at most: with many trials per group, groups are spread over more
-#: tasks so that memory stays flat in the number of trials.
+#: Norms (bytes) one task holds at most (for each group's exact quantiles): with many trials per
+#: group, groups are spread over more tasks. A single group of more trials needs more.
 TASK_NORM_BYTES = 32 << 20
 
 
@@ -734,14 +757,25 @@ def simulate(
         raise ValueError("no group to simulate")
     if chunk_blocks < 1:
         raise ValueError("chunk_blocks must be at least 1")
+    if workers < 1:
+        raise ValueError("workers must be at least 1")
+    n_points = len(scenario.ids)
     tgroups = [tuple(int(i) for i in g) for g in groups]
+    for g in tgroups:
+        if len(g) < 2 or len(set(g)) != len(g) or not all(0 <= i < n_points for i in g):
+            raise ValueError(
+                f"group {g}: expected two or more distinct point indices in 0..{n_points - 1}"
+            )
     flags = [True] * len(tgroups) if screened is None else [bool(f) for f in screened]
+    if len(flags) != len(tgroups):
+        raise ValueError(f"screened has {len(flags)} flags for {len(tgroups)} groups")
     hangs = tuple(sorted(set().union(*tgroups)))
-    norm_bytes = 8 * trials_per_group * len(tgroups)
-    # Every task draws and prepares all the campaigns' hangs: as few tasks as memory allows, two
-    # per worker when there are several (the faster worker takes a third).
+    # Every task draws and prepares all the campaigns' hangs: as few tasks as the norms' memory
+    # allows (TASK_NORM_BYTES a task), and two per worker when there are several, so that a
+    # worker slowed by other load on the machine leaves work to the other.
+    per_task = max(1, TASK_NORM_BYTES // (8 * trials_per_group))
     per_worker = 2 if workers > 1 else 1
-    n_tasks = min(len(tgroups), max(per_worker * workers, -(-norm_bytes // TASK_NORM_BYTES)))
+    n_tasks = min(len(tgroups), max(per_worker * workers, -(-len(tgroups) // per_task)))
     bounds = np.linspace(0, len(tgroups), n_tasks + 1).astype(int)
     common = (hangs, trials_per_group, seed, chunk_blocks, keep_norms)
     tasks = [

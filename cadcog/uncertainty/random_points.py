@@ -8,16 +8,18 @@ fits the error norms (:mod:`cadcog.uncertainty.fits`).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import combinations
 from math import comb
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.results import JsonResult
+from cadcog.method import gls
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.geometry import angle_between_lines_deg
 from cadcog.rig.parameters import Rig
@@ -85,6 +87,8 @@ class SimulationReport(JsonResult):
     group_angle_deg: list[float]
     result: SimulationResult
     fits: NormFits
+    #: Groups left out because they cannot determine the wire scale (self-calibration only).
+    unidentifiable_groups: int = 0
 
     @property
     def q99_mm(self) -> float:
@@ -141,6 +145,7 @@ class SimulationReport(JsonResult):
             "per_axis_std_mm": self.result.axis_std_mm.tolist(),
             "n_points": len(self.scenario.ids),
             "n_groups": len(self.groups),
+            "groups_left_out_wire_unidentifiable": self.unidentifiable_groups,
             "group_size": s.group_size,
             "trials_per_group": s.trials_per_group,
             "seed": s.seed,
@@ -207,6 +212,17 @@ def run_simulation(
     else:
         scenario = Scenario.from_rig(rig)
     groups, angles = select_groups(scenario, settings, np.random.default_rng(groups_seed))
+    left_out = 0
+    if settings.self_calibrate:
+        ok = wire_identifiable(scenario, model, groups)
+        left_out = len(groups) - int(ok.sum())
+        groups = [g for g, keep in zip(groups, ok, strict=True) if keep]
+        angles = [a for a, keep in zip(angles, ok, strict=True) if keep]
+        if not groups:
+            raise ValueError(
+                "no group of points lets the wire offset scale be estimated (their bolt axes "
+                "are parallel or along their verticals): drop --self-calibrate-wire"
+            )
     result = simulate(
         scenario,
         model,
@@ -219,4 +235,30 @@ def run_simulation(
         progress=progress,
     )
     fits = fit_histogram(result.histogram, result.norm_sumsq_mm2)
-    return SimulationReport(settings, scenario, model, groups, angles, result, fits)
+    return SimulationReport(settings, scenario, model, groups, angles, result, fits, left_out)
+
+
+def wire_identifiable(
+    scenario: Scenario, model: ErrorModel, groups: Sequence[tuple[int, ...]]
+) -> npt.NDArray[np.bool_]:
+    """Which groups of points determine the wire scale λ with the CoG (self-calibration).
+
+    Judged on noise-free lines from each point to the CAD assembly CoG, by the test
+    ``cadcog estimate --self-calibrate-wire`` applies to its readings
+    (:func:`cadcog.method.gls.scale_identifiable`). Every point on one face fails it: the
+    offsets then move the lines as a shift of the CoG would.
+    """
+    out = np.zeros(len(groups), dtype=bool)
+    wire = gls.WireTerm.from_model(model, scenario.weight_n, estimate=True)
+    errors = gls.LineErrors.from_model(model)
+    g = scenario.assembly_cog_mm[:, None, None]
+    for k in sorted({len(grp) for grp in groups}):
+        rows = [i for i, grp in enumerate(groups) if len(grp) == k]
+        idx = np.array([groups[i] for i in rows]).T  # (k, n): the groups of k points as trials
+        p = np.moveaxis(scenario.points_mm[idx], -1, 0)  # (3, k, n)
+        nrm = np.moveaxis(scenario.normals[idx], -1, 0)
+        u = (p - g) / np.linalg.norm(p - g, axis=0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            batch = gls.plumb_gls(p, u, nrm, errors, wire)
+        out[rows] = gls.scale_identifiable(batch)
+    return out

@@ -11,6 +11,7 @@ import pytest
 from cadcog.method.errormodel import SOURCES, ErrorModel
 from cadcog.method.gls import sym_to_full
 from cadcog.rig.geometry import ideal_reading
+from cadcog.uncertainty import montecarlo
 from cadcog.uncertainty.error_budget import linearised_covariance, representative_pair
 from cadcog.uncertainty.montecarlo import (
     Scenario,
@@ -80,17 +81,48 @@ def test_linearised_budget_equals_the_estimators_own_covariance(scenario, model)
     np.testing.assert_allclose(total, closed, rtol=0.02, atol=1e-5)
 
 
-def test_same_seed_same_numbers_whatever_the_chunking_or_workers(scenario, model):
+@pytest.mark.parametrize("trials", [9000, 4097])  # 4097: a last block of one campaign
+def test_same_seed_same_numbers_whatever_the_chunking_or_workers(scenario, model, trials):
     pairs = all_pairs(6)[:4]
-    ref = simulate(scenario, model, pairs, 9000, seed=3, chunk_blocks=1, keep_norms=True)
+    ref = simulate(scenario, model, pairs, trials, seed=3, chunk_blocks=1, keep_norms=True)
     for kwargs in ({"chunk_blocks": 3}, {"chunk_blocks": 64}, {"workers": 2}):
-        other = simulate(scenario, model, pairs, 9000, seed=3, keep_norms=True, **kwargs)
+        other = simulate(scenario, model, pairs, trials, seed=3, keep_norms=True, **kwargs)
         np.testing.assert_array_equal(other.norms_mm, ref.norms_mm)
         np.testing.assert_array_equal(other.histogram.counts, ref.histogram.counts)
         assert other.group_q95_mm == ref.group_q95_mm
         np.testing.assert_allclose(other.axis_sum_mm, ref.axis_sum_mm, rtol=1e-12)
-    different = simulate(scenario, model, pairs, 9000, seed=4, keep_norms=True)
+    different = simulate(scenario, model, pairs, trials, seed=4, keep_norms=True)
     assert not np.array_equal(different.norms_mm, ref.norms_mm)
+
+
+def test_estimates_in_slices_of_a_block_give_the_same_numbers(scenario, model, monkeypatch):
+    """With many hangs the prepared shares are estimated in slices of a block (their memory
+    bound): slicing changes nothing."""
+    groups = [(0, 1), (2, 3, 4), (1, 5)]
+    ref = simulate(scenario, model, groups, 5000, seed=8, keep_norms=True)
+    monkeypatch.setattr(montecarlo, "PREPARED_BYTES", 30 * 8 * 6 * 700)  # slices of 700
+    sliced = simulate(scenario, model, groups, 5000, seed=8, keep_norms=True)
+    np.testing.assert_array_equal(sliced.norms_mm, ref.norms_mm)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"groups": [(0,)]}, r"group \(0,\): expected two or more distinct"),
+        ({"groups": [(0, 0)]}, r"group \(0, 0\)"),
+        ({"groups": [(0, 6)]}, r"indices in 0\.\.5"),
+        ({"groups": [(0, -1)]}, r"group \(0, -1\)"),
+        ({"groups": []}, "no group"),
+        ({"screened": [True]}, "1 flags for 2 groups"),
+        ({"workers": 0}, "workers must be at least 1"),
+        ({"chunk_blocks": 0}, "chunk_blocks must be at least 1"),
+    ],
+)
+def test_simulate_refuses_what_it_cannot_simulate(scenario, model, kwargs, match):
+    args = {"groups": [(0, 1), (2, 3)], **kwargs}
+    groups = args.pop("groups")
+    with pytest.raises(ValueError, match=match):
+        simulate(scenario, model, groups, 10, seed=0, **args)
 
 
 def test_streamed_axis_moments_match_direct_computation(scenario, model):
