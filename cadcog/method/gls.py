@@ -447,9 +447,9 @@ class PreparedLines:
         return PreparedLines(q, proj, proj_q, w0, w1, det, w0_q, w1_q, self.weighted)
 
 
-#: Arrays of one prepared line that vary between trials (``q_mm`` aside): what a Monte Carlo
-#: chunk holds per hang and campaign.
-PREPARED_ROWS = 30
+#: Arrays of one prepared line that may vary between trials (``q_mm`` does only with the
+#: elastica wire): what a Monte Carlo chunk holds per hang and campaign, at most.
+PREPARED_ROWS = 33
 
 
 def prepare_lines(
