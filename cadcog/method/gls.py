@@ -99,15 +99,21 @@ def _dot(a: Comp, b: Comp) -> FloatArray:
     return np.asarray(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
 
 
+def _add_all(terms: Sequence[FloatArray] | FloatArray) -> FloatArray:
+    """``terms[0] + terms[1] + …`` in order, into one new array (a lone term is returned as is);
+    ``terms`` a sequence of arrays, or an array whose rows are added."""
+    if len(terms) == 1:
+        return np.asarray(terms[0])
+    total = terms[0] + terms[1]
+    for term in terms[2:]:
+        total += term
+    return np.asarray(total)
+
+
 def _rows_sum(c: FloatArray) -> FloatArray:
     """Sum over the first axis, row by row: what ``c.sum(axis=0)`` gives (numpy adds the rows of
     an outer axis in order), without a reduction's overhead for the usual two or three lines."""
-    if c.shape[0] == 1:
-        return np.asarray(c[0])
-    total = c[0] + c[1]
-    for row in c[2:]:
-        total += row
-    return np.asarray(total)
+    return _add_all(c)
 
 
 def _lines_sum(x: tuple[FloatArray, ...]) -> tuple[FloatArray, ...]:
@@ -320,12 +326,6 @@ def _inverse_2d(m: Vec) -> tuple[FloatArray, FloatArray, FloatArray]:
     return m[2] * r, -m[1] * r, m[0] * r
 
 
-def lateral_covariance(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
-    """``Sᵢ``, packed (6, k, n), for unit verticals ``u``, bolt axes and point-CoG distances."""
-    e1, e2, m = _lateral_2d(u, normals, dist_mm * dist_mm, errors)
-    return _assemble(e1, e2, *m)
-
-
 def line_weights(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
     """``Wᵢ = Sᵢ⁺``, packed (6, k, n): the inverse of ``Sᵢ`` on the plane ⊥ ``u``."""
     e1, e2, m = _lateral_2d(u, normals, dist_mm * dist_mm, errors)
@@ -484,11 +484,7 @@ def prepare_lines(
 
 def _sum_slots(slots: Sequence[Vec]) -> tuple[FloatArray, ...]:
     """Sum packed parts over the slots (element-wise: line by line)."""
-    total = [c0 + c1 for c0, c1 in zip(slots[0], slots[1], strict=True)]
-    for more in slots[2:]:
-        for t, c in zip(total, more, strict=True):
-            t += c
-    return tuple(total)
+    return tuple(_add_all(parts) for parts in zip(*slots, strict=True))
 
 
 def combine_lines(slots: Sequence[PreparedLines]) -> FloatArray:

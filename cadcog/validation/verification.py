@@ -34,10 +34,9 @@ from cadcog.uncertainty.montecarlo import (
     BLOCK_TRIALS,
     EstimatorOptions,
     Scenario,
-    _measured_verticals,
+    campaign_perturbations,
     compensated_errors,
-    draw_perturbations,
-    hang,
+    measured_verticals,
 )
 
 FloatArray = npt.NDArray[np.float64]
@@ -221,7 +220,7 @@ def line_statistic(
 
     ``rᵢ`` is the lateral miss of hang i's plumb line (through its nominal point, corrected for
     the expected wire offset as the estimator does) from the known assembly CoG; ``Wᵢ`` the
-    inverse of its lateral covariance under ``model`` (:func:`cadcog.method.gls.lateral_covariance`,
+    inverse of its lateral covariance under ``model`` (:func:`cadcog.method.gls.line_weights`,
     at the point's distance from that CoG). Near χ² with 2k degrees of freedom when the model
     is right; its exact null distribution comes from :func:`campaign_null`.
     """
@@ -282,16 +281,6 @@ def _pair_errors(
     return out
 
 
-def simulate_campaign_verticals(
-    scenario: Scenario, model: ErrorModel, n: int, rng: np.random.Generator
-) -> FloatArray:
-    """Measured verticals (3, k, n) of ``n`` whole campaigns on all of ``scenario``'s points."""
-    k = len(scenario.ids)
-    pert = draw_perturbations(model, rng, n, k)
-    u_true = hang(scenario, model, range(k), pert)
-    return _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
-
-
 def campaign_null(
     scenario: Scenario,
     model: ErrorModel,
@@ -308,10 +297,10 @@ def campaign_null(
         raise ValueError(f"need at least 20 simulated campaigns, got {n_campaigns}")
     pairs = _pairs(len(scenario.ids))
     norms, stat = [], []
+    hangs = range(len(scenario.ids))
     for b in range(-(-n_campaigns // BLOCK_TRIALS)):
-        n = min(BLOCK_TRIALS, n_campaigns - b * BLOCK_TRIALS)
-        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(b,)))
-        u = simulate_campaign_verticals(scenario, model, n, rng)
+        pert = campaign_perturbations(model, len(hangs), n_campaigns, seed, b)
+        u = measured_verticals(scenario, model, hangs, pert)
         norms.append(_pair_errors(scenario, model, u, pairs, options))
         stat.append(line_statistic(scenario, model, u, options))
     return CampaignNull(np.concatenate(norms), np.concatenate(stat), pairs, seed)
