@@ -3,7 +3,8 @@ double-suspension measurement with a dual-axis inclinometer.
 
 The main entry points are here (:mod:`cadcog.api`): :func:`mass_properties` of a STEP file,
 :func:`estimate` the CoG from readings, :func:`simulate` the method's error, :func:`validate` a
-campaign, :func:`plan` a spacecraft's test, :func:`check` requirements; :func:`load_rig` and
+campaign, :func:`plan` a spacecraft's test, :func:`update` its CAD from the test, :func:`check`
+requirements; :func:`load_rig` and
 :func:`load_setup` read parameter files. Each returns the result object the command prints,
 with ``to_dict()`` and ``to_json()``.
 
@@ -32,6 +33,7 @@ if TYPE_CHECKING:
         mass_properties,
         plan,
         simulate,
+        update,
         validate,
     )
 
@@ -44,6 +46,7 @@ __all__ = [
     "mass_properties",
     "plan",
     "simulate",
+    "update",
     "validate",
 ]
 _API = frozenset(__all__) - {"__version__"}

@@ -39,6 +39,7 @@ if TYPE_CHECKING:
     from cadcog.spacecraft.plan import Plan
     from cadcog.spacecraft.requirements import CheckResult
     from cadcog.spacecraft.setup import Setup
+    from cadcog.spacecraft.update import UpdateResult
     from cadcog.uncertainty.random_points import SimulationReport
     from cadcog.validation.verification import CampaignValidation
 
@@ -50,6 +51,7 @@ __all__ = [
     "mass_properties",
     "plan",
     "simulate",
+    "update",
     "validate",
 ]
 
@@ -80,6 +82,13 @@ def _numbers(function: str, **values: object) -> None:
             problem = bounds.check(name, float(v))
             if problem is not None:
                 raise _fail(function, name, value, problem)
+
+
+def _positive(function: str, **values: float | None) -> None:
+    """Masses and σ that must be > 0 (the bounds allow 0)."""
+    for name, value in values.items():
+        if value is not None and not value > 0:
+            raise _fail(function, name, value, "expected a positive number")
 
 
 def _path(function: str, name: str, value: object) -> Path:
@@ -268,6 +277,8 @@ def estimate(
     setup: Setup | str | Path | None = None,
     wire_correction: bool = True,
     self_calibrate_wire: bool = False,
+    weighed_mass_kg: float | None = None,
+    mass_sigma_kg: float = 0.001,
 ) -> CogEstimate:
     """The compensated CoG from a readings CSV (``cadcog estimate --rig`` or ``--setup``).
 
@@ -286,12 +297,19 @@ def estimate(
         Correct each point for the expected wire offset (default, as the command).
     self_calibrate_wire : bool
         Estimate the wire offset scale with the CoG (3 or more hangs).
+    weighed_mass_kg : float, optional
+        With a rig or a set-up: the object's weighed mass (without the ME), used to remove the
+        ME (``--weighed-mass-kg``). Without it a set-up's CAD mass is used, and its own
+        uncertainty carried into the CoG's covariance.
+    mass_sigma_kg : float
+        1 σ of the weighing (default 1 g).
 
     Returns
     -------
     CogEstimate
         The CoG (mm), its covariance (mm²), the per-line diagnostics and warnings; with a
-        set-up, ``.cad`` compares it with the CAD CoG and the CubeSat envelope.
+        set-up, ``.cad`` compares it with the CAD's CoG (both covariances) and the CubeSat
+        envelope.
 
     Examples
     --------
@@ -307,6 +325,8 @@ def estimate(
     >>> bool((error_mm**2).sum() ** 0.5 < 3.0), est.cov_mm2.shape
     (True, (3, 3))
     """
+    from dataclasses import replace
+
     from cadcog.method.errormodel import ErrorModel
     from cadcog.method.estimate import BodyBox, MEData, estimate_cog
     from cadcog.method.readings import read_readings
@@ -316,6 +336,10 @@ def estimate(
     path = _path(f, "readings", readings)
     if setup is not None and rig is not None:
         raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
+    _numbers(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
+    _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
+    if weighed_mass_kg is not None and setup is None and rig is None:
+        raise CadcogError(f"{f}: weighed_mass_kg needs a rig or a set-up (the ME to remove)")
     try:
         if setup is not None:
             s = _setup(f, setup)
@@ -325,6 +349,8 @@ def estimate(
                 wire_correction=wire_correction,
                 self_calibrate=self_calibrate_wire,
                 compare=True,
+                weighed_mass_kg=weighed_mass_kg,
+                mass_sigma_kg=mass_sigma_kg,
             )
         if rig is None:
             from cadcog.rig.inclinometer import InclinometerConfig
@@ -338,10 +364,18 @@ def estimate(
                 self_calibrate=self_calibrate_wire,
             )
         r = _rig(f, rig)
+        me = MEData.from_rig(r)
+        if weighed_mass_kg is not None:
+            me = replace(
+                me,
+                object_mass_kg=weighed_mass_kg,
+                object_mass_sigma_kg=mass_sigma_kg,
+                object_mass_source="weighed",
+            )
         return estimate_cog(
             read_readings(path, r.inclinometer),
             r.inclinometer,
-            MEData.from_rig(r),
+            me,
             model=ErrorModel.from_rig(r),
             body=BodyBox.of_rig(r),
             wire_correction=wire_correction,
@@ -504,6 +538,84 @@ def validate(
         raise
     except ValueError as exc:
         raise _as_user_error(f, path, exc) from None
+
+
+def update(
+    readings: str | Path,
+    setup: Setup | str | Path,
+    weighed_mass_kg: float,
+    *,
+    mass_sigma_kg: float = 0.001,
+    unmodelled_region_mm: Sequence[float] | None = None,
+    unmodelled_mass_kg: float = 0.0,
+    unmodelled_sigma_kg: float | None = None,
+) -> UpdateResult:
+    """What the test and the weighing say about the CAD (``cadcog update``).
+
+    Parameters
+    ----------
+    readings : str or Path
+        Readings CSV of the suspension test.
+    setup : Setup, str or Path
+        The spacecraft's set-up (or its file).
+    weighed_mass_kg : float
+        The spacecraft's weighed mass, without the measurement equipment.
+    mass_sigma_kg : float
+        1 σ of the weighing (default 1 g).
+    unmodelled_region_mm : sequence of 6 floats, optional
+        ``(x0, y0, z0, x1, y1, z1)``: a box where an unmodelled mass (harness, fasteners) may
+        be; needs ``unmodelled_sigma_kg``.
+    unmodelled_mass_kg, unmodelled_sigma_kg : float
+        Its prior mean (default 0) and 1 σ.
+
+    Returns
+    -------
+    UpdateResult
+        The verdicts (``differs``, ``consistent``, ``model_rejected``), the explanations with
+        their probabilities, each item's change, the unmodelled mass, and the revised mass,
+        CoG and inertia with their covariance (``docs/spacecraft.md``).
+    """
+    from cadcog.method.readings import read_readings
+    from cadcog.spacecraft.setup import update_for_setup
+    from cadcog.spacecraft.update import unmodelled_from_region
+
+    f = "update"
+    path = _path(f, "readings", readings)
+    _numbers(
+        f,
+        weighed_mass_kg=weighed_mass_kg,
+        mass_sigma_kg=mass_sigma_kg,
+        unmodelled_mass_kg=unmodelled_mass_kg,
+        unmodelled_sigma_kg=unmodelled_sigma_kg,
+    )
+    _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
+    _positive(f, unmodelled_sigma_kg=unmodelled_sigma_kg)
+    region = None
+    if unmodelled_region_mm is not None:
+        region = (
+            list(unmodelled_region_mm) if isinstance(unmodelled_region_mm, (list, tuple)) else []
+        )
+        if len(region) != 6:
+            raise _fail(f, "unmodelled_region_mm", unmodelled_region_mm, "expected six numbers")
+        _numbers(f, unmodelled_region_mm=region)
+    s = _setup(f, setup)
+    try:
+        prior = unmodelled_from_region(region, float(unmodelled_mass_kg), unmodelled_sigma_kg)
+    except ValueError as exc:
+        raise _fail(f, "unmodelled_region_mm", unmodelled_region_mm, str(exc)) from None
+    try:
+        result, _ = update_for_setup(
+            s,
+            read_readings(path, s.rig.inclinometer),
+            float(weighed_mass_kg),
+            mass_sigma_kg=float(mass_sigma_kg),
+            unmodelled=prior,
+        )
+    except CadcogError:
+        raise
+    except ValueError as exc:
+        raise _as_user_error(f, path, exc) from None
+    return result
 
 
 def plan(

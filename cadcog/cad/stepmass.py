@@ -105,6 +105,9 @@ class BodyResult(JsonResult):
         The uncertainty item the body belongs to (its own path, or an assembly's).
     growth : float
         Mass growth allowance (fraction); ``growth_label`` names its maturity level.
+    cog_sigma_mm : (float, float, float) or None
+        1-σ uncertainty of its item's CoG per axis (mm) from the materials file's
+        ``[cog_uncertainty]``; None: the default of :mod:`cadcog.spacecraft.items`.
     """
 
     path: str
@@ -121,6 +124,7 @@ class BodyResult(JsonResult):
     item: str = ""
     growth: float = 0.0
     growth_label: str = ""
+    cog_sigma_mm: tuple[float, float, float] | None = None
 
     @property
     def name(self) -> str:
@@ -147,6 +151,8 @@ class BodyResult(JsonResult):
         if self.sigma_rel is not None:
             out["mass_sigma_rel"] = self.sigma_rel
             out["uncertainty_item"] = self.item
+            if self.cog_sigma_mm is not None:
+                out["cog_sigma_mm"] = list(self.cog_sigma_mm)
         if self.growth or self.growth_label:
             out["growth_allowance"] = self.growth
             if self.growth_label:
@@ -543,6 +549,7 @@ def model_mass_properties(
                 b.step.path if sigma is None else sigma.item,
                 0.0 if growth is None else growth.value,
                 "" if growth is None else growth.label,
+                None if materials is None else materials.cog_uncertainty(_item_candidates(b.step)),
             )
         )
     left_out = tuple((b.step.path, b.props.mass_kg) for b in bodies if b.density_kg_mm3 == 0.0)
@@ -680,6 +687,7 @@ def _unmatched_rules(materials: MaterialMap, bodies: Sequence[StepBody]) -> list
         "surfaces": [p for p, _, _ in materials.surface_rules],
         "mass_uncertainty": [p for p, _, _ in materials.uncertainty_rules],
         "growth_allowance": [p for p, _, _ in materials.growth_rules],
+        "cog_uncertainty": [p for p, _ in materials.cog_rules],
     }
     return [
         f"[{table}] {pattern!r}"

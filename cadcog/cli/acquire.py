@@ -282,9 +282,9 @@ def _finish(args: argparse.Namespace, target: Any, result: Any, device: Any) -> 
     cad = None
     truth = None
     if est is not None and target.setup is not None:
-        from cadcog.spacecraft.setup import compare_with_cad
+        from cadcog.spacecraft.compare import compare_with_cad
 
-        cad = compare_with_cad(target.setup, est.cog_mm, est.cov_mm2)
+        cad = compare_with_cad(target.setup, est.cog_mm, est.cov_mm2, est.compensation)
     if est is not None and device is not None:
         truth = device.truth_check(est.cog_mm, est.cov_mm2)
     data = result.to_dict()

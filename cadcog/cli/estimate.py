@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +18,7 @@ from cadcog.method.readings import Suspension, read_readings
 from cadcog.rig.file import load_rig
 from cadcog.rig.inclinometer import InclinometerConfig
 from cadcog.rig.parameters import Rig
+from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
 
 
 def _vector3(text: str) -> tuple[float, float, float]:
@@ -47,6 +49,19 @@ def add_parser(sub: Any) -> None:
         type=Path,
         help="spacecraft set-up file: masses and ME from its CAD, the CAD comparison and the "
         "CubeSat envelope check",
+    )
+    p.add_argument(
+        "--weighed-mass-kg",
+        type=float,
+        help="with --setup or --rig: the object's weighed mass without the ME, used to remove "
+        "the ME (default: the CAD's or the rig's mass; with --setup the CAD mass's own "
+        "uncertainty is then carried into the CoG)",
+    )
+    p.add_argument(
+        "--mass-sigma-kg",
+        type=float,
+        default=DEFAULT_WEIGHING_SIGMA_KG,
+        help=f"1-σ of the weighing (default {DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
     )
     p.add_argument("--object-mass-kg", type=float, help="mass of the object without the ME")
     p.add_argument("--me-mass-kg", type=float, help="mass of the measurement equipment")
@@ -98,7 +113,20 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
         if any(v is not None for v in direct):
             raise CadcogError("give either --rig or --object-mass-kg/--me-mass-kg/--me-cog-mm")
         rig = load_rig(args.rig)
-        return MEData.from_rig(rig), rig.inclinometer, rig
+        me = MEData.from_rig(rig)
+        if args.weighed_mass_kg is not None:
+            me = replace(
+                me,
+                object_mass_kg=args.weighed_mass_kg,
+                object_mass_sigma_kg=args.mass_sigma_kg,
+                object_mass_source="weighed",
+            )
+        return me, rig.inclinometer, rig
+    if args.weighed_mass_kg is not None:
+        raise CadcogError(
+            "--weighed-mass-kg goes with --setup or --rig (with the ME given on the command "
+            "line, --object-mass-kg is the mass)"
+        )
     if args.wire_correction or args.self_calibrate_wire:
         raise CadcogError(
             "--wire-correction/--self-calibrate-wire need --rig or --setup (they give the bolt "
@@ -123,10 +151,16 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
 
 
 def run(args: argparse.Namespace) -> int:
-    for name in ("angle_sigma_deg", "point_sigma_mm", "min_angle_deg"):
+    for name in (
+        "angle_sigma_deg",
+        "point_sigma_mm",
+        "min_angle_deg",
+        "weighed_mass_kg",
+        "mass_sigma_kg",
+    ):
         value = getattr(args, name)
-        if value is not None and not value > 0:
-            raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
+        if value is not None and not (np.isfinite(value) and value > 0):
+            raise CadcogError(f"--{name.replace('_', '-')} must be a positive number, got {value}")
     if args.setup is not None:
         return run_setup(args)
     me, config, rig = _me_data(args)
@@ -211,9 +245,13 @@ def print_estimate(result: CogEstimate) -> None:
     else:
         c = result.compensation
         sigma = np.sqrt(np.diag(c.cov_mm2))
+        mass = f"object {c.object_mass_kg:g}"
+        if c.object_mass_sigma_kg > 0:
+            mass += f" ± {c.object_mass_sigma_kg:.4g}"
+        mass += f" kg ({c.object_mass_source})"
         print(
             f"object CoG (ME removed):    {_fmt(c.cog_mm)} mm  ± {_fmt(sigma)} mm  "
-            f"(object {c.object_mass_kg:g} kg, ME {c.me_mass_kg:g} kg at {_fmt(c.me_cog_mm, 0, 2)})"
+            f"({mass}, ME {c.me_mass_kg:g} kg at {_fmt(c.me_cog_mm, 0, 2)})"
         )
 
 
@@ -235,6 +273,8 @@ def run_setup(args: argparse.Namespace) -> int:
             point_sigma_mm=args.point_sigma_mm,
             min_angle_deg=args.min_angle_deg,
             compare=True,
+            weighed_mass_kg=args.weighed_mass_kg,
+            mass_sigma_kg=args.mass_sigma_kg,
         )
     except ValueError as exc:
         raise CadcogError(f"{args.readings}: {exc}") from None
@@ -242,14 +282,29 @@ def run_setup(args: argparse.Namespace) -> int:
 
 
 def print_cad_comparison(cad: dict[str, Any]) -> None:
-    """Readable lines of :func:`cadcog.spacecraft.setup.compare_with_cad`."""
-    d, s = cad["difference_mm"], cad["difference_sigma"]
+    """Readable lines of :func:`cadcog.spacecraft.compare.compare_with_cad`."""
+    d, s, m = cad["difference_mm"], cad["difference_sigma"], cad["measurement_sigma"]
     print(
         "measured − CAD: ["
         + ", ".join(f"{v:+.3f}" for v in d)
         + "] mm = ["
         + ", ".join(f"{v:+.1f}" for v in s)
-        + "] σ"
+        + "] σ of measurement and CAD combined (["
+        + ", ".join(f"{v:+.1f}" for v in m)
+        + "] σ of the measurement alone)"
+    )
+    if "mass_difference_kg" in cad:
+        print(
+            f"weighed − CAD mass: {cad['mass_difference_kg'] * 1e3:+.1f} g = "
+            f"{cad['mass_difference_sigma']:+.1f} σ (weighing and CAD combined)"
+        )
+    verdict = (
+        "within the CAD's stated uncertainties"
+        if cad["consistent"]
+        else "BEYOND the CAD's stated uncertainties (see `cadcog update`)"
+    )
+    print(
+        f"CAD check: χ² = {cad['chi2']:.2f} ({cad['dof']} dof), p = {cad['p_value']:.3g}: {verdict}"
     )
     cs = cad.get("cubesat")
     if cs is None:

@@ -5,16 +5,17 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import dumps_json
-from cadcog.spacecraft.update import INCONSISTENT_NOTE
+from cadcog.spacecraft.update import INCONSISTENT_NOTE, REJECTED_NOTE, unmodelled_from_region
 
-#: Default 1-σ of the weighing (kg): a lab scale of 1 g resolution.
-DEFAULT_MASS_SIGMA_KG = 0.001
+if TYPE_CHECKING:
+    from cadcog.spacecraft.update import UpdateResult
+from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG as DEFAULT_MASS_SIGMA_KG
 
 
 def _region(text: str) -> tuple[float, ...]:
@@ -86,57 +87,30 @@ def _positive(name: str, value: float | None, *, zero: bool = False) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from cadcog.method.readings import read_readings
-    from cadcog.spacecraft.setup import estimate_for_setup, load_setup
-    from cadcog.spacecraft.update import (
-        Measurement,
-        UnmodelledPrior,
-        items_from_bodies,
-        update_budget,
-    )
+    from cadcog.spacecraft.setup import load_setup, update_for_setup
 
     _positive("weighed_mass_kg", args.weighed_mass_kg)
     _positive("mass_sigma_kg", args.mass_sigma_kg)
     _positive("unmodelled_mass_kg", args.unmodelled_mass_kg, zero=True)
     _positive("unmodelled_sigma_kg", args.unmodelled_sigma_kg)
-    unmodelled = None
-    if args.unmodelled_region_mm is not None:
-        if args.unmodelled_sigma_kg is None:
-            raise CadcogError("--unmodelled-region-mm needs --unmodelled-sigma-kg (its prior 1 σ)")
-        r = np.array(args.unmodelled_region_mm)
-        flat = [axis for axis, lo, hi in zip("xyz", r[:3], r[3:], strict=True) if lo == hi]
-        if flat:
-            raise CadcogError(
-                f"--unmodelled-region-mm: the box has no extent along {', '.join(flat)} "
-                "(X0,Y0,Z0,X1,Y1,Z1 are opposite corners; give where the mass may be)"
-            )
-        unmodelled = UnmodelledPrior(
-            np.minimum(r[:3], r[3:]),
-            np.maximum(r[:3], r[3:]),
-            args.unmodelled_mass_kg,
-            args.unmodelled_sigma_kg,
+    try:
+        unmodelled = unmodelled_from_region(
+            args.unmodelled_region_mm, args.unmodelled_mass_kg, args.unmodelled_sigma_kg
         )
-    elif args.unmodelled_sigma_kg is not None:
-        raise CadcogError("--unmodelled-sigma-kg goes with --unmodelled-region-mm")
+    except ValueError as exc:
+        raise CadcogError(f"--unmodelled-region-mm: {exc}") from None
     setup = load_setup(args.setup)
     suspensions = read_readings(args.readings, setup.rig.inclinometer)
     try:
-        estimate = estimate_for_setup(setup, suspensions)
+        result, estimate = update_for_setup(
+            setup,
+            suspensions,
+            args.weighed_mass_kg,
+            mass_sigma_kg=args.mass_sigma_kg,
+            unmodelled=unmodelled,
+        )
     except ValueError as exc:
         raise CadcogError(f"{args.readings}: {exc}") from None
-    items, fixed = items_from_bodies(setup.bodies)
-    measurement = Measurement(
-        estimate.assembly_cog_mm,
-        estimate.joint.cov_mm2,
-        args.weighed_mass_kg,
-        args.mass_sigma_kg,
-        setup.me_mass_kg,
-        setup.me_cog_mm,
-        setup.me_cog_cov_mm2,
-    )
-    try:
-        result = update_budget(items, fixed, measurement, unmodelled=unmodelled)
-    except ValueError as exc:
-        raise CadcogError(f"{args.setup}: {exc}; give items a [mass_uncertainty]") from None
     if args.report is not None:
         from cadcog.reports.update_report import write_update_report
 
@@ -155,14 +129,10 @@ def _pm(value: float, sigma: float, digits: int) -> str:
     return f"{round(float(value), digits) + 0.0:.{digits}f} ± {float(sigma):.{digits}f}"
 
 
-def print_update(r: Any) -> None:
+def print_update(r: UpdateResult) -> None:
     """Readable report of an :class:`~cadcog.spacecraft.update.UpdateResult`."""
-    verdict = (
-        "consistent: the gap is within the uncertainties"
-        if r.consistent
-        else "the gap is LARGER than the CAD and measurement uncertainties allow"
-    )
-    print(f"CAD vs measurement: χ² = {r.chi2:.2f} ({r.dof} dof), p = {r.p_value:.3g}: {verdict}")
+    for line in r.verdict_lines():
+        print(line)
     rows = [
         (
             "mass_kg",
@@ -185,19 +155,35 @@ def print_update(r: Any) -> None:
     print()
     for row in [header, *rows]:
         print("".join(f"{c:<{w}}" for c, w in zip(row, widths, strict=False)) + row[3])
+    print("\nwhat explains the gap (posterior probability; prior in brackets):")
+    shown = r.explanations[:6]
+    width = max((len(e.label) for e in shown), default=0)
+    for e in shown:
+        print(
+            f"  {e.label:<{width}}  {e.probability:6.1%}  ({e.prior_probability:.0%})  "
+            f"{e.description}"
+        )
     ranked = r.ranked_items()[:8]
-    print("\nitems by how far the measurement moved them (change, 1 σ, in prior σ):")
+    print("\nitems (mass change and CoG shift, ± 1 σ; P: probability it is the one off):")
     width = max((len(c.key) for c in ranked), default=0)
     for c in ranked:
+        shift = ", ".join(
+            f"{v:+.1f}±{e:.1f}" for v, e in zip(c.cog_shift_mm, c.cog_shift_sigma_mm, strict=True)
+        )
         print(
-            f"  {c.key:<{width}}  {c.delta_rel:+7.1%} ± {c.delta_sigma_rel:.1%}"
-            f"  ({c.delta_kg * 1e3:+.1f} g; {c.pull:+.2f} σ)"
+            f"  {c.key:<{width}}  P {c.probability:5.1%}  {c.delta_rel:+7.1%} ± "
+            f"{c.delta_sigma_rel:.1%} ({c.delta_kg * 1e3:+.1f} g)  CoG [{shift}] mm"
         )
     if r.unmodelled_mass_kg is not None:
         print(f"\nunmodelled mass: {r.unmodelled_summary()}")
-    if not r.consistent:
+    if r.model_rejected:
+        print(f"\n{REJECTED_NOTE}")
+    elif not r.consistent:
         print(f"\n{INCONSISTENT_NOTE}")
     j, s = r.posterior.inertia_kg_mm2, r.posterior_inertia_sigma_kg_mm2
-    print("\nupdated inertia about the CoG, model axes (kg·mm², ± 1 σ):")
+    print(
+        "\nupdated inertia about the CoG, model axes (kg·mm², ± 1 σ; "
+        "tensor convention: off-diagonal entries are −∫ x·y dm):"
+    )
     for i in range(3):
         print("  " + "  ".join(f"{j[i, k]:11.2f} ± {s[i, k]:7.2f}" for k in range(3)))

@@ -131,6 +131,9 @@ class TableReader:
     def is_table(self, name: str) -> bool:
         return isinstance(self._data.get(name), dict)
 
+    def is_array(self, name: str) -> bool:
+        return isinstance(self._data.get(name), list)
+
     def _get(self, name: str) -> Any:
         self._used.add(name)
         if name not in self._data:

@@ -113,6 +113,9 @@ def products_of_inertia(
     return {"xy": sign * float(j[0, 1]), "xz": sign * float(j[0, 2]), "yz": sign * float(j[1, 2])}
 
 
+#: The inertia tensor's convention, as every output that holds a tensor names it.
+TENSOR_CONVENTION = "J = ∫ (|r|² 1 − r rᵀ) dm: off-diagonal entries are −∫ x·y dm"
+
 PRODUCT_CONVENTIONS: dict[str, str] = {
     "positive": "Pxy = +∫ x·y dm (the tensor's off-diagonal entry is −Pxy)",
     "negative": "Ixy = −∫ x·y dm (the tensor's own off-diagonal entry)",

@@ -23,6 +23,10 @@ above it::
     "battery_pack" = 0.02        # an assembly: the whole pack is one item
     "*" = 0.05                   # every other body on its own
 
+    [cog_uncertainty]            # 1-σ uncertainty of the matched item's CoG, per axis (mm)
+    "battery_pack" = 2.0         # the same along x, y and z
+    "camera*" = [1.0, 1.0, 5.0]  # or per model axis
+
     [growth_allowance]           # mass growth allowance: a fraction or a maturity level
     "payload*" = "new"
     "*" = 0.05
@@ -31,7 +35,9 @@ above it::
     new = 0.20
 
 An uncertainty rule's *item* is the deepest node the pattern matches: a rule naming an assembly
-makes its bodies one item, whose masses vary together.
+makes its bodies one item, whose masses vary together. A CoG uncertainty applies to the item of
+the body's mass uncertainty; an item no ``[cog_uncertainty]`` rule names gets the default of
+:mod:`cadcog.spacecraft.items` (its mass uncertainty times the spread of its mass).
 """
 
 from __future__ import annotations
@@ -168,6 +174,8 @@ class MaterialMap:
         Pattern → 1-σ relative mass uncertainty ('' label).
     growth_rules : tuple of (str, float, str)
         Pattern → mass growth allowance fraction, and the maturity level it came from.
+    cog_rules : tuple of (str, (float, float, float))
+        Pattern → 1-σ CoG uncertainty of the item along x, y, z (mm).
     """
 
     rules: tuple[tuple[str, str | float], ...]
@@ -175,6 +183,7 @@ class MaterialMap:
     surface_rules: tuple[tuple[str, str, float], ...] = ()
     uncertainty_rules: tuple[tuple[str, float, str], ...] = ()
     growth_rules: tuple[tuple[str, float, str], ...] = ()
+    cog_rules: tuple[tuple[str, tuple[float, float, float]], ...] = ()
 
     def assign(self, names: Sequence[str]) -> Assignment | None:
         """Material of a solid known by ``names`` (its own name, then its assemblies')."""
@@ -199,6 +208,16 @@ class MaterialMap:
         The rule's item is the deepest node it matches (an assembly makes one item).
         """
         return _first_item(self.uncertainty_rules, candidates)
+
+    def cog_uncertainty(
+        self, candidates: Sequence[tuple[str, Sequence[str]]]
+    ) -> tuple[float, float, float] | None:
+        """CoG uncertainty (mm, per axis) of a body's item: the first rule matching the body or
+        an assembly above it (``candidates`` as for :meth:`uncertainty`)."""
+        for pattern, sigma in self.cog_rules:
+            if any(_matches(pattern, names) for _, names in candidates):
+                return sigma
+        return None
 
     def growth(self, candidates: Sequence[tuple[str, Sequence[str]]]) -> ItemRule | None:
         """Mass growth allowance of a body (same matching as :meth:`uncertainty`)."""
@@ -239,6 +258,26 @@ def _fraction(t: TableReader, key: str, what: str, upper: float) -> float:
     return value
 
 
+#: The largest CoG uncertainty accepted (mm): beyond, the value is probably in another unit.
+MAX_COG_SIGMA_MM = 1000.0
+
+
+def _cog_sigma(t: TableReader, key: str) -> tuple[float, float, float]:
+    if t.is_array(key):
+        values = list(t.vector(key))
+        if any(not v >= 0 for v in values):
+            raise t.error(key, f"CoG uncertainty {values} must be ≥ 0 mm on every axis")
+    else:
+        values = [t.number(key, nonnegative=True)] * 3
+    if max(values) > MAX_COG_SIGMA_MM:
+        raise t.error(
+            key,
+            f"CoG uncertainty {max(values):g} mm is implausible; expected 1-σ in mm, at most "
+            f"{MAX_COG_SIGMA_MM:g}",
+        )
+    return values[0], values[1], values[2]
+
+
 def _surface(t: TableReader, key: str) -> tuple[str, float]:
     if t.is_table(key):
         sub = t.table(key)
@@ -265,6 +304,7 @@ MATERIALS_TABLES = (
     "materials",
     "surfaces",
     "mass_uncertainty",
+    "cog_uncertainty",
     "maturity_levels",
     "growth_allowance",
 )
@@ -274,7 +314,13 @@ def load_materials(path: str | Path) -> MaterialMap:
     """Read a materials file; unknown material names and bad values name the key."""
     p = Path(path)
     root = TableReader(read_toml(p), p)
-    for name in ("materials", "surfaces", "mass_uncertainty", "growth_allowance"):
+    for name in (
+        "materials",
+        "surfaces",
+        "mass_uncertainty",
+        "cog_uncertainty",
+        "growth_allowance",
+    ):
         if root.is_table(name):
             for pattern in root.table(name).keys():
                 if any(ord(ch) < 32 or ord(ch) == 127 for ch in pattern):
@@ -302,6 +348,12 @@ def load_materials(path: str | Path) -> MaterialMap:
         for pattern in table.keys():
             sigmas.append((pattern, _fraction(table, pattern, "mass uncertainty", 1.0), ""))
         table.finish()
+    cogs: list[tuple[str, tuple[float, float, float]]] = []
+    if root.has("cog_uncertainty"):
+        table = root.table("cog_uncertainty")
+        for pattern in table.keys():
+            cogs.append((pattern, _cog_sigma(table, pattern)))
+        table.finish()
     levels: dict[str, float] = {}
     if root.has("maturity_levels"):
         table = root.table("maturity_levels")
@@ -326,11 +378,13 @@ def load_materials(path: str | Path) -> MaterialMap:
                 growth.append((pattern, _fraction(table, pattern, "growth allowance", 2.0), ""))
         table.finish()
     root.finish(expected=MATERIALS_TABLES)
-    if not (rules or surfaces or sigmas or growth):
+    if not (rules or surfaces or sigmas or growth or cogs):
         raise ParameterFileError(
             p,
             "materials",
             "no rules: map name patterns to materials ([materials]), areal densities "
             "([surfaces]), mass uncertainties or growth allowances",
         )
-    return MaterialMap(tuple(rules), str(p), tuple(surfaces), tuple(sigmas), tuple(growth))
+    return MaterialMap(
+        tuple(rules), str(p), tuple(surfaces), tuple(sigmas), tuple(growth), tuple(cogs)
+    )

@@ -37,13 +37,19 @@ from cadcog.rig.parameters import Rig
 
 @dataclass(frozen=True)
 class MEData:
-    """What compensation needs: masses, the ME's CAD CoG and that CoG's covariance."""
+    """What compensation needs: masses, the ME's CAD CoG and that CoG's covariance.
+
+    ``object_mass_sigma_kg`` is the object mass's 1 σ (a weighing's, or the CAD's), propagated
+    into the compensated CoG; ``object_mass_source`` says which ("rig", "CAD", "weighed").
+    """
 
     object_mass_kg: float
     me_mass_kg: float
     me_cog_mm: FloatArray
     me_cog_cov_mm2: FloatArray
     source: str
+    object_mass_sigma_kg: float = 0.0
+    object_mass_source: str = "given"
 
     @classmethod
     def from_rig(cls, rig: Rig) -> MEData:
@@ -54,7 +60,12 @@ class MEData:
         """
         me = rig.analytic_me
         return cls(
-            rig.proof_mass.mass_kg, me.mass_kg, me.cog_mm, rig.me_cog_cov_mm2, f"rig {rig.source}"
+            rig.proof_mass.mass_kg,
+            me.mass_kg,
+            me.cog_mm,
+            rig.me_cog_cov_mm2,
+            f"rig {rig.source}",
+            object_mass_source="rig",
         )
 
 
@@ -111,7 +122,7 @@ class CogEstimate(JsonResult):
         What the user should know (inconsistent hangs, poor conditioning).
     cad : dict or None
         For a spacecraft set-up: the comparison with its CAD CoG and CubeSat envelope
-        (:func:`cadcog.spacecraft.setup.compare_with_cad`), as ``estimate --setup`` prints it.
+        (:func:`cadcog.spacecraft.compare.compare_with_cad`), as ``estimate --setup`` prints it.
     """
 
     suspensions: tuple[Suspension, ...]
@@ -155,6 +166,8 @@ class CogEstimate(JsonResult):
                 else {
                     "applied": True,
                     "object_mass_kg": comp.object_mass_kg,
+                    "object_mass_sigma_kg": comp.object_mass_sigma_kg,
+                    "object_mass_source": comp.object_mass_source,
                     "me_mass_kg": comp.me_mass_kg,
                     "me_cog_mm": comp.me_cog_mm.tolist(),
                 }
@@ -357,6 +370,8 @@ def estimate_cog(
             me_mass_kg=me.me_mass_kg,
             me_cog_mm=me.me_cog_mm,
             me_cog_cov_mm2=me.me_cog_cov_mm2,
+            object_mass_sigma_kg=me.object_mass_sigma_kg,
+            object_mass_source=me.object_mass_source,
         )
     info = {
         "estimator": "generalised least squares over all plumb lines",

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from itertools import combinations
 
 import numpy as np
@@ -232,24 +232,45 @@ class JointEstimate:
         return chi2_sf(self.chi2, self.dof) if self.dof > 0 else 1.0
 
 
+#: Degrees of freedom up to which :func:`chi2_sf` sums its closed form (scipy beyond).
+CHI2_CLOSED_FORM_MAX_DOF = 100
+
+
 def chi2_sf(x: float, dof: int) -> float:
     """Tail probability of a χ² variable with ``dof`` degrees of freedom.
 
-    Closed forms for 1 and 2 degrees of freedom (``erfc(√(x/2))``, ``exp(−x/2)``), scipy beyond
-    (imported only then: it takes a second to import).
+    Closed forms for whole degrees of freedom (no scipy, which takes a second to import): even
+    ``e^(−x/2) Σ_{k<dof/2} (x/2)^k / k!``, odd ``erfc(√(x/2)) + √(2x/π) e^(−x/2) Σ x^(k−1) /
+    (3·5⋯(2k−1))``; scipy beyond :data:`CHI2_CLOSED_FORM_MAX_DOF`.
+    ``tests/method/test_plumblines.py`` compares them with scipy.
 
     Examples
     --------
     >>> round(chi2_sf(5.991464547107979, 2), 12), round(chi2_sf(3.841458820694124, 1), 12)
     (0.05, 0.05)
+    >>> round(chi2_sf(7.814727903251178, 3), 12), round(chi2_sf(9.487729036781154, 4), 12)
+    (0.05, 0.05)
     """
-    if dof == 1:
-        return math.erfc(math.sqrt(max(x, 0.0) / 2.0))
-    if dof == 2:
-        return math.exp(-max(x, 0.0) / 2.0)
-    from scipy import stats
+    x = max(float(x), 0.0)
+    if dof < 1:
+        raise ValueError(f"χ² needs at least one degree of freedom, got {dof}")
+    if dof > CHI2_CLOSED_FORM_MAX_DOF:
+        from scipy import stats
 
-    return float(stats.chi2.sf(x, dof))
+        return float(stats.chi2.sf(x, dof))
+    half = x / 2.0
+    if dof % 2 == 0:
+        term, total = 1.0, 1.0
+        for k in range(1, dof // 2):
+            term *= half / k
+            total += term
+        return min(math.exp(-half) * total, 1.0)
+    total = math.erfc(math.sqrt(half))
+    term = math.sqrt(2.0 * x / math.pi) * math.exp(-half)
+    for k in range(1, (dof + 1) // 2):
+        total += term
+        term *= x / (2 * k + 1)
+    return min(total, 1.0)
 
 
 def least_squares_point(
@@ -479,13 +500,22 @@ def _loo_statistic(
 
 @dataclass(frozen=True)
 class Compensation:
-    """Object CoG from the assembly CoG by removing the ME (eqs. 10 and 16)."""
+    """Object CoG from the assembly CoG by removing the ME (eqs. 10 and 16).
+
+    ``cov_mm2`` includes the object mass's uncertainty (``object_mass_sigma_kg``, through
+    ``mass_gradient_mm_kg`` = ``∂r_obj/∂m_obj``); ``cov_given_mass_mm2`` is the covariance with
+    the object mass taken as exact.
+    """
 
     cog_mm: FloatArray
     cov_mm2: FloatArray
     object_mass_kg: float
     me_mass_kg: float
     me_cog_mm: FloatArray
+    object_mass_sigma_kg: float = 0.0
+    mass_gradient_mm_kg: FloatArray = field(default_factory=lambda: np.zeros(3))
+    cov_given_mass_mm2: FloatArray | None = None
+    object_mass_source: str = "given"
 
 
 def compensate_me(
@@ -496,11 +526,15 @@ def compensate_me(
     me_mass_kg: float,
     me_cog_mm: npt.ArrayLike,
     me_cog_cov_mm2: npt.ArrayLike | None = None,
+    object_mass_sigma_kg: float = 0.0,
+    object_mass_source: str = "given",
 ) -> Compensation:
     """Remove the measurement equipment from an assembly CoG (eq. 10), propagating errors (eq. 16).
 
     ``r_obj = ((m_obj + m_ME) r_est − m_ME r_ME) / m_obj`` and
-    ``cov_obj = (1 + m_ME/m_obj)² cov_est + (m_ME/m_obj)² cov_ME``.
+    ``cov_obj = (1 + m_ME/m_obj)² cov_est + (m_ME/m_obj)² cov_ME + σ_m² a aᵀ``, with
+    ``a = ∂r_obj/∂m_obj = −(m_ME/m_obj²)(r_est − r_ME)`` and ``σ_m`` the object mass's 1 σ
+    (a weighing's, or the CAD's: every kg the mass is off moves ``r_obj`` by ``a``).
 
     Examples
     --------
@@ -508,16 +542,34 @@ def compensate_me(
     ...                   me_cog_mm=[10.0, 0, 0])
     >>> c.cog_mm.tolist()  # (10·1 − 1·10) / 9
     [0.0, 0.0, 0.0]
+    >>> c = compensate_me([1.0, 0, 0], np.zeros((3, 3)), object_mass_kg=9.0, me_mass_kg=1.0,
+    ...                   me_cog_mm=[10.0, 0, 0], object_mass_sigma_kg=0.9)
+    >>> round(float(c.cov_mm2[0, 0]), 6)  # (0.9 · 1/81 · 9)²
+    0.01
     """
     if not object_mass_kg > 0 or not me_mass_kg >= 0:
         raise ValueError("object mass must be positive and ME mass non-negative")
+    if not object_mass_sigma_kg >= 0:
+        raise ValueError("the object mass's σ must be ≥ 0")
     ratio = me_mass_kg / object_mass_kg
     r_est = np.asarray(assembly_cog_mm, dtype=float)
     r_me = np.asarray(me_cog_mm, dtype=float)
     cog = (1.0 + ratio) * r_est - ratio * r_me
     cov_me = np.zeros((3, 3)) if me_cog_cov_mm2 is None else np.asarray(me_cog_cov_mm2, float)
     cov = (1.0 + ratio) ** 2 * np.asarray(assembly_cov_mm2, dtype=float) + ratio**2 * cov_me
-    return Compensation(cog, cov, object_mass_kg, me_mass_kg, r_me)
+    gradient = -ratio / object_mass_kg * (r_est - r_me)
+    total = cov + object_mass_sigma_kg**2 * np.outer(gradient, gradient)
+    return Compensation(
+        cog,
+        total,
+        object_mass_kg,
+        me_mass_kg,
+        r_me,
+        object_mass_sigma_kg,
+        gradient,
+        cov,
+        object_mass_source,
+    )
 
 
 def out_of_range(

@@ -19,7 +19,7 @@ import numpy as np
 from cadcog.core.fileio import dumps_json, staged_output_dir
 from cadcog.core.version import __version__
 from cadcog.reports.html import CSS, img_tag, num, table
-from cadcog.spacecraft.update import INCONSISTENT_NOTE, UpdateResult
+from cadcog.spacecraft.update import INCONSISTENT_NOTE, REJECTED_NOTE, UpdateResult
 
 if TYPE_CHECKING:
     from cadcog.method.estimate import CogEstimate
@@ -63,12 +63,8 @@ def render_html(
     r: UpdateResult, setup: Setup, estimate: CogEstimate, readings: Path, figure: Path
 ) -> str:
     esc = html.escape
-    verdict_cls = "ok" if r.consistent else "bad"
-    verdict = (
-        "consistent: the gap between CAD and measurement is within their uncertainties"
-        if r.consistent
-        else "the gap between CAD and measurement is larger than their uncertainties allow"
-    )
+    verdict_cls = "bad" if r.model_rejected or not r.consistent else "ok"
+    verdict = "<br>".join(esc(line) for line in r.verdict_lines())
     cad_sd, meas_sd, post_sd = (
         _sd(r.cad_cog_cov_mm2),
         _sd(r.measured_cog_cov_mm2),
@@ -96,10 +92,14 @@ def render_html(
         [
             esc(c.key),
             f"{c.cad_mass_kg * 1e3:.1f}",
+            f"{c.probability:.1%}",
             f"{c.prior_sigma_rel:.1%}",
             f"{c.delta_rel:+.1%} ± {c.delta_sigma_rel:.1%}",
             f"{c.delta_kg * 1e3:+.1f}",
-            f"{c.pull:+.2f}",
+            ", ".join(
+                f"{v:+.1f} ± {e:.1f}"
+                for v, e in zip(c.cog_shift_mm, c.cog_shift_sigma_mm, strict=True)
+            ),
         ]
         for c in ranked[:PAGE_ITEMS]
     ]
@@ -111,7 +111,15 @@ def render_html(
     unmodelled = "<p>No unmodelled mass allowed (<code>--unmodelled-region-mm</code>).</p>"
     if r.unmodelled_mass_kg is not None:
         unmodelled = f"<p class='big'>{esc(r.unmodelled_summary())}</p>"
-    caveat = "" if r.consistent else f"<p class='note bad'>{esc(INCONSISTENT_NOTE)}</p>"
+    caveat = ""
+    if r.model_rejected:
+        caveat = f"<p class='note bad'>{esc(REJECTED_NOTE)}</p>"
+    elif not r.consistent:
+        caveat = f"<p class='note bad'>{esc(INCONSISTENT_NOTE)}</p>"
+    explanation_rows = [
+        [esc(e.label), f"{e.probability:.1%}", f"{e.prior_probability:.0%}", esc(e.description)]
+        for e in r.explanations
+    ]
     j, s = r.posterior.inertia_kg_mm2, r.posterior_inertia_sigma_kg_mm2
     inertia_rows = [
         ["xyz"[i], *[f"{num(j[i, k], 2)} ± {s[i, k]:.2f}" for k in range(3)]] for i in range(3)
@@ -123,29 +131,48 @@ def render_html(
 <h1>{esc(setup.name)}: CAD against measurement</h1>
 <p class="sub">cadcog {esc(__version__)} · set-up <code>{esc(setup.source.name)}</code>
 · readings <code>{esc(readings.name)}</code> · {len(estimate.suspensions)} suspensions</p>
-<p class="big"><span class="{verdict_cls}">{esc(verdict)}</span>:
-χ² = {r.chi2:.2f} with {r.dof} degrees of freedom, p = {r.p_value:.3g}.</p>
+<p class="big"><span class="{verdict_cls}">{verdict}</span></p>
 
 {caveat}
 <h2>Mass and CoG</h2>
 {table(["", "CAD (prior)", "measured", "updated (posterior)"], rows)}
-<p class="note">± is 1 σ. The CAD's σ comes from the materials file's mass uncertainties; the
-measured CoG is the suspension estimate compensated for the measurement equipment with the
-weighed mass; the updated values combine both (a Gaussian update about the most likely item
-masses). Model coordinates.</p>
+<p class="note">± is 1 σ. The CAD's σ comes from the materials file's item mass and CoG
+uncertainties; the measured CoG is the suspension estimate compensated for the measurement
+equipment with the weighed mass; the updated values combine both over the explanations below,
+each weighed by its probability (or are the measurement's when no explanation fits). Model
+coordinates.</p>
 {img_tag(figure, "CAD, measured and updated CoG with 95 % ellipsoids")}
 
-<h2>Which items explain the gap</h2>
-{table(["item", "CAD mass (g)", "prior σ", "change", "change (g)", "pull (σ)"], item_rows)}
+<h2>What explains the gap</h2>
+{table(["explanation", "probability", "prior", "what it says"], explanation_rows)}
+<p class="note">Each explanation is a hypothesis about the CAD: every item within its stated σ
+("none"), one item off by much more, or an unmodelled mass. Its probability is how well it
+explains the measurement, weighed by its prior; rates over many simulated tests are in
+docs/spacecraft.md.</p>
+
+<h2>Items</h2>
+{
+        table(
+            [
+                "item",
+                "CAD mass (g)",
+                "P(the one off)",
+                "prior σ",
+                "change",
+                "change (g)",
+                "CoG shift (mm)",
+            ],
+            item_rows,
+        )
+    }
 {more}
-<p class="note">Pull is the change in the item's prior σ. Items whose change is small against
-their ± are not resolved by this measurement: a CoG and a mass give four numbers, so many items
-cannot all be told apart; the ranking says which explanations the data favour.</p>
+<p class="note">A CoG and a mass give four numbers, so many items cannot all be told apart:
+an item whose change is small against its ± is not resolved by this measurement.</p>
 
 <h2>Unmodelled mass</h2>
 {unmodelled}
 
-<h2>Updated inertia about the CoG (kg·mm², model axes)</h2>
+<h2>Updated inertia about the CoG (kg·mm², model axes; off-diagonal entries are −∫ x·y dm)</h2>
 {table(["", "x", "y", "z"], inertia_rows)}
 
 <h2>Estimator warnings</h2>

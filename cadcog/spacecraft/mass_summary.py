@@ -22,6 +22,7 @@ from cadcog.core import bounds
 from cadcog.core.results import JsonResult
 from cadcog.mass.inertia import (
     PRODUCT_CONVENTIONS,
+    TENSOR_CONVENTION,
     Frame,
     PrincipalAxes,
     inertia_in_frame,
@@ -101,9 +102,7 @@ class MassReport(JsonResult):
             "inertia_kg_mm2": {
                 "about": "centre of gravity, model axes",
                 "tensor": j.tolist(),
-                "tensor_convention": (
-                    "J = ∫ (|r|² 1 − r rᵀ) dm: off-diagonal entries are −∫ x·y dm"
-                ),
+                "tensor_convention": TENSOR_CONVENTION,
                 "products": {
                     "positive": {
                         "convention": PRODUCT_CONVENTIONS["positive"],

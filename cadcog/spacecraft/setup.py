@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -33,8 +33,17 @@ from cadcog.rig.geometry import (
     face_normal_of_point,
 )
 from cadcog.rig.parameters import MEVolume, Rig, me_cog_cov_mm2
-from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM, check_envelope
+from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
+from cadcog.spacecraft.items import (
+    DEFAULT_WEIGHING_SIGMA_KG,
+    LinearPrior,
+    items_from_bodies,
+    linear_prior,
+)
 from cadcog.uncertainty.montecarlo import Scenario
+
+if TYPE_CHECKING:
+    from cadcog.spacecraft.update import UnmodelledPrior, UpdateResult
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -91,14 +100,30 @@ class Setup:
         lo, hi = self.bbox_mm
         return BodyBox(np.asarray(lo), np.asarray(hi), f"setup {self.source}")
 
-    def me_data(self) -> MEData:
-        """What ME compensation needs: the spacecraft's CAD mass and the placed ME."""
+    def cad_prior(self) -> LinearPrior:
+        """The CAD's mass and CoG with their stated uncertainty (:mod:`.items`)."""
+        items, fixed = items_from_bodies(self.bodies)
+        return linear_prior(items, fixed)
+
+    def me_data(
+        self, weighed_mass_kg: float | None = None, mass_sigma_kg: float = DEFAULT_WEIGHING_SIGMA_KG
+    ) -> MEData:
+        """What ME compensation needs: the spacecraft's mass and the placed ME.
+
+        The mass is the weighed one (± ``mass_sigma_kg``) when given, else the CAD's with the
+        CAD's own mass uncertainty, which the compensated CoG then carries."""
+        if weighed_mass_kg is not None:
+            mass, sigma, source = weighed_mass_kg, mass_sigma_kg, "weighed"
+        else:
+            mass, sigma, source = self.mass.mass_kg, self.cad_prior().mass_sigma_kg, "CAD"
         return MEData(
-            self.mass.mass_kg,
+            mass,
             self.me_mass_kg,
             self.me_cog_mm,
             self.me_cog_cov_mm2,
             f"setup {self.source}",
+            sigma,
+            source,
         )
 
     @property
@@ -140,16 +165,20 @@ def estimate_for_setup(
     point_sigma_mm: float | None = None,
     min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
     compare: bool = False,
+    weighed_mass_kg: float | None = None,
+    mass_sigma_kg: float = DEFAULT_WEIGHING_SIGMA_KG,
 ) -> CogEstimate:
     """The spacecraft's compensated CoG from its suspensions, as ``cadcog estimate --setup``
     computes it: the set-up's inclinometer, error model, bolt axes and measurement equipment.
 
-    With ``compare``, the result's ``cad`` holds :func:`compare_with_cad` of it (what the
-    command prints after the estimate)."""
+    The ME is compensated with the weighed mass (± ``mass_sigma_kg``) when given, else with the
+    CAD's mass and its uncertainty. With ``compare``, the result's ``cad`` holds
+    :func:`cadcog.spacecraft.compare.compare_with_cad` of it (what the command prints after the
+    estimate)."""
     estimate = estimate_cog(
         suspensions,
         setup.rig.inclinometer,
-        setup.me_data(),
+        setup.me_data(weighed_mass_kg, mass_sigma_kg),
         model=setup.error_model(),
         body=setup.body(),
         wire_correction=wire_correction,
@@ -160,7 +189,50 @@ def estimate_for_setup(
     )
     if not compare:
         return estimate
-    return replace(estimate, cad=compare_with_cad(setup, estimate.cog_mm, estimate.cov_mm2))
+    from cadcog.spacecraft.compare import compare_with_cad
+
+    cad = compare_with_cad(setup, estimate.cog_mm, estimate.cov_mm2, estimate.compensation)
+    return replace(estimate, cad=cad)
+
+
+def update_for_setup(
+    setup: Setup,
+    suspensions: Sequence[Suspension],
+    weighed_mass_kg: float,
+    *,
+    mass_sigma_kg: float = DEFAULT_WEIGHING_SIGMA_KG,
+    unmodelled: UnmodelledPrior | None = None,
+) -> tuple[UpdateResult, CogEstimate]:
+    """What the test and the weighing say about the CAD, as ``cadcog update`` computes it.
+
+    The assembly CoG from :func:`estimate_for_setup` (the ME's weight from the weighing), then
+    :func:`cadcog.spacecraft.update.update_budget` over the set-up's items, with an unmodelled
+    mass anywhere in the model's bounding box as one of the explanations weighed.
+
+    Returns
+    -------
+    (UpdateResult, CogEstimate)
+        The update, and the estimate it started from (for its warnings and the report).
+    """
+    from cadcog.spacecraft.update import Measurement, update_budget
+
+    estimate = estimate_for_setup(
+        setup, suspensions, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg
+    )
+    items, fixed = items_from_bodies(setup.bodies)
+    measurement = Measurement(
+        estimate.assembly_cog_mm,
+        estimate.joint.cov_mm2,
+        weighed_mass_kg,
+        mass_sigma_kg,
+        setup.me_mass_kg,
+        setup.me_cog_mm,
+        setup.me_cog_cov_mm2,
+    )
+    result = update_budget(
+        items, fixed, measurement, unmodelled=unmodelled, envelope_mm=setup.bbox_mm
+    )
+    return result, estimate
 
 
 def load_setup(path: str | Path) -> Setup:
@@ -277,27 +349,4 @@ def _grid(
             pos[axis] = hi[axis] if sign > 0 else lo[axis]
             pos[others[0]], pos[others[1]] = a, b
             out.append(Candidate(f"{face}_{a:g}_{b:g}", pos, face_normal(face)))
-    return out
-
-
-# --- planning -------------------------------------------------------------------------------------
-def compare_with_cad(setup: Setup, cog_mm: FloatArray, cov_mm2: FloatArray) -> dict[str, Any]:
-    """Measured minus CAD CoG in mm and in sigmas, and the CubeSat envelope check."""
-    diff = cog_mm - setup.mass.cog_mm
-    sigma = np.sqrt(np.diag(cov_mm2))
-    maha = float(np.sqrt(diff @ np.linalg.solve(cov_mm2, diff)))
-    out: dict[str, Any] = {
-        "cad_cog_mm": setup.mass.cog_mm.tolist(),
-        "difference_mm": diff.tolist(),
-        "difference_sigma": (diff / sigma).tolist(),
-        "mahalanobis": maha,
-    }
-    if setup.cog_limits_mm is not None:
-        out["cubesat"] = check_envelope(
-            cog_mm,
-            setup.geometric_center_mm,
-            setup.cog_limits_mm,
-            cov_mm2=cov_mm2,
-            form_factor=setup.form_factor,
-        ).to_dict()
     return out

@@ -1,127 +1,138 @@
-"""What a measurement says about the CAD: a Bayesian update of the mass budget.
+"""What a measurement says about the CAD: a Bayesian update of the mass budget that stays honest
+when the spacecraft is not what its CAD says.
 
-After the suspension test the measured CoG (with its covariance) and the weighed mass rarely match
-the CAD. The mass budget already says how uncertain each item's mass is
-(:mod:`cadcog.spacecraft.mass_budget`); this module finds the item masses, and optionally an
-unmodelled mass (harness, fasteners, adhesive) somewhere in a region, that best explain the
-measurement given those uncertainties, and what the spacecraft's mass, CoG and inertia then are,
-with their covariance: the figures the attitude team should use.
+After the suspension test the measured CoG (with its covariance) and the weighed mass rarely
+match the CAD. The CAD states how uncertain each item is (:mod:`cadcog.spacecraft.items`: a
+relative mass change ``δ_I`` and a CoG shift ``s_I`` per item); this module asks which
+explanation of the gap the data favour, and what the spacecraft's mass, CoG and inertia then
+are, with their covariance.
 
-Model. Unknowns ``θ = (δ_1 … δ_N, m_u, h)``: each uncertain item's relative mass change
-(prior ``N(0, σ_I²)``), and, when a region is given, the unmodelled mass ``m_u`` and its mass
-moment ``h = m_u p_u`` (prior: ``m_u ~ N(μ_u, s_u²)``, ``p_u`` uniform in the region, moment-
-matched to a joint Gaussian). Bodies without an uncertainty are fixed. Observations ``y``: the
-weighed mass of the spacecraft (without the measurement equipment) and the measured CoG of the
-*assembly* (spacecraft + ME) that the suspensions see,
+**Observations.** ``y = (M_weighed, G_asm)``: the weighed spacecraft (without the measurement
+equipment) and the CoG of the *assembly* (spacecraft + ME) that the hangs see,
 
     M(θ) = M_CAD + Σ m_I δ_I + m_u
-    G(θ) = (S_CAD + Σ m_I c_I δ_I + h + m_ME r_ME) / (M(θ) + m_ME)
+    G(θ) = (S_CAD + Σ m_I (δ_I c_I + (1 + δ_I) s_I) + h + m_ME r_ME) / (M(θ) + m_ME)
 
-with noise the weighing's σ and the estimate's covariance plus the ME's CAD uncertainty,
-``(m_ME / M_total)² Σ_ME``. The posterior is found by Gauss-Newton on the exact (ratio) model;
-its covariance is the inverse Hessian there (Laplace). Consistency: before updating, the CAD's
-prediction is compared with the measurement, ``χ² = rᵀ (J P₀ Jᵀ + R)⁻¹ r`` with 4 degrees of
-freedom; a small p-value says the gap is larger than the uncertainties allow.
+with noise ``R``: the weighing's σ and the estimate's covariance plus the ME's CAD uncertainty
+``(m_ME / M_total)² Σ_ME``. ``m_u`` and ``h = m_u p_u`` are an unmodelled mass and its moment
+(prior: the mass ``N(μ_u, s_u²)``, its position uniform in a box, moment-matched), present in a
+hypothesis that allows one.
 
-With no discrepancy (the measurement equals the CAD's prediction) the update changes nothing.
-Pure numpy; nothing here imports the CAD layer.
+**Hypotheses** (heavy tails as a mixture). A CAD is rarely wrong a little everywhere; more often
+one thing is wrong by much. Besides ``H₀`` (every item within its stated σ; the user's
+unmodelled mass in its region, if one is given) the update weighs:
+
+- for each item ``I``, two: its mass σ (a part heavier than its data sheet), or its CoG σ (a
+  CoG far from its model), :data:`ALTERNATIVE_SIGMA_FACTOR` times wider; prior probability
+  :data:`ALTERNATIVE_PRIOR_PROBABILITY` per item, half each;
+- ``H_u``: an unmodelled mass anywhere in the spacecraft's bounding box (harness, fasteners,
+  adhesive; replacing the user's region), prior ``0 ± UNMODELLED_SIGMA_FRACTION · M_CAD``,
+  prior probability :data:`UNMODELLED_PRIOR_PROBABILITY`.
+
+Each hypothesis is solved by Gauss-Newton on the exact (ratio) model, with the unmodelled mass
+kept ≥ 0 (when the data want it negative it is fixed at 0 and the result says so); its
+posterior covariance is the inverse Hessian there and its evidence the Gaussian marginal of the
+model linearised at that point (exact for a linear model). Posterior probabilities
+``P(H | y) ∝ P(H) p(y | H)``; the revised mass, CoG and inertia are the mixture's mean and
+covariance (law of total variance), and each item's probability of being *the one that
+changed* is the sum of its two hypotheses' posterior probabilities.
+
+**Verdicts**, each a test of stated size :data:`LEVEL`:
+
+- *differs*: ``χ² = rᵀ R⁻¹ r`` of the gap ``r = y − y_CAD`` against the measurement noise alone
+  (4 dof): the test tells the spacecraft from its CAD. Size 5 % on a spacecraft identical to
+  its CAD.
+- *consistent*: ``χ² = rᵀ (J P₀ Jᵀ + R)⁻¹ r`` under ``H₀`` (4 dof): the gap is within the CAD's
+  stated uncertainties. Size 5 % on spacecraft drawn from those uncertainties.
+- *model rejected*: no hypothesis explains the gap at level 5 % (each one's prior-predictive
+  χ²): the revised CoG is then the measurement's, with the measurement's covariance (never
+  more confident than the data allow), and the revised mass the weighed one.
+
+With no gap (the measurement equals the CAD's prediction) ``H₀`` is the most probable
+explanation and the update moves nothing. Pure numpy; nothing here
+imports the CAD layer.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.results import JsonResult
+from cadcog.mass.inertia import TENSOR_CONVENTION
 from cadcog.mass.properties import MassProperties, combine
+from cadcog.method.plumblines import chi2_sf
+from cadcog.spacecraft.explanations import (
+    Measurement,
+    Model,
+    Solution,
+    UnmodelledPrior,
+    hypotheses,
+    mixture,
+    numeric_jacobian,
+    parameter_prior,
+    solve,
+    unmodelled_from_region,
+)
+from cadcog.spacecraft.items import Item, items_from_bodies
 
 FloatArray = npt.NDArray[np.float64]
 
-#: Gauss-Newton iterations; the model is nearly linear, so 3-4 reach round-off.
-MAX_ITERATIONS = 20
+__all__ = [
+    "Explanation",
+    "Item",
+    "ItemChange",
+    "Measurement",
+    "UnmodelledPrior",
+    "UpdateResult",
+    "items_from_bodies",
+    "recompensate",
+    "unmodelled_from_region",
+    "update_budget",
+]
 
-#: Probability below which the CAD and the measurement disagree beyond their uncertainties.
-CONSISTENCY_PROBABILITY = 0.05
+#: Size of every verdict (probability of a false alarm when its null holds).
+LEVEL = 0.05
 
-#: Said whenever the CAD and the measurement disagree beyond their uncertainties.
+#: An unmodelled mass is placed (its position reported) only when it is this many σ above 0.
+UNMODELLED_RESOLVED_SIGMAS = 2.0
+
+#: Said whenever the gap is beyond the CAD's stated uncertainties.
 INCONSISTENT_NOTE = (
-    "The updated values assume the gap comes from the items' masses (and the unmodelled mass, "
-    "if one is allowed) within their uncertainties; it does not: look for a missing or "
-    "misplaced part, widen the uncertainties, allow an unmodelled mass in a region, or check "
-    "the test, before using them."
+    "The gap is larger than the CAD's stated uncertainties allow: the update weighs the "
+    "explanations above (one item far off, an unmodelled mass) by how well each explains it; "
+    "check the most probable one on the hardware before trusting the revised figures."
+)
+
+#: Said when no explanation fits.
+REJECTED_NOTE = (
+    "No explanation fits the gap (every hypothesis is rejected at 5 %): the revised CoG and "
+    "mass are the measurement's, with the measurement's uncertainty; the CAD cannot be "
+    "updated from this test. Look for a missing or misplaced part, or check the test."
 )
 
 
 @dataclass(frozen=True)
-class Item:
-    """An uncertain mass item of the budget: its CAD mass properties and 1-σ relative mass."""
-
-    key: str
-    properties: MassProperties
-    sigma_rel: float
-
-
-@dataclass(frozen=True)
-class UnmodelledPrior:
-    """An unmodelled mass somewhere in a box: prior mass mean and 1 σ (kg)."""
-
-    lo_mm: FloatArray
-    hi_mm: FloatArray
-    mass_kg: float
-    sigma_kg: float
-
-    def __post_init__(self) -> None:
-        lo, hi = np.asarray(self.lo_mm, dtype=float), np.asarray(self.hi_mm, dtype=float)
-        if lo.shape != (3,) or hi.shape != (3,) or np.any(hi <= lo):
-            raise ValueError(
-                "the unmodelled mass region needs lo < hi on every axis, three values each "
-                "(a box: the prior places the mass uniformly in it)"
-            )
-        if not (self.sigma_kg > 0 and self.mass_kg >= 0):
-            raise ValueError("the unmodelled mass needs a positive σ and a mean ≥ 0")
-        object.__setattr__(self, "lo_mm", lo)
-        object.__setattr__(self, "hi_mm", hi)
-
-
-@dataclass(frozen=True)
-class Measurement:
-    """What the test measured.
-
-    Attributes
-    ----------
-    assembly_cog_mm, assembly_cov_mm2 : ndarray
-        CoG of spacecraft + ME from the suspensions (``cadcog estimate``'s
-        ``assembly_cog_mm``/``assembly_cov_mm2``).
-    mass_kg, mass_sigma_kg : float
-        The weighed spacecraft, without the ME.
-    me_mass_kg : float
-    me_cog_mm : ndarray, shape (3,)
-    me_cog_cov_mm2 : ndarray, shape (3, 3)
-        The ME's CAD CoG and its uncertainty.
-    """
-
-    assembly_cog_mm: FloatArray
-    assembly_cov_mm2: FloatArray
-    mass_kg: float
-    mass_sigma_kg: float
-    me_mass_kg: float
-    me_cog_mm: FloatArray
-    me_cog_cov_mm2: FloatArray = field(default_factory=lambda: np.zeros((3, 3)))
-
-
-@dataclass(frozen=True)
 class ItemChange(JsonResult):
-    """How the update moved one item's mass."""
+    """How the update moved one item (mixture over the hypotheses).
+
+    ``probability`` is the posterior probability that this item is the one that is wrong
+    beyond its stated σ (``H_I``).
+    """
 
     key: str
     cad_mass_kg: float
     prior_sigma_rel: float
     delta_rel: float
     delta_sigma_rel: float
+    prior_cog_sigma_mm: FloatArray
+    cog_shift_mm: FloatArray
+    cog_shift_sigma_mm: FloatArray
+    probability: float
 
     @property
     def delta_kg(self) -> float:
@@ -129,49 +140,140 @@ class ItemChange(JsonResult):
 
     @property
     def pull(self) -> float:
-        """The change in prior sigmas: how much the data moved the item."""
-        return self.delta_rel / self.prior_sigma_rel
+        """The mass change in prior sigmas: how much the data moved the item."""
+        return self.delta_rel / self.prior_sigma_rel if self.prior_sigma_rel > 0 else 0.0
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "item": self.key,
+            "probability": self.probability,
             "cad_mass_kg": self.cad_mass_kg,
             "prior_sigma_rel": self.prior_sigma_rel,
             "delta_rel": self.delta_rel,
             "delta_sigma_rel": self.delta_sigma_rel,
             "delta_kg": self.delta_kg,
             "pull": self.pull,
+            "prior_cog_sigma_mm": self.prior_cog_sigma_mm.tolist(),
+            "cog_shift_mm": self.cog_shift_mm.tolist(),
+            "cog_shift_sigma_mm": self.cog_shift_sigma_mm.tolist(),
+        }
+
+
+@dataclass(frozen=True)
+class Explanation(JsonResult):
+    """One hypothesis of the update: what it says, how probable it is given the data.
+
+    ``label`` is ``"none"`` (every item within its stated σ), an item key (that item is off
+    beyond its σ) or ``"unmodelled"`` (a mass anywhere in the spacecraft the CAD lacks).
+    ``chi2``/``p_value``: its prior-predictive test (4 dof): does it explain the gap at all.
+    """
+
+    label: str
+    description: str
+    prior_probability: float
+    probability: float
+    chi2: float
+    p_value: float
+    unmodelled_negative: bool = False
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "label": self.label,
+            "description": self.description,
+            "prior_probability": self.prior_probability,
+            "probability": self.probability,
+            "chi2": self.chi2,
+            "p_value": self.p_value,
+            "unmodelled_wanted_negative": self.unmodelled_negative,
         }
 
 
 @dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
 class UpdateResult(JsonResult):
-    """The CAD before, the posterior after, and what explains the difference."""
+    """The CAD before, the revised figures after, and what explains the difference.
+
+    Attributes
+    ----------
+    cad, cad_cog_cov_mm2, cad_mass_sigma_kg
+        The CAD and its stated uncertainty (item masses and CoGs).
+    measured_mass_kg, measured_mass_sigma_kg
+        The weighing.
+    measured_cog_mm, measured_cog_cov_mm2
+        The spacecraft's CoG from the test, compensated with the weighed mass.
+    posterior, posterior_mass_sigma_kg, posterior_cog_cov_mm2, posterior_inertia_sigma_kg_mm2
+        The revised figures (the measurement's when the model is rejected).
+    items : tuple of ItemChange
+    explanations : tuple of Explanation
+        Most probable first.
+    unmodelled_* :
+        The unmodelled mass (mixture over the hypotheses, 0 in those without one; None when no
+        hypothesis holds one): its mass, 1 σ, and, when it is resolved (more than
+        :data:`UNMODELLED_RESOLVED_SIGMAS` σ above 0), its position and position covariance;
+        ``unmodelled_negative`` when the data wanted it below zero (it is then held at 0).
+    differs_chi2, differs_p_value
+        The gap against the measurement noise alone (4 dof).
+    chi2, p_value
+        The gap against the CAD's stated uncertainties (``H₀``'s prior predictive, 4 dof).
+    model_rejected : bool
+        No hypothesis explains the gap: the revised CoG and mass are the measurement's.
+    """
 
     cad: MassProperties
     cad_cog_cov_mm2: FloatArray
     cad_mass_sigma_kg: float
-    measured_mass_kg: float  # weighed
+    measured_mass_kg: float
     measured_mass_sigma_kg: float
-    measured_cog_mm: FloatArray  # the spacecraft's, compensated with the weighed mass
+    measured_cog_mm: FloatArray
     measured_cog_cov_mm2: FloatArray
     posterior: MassProperties
     posterior_mass_sigma_kg: float
     posterior_cog_cov_mm2: FloatArray
-    posterior_inertia_sigma_kg_mm2: FloatArray  # 1 σ of each tensor entry
+    posterior_inertia_sigma_kg_mm2: FloatArray
     items: tuple[ItemChange, ...]
+    explanations: tuple[Explanation, ...]
     unmodelled_mass_kg: float | None
     unmodelled_mass_sigma_kg: float | None
     unmodelled_cog_mm: FloatArray | None
     unmodelled_cog_cov_mm2: FloatArray | None
+    unmodelled_negative: bool
+    differs_chi2: float
+    differs_p_value: float
     chi2: float
-    dof: int
     p_value: float
-    iterations: int
+    model_rejected: bool
+    dof: int = 4
+
+    @property
+    def differs(self) -> bool:
+        """The test tells the spacecraft from its CAD (beyond the measurement noise)."""
+        return self.differs_p_value < LEVEL
 
     @property
     def consistent(self) -> bool:
-        return self.p_value >= CONSISTENCY_PROBABILITY
+        """The gap is within the CAD's stated uncertainties (``H₀`` not rejected)."""
+        return self.p_value >= LEVEL
+
+    def verdict_lines(self) -> list[str]:
+        """The verdicts in words (the command and the HTML report print them)."""
+        differs = (
+            "the test tells the spacecraft from its CAD"
+            if self.differs
+            else "the test cannot tell the spacecraft from its CAD"
+        )
+        within = (
+            "the gap is within the CAD's stated uncertainties"
+            if self.consistent
+            else "the gap is BEYOND the CAD's stated uncertainties"
+        )
+        lines = [
+            f"measured vs CAD, against the measurement noise alone: χ² = {self.differs_chi2:.2f} "
+            f"({self.dof} dof), p = {self.differs_p_value:.3g}: {differs}",
+            f"measured vs CAD, with the CAD's uncertainties: χ² = {self.chi2:.2f} "
+            f"({self.dof} dof), p = {self.p_value:.3g}: {within}",
+        ]
+        if self.model_rejected:
+            lines.append("no explanation fits: the updated CoG and mass are the measurement's")
+        return lines
 
     def unmodelled_summary(self) -> str:
         """``"147.7 ± 19.4 g at [14.5 ± 9.1, …] mm"``: the unmodelled mass and where it is
@@ -190,11 +292,15 @@ class UpdateResult(JsonResult):
                 )
                 + "] mm"
             )
+        else:
+            text += " (not resolved from zero: no position)"
+        if self.unmodelled_negative:
+            text += "; the data wanted it negative: held at 0"
         return text
 
     def ranked_items(self) -> list[ItemChange]:
-        """Items by how far the data moved them (|pull|), largest first."""
-        return sorted(self.items, key=lambda c: -abs(c.pull))
+        """Items by the probability of being the one that changed, then by |pull|."""
+        return sorted(self.items, key=lambda c: (-c.probability, -abs(c.pull)))
 
     def to_dict(self) -> dict[str, Any]:
         def props(p: MassProperties) -> dict[str, Any]:
@@ -202,6 +308,8 @@ class UpdateResult(JsonResult):
                 "mass_kg": p.mass_kg,
                 "cog_mm": p.cog_mm.tolist(),
                 "inertia_kg_mm2": p.inertia_kg_mm2.tolist(),
+                "inertia_about": "centre of gravity, model axes",
+                "inertia_convention": TENSOR_CONVENTION,
             }
 
         out: dict[str, Any] = {
@@ -209,6 +317,7 @@ class UpdateResult(JsonResult):
                 **props(self.cad),
                 "mass_sigma_kg": self.cad_mass_sigma_kg,
                 "cog_cov_mm2": self.cad_cog_cov_mm2.tolist(),
+                "uncertainty": "items' mass and CoG uncertainties, first order",
             },
             "measured": {
                 "mass_kg": self.measured_mass_kg,
@@ -221,15 +330,23 @@ class UpdateResult(JsonResult):
                 "mass_sigma_kg": self.posterior_mass_sigma_kg,
                 "cog_cov_mm2": self.posterior_cog_cov_mm2.tolist(),
                 "inertia_sigma_kg_mm2": self.posterior_inertia_sigma_kg_mm2.tolist(),
+                "source": "measurement (model rejected)"
+                if self.model_rejected
+                else "mixture over the explanations",
             },
-            "items": [c.to_dict() for c in self.ranked_items()],
-            "consistency": {
-                "chi2": self.chi2,
-                "dof": self.dof,
-                "p_value": self.p_value,
+            "verdict": {
+                "differs": self.differs,
+                "differs_chi2": self.differs_chi2,
+                "differs_p_value": self.differs_p_value,
                 "consistent": self.consistent,
+                "chi2": self.chi2,
+                "p_value": self.p_value,
+                "dof": self.dof,
+                "model_rejected": self.model_rejected,
+                "level": LEVEL,
             },
-            "iterations": self.iterations,
+            "explanations": [e.to_dict() for e in self.explanations],
+            "items": [c.to_dict() for c in self.ranked_items()],
         }
         if self.unmodelled_mass_kg is not None:
             out["unmodelled"] = {
@@ -241,142 +358,9 @@ class UpdateResult(JsonResult):
                 "cog_cov_mm2": None
                 if self.unmodelled_cog_cov_mm2 is None
                 else self.unmodelled_cog_cov_mm2.tolist(),
+                "wanted_negative": self.unmodelled_negative,
             }
         return out
-
-
-def items_from_bodies(bodies: Sequence[Any]) -> tuple[list[Item], MassProperties | None]:
-    """The budget's uncertain items and the fixed rest, from bodies that carry ``properties``,
-    ``sigma_rel`` and ``item`` (``cadcog.cad.stepmass.BodyResult``): bodies of one item are
-    combined (they vary together); bodies without an uncertainty are fixed."""
-    groups: dict[str, list[Any]] = {}
-    fixed = []
-    for b in bodies:
-        if b.sigma_rel is None:
-            fixed.append(b.properties)
-        else:
-            groups.setdefault(b.item, []).append(b)
-    items = [
-        Item(key, combine(b.properties for b in members), members[0].sigma_rel)
-        for key, members in groups.items()
-        if members[0].sigma_rel > 0
-    ]
-    zero = [b.properties for members in groups.values() for b in members if b.sigma_rel == 0]
-    rest = fixed + zero
-    return items, (combine(rest) if rest else None)
-
-
-class _Model:
-    """Observation model and its Jacobian (see the module docstring)."""
-
-    def __init__(
-        self,
-        items: Sequence[Item],
-        fixed: MassProperties | None,
-        meas: Measurement,
-        unmodelled: UnmodelledPrior | None,
-    ) -> None:
-        self.m = np.array([i.properties.mass_kg for i in items])
-        self.c = np.array([i.properties.cog_mm for i in items]).reshape(-1, 3)
-        self.m0 = float(self.m.sum()) + (fixed.mass_kg if fixed is not None else 0.0)
-        s0 = self.m @ self.c if len(items) else np.zeros(3)
-        if fixed is not None:
-            s0 = s0 + fixed.mass_kg * fixed.cog_mm
-        self.s0 = np.asarray(s0, dtype=float)
-        self.n = len(items)
-        self.with_u = unmodelled is not None
-        self.meas = meas
-
-    @property
-    def size(self) -> int:
-        return self.n + (4 if self.with_u else 0)
-
-    def split(self, theta: FloatArray) -> tuple[FloatArray, float, FloatArray]:
-        d = theta[: self.n]
-        if self.with_u:
-            return d, float(theta[self.n]), theta[self.n + 1 : self.n + 4]
-        return d, 0.0, np.zeros(3)
-
-    def mass_moment(self, theta: FloatArray) -> tuple[float, FloatArray]:
-        d, mu, h = self.split(theta)
-        mass = self.m0 + float(self.m @ d) + mu
-        moment = self.s0 + (self.m * d) @ self.c + h
-        return mass, np.asarray(moment)
-
-    def predict(self, theta: FloatArray) -> FloatArray:
-        mass, moment = self.mass_moment(theta)
-        me = self.meas
-        g = (moment + me.me_mass_kg * me.me_cog_mm) / (mass + me.me_mass_kg)
-        return np.concatenate([[mass], g])
-
-    def jacobian(self, theta: FloatArray) -> FloatArray:
-        mass, moment = self.mass_moment(theta)
-        me = self.meas
-        mt = mass + me.me_mass_kg
-        g = (moment + me.me_mass_kg * me.me_cog_mm) / mt
-        j = np.zeros((4, self.size))
-        j[0, : self.n] = self.m
-        j[1:, : self.n] = (self.m[:, None] * (self.c - g)).T / mt
-        if self.with_u:
-            j[0, self.n] = 1.0
-            j[1:, self.n] = -g / mt
-            j[1:, self.n + 1 :] = np.eye(3) / mt
-        return j
-
-    def noise(self, theta: FloatArray) -> FloatArray:
-        mass, _ = self.mass_moment(theta)
-        me = self.meas
-        share = me.me_mass_kg / (mass + me.me_mass_kg)
-        r = np.zeros((4, 4))
-        r[0, 0] = me.mass_sigma_kg**2
-        r[1:, 1:] = me.assembly_cov_mm2 + share**2 * me.me_cog_cov_mm2
-        return r
-
-
-def _prior(
-    items: Sequence[Item], unmodelled: UnmodelledPrior | None
-) -> tuple[FloatArray, FloatArray]:
-    n = len(items)
-    size = n + (4 if unmodelled is not None else 0)
-    mean = np.zeros(size)
-    cov = np.zeros((size, size))
-    cov[:n, :n] = np.diag([i.sigma_rel**2 for i in items])
-    if unmodelled is not None:
-        u = unmodelled
-        p_mean = 0.5 * (u.lo_mm + u.hi_mm)
-        p_cov = np.diag((u.hi_mm - u.lo_mm) ** 2 / 12.0)
-        mean[n] = u.mass_kg
-        mean[n + 1 :] = u.mass_kg * p_mean
-        cov[n, n] = u.sigma_kg**2
-        cov[n, n + 1 :] = cov[n + 1 :, n] = u.sigma_kg**2 * p_mean
-        cov[n + 1 :, n + 1 :] = (
-            u.sigma_kg**2 * np.outer(p_mean, p_mean) + (u.mass_kg**2 + u.sigma_kg**2) * p_cov
-        )
-    return mean, cov
-
-
-def _inertia(
-    theta: FloatArray,
-    items: Sequence[Item],
-    fixed: MassProperties | None,
-    model: _Model,
-) -> MassProperties:
-    """Mass properties of the spacecraft for parameters ``theta`` (about its CoG)."""
-    d, mu, h = model.split(theta)
-    parts = [
-        MassProperties(
-            i.properties.mass_kg * (1 + dk),
-            i.properties.cog_mm,
-            i.properties.inertia_kg_mm2 * (1 + dk),
-            i.properties.volume_mm3,
-        )
-        for i, dk in zip(items, d, strict=True)
-    ]
-    if fixed is not None:
-        parts.append(fixed)
-    if model.with_u and abs(mu) > 0:
-        parts.append(MassProperties(mu, h / mu, np.zeros((3, 3)), 0.0))
-    return combine(parts)
 
 
 def update_budget(
@@ -385,90 +369,114 @@ def update_budget(
     measurement: Measurement,
     *,
     unmodelled: UnmodelledPrior | None = None,
+    envelope_mm: tuple[npt.ArrayLike, npt.ArrayLike] | None = None,
+    alternatives: bool = True,
 ) -> UpdateResult:
-    """The posterior mass budget given a measurement (module docstring).
+    """The revised mass budget given a measurement (module docstring).
 
     Parameters
     ----------
     items : sequence of Item
-        The budget's uncertain items.
+        The budget's uncertain items (:func:`cadcog.spacecraft.items.items_from_bodies`).
     fixed : MassProperties or None
         Everything without an uncertainty, combined.
     measurement : Measurement
     unmodelled : UnmodelledPrior, optional
+        An unmodelled mass the user expects in a region (part of ``H₀``).
+    envelope_mm : (lo, hi), optional
+        The spacecraft's bounding box (mm): where ``H_u`` places an unmodelled mass. Without
+        it, ``H_u`` is not weighed.
+    alternatives : bool
+        Weigh the alternative hypotheses (default). False: ``H₀`` alone, the plain Gaussian
+        update under the CAD's stated uncertainties (confidently wrong when one item is far
+        off: for comparison and tests).
 
     Raises
     ------
     ValueError
-        With nothing uncertain to update, or a weighing or covariance that is not positive.
+        With nothing uncertain to update, or a weighing that is not positive.
     """
-    if not items and unmodelled is None:
+    if not items and unmodelled is None and envelope_mm is None:
         raise ValueError("nothing to update: no item has a mass uncertainty and no unmodelled mass")
     if not measurement.mass_sigma_kg > 0:
         raise ValueError("the weighing needs a positive σ")
-    model = _Model(items, fixed, measurement, unmodelled)
-    theta0, p0 = _prior(items, unmodelled)
-    p0_inv = np.linalg.pinv(p0, hermitian=True)
+    env = None
+    if envelope_mm is not None:
+        env = (np.asarray(envelope_mm[0], float), np.asarray(envelope_mm[1], float))
     y = np.concatenate([[measurement.mass_kg], measurement.assembly_cog_mm])
-    # Consistency of the CAD with the measurement, before updating.
-    j0 = model.jacobian(theta0)
-    r0 = y - model.predict(theta0)
-    s = j0 @ p0 @ j0.T + model.noise(theta0)
-    chi2 = float(r0 @ np.linalg.solve(s, r0))
-    # Gauss-Newton for the MAP; the linear-Gaussian step from the prior is its first iterate.
-    theta = theta0.copy()
-    iterations = 0
-    for iterations in range(1, MAX_ITERATIONS + 1):  # noqa: B007 - reported
-        j = model.jacobian(theta)
-        r_inv = np.linalg.inv(model.noise(theta))
-        hessian = j.T @ r_inv @ j + p0_inv
-        gradient = j.T @ r_inv @ (y - model.predict(theta)) - p0_inv @ (theta - theta0)
-        step = np.linalg.solve(hessian, gradient)
-        theta = theta + step
-        if np.max(np.abs(step)) < 1e-12 * (1.0 + np.max(np.abs(theta))):
-            break
-    j = model.jacobian(theta)
-    post_cov = np.linalg.inv(j.T @ np.linalg.inv(model.noise(theta)) @ j + p0_inv)
-    post_cov = 0.5 * (post_cov + post_cov.T)
-    cad = _inertia(np.zeros(model.size), items, fixed, model)  # the CAD: nothing changed
-    posterior = _inertia(theta, items, fixed, model)
-
-    # Covariances of derived quantities by linear propagation (central differences).
-    def derived(t: FloatArray) -> FloatArray:
-        p = _inertia(t, items, fixed, model)
-        return np.concatenate([[p.mass_kg], p.cog_mm, p.inertia_kg_mm2[np.triu_indices(3)]])
-
-    jd = _numeric_jacobian(derived, theta, np.sqrt(np.maximum(np.diag(post_cov), 0.0)))
-    cov_d = jd @ post_cov @ jd.T
-    # The CAD's own uncertainty: its items' (the unmodelled mass is not in the CAD).
-    n = model.n
-    jd0 = _numeric_jacobian(derived, np.zeros(model.size), np.sqrt(np.maximum(np.diag(p0), 0.0)))
-    cov_d0 = jd0[:, :n] @ p0[:n, :n] @ jd0[:, :n].T
-    inertia_sigma = np.zeros((3, 3))
+    null_model = Model(items, fixed, measurement, False)
+    cad_mass = null_model.m0
+    hyps = hypotheses(items, cad_mass, unmodelled, env)
+    if not alternatives:
+        hyps = [replace(hyps[0], prior_probability=1.0)]
+    sols = [solve(items, fixed, measurement, y, h) for h in hyps]
+    # Posterior probabilities of the hypotheses.
+    logs = np.array([np.log(s.hypothesis.prior_probability) + s.log_evidence for s in sols])
+    weights = np.exp(logs - logs.max())
+    weights /= weights.sum()
+    p_values = [chi2_sf(s.chi2, 4) for s in sols]
+    # The verdicts.
+    zero = np.zeros(null_model.size)
+    r0 = y - null_model.predict(zero)
+    differs_chi2 = float(r0 @ np.linalg.solve(null_model.noise(zero), r0))
+    model_rejected = max(p_values) < LEVEL
+    # Mixture of the derived quantities over the hypotheses that matter.
+    derived_means, derived_covs, used = [], [], []
+    for s, w in zip(sols, weights, strict=True):
+        if w < 1e-9:
+            continue
+        at = _unmodelled_position(s)
+        f0 = s.model.derived(s.theta, at)
+        jd = numeric_jacobian(
+            lambda t, s=s, at=at: s.model.derived(t, at),
+            s.theta,
+            np.sqrt(np.maximum(np.diag(s.cov), 0.0)),
+        )
+        derived_means.append(f0)
+        derived_covs.append(jd @ s.cov @ jd.T)
+        used.append(w)
+    mean_d, cov_d = mixture(np.array(used), derived_means, derived_covs)
+    cad = combine(_parts(null_model, zero))
+    p_null = parameter_prior(items, None, None)[1]
+    jd0 = numeric_jacobian(
+        lambda t: null_model.derived(t, np.zeros(3)), zero, np.sqrt(np.maximum(np.diag(p_null), 0))
+    )
+    cov_d0 = jd0 @ p_null @ jd0.T
+    measured_cog, measured_cov = recompensate(measurement)
+    inertia = np.zeros((3, 3))
     iu = np.triu_indices(3)
+    inertia[iu] = mean_d[4:]
+    inertia = inertia + np.triu(inertia, 1).T
+    inertia_sigma = np.zeros((3, 3))
     inertia_sigma[iu] = np.sqrt(np.maximum(np.diag(cov_d)[4:], 0.0))
     inertia_sigma = np.maximum(inertia_sigma, inertia_sigma.T)
-    changes = tuple(
-        ItemChange(
-            i.key,
-            i.properties.mass_kg,
-            i.sigma_rel,
-            float(theta[k]),
-            float(np.sqrt(max(post_cov[k, k], 0.0))),
+    if model_rejected:
+        posterior = MassProperties(measurement.mass_kg, measured_cog, inertia, cad.volume_mm3)
+        post_mass_sigma = measurement.mass_sigma_kg
+        post_cog_cov = measured_cov
+    else:
+        posterior = MassProperties(float(mean_d[0]), mean_d[1:4], inertia, cad.volume_mm3)
+        post_mass_sigma = float(np.sqrt(max(cov_d[0, 0], 0.0)))
+        post_cog_cov = cov_d[1:4, 1:4]
+    items_out = _item_changes(items, sols, weights)
+    u_mass, u_sigma, u_cog, u_cov, u_negative = _unmodelled_mixture(sols, weights)
+    explanations = tuple(
+        sorted(
+            (
+                Explanation(
+                    s.hypothesis.label,
+                    s.hypothesis.description,
+                    s.hypothesis.prior_probability,
+                    float(w),
+                    s.chi2,
+                    p,
+                    s.negative,
+                )
+                for s, w, p in zip(sols, weights, p_values, strict=True)
+            ),
+            key=lambda e: -e.probability,
         )
-        for k, i in enumerate(items)
     )
-    u_mass = u_sigma = None
-    u_cog = u_cog_cov = None
-    if unmodelled is not None:
-        u_mass = float(theta[n])
-        u_sigma = float(np.sqrt(max(post_cov[n, n], 0.0)))
-        if abs(u_mass) > 0:  # c = h / m: its covariance by linear propagation from (m, h)
-            h = theta[n + 1 : n + 4]
-            u_cog = h / u_mass
-            jc = np.hstack([-h[:, None] / u_mass**2, np.eye(3) / u_mass])
-            u_cog_cov = jc @ post_cov[n : n + 4, n : n + 4] @ jc.T
-    measured_cog, measured_cov = recompensate(measurement)
     return UpdateResult(
         cad,
         cov_d0[1:4, 1:4],
@@ -478,43 +486,120 @@ def update_budget(
         measured_cog,
         measured_cov,
         posterior,
-        float(np.sqrt(max(cov_d[0, 0], 0.0))),
-        cov_d[1:4, 1:4],
+        post_mass_sigma,
+        0.5 * (post_cog_cov + post_cog_cov.T),
         inertia_sigma,
-        changes,
+        items_out,
+        explanations,
         u_mass,
         u_sigma,
         u_cog,
-        u_cog_cov,
-        chi2,
-        4,
-        float(_chi2_sf(chi2, 4)),
-        iterations,
+        u_cov,
+        u_negative,
+        differs_chi2,
+        chi2_sf(differs_chi2, 4),
+        sols[0].chi2,
+        p_values[0],
+        model_rejected,
     )
 
 
+def _parts(model: Model, theta: FloatArray) -> list[MassProperties]:
+    """The CAD's parts for ``θ`` (the CAD itself at ``θ = 0``)."""
+    d, s, _, _ = model.split(theta)
+    parts = [
+        MassProperties(float(m * (1 + dk)), c + sk, j * (1 + dk), 0.0)
+        for m, c, j, dk, sk in zip(model.m, model.c, model.j, d, s, strict=True)
+    ]
+    if model.fixed is not None:
+        parts.append(model.fixed)
+    return parts
+
+
+def _unmodelled_position(s: Solution) -> FloatArray:
+    """Where a solution places its unmodelled mass (its prior region's centre if none)."""
+    if not s.model.with_u:
+        return np.zeros(3)
+    _, _, mu, h = s.model.split(s.theta)
+    u = s.hypothesis.unmodelled
+    assert u is not None
+    if mu > 0:  # in its box: a barely resolved mass has a wild h / m
+        return np.asarray(np.clip(h / mu, u.lo_mm, u.hi_mm))
+    return u.center_mm
+
+
+def _item_changes(
+    items: Sequence[Item], sols: Sequence[Solution], weights: FloatArray
+) -> tuple[ItemChange, ...]:
+    n = len(items)
+    out = []
+    prob: dict[str, float] = {}
+    for s, w in zip(sols, weights, strict=True):
+        if s.hypothesis.item:
+            prob[s.hypothesis.item] = prob.get(s.hypothesis.item, 0.0) + float(w)
+    for k, item in enumerate(items):
+        idx = [k, n + 3 * k, n + 3 * k + 1, n + 3 * k + 2]
+        mean, cov = mixture(
+            weights,
+            [s.theta[idx] for s in sols],
+            [s.cov[np.ix_(idx, idx)] for s in sols],
+        )
+        sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        out.append(
+            ItemChange(
+                item.key,
+                item.properties.mass_kg,
+                item.sigma_rel,
+                float(mean[0]),
+                float(sd[0]),
+                item.cog_sigma_mm,
+                mean[1:],
+                sd[1:],
+                prob.get(item.key, 0.0),
+            )
+        )
+    return tuple(out)
+
+
+def _unmodelled_mixture(
+    sols: Sequence[Solution], weights: FloatArray
+) -> tuple[float | None, float | None, FloatArray | None, FloatArray | None, bool]:
+    """The unmodelled mass over every hypothesis (0 in those without one), and its position
+    over those that place a positive mass."""
+    if not any(s.model.with_u for s in sols):
+        return None, None, None, None, False
+    means, covs, pos_w, pos_m, pos_c = [], [], [], [], []
+    negative = False
+    for s, w in zip(sols, weights, strict=True):
+        if not s.model.with_u:
+            means.append(np.zeros(1))
+            covs.append(np.zeros((1, 1)))
+            continue
+        k = 4 * s.model.n
+        mu = float(s.theta[k])
+        means.append(np.array([mu]))
+        covs.append(s.cov[k : k + 1, k : k + 1])
+        negative = negative or (s.negative and w > 0.5)
+        if mu > 0:  # position c = h / m_u, by linear propagation from (m_u, h)
+            h = s.theta[k + 1 : k + 4]
+            jc = np.hstack([-h[:, None] / mu**2, np.eye(3) / mu])
+            pos_w.append(w)
+            pos_m.append(h / mu)
+            pos_c.append(jc @ s.cov[k : k + 4, k : k + 4] @ jc.T)
+    mean, cov = mixture(weights, means, covs)
+    sigma = float(np.sqrt(max(cov[0, 0], 0.0)))
+    cog = cog_cov = None
+    if pos_w and sum(pos_w) > 0 and mean[0] > UNMODELLED_RESOLVED_SIGMAS * sigma:
+        cog, cog_cov = mixture(np.array(pos_w), pos_m, pos_c)
+    return float(mean[0]), sigma, cog, cog_cov, negative
+
+
 def recompensate(meas: Measurement) -> tuple[FloatArray, FloatArray]:
-    """The spacecraft's CoG from the assembly CoG with the *weighed* mass (eqs. 10, 16)."""
+    """The spacecraft's CoG from the assembly CoG with the *weighed* mass (eqs. 10, 16), its
+    covariance including the weighing's σ."""
     ratio = meas.me_mass_kg / meas.mass_kg
     cog = (1.0 + ratio) * meas.assembly_cog_mm - ratio * meas.me_cog_mm
     cov = (1.0 + ratio) ** 2 * meas.assembly_cov_mm2 + ratio**2 * meas.me_cog_cov_mm2
+    v = ratio / meas.mass_kg * (meas.assembly_cog_mm - meas.me_cog_mm)
+    cov = cov + meas.mass_sigma_kg**2 * np.outer(v, v)
     return np.asarray(cog), np.asarray(cov)
-
-
-def _numeric_jacobian(f: Any, x: FloatArray, scale: FloatArray) -> FloatArray:
-    """Central-difference Jacobian of ``f`` at ``x`` with steps 1e-4 of each scale."""
-    f0 = f(x)
-    out = np.zeros((f0.size, x.size))
-    for k in range(x.size):
-        h = 1e-4 * (scale[k] if scale[k] > 0 else 1.0)
-        e = np.zeros(x.size)
-        e[k] = h
-        out[:, k] = (f(x + e) - f(x - e)) / (2 * h)
-    return out
-
-
-def _chi2_sf(x: float, df: int) -> float:
-    """χ² survival function (scipy.stats imported here: a second at start-up otherwise)."""
-    from scipy import stats
-
-    return float(stats.chi2.sf(x, df=df))

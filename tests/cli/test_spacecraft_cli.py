@@ -99,7 +99,7 @@ def test_candidate_out_of_range_says_why(setup):
 
 
 def test_cubesat_envelope_with_uncertainty(setup):
-    from cadcog.spacecraft.setup import compare_with_cad
+    from cadcog.spacecraft.compare import compare_with_cad
 
     centre = setup.geometric_center_mm
     cov = np.eye(3) * 1.0

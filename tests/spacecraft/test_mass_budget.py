@@ -28,18 +28,27 @@ class Line:
         return self.g
 
 
+RAIL = [8, 8, 300]
+CELL = [18, 18, 65]
+PAYLOAD = [60, 60, 100]
+
+
+def _size(line: Line) -> list[int]:
+    return {"structure": RAIL, "battery": CELL, "payload": PAYLOAD}[line.nodes[1]]
+
+
 def _lines(k: float = 1.0):
     """A satellite: a structure (two rails), a battery pack (two cells, one item), a payload;
     item uncertainties 2 %, 5 %, 10 %, times ``k``."""
     box = box_properties
-    rail = [8, 8, 300]
-    cell = [18, 18, 65]
+    rail = RAIL
+    cell = CELL
     return [
         Line(("sat", "structure", "rail_1"), box(rail, [-46, -46, 0], mass_kg=0.05), 0.02 * k),
         Line(("sat", "structure", "rail_2"), box(rail, [46, 46, 0], mass_kg=0.05), 0.02 * k),
         Line(("sat", "battery", "c1"), box(cell, [-10, 0, -100], mass_kg=0.047), 0.05 * k),
         Line(("sat", "battery", "c2"), box(cell, [10, 0, -100], mass_kg=0.047), 0.05 * k),
-        Line(("sat", "payload"), box([60, 60, 100], [0, 5, 90], mass_kg=0.8), 0.10 * k, g=0.2),
+        Line(("sat", "payload"), box(PAYLOAD, [0, 5, 90], mass_kg=0.8), 0.10 * k, g=0.2),
     ]
 
 
@@ -63,10 +72,11 @@ def test_rollup_by_node():
 
 @pytest.mark.parametrize("k", [0.2, 1.0])
 def test_rolled_up_uncertainty_matches_sampling(k):
-    """Scale each item's mass by (1 + ε), ε ~ N(0, σ²): the sampled total mass and CoG
-    covariances match the budget's first-order figures: closely at 0.4-2 % item uncertainty,
-    within 7 % at 2-10 % (5.6 % with this seed; the CoG is a ratio: its spread grows faster
-    than linear)."""
+    """Scale each item's mass by (1 + ε), ε ~ N(0, σ²), and shift its CoG by the documented
+    default, N(0, (σ · spread)²) per axis, the spread of its mass computed here from the boxes'
+    sizes: the sampled total mass and CoG covariances match the budget's first-order figures:
+    closely at 0.4-2 % item uncertainty, within 7 % at 2-10 % (the CoG is a ratio: its spread
+    grows faster than linear)."""
     lines = _lines(k)
     b = mass_budget(lines)
     rng = np.random.default_rng(7)
@@ -76,9 +86,22 @@ def test_rolled_up_uncertainty_matches_sampling(k):
     m = np.array([x.properties.mass_kg for x in lines])
     c = np.array([x.properties.cog_mm for x in lines])
     scale = np.stack([1.0 + eps[x.item] for x in lines])  # (bodies, n)
+    shifts = {}
+    for key in items:
+        members = [x for x in lines if x.item == key]
+        mi = sum(x.properties.mass_kg for x in members)
+        ci = sum(x.properties.mass_kg * x.properties.cog_mm for x in members) / mi
+        second = sum(
+            x.properties.mass_kg
+            * (np.array(_size(x)) ** 2 / 12.0 + (x.properties.cog_mm - ci) ** 2)
+            for x in members
+        )
+        sigma_c = members[0].sigma_rel * np.sqrt(second / mi)
+        shifts[key] = rng.normal(0.0, 1.0, (n, 3)) * sigma_c
     masses = m[:, None] * scale
     total = masses.sum(axis=0)
-    cogs = (masses.T @ c) / total[:, None]
+    moved = c[:, None, :] + np.stack([shifts[x.item] for x in lines])  # (bodies, n, 3)
+    cogs = np.einsum("bn,bnk->nk", masses, moved) / total[:, None]
     assert total.std() == pytest.approx(b.mass_sigma_kg, rel=0.02)
     sampled = np.cov(cogs.T)
     scale = np.sqrt(np.outer(np.diag(b.cog_cov_mm2), np.diag(b.cog_cov_mm2)))
