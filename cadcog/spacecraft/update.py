@@ -163,8 +163,9 @@ class ItemChange(JsonResult):
 class Explanation(JsonResult):
     """One hypothesis of the update: what it says, how probable it is given the data.
 
-    ``label`` is ``"none"`` (every item within its stated σ), an item key (that item is off
-    beyond its σ) or ``"unmodelled"`` (a mass anywhere in the spacecraft the CAD lacks).
+    ``label`` is ``"none"`` (every item within its stated σ), ``"KEY (mass)"`` or ``"KEY (CoG)"``
+    (that item's mass or CoG is off beyond its σ; ``item`` is ``KEY``) or ``"unmodelled"`` (a
+    mass anywhere in the spacecraft the CAD lacks).
     ``chi2``/``p_value``: its prior-predictive test (4 dof): does it explain the gap at all.
     """
 
@@ -175,10 +176,17 @@ class Explanation(JsonResult):
     chi2: float
     p_value: float
     unmodelled_negative: bool = False
+    item: str = ""
+
+    @property
+    def cause(self) -> str:
+        """What it blames: an item key, ``"unmodelled"`` or ``"none"``."""
+        return self.item or self.label
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "label": self.label,
+            "cause": self.cause,
             "description": self.description,
             "prior_probability": self.prior_probability,
             "probability": self.probability,
@@ -206,10 +214,11 @@ class UpdateResult(JsonResult):
     explanations : tuple of Explanation
         Most probable first.
     unmodelled_* :
-        The unmodelled mass (mixture over the hypotheses, 0 in those without one; None when no
-        hypothesis holds one): its mass, 1 σ, and, when it is resolved (more than
+        The unmodelled mass *if there is one* (the mixture over the hypotheses that hold one;
+        None when none does): its mass, 1 σ, and, when it is resolved (more than
         :data:`UNMODELLED_RESOLVED_SIGMAS` σ above 0), its position and position covariance;
-        ``unmodelled_negative`` when the data wanted it below zero (it is then held at 0).
+        ``unmodelled_negative`` when the data wanted it below zero (it is then held at 0);
+        ``unmodelled_probability`` the probability that there is one (1 with a region given).
     differs_chi2, differs_p_value
         The gap against the measurement noise alone (4 dof).
     chi2, p_value
@@ -236,6 +245,7 @@ class UpdateResult(JsonResult):
     unmodelled_cog_mm: FloatArray | None
     unmodelled_cog_cov_mm2: FloatArray | None
     unmodelled_negative: bool
+    unmodelled_probability: float
     differs_chi2: float
     differs_p_value: float
     chi2: float
@@ -282,6 +292,8 @@ class UpdateResult(JsonResult):
             return ""
         sigma_g = (self.unmodelled_mass_sigma_kg or 0.0) * 1e3
         text = f"{self.unmodelled_mass_kg * 1e3:.1f} ± {sigma_g:.1f} g"
+        if self.unmodelled_probability < 1.0:
+            text = f"if there is one (P = {self.unmodelled_probability:.1%}): " + text
         if self.unmodelled_cog_mm is not None and self.unmodelled_cog_cov_mm2 is not None:
             sd = np.sqrt(np.maximum(np.diag(self.unmodelled_cog_cov_mm2), 0.0))
             text += (
@@ -359,6 +371,8 @@ class UpdateResult(JsonResult):
                 if self.unmodelled_cog_cov_mm2 is None
                 else self.unmodelled_cog_cov_mm2.tolist(),
                 "wanted_negative": self.unmodelled_negative,
+                "probability": self.unmodelled_probability,
+                "given": "that there is an unmodelled mass",
             }
         return out
 
@@ -459,7 +473,7 @@ def update_budget(
         post_mass_sigma = float(np.sqrt(max(cov_d[0, 0], 0.0)))
         post_cog_cov = cov_d[1:4, 1:4]
     items_out = _item_changes(items, sols, weights)
-    u_mass, u_sigma, u_cog, u_cov, u_negative = _unmodelled_mixture(sols, weights)
+    u_mass, u_sigma, u_cog, u_cov, u_negative, u_prob = _unmodelled_mixture(sols, weights)
     explanations = tuple(
         sorted(
             (
@@ -471,6 +485,7 @@ def update_budget(
                     s.chi2,
                     p,
                     s.negative,
+                    s.hypothesis.item,
                 )
                 for s, w, p in zip(sols, weights, p_values, strict=True)
             ),
@@ -496,6 +511,7 @@ def update_budget(
         u_cog,
         u_cov,
         u_negative,
+        u_prob,
         differs_chi2,
         chi2_sf(differs_chi2, 4),
         sols[0].chi2,
@@ -563,35 +579,34 @@ def _item_changes(
 
 def _unmodelled_mixture(
     sols: Sequence[Solution], weights: FloatArray
-) -> tuple[float | None, float | None, FloatArray | None, FloatArray | None, bool]:
-    """The unmodelled mass over every hypothesis (0 in those without one), and its position
-    over those that place a positive mass."""
-    if not any(s.model.with_u for s in sols):
-        return None, None, None, None, False
+) -> tuple[float | None, float | None, FloatArray | None, FloatArray | None, bool, float]:
+    """The unmodelled mass given that there is one: its mixture over the hypotheses that hold
+    one (weights renormalised), its position over those that place a positive mass, and the
+    probability that there is one (the sum of their weights)."""
+    held = [(s, float(w)) for s, w in zip(sols, weights, strict=True) if s.model.with_u]
+    if not held or sum(w for _, w in held) <= 0:
+        return None, None, None, None, False, 0.0
     means, covs, pos_w, pos_m, pos_c = [], [], [], [], []
     negative = False
-    for s, w in zip(sols, weights, strict=True):
-        if not s.model.with_u:
-            means.append(np.zeros(1))
-            covs.append(np.zeros((1, 1)))
-            continue
+    for s, w in held:
         k = 4 * s.model.n
         mu = float(s.theta[k])
         means.append(np.array([mu]))
         covs.append(s.cov[k : k + 1, k : k + 1])
-        negative = negative or (s.negative and w > 0.5)
+        negative = negative or (s.negative and w > 0.5 * sum(v for _, v in held))
         if mu > 0:  # position c = h / m_u, by linear propagation from (m_u, h)
             h = s.theta[k + 1 : k + 4]
             jc = np.hstack([-h[:, None] / mu**2, np.eye(3) / mu])
             pos_w.append(w)
             pos_m.append(h / mu)
             pos_c.append(jc @ s.cov[k : k + 4, k : k + 4] @ jc.T)
-    mean, cov = mixture(weights, means, covs)
+    mean, cov = mixture(np.array([w for _, w in held]), means, covs)
     sigma = float(np.sqrt(max(cov[0, 0], 0.0)))
     cog = cog_cov = None
     if pos_w and sum(pos_w) > 0 and mean[0] > UNMODELLED_RESOLVED_SIGMAS * sigma:
         cog, cog_cov = mixture(np.array(pos_w), pos_m, pos_c)
-    return float(mean[0]), sigma, cog, cog_cov, negative
+    probability = float(sum(w for _, w in held))
+    return float(mean[0]), sigma, cog, cog_cov, negative, probability
 
 
 def recompensate(meas: Measurement) -> tuple[FloatArray, FloatArray]:

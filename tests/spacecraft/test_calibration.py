@@ -93,7 +93,7 @@ def _one(setup: Any, camp: fm.Campaign, csv: Path) -> Outcome:
     expl = list(upd.explanations)
     prob = None
     if truth.changed is not None:
-        prob = sum(float(e.probability) for e in expl if e.label == truth.changed)
+        prob = sum(float(e.probability) for e in expl if e.cause == truth.changed)
     return Outcome(
         est_w=_covered(np.asarray(est.cog_mm) - truth.cog_mm, np.asarray(est.cov_mm2)),
         upd_cog=_covered(
@@ -104,7 +104,7 @@ def _one(setup: Any, camp: fm.Campaign, csv: Path) -> Outcome:
         differs=bool(upd.differs),
         consistent=bool(upd.consistent),
         rejected=bool(upd.model_rejected),
-        first=expl[0].label if expl else None,
+        first=expl[0].cause if expl else None,
         prob_true=prob,
     )
 
