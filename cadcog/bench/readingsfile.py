@@ -209,6 +209,11 @@ class ReadingsFile:
         """
         p = Path(path)
         header = columns(units.value_columns)
+        if str(path) in ("", "-"):
+            raise CadcogError(
+                f"{str(path)!r}: a recording is resumed and appended hang by hang, which "
+                "standard output cannot be: give a file name"
+            )
         if p.is_dir():
             raise CadcogError(f"{p}: is a directory, expected a readings CSV file to write")
         if not p.exists():
