@@ -530,8 +530,8 @@ def staged_file(path: str | Path) -> Iterator[Path]:
     target = Path(path)
     kind = _stream_kind(target)
     if kind is not None:
-        with _streamed(target, kind) as tmp:
-            yield tmp
+        with _streamed(target, kind) as scratch:
+            yield scratch
         return
     if target.is_dir():
         raise CadcogError(f"{target}: is a directory, expected a file name")
