@@ -52,7 +52,7 @@ from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc, XCAFDoc_DocumentTool, XCAFDoc_Material, XCAFDoc_ShapeTool
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import note_input
+from cadcog.core.fileio import not_a_regular_file, note_input
 from cadcog.core.units import LENGTH_UNIT_MM, density_kg_m3_from_step
 
 #: Instance names that exporters generate rather than users give: OCCT's label entries
@@ -441,8 +441,8 @@ def read_step(path: str | Path) -> StepModel:
     p = Path(path)
     if p.is_dir():
         raise CadcogError(f"{p}: is a directory, expected a STEP file")
-    if not p.is_file():
-        raise CadcogError(f"{p}: file not found")
+    if not p.is_file():  # OCCT reads STEP files from disk, not from a pipe
+        raise CadcogError(f"{p}: {not_a_regular_file(p)}")
     note_input(p, "the STEP model it reads")
     app = XCAFApp_Application.GetApplication_s()
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))

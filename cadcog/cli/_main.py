@@ -31,7 +31,7 @@ from cadcog.cli import (
     validate,
 )
 from cadcog.core import bounds
-from cadcog.core.errors import CadcogError
+from cadcog.core.errors import CadcogError, capped
 from cadcog.core.fileio import (
     guarding_inputs,
     noted_inputs,
@@ -272,13 +272,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Terminated:
         return _stopped(signal.SIGTERM)
     except CadcogError as exc:
-        print(f"cadcog: error: {exc}", file=sys.stderr)
+        print(f"cadcog: error: {capped(str(exc))}", file=sys.stderr)
         return EXIT_USAGE
     except BrokenPipeError:  # output piped into `head` and the like: stop quietly
         sys.stderr.close()
         return 0
     except OSError as exc:  # an output path that cannot be written, a full disk, ...
-        print(f"cadcog: error: {exc}", file=sys.stderr)
+        print(f"cadcog: error: {capped(str(exc))}", file=sys.stderr)
         return EXIT_USAGE
     except ImportError as exc:  # a library that cannot be mapped under a memory limit
         if "map segment" not in str(exc) and "allocate memory" not in str(exc):

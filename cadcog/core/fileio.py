@@ -163,6 +163,26 @@ def silent_write_failure() -> str:
     return "no reason given; is the disk full?"
 
 
+def not_a_regular_file(path: str | Path) -> str:
+    """Why ``path`` cannot be read as a regular file: not found, or what it is instead (a FIFO
+    is not "file not found")."""
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return "file not found"
+    except OSError as exc:
+        return f"cannot read ({exc.strerror or exc})"
+    kinds = (
+        (stat.S_ISDIR, "a directory"),
+        (stat.S_ISFIFO, "a FIFO (named pipe)"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISSOCK, "a socket"),
+    )
+    what = next((name for test, name in kinds if test(mode)), "not a regular file")
+    return f"is {what}, expected a regular file"
+
+
 def _refuse_empty(path: str | Path) -> None:
     if str(path) == "":
         raise CadcogError("an output path is empty: expected a file or folder name")

@@ -77,3 +77,8 @@ WIRE_IDENTIFIABILITY = 1e-6
 #: CubeSat's panels and components). OCCT resolves 1e-7 mm, but a solid thinner than 10 µm is a
 #: typo in a parameter file, and boxes of 1e-300 mm make OCCT fail deep inside.
 MIN_SOLID_DIMENSION_MM = 0.01
+
+#: Largest gap between the measurement equipment's base and the model's bounding box (mm) that a
+#: set-up may give: the ME is bolted onto the spacecraft (an adapter plate at most), so a base
+#: centre farther away is a typo or a unit slip (``base_center_mm`` in m or in.), not a set-up.
+ME_BASE_MAX_GAP_MM = 50.0
