@@ -361,7 +361,7 @@ def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
     _refuse_empty(out_dir)
     out = Path(out_dir)
     if str(out_dir) == "-":
-        raise CadcogError("-: a report is a folder; standard output cannot hold it")
+        raise CadcogError("-: this output is a folder; standard output cannot hold it")
     if out.exists() and not out.is_dir():
         raise CadcogError(f"{out}: exists and is not a directory")
     real = out.resolve()

@@ -666,7 +666,25 @@ CASES = [
     ),
     Case("report-empty-out", ["report", "--out", ""], r"report: --out: expected a value"),
     Case("campaign-empty-out-equals", ["campaign", "--out="], r"campaign: --out: expected a"),
-    Case("report-out-dash", ["report", "--out", "-"], r"-: a report is a folder"),
+    Case("report-out-dash", ["report", "--out", "-"], r"-: this output is a folder"),
+    Case("parts-build-out-dash", ["parts", "build", "--out", "-"], r"-: this output is a folder"),
+    Case(
+        "parts-cubesat-out-fifo",
+        ["parts", "cubesat", "spec.toml", "--out", "pipe"],
+        r"pipe: exists and is not a directory",
+        {"spec.toml": SPEC, "pipe": lambda p: os.mkfifo(p)},
+    ),
+    Case(
+        "campaign-out-existing-folder",
+        ["campaign", "--out", "d"],
+        r"d: is a directory, expected a file name",
+        {"d/keep.txt": "kept"},
+    ),
+    Case(
+        "campaign-samples-huge-value-capped",
+        ["campaign", "--out", "c.csv", "--samples", "9" * 5000],
+        r"--samples: invalid int value: '9+…\(5002 characters\)…9+'",
+    ),
 ]
 
 

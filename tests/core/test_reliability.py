@@ -81,7 +81,7 @@ def test_dash_is_standard_output_and_no_file_named_dash(tmp_path, monkeypatch, c
     assert HEADER in capsys.readouterr().out
     assert list(tmp_path.iterdir()) == []
     assert main(["report", "--out", "-"]) == 2
-    assert "standard output cannot hold it" in _one_line(capsys.readouterr().err)
+    assert "is a folder; standard output cannot hold it" in _one_line(capsys.readouterr().err)
     assert main(["acquire", "--simulate", "--out", "-"]) == 2
     assert "give a file name" in _one_line(capsys.readouterr().err)
     assert list(tmp_path.iterdir()) == []
@@ -269,3 +269,20 @@ def test_a_memory_error_in_a_command_is_one_line(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(campaign, "run", exhausted)
     assert main(["campaign", "--out", "x.csv"]) == 2
     assert "campaign: ran out of memory" in _one_line(capsys.readouterr().err)
+
+
+def test_after_a_signal_the_message_says_what_was_written_whole(tmp_path, capsys):
+    import signal
+
+    from cadcog.cli._main import _stopped
+
+    fileio.reset_written()
+    assert _stopped(signal.SIGTERM) == 143
+    assert capsys.readouterr().err == "cadcog: terminated; nothing was written\n"
+    with staged_file(tmp_path / "a.csv") as tmp:
+        tmp.write_text("x\n", encoding="utf-8")
+    assert _stopped(signal.SIGINT) == 130
+    assert capsys.readouterr().err == (
+        f"cadcog: interrupted; written whole before that: {tmp_path / 'a.csv'}\n"
+    )
+    fileio.reset_written()
