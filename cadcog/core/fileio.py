@@ -310,6 +310,12 @@ def _stream_kind(path: Path) -> str | None:
     return None
 
 
+def is_stream(path: str | Path) -> bool:
+    """Whether an output ``path`` is streamed into rather than replaced (``-``, a device, a
+    FIFO, a link into /proc): a command then says what it wrote on stderr, not beside it."""
+    return str(path) == "-" or _stream_kind(Path(path)) is not None
+
+
 def _stream_out(path: Path, kind: str, data_file: Path) -> None:
     """Copy the finished ``data_file`` into the stream ``path`` (never replacing it)."""
     if kind == "stdout":
