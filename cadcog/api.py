@@ -30,6 +30,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
+from cadcog.core.arguments import check_choice, check_text
 from cadcog.core.errors import CadcogError
 
 if TYPE_CHECKING:
@@ -233,6 +234,8 @@ def mass_properties(
     from cadcog.spacecraft.mass_summary import build_mass_report
 
     f = "mass_properties"
+    check_choice(f, "overlaps", overlaps, ("check", "allow", "resolve"))
+    check_text(f, "axes", axes, "'+y,-x,+z'")
     if materials is not None and density_kg_m3 is not None:
         raise CadcogError(f"{f}: give either materials or density_kg_m3, not both")
     _numbers(f, density_kg_m3=density_kg_m3, total_mass_kg=total_mass_kg, workers=workers)

@@ -18,6 +18,7 @@ only (``# rejected hang ...``), which the readings reader skips.
 from __future__ import annotations
 
 import csv
+import errno
 import os
 import re
 from collections.abc import Sequence
@@ -209,6 +210,11 @@ class ReadingsFile:
         """
         p = Path(path)
         header = columns(units.value_columns)
+        if str(path) in ("", "-"):
+            raise CadcogError(
+                f"{str(path)!r}: a recording is resumed and appended hang by hang, which "
+                "standard output cannot be: give a file name"
+            )
         if p.is_dir():
             raise CadcogError(f"{p}: is a directory, expected a readings CSV file to write")
         if not p.exists():
@@ -256,10 +262,33 @@ class ReadingsFile:
 
 
 def _write_durably(path: Path, text: str, mode: str) -> None:
-    with open(path, mode, encoding="utf-8") as fh:
-        fh.write(text)
-        fh.flush()
-        os.fsync(fh.fileno())
+    data = text.encode("utf-8")
+    flags = os.O_WRONLY | os.O_CREAT | (os.O_APPEND if mode == "a" else os.O_TRUNC)
+    try:
+        fd = os.open(path, flags, 0o666)
+        try:
+            size = os.fstat(fd).st_size
+            try:
+                view = memoryview(data)
+                while view:  # unbuffered: nothing is left to be written later
+                    view = view[os.write(fd, view) :]
+                os.fsync(fd)
+            except OSError:
+                if mode == "a":  # cut a half-written block off: the file stays as it was
+                    os.ftruncate(fd, size)
+                raise
+        finally:
+            os.close(fd)
+    except OSError as exc:
+        if mode != "a":
+            raise  # a staged temporary file: staged_file names the destination
+        why = exc.strerror or str(exc)
+        if exc.errno in (errno.EFBIG, errno.ENOSPC, errno.EDQUOT):
+            why += ": the disk is full or a file-size limit (ulimit -f) was reached"
+        raise CadcogError(
+            f"{path}: cannot append the hang ({why}); the hangs recorded before it are kept: "
+            "run the same command again to resume"
+        ) from None
 
 
 def _sync_dir(directory: Path) -> None:

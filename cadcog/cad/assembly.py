@@ -40,6 +40,7 @@ from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc_DocumentTool
 
 from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import silent_write_failure
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -180,7 +181,7 @@ def write_assembly(root: Assembly | Part, path: str | Path) -> None:
     if not writer.Transfer(doc, STEPControl_AsIs):
         raise CadcogError(f"{path}: STEP export failed (transfer)")
     if writer.Write(str(path)) != IFSelect_ReturnStatus.IFSelect_RetDone:
-        raise CadcogError(f"{path}: STEP export failed")
+        raise CadcogError(f"{path}: STEP export failed ({silent_write_failure()})")
 
 
 def placed_parts(

@@ -18,7 +18,7 @@ from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
 from OCP.TopoDS import TopoDS_Shape
 
 from cadcog.cad.assembly import Assembly, Part, Placement
-from cadcog.core.errors import ParameterFileError
+from cadcog.core.errors import ParameterFileError, quote
 from cadcog.core.paramfile import TableReader, read_toml, toml_string
 from cadcog.core.tolerances import MIN_SOLID_DIMENSION_MM
 from cadcog.mass.materials import LIBRARY, MaterialMap
@@ -134,8 +134,15 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
         if np.all(np.minimum(ahi, bhi) - np.maximum(alo, blo) > 1e-9):
             raise t1.error("center_mm", f"components {a.name} and {b.name} overlap")
     names = [c.name for c in comps]
-    if len(set(names)) != len(names):
-        raise ParameterFileError(p, "components", "component names must be unique")
+    twice = next((n for i, n in enumerate(names) if n in names[:i]), None)
+    if twice is not None:
+        at = [i for i, n in enumerate(names) if n == twice][:2]
+        raise ParameterFileError(
+            p,
+            f"components[{at[1]}].name",
+            f"{quote(twice)} is also the name of components[{at[0]}]; component names must be "
+            "unique (they name the STEP products and the materials rules)",
+        )
     return spec
 
 

@@ -11,13 +11,18 @@ from OCP.StlAPI import StlAPI_Writer
 from cadcog.cad.assembly import step_timestamp
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import silent_write_failure
 from cadcog.core.units import deg_to_rad
 
 
 def write_step(assembly: bd.Compound, path: Path) -> None:
     """Write a labelled assembly to STEP (AP214, mm); the labels become product names."""
-    if not bd.export_step(assembly, path, timestamp=step_timestamp()):
-        raise CadcogError(f"{path}: STEP export failed")
+    try:
+        written = bd.export_step(assembly, path, timestamp=step_timestamp())
+    except RuntimeError:  # build123d raises where OCCT's writer returns a failure
+        written = False
+    if not written:
+        raise CadcogError(f"{path}: STEP export failed ({silent_write_failure()})")
 
 
 def write_stl(
@@ -39,4 +44,4 @@ def write_stl(
     writer = StlAPI_Writer()
     writer.ASCIIMode = False
     if not writer.Write(solid.wrapped, str(path)):
-        raise CadcogError(f"{path}: STL export failed")
+        raise CadcogError(f"{path}: STL export failed ({silent_write_failure()})")

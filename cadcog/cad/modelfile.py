@@ -29,6 +29,7 @@ from cadcog.cad.stepmass import (
     model_mass_properties,
 )
 from cadcog.cad.stepread import read_step
+from cadcog.core.errors import CadcogError
 from cadcog.core.paramfile import TableReader
 from cadcog.core.units import UNIT_CHOICES
 from cadcog.mass.materials import MaterialMap, load_materials
@@ -45,11 +46,21 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
         from cadcog.cad.assembly import write_assembly
         from cadcog.cad.cubesat import build_cubesat, load_cubesat, material_map
 
-        spec = load_cubesat(base / t.string("model"))
+        spec_path = base / t.string("model")
+        spec = load_cubesat(spec_path)
         asm, mats = build_cubesat(spec)
         with tempfile.TemporaryDirectory() as tmp:
             step = Path(tmp) / "model.step"
-            write_assembly(asm, step)  # read back as any export is
+            try:
+                write_assembly(asm, step)  # read back as any export is
+            except CadcogError as exc:  # name the user's spec, not the temporary file
+                why = str(exc).replace(str(step), "a temporary STEP file")
+                raise CadcogError(f"{spec_path}: cannot build its model: {why}") from None
+            except OSError as exc:
+                raise CadcogError(
+                    f"{spec_path}: cannot build its model in a temporary folder "
+                    f"({exc.strerror or exc})"
+                ) from None
             model = read_step(step)
         materials: MaterialMap | None = material_map(spec, mats)
         if t.has("materials"):  # a materials file's rules come first, the spec's complete them

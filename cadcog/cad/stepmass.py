@@ -43,7 +43,7 @@ from cadcog.cad.occt import placed, rigid_transform, surface_properties, volume_
 from cadcog.cad.overlaps import Overlap, Placed, bounding_boxes, cut_by, find_overlaps
 from cadcog.cad.stepread import StepBody, StepModel, length_unit_mm
 from cadcog.core import tolerances
-from cadcog.core.errors import CadcogError
+from cadcog.core.errors import CadcogError, quote
 from cadcog.core.parallel import fork_map
 from cadcog.core.results import JsonResult
 from cadcog.core.units import (
@@ -461,7 +461,7 @@ def model_mass_properties(
     """
     src = model.source
     if overlaps not in ("check", "allow", "resolve"):
-        raise ValueError(f"overlaps must be check, allow or resolve, got {overlaps!r}")
+        raise CadcogError(f"overlaps: expected check, allow or resolve, got {quote(overlaps)}")
     if units is not None and units not in LENGTH_UNIT_MM:
         raise CadcogError(f"--units: unknown unit {units!r}; expected {', '.join(UNIT_CHOICES)}")
     scale, notes, info = _unit_scale(model, units)

@@ -52,11 +52,26 @@ from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc, XCAFDoc_DocumentTool, XCAFDoc_Material, XCAFDoc_ShapeTool
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import note_input
+from cadcog.core.fileio import not_a_regular_file, note_input
+from cadcog.core.heartbeat import heartbeat
 from cadcog.core.units import LENGTH_UNIT_MM, density_kg_m3_from_step
 
 #: Instance names that exporters generate rather than users give: OCCT's label entries
 #: (``=>[0:1:1:4]``), bare NAUO ids and numbers. Such an instance is named by its product.
+#: Files from this size (MB) say what is being read and show a heartbeat while OCCT works
+#: (:func:`cadcog.core.heartbeat.heartbeat`): 20 MB take about 10 s to read and transfer.
+STEP_HEARTBEAT_MIN_MB = 20.0
+
+
+@contextmanager
+def _phase(large: bool, what: str) -> Iterator[None]:
+    if not large:
+        yield
+        return
+    with heartbeat(what):
+        yield
+
+
 _GENERATED_NAME = re.compile(r"^(=>\[[0-9:]*\]|NAUO\d*|\d+|)$")
 
 
@@ -441,8 +456,8 @@ def read_step(path: str | Path) -> StepModel:
     p = Path(path)
     if p.is_dir():
         raise CadcogError(f"{p}: is a directory, expected a STEP file")
-    if not p.is_file():
-        raise CadcogError(f"{p}: file not found")
+    if not p.is_file():  # OCCT reads STEP files from disk, not from a pipe
+        raise CadcogError(f"{p}: {not_a_regular_file(p)}")
     note_input(p, "the STEP model it reads")
     app = XCAFApp_Application.GetApplication_s()
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
@@ -452,7 +467,9 @@ def read_step(path: str | Path) -> StepModel:
     reader.SetMatMode(True)
     reader.SetColorMode(False)
     reader.SetLayerMode(False)
-    with _captured_stdout() as said:
+    size_mb = p.stat().st_size / 1e6
+    large = size_mb >= STEP_HEARTBEAT_MIN_MB
+    with _captured_stdout() as said, _phase(large, f"reading {p} ({size_mb:.0f} MB)"):
         try:
             status = reader.ReadFile(str(p))
         except Exception as exc:  # OCCT raises plain exceptions on some corrupt files
@@ -467,7 +484,9 @@ def read_step(path: str | Path) -> StepModel:
     declared = tuple(  # INCH, MILLIMETRE (SolidWorks, HFSS) shown as inch, millimetre
         lengths.Value(i).ToCString().lower() for i in range(1, lengths.Length() + 1)
     )
-    if not reader.Transfer(doc):
+    with _phase(large, f"building the shapes of {p}"):
+        transferred = reader.Transfer(doc)
+    if not transferred:
         raise CadcogError(f"{p}: the STEP file holds nothing OCCT can transfer to shapes")
     shape_tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
     free = Sequence_TDF_Label()

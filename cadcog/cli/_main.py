@@ -11,7 +11,8 @@ import argparse
 import signal
 import sys
 from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
+from pathlib import Path
 from types import FrameType
 from typing import NoReturn
 
@@ -30,12 +31,23 @@ from cadcog.cli import (
     validate,
 )
 from cadcog.core import bounds
-from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import guarding_inputs
+from cadcog.core.errors import CadcogError, capped
+from cadcog.core.fileio import (
+    guarding_inputs,
+    noted_inputs,
+    output_lock,
+    reset_written,
+    written_outputs,
+)
 from cadcog.core.version import __version__
 
 #: Exit status for bad input (same as argparse's usage errors).
 EXIT_USAGE = 2
+
+#: The options (argparse ``dest``) of every command that name a file or folder it writes: each is
+#: locked for the whole run (:func:`cadcog.core.fileio.output_lock`), so that two runs on one
+#: output cannot mix (``acquire`` appends hang by hang; a report is written at the end).
+OUTPUT_OPTIONS = ("out", "report", "junit", "plot")
 
 
 class UsageError(CadcogError):
@@ -201,6 +213,43 @@ def check_option_values(parser: argparse.ArgumentParser, args: argparse.Namespac
                 raise UsageError(f"{command}: {option} {value!r}: {problem}")
 
 
+def refuse_empty_values(words: Sequence[str]) -> None:
+    """An empty argument (``--out ""``, ``--out=``) names its option, before argparse turns it
+    into ``.`` (the working folder) or a confusing choice error.
+
+    Raises
+    ------
+    UsageError
+    """
+    command = words[0] if words else "cadcog"
+    for i, word in enumerate(words):
+        option, eq, value = word.partition("=")
+        if word.startswith("--") and eq and not value:
+            raise UsageError(f"{command}: {option}: expected a value, got an empty one")
+        if word == "":
+            before = words[i - 1] if i > 0 else ""
+            where = before if before.startswith("-") else "an argument"
+            raise UsageError(f"{command}: {where}: expected a value, got an empty one")
+
+
+def _run(args: argparse.Namespace) -> int:
+    """Run the parsed command: its inputs guarded, its outputs locked, memory errors named."""
+    with guarding_inputs(), ExitStack() as held:
+        for dest in OUTPUT_OPTIONS:
+            value = getattr(args, dest, None)
+            if isinstance(value, Path):
+                held.enter_context(output_lock(value))
+        try:
+            return int(args.func(args))
+        except MemoryError:
+            read = noted_inputs()
+            on = f" on {read[-1]}" if read else ""
+            raise CadcogError(
+                f"{args.command}: ran out of memory{on} (the machine's memory or a limit such "
+                "as ulimit -v); nothing was written"
+            ) from None
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI with ``argv`` (default: ``sys.argv[1:]``) and return the exit status.
 
@@ -208,27 +257,46 @@ def main(argv: Sequence[str] | None = None) -> int:
     and returns 2; Ctrl-C returns 130 and SIGTERM 143, after every staged output is removed.
     """
     words = list(sys.argv[1:] if argv is None else argv)
+    reset_written()
     try:
         with _sigterm_raises():
             parser = build_parser()  # imports every command's module: a signal may come here
             if words and words[0] in _subparsers(parser):
                 parser.command = words[0]
+            refuse_empty_values(words)
             args = parser.parse_args(attach_dash_values(parser, words))
             check_option_values(parser, args)
-            with guarding_inputs():  # no output may replace a file the command read
-                status: int = args.func(args)
+            status = _run(args)  # no output may replace a file the command read
     except KeyboardInterrupt:
         return _stopped(signal.SIGINT)
     except Terminated:
         return _stopped(signal.SIGTERM)
     except CadcogError as exc:
-        print(f"cadcog: error: {exc}", file=sys.stderr)
+        print(f"cadcog: error: {capped(str(exc))}", file=sys.stderr)
         return EXIT_USAGE
     except BrokenPipeError:  # output piped into `head` and the like: stop quietly
         sys.stderr.close()
         return 0
     except OSError as exc:  # an output path that cannot be written, a full disk, ...
-        print(f"cadcog: error: {exc}", file=sys.stderr)
+        print(f"cadcog: error: {capped(str(exc))}", file=sys.stderr)
+        return EXIT_USAGE
+    except ImportError as exc:  # a library that cannot be mapped under a memory limit
+        if "map segment" not in str(exc) and "allocate memory" not in str(exc):
+            if not _STOPPED_BY:
+                raise
+            return _stopped(_STOPPED_BY[0])
+        print(
+            "cadcog: error: ran out of memory loading cadcog's libraries (the machine's memory "
+            "or a limit such as ulimit -v); nothing was written",
+            file=sys.stderr,
+        )
+        return EXIT_USAGE
+    except MemoryError:  # while loading the command's modules (a limit such as ulimit -v)
+        print(
+            "cadcog: error: ran out of memory loading cadcog (the machine's memory or a limit "
+            "such as ulimit -v); nothing was written",
+            file=sys.stderr,
+        )
         return EXIT_USAGE
     except Exception:
         if not _STOPPED_BY:
@@ -241,5 +309,10 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _stopped(signum: int) -> int:
     """Say that a signal stopped the command, and return its exit status (128 + signal)."""
     word = "interrupted" if signum == signal.SIGINT else "terminated"
-    print(f"cadcog: {word}; nothing was written", file=sys.stderr)
+    written = written_outputs()
+    if written:
+        done = ", ".join(str(p) for p in written)
+        print(f"cadcog: {word}; written whole before that: {done}", file=sys.stderr)
+    else:
+        print(f"cadcog: {word}; nothing was written", file=sys.stderr)
     return 128 + signum

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import refuse_overwriting_inputs
+from cadcog.core.fileio import is_stream, refuse_overwriting_inputs
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.uncertainty.montecarlo import Scenario
@@ -73,7 +74,10 @@ def run(args: argparse.Namespace) -> int:
         f"{model.samples} samples per hang; {model.summary()}"
     )
     write_campaign(args.out, rows, comment)
-    print(f"wrote {len(rows)} samples of {len(rig.suspension_points)} hangs to {args.out}")
+    print(
+        f"wrote {len(rows)} samples of {len(rig.suspension_points)} hangs to {args.out}",
+        file=sys.stderr if is_stream(args.out) else sys.stdout,
+    )
     return 0
 
 
@@ -99,5 +103,8 @@ def run_setup(args: argparse.Namespace) -> int:
         rows,
         f"cadcog virtual campaign: setup {setup.name}, seed {args.seed}; {model.summary()}",
     )
-    print(f"wrote {len(rows)} samples of {len(ids)} hangs to {args.out}")
+    print(
+        f"wrote {len(rows)} samples of {len(ids)} hangs to {args.out}",
+        file=sys.stderr if is_stream(args.out) else sys.stdout,
+    )
     return 0

@@ -120,10 +120,36 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
+#: Steps from which a phase reports on a stderr that is not a terminal (a log, CI).
+LOG_PROGRESS_MIN_STEPS = 500
+
+
+def _log_progress(desc: str, total: int) -> Callable[[int], None]:
+    """Plain lines for a log: the phase at once, then the count every heartbeat interval
+    (nothing for small models)."""
+    import time
+
+    from cadcog.core.heartbeat import HEARTBEAT_EVERY_S
+
+    if total < LOG_PROGRESS_MIN_STEPS:
+        return lambda n: None
+    print(f"cadcog: {desc}: 0/{total}", file=sys.stderr, flush=True)
+    state = {"done": 0, "last": time.monotonic()}
+
+    def update(n: int) -> None:
+        state["done"] += n
+        now = time.monotonic()
+        if now - state["last"] >= HEARTBEAT_EVERY_S or state["done"] >= total:
+            state["last"] = now
+            print(f"cadcog: {desc}: {state['done']}/{total}", file=sys.stderr, flush=True)
+
+    return update
+
+
 def _progress() -> Callable[[str, int], Callable[[int], None]] | None:
-    """A tqdm progress factory on a terminal (stderr), else None."""
+    """A tqdm progress factory on a terminal (stderr), else plain lines for large models."""
     if not sys.stderr.isatty():
-        return None
+        return _log_progress
     from tqdm import tqdm
 
     def factory(desc: str, total: int) -> Callable[[int], None]:

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import not_a_regular_file
 from cadcog.rig.file import default_rig_path, load_rig
 
 
@@ -35,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     if args.seed < 0:
         raise CadcogError("--seed must be non-negative")
     if args.campaign is not None and not args.campaign.is_file():
-        raise CadcogError(f"{args.campaign}: file not found")
+        raise CadcogError(f"{args.campaign}: {not_a_regular_file(args.campaign)}")
     try:
         result = build_report(
             rig,

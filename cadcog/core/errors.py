@@ -45,3 +45,51 @@ class IllConditionedError(DegenerateGeometryError):
 
 class ReadingsError(CadcogError, ValueError):
     """A readings file is malformed; the message names the file and line."""
+
+
+#: The most characters of a value an error message quotes (longer ones are cut in the middle).
+QUOTE_MAX_CHARS = 80
+
+#: The most characters of one error line (the rest is cut, saying how much).
+MESSAGE_MAX_CHARS = 600
+
+
+def quote(value: object, limit: int = QUOTE_MAX_CHARS) -> str:
+    """``repr(value)``, cut in the middle when longer than ``limit`` characters.
+
+    Examples
+    --------
+    >>> quote("x_mm")
+    "'x_mm'"
+    >>> quote("a" * 1000, 20)
+    "'aaaaaaa…(1002 characters)…aaaaaaa'"
+    """
+    text = repr(value)
+    if len(text) <= limit:
+        return text
+    keep = max(1, (limit - 4) // 2)
+    return f"{text[:keep]}…({len(text)} characters)…{text[-keep:]}"
+
+
+def capped(message: str) -> str:
+    """An error message with every long quoted value (``'…'`` or ``"…"``) and the whole line cut
+    to a readable length: a 10 000-character value is not echoed whole.
+
+    Examples
+    --------
+    >>> len(capped("key 'a': got '" + "x" * 10_000 + "'"))
+    109
+    >>> "(10002 characters)" in capped("got '" + "x" * 10_000 + "'")
+    True
+    """
+    import re
+
+    def cut(m: re.Match[str]) -> str:
+        text = m.group(0)
+        keep = (QUOTE_MAX_CHARS - 4) // 2
+        return f"{text[:keep]}…({len(text)} characters)…{text[-keep:]}"
+
+    out = re.sub(rf"'[^'\n]{{{QUOTE_MAX_CHARS},}}'|\"[^\"\n]{{{QUOTE_MAX_CHARS},}}\"", cut, message)
+    if len(out) > MESSAGE_MAX_CHARS:
+        out = f"{out[: MESSAGE_MAX_CHARS - 30]}…({len(out)} characters in all)"
+    return out

@@ -1,19 +1,30 @@
-"""Output files that appear whole or not at all.
+"""Output files that appear whole or not at all, one writer at a time.
 
-Commands write into a temporary directory (or file) beside the destination and move each
-finished file into place with :func:`os.replace`, which is atomic on POSIX file systems. If
-anything fails on the way, including an interrupt (Ctrl-C) or a SIGTERM (``cadcog.cli`` turns it
-into an exception), the temporary files are removed and the destination is left as it was.
-Finished files get the permissions the user's umask gives a new file, not the 0600 of a
-temporary file; errors name the destination the user gave, never the temporary name.
+Commands write into a temporary directory (or file) beside the destination and move the
+finished output into place with :func:`os.replace` (a file) or by swapping the whole folder (a
+report folder), both atomic on POSIX file systems. If anything fails on the way, including an
+interrupt (Ctrl-C) or a SIGTERM (``cadcog.cli`` turns it into an exception), the temporary files
+are removed and the destination is left as it was. Finished files get the permissions the user's
+umask gives a new file, not the 0600 of a temporary file; errors name the destination the user
+gave, never the temporary name.
+
+Outputs that are not regular files (``-`` for standard output, ``/dev/stdout``, ``/dev/null``,
+a FIFO, a terminal, a symbolic link into ``/proc/self/fd``) are never replaced: the finished
+output is streamed into them in one piece. Every replaced or appended output is held under an
+advisory lock (:func:`output_lock`) while it is written: a second cadcog run on the same output
+stops with one line naming the holder's PID.
 """
 
 from __future__ import annotations
 
+import errno
 import json
 import math
 import os
 import shutil
+import signal
+import stat
+import sys
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
@@ -27,6 +38,16 @@ from cadcog.core.errors import CadcogError
 #: The files the running command has read (resolved path → what it was), while a command runs
 #: inside :func:`guarding_inputs`; staged outputs refuse to replace any of them.
 _INPUTS: ContextVar[dict[Path, str] | None] = ContextVar("cadcog_inputs", default=None)
+
+#: Outputs this process has put in place since :func:`reset_written` (for the message after a
+#: signal: "nothing was written" only when true).
+_WRITTEN: list[Path] = []
+
+#: Lock files this process holds (path → open descriptor): a lock is taken once per output.
+_HELD: dict[str, int] = {}
+
+#: Errors of the file system being full or a size limit, whatever file was being written.
+_FULL = {errno.EFBIG, errno.ENOSPC, errno.EDQUOT}
 
 
 @contextmanager
@@ -53,6 +74,21 @@ def note_input(path: str | Path, what: str) -> None:
             inputs.setdefault(Path(path).resolve(), what)
 
 
+def noted_inputs() -> list[Path]:
+    """The inputs noted so far by the running command, in the order read."""
+    return list(_INPUTS.get() or {})
+
+
+def reset_written() -> None:
+    """Forget the outputs written so far (the command line calls it as a command starts)."""
+    _WRITTEN.clear()
+
+
+def written_outputs() -> list[Path]:
+    """The outputs put in place since :func:`reset_written`, as the user named them."""
+    return list(_WRITTEN)
+
+
 def _refuse_inputs(destinations: list[Path]) -> None:
     """Raise, before anything is replaced, if a destination is a file the command read."""
     inputs = _INPUTS.get()
@@ -71,8 +107,26 @@ def _new_file_mode() -> int:
     return 0o666 & ~mask
 
 
-def _cannot_write(target: Path, exc: OSError) -> CadcogError:
-    return CadcogError(f"{target}: cannot write here ({exc.strerror or exc})")
+def _cannot_write(target: Path | str, exc: OSError) -> CadcogError:
+    why = exc.strerror or str(exc)
+    if exc.errno in _FULL:
+        why += ": the disk is full or a file-size limit (ulimit -f) was reached"
+    return CadcogError(f"{target}: cannot write here ({why})")
+
+
+def _renamed(exc: BaseException, temporary: Path, target: Path | str) -> BaseException | None:
+    """``exc`` as the user should see it when it escaped the writing of ``target`` into
+    ``temporary``: an OSError of a full disk or of the temporary path, or a CadcogError naming the
+    temporary path, names ``target`` instead (None: leave ``exc`` as it is)."""
+    tmp = str(temporary)
+    if isinstance(exc, OSError):
+        names = (str(exc.filename or ""), str(exc.filename2 or ""))
+        if exc.errno in _FULL or any(n.startswith(tmp) for n in names if n):
+            return _cannot_write(target, exc)
+        return None
+    if isinstance(exc, CadcogError) and tmp in str(exc):
+        return CadcogError(str(exc).replace(tmp, str(target)))
+    return None
 
 
 def _make_dirs(folder: Path) -> list[Path]:
@@ -97,47 +151,366 @@ def _remove_empty(created: list[Path]) -> None:
             return
 
 
-@contextmanager
-def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
-    """Yield a scratch directory whose files are moved into ``out_dir`` on success.
+def silent_write_failure() -> str:
+    """The likely reason when a library (OCCT, matplotlib) fails to write without saying why:
+    the file-size limit if one is set (``ulimit -f``), else a full disk."""
+    with suppress(ImportError, OSError, ValueError):
+        import resource
 
-    Existing files in ``out_dir`` that the command does not produce are left alone; produced
-    files replace their namesakes atomically, one by one.
+        soft, _ = resource.getrlimit(resource.RLIMIT_FSIZE)
+        if soft != resource.RLIM_INFINITY:
+            return f"no reason given; a file-size limit of {soft} bytes (ulimit -f) is set"
+    return "no reason given; is the disk full?"
+
+
+def not_a_regular_file(path: str | Path) -> str:
+    """Why ``path`` cannot be read as a regular file: not found, or what it is instead (a FIFO
+    is not "file not found")."""
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        return "file not found"
+    except OSError as exc:
+        return f"cannot read ({exc.strerror or exc})"
+    kinds = (
+        (stat.S_ISDIR, "a directory"),
+        (stat.S_ISFIFO, "a FIFO (named pipe)"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+        (stat.S_ISSOCK, "a socket"),
+    )
+    what = next((name for test, name in kinds if test(mode)), "not a regular file")
+    return f"is {what}, expected a regular file"
+
+
+def _refuse_empty(path: str | Path) -> None:
+    if str(path) == "":
+        raise CadcogError("an output path is empty: expected a file or folder name")
+
+
+# --- locks -------------------------------------------------------------------------------------
+
+
+def _lock_file(target: Path) -> Path:
+    real = target.resolve()
+    return real.parent / f".{real.name}.cadcog-lock"
+
+
+def _holder(fd: int) -> str:
+    with suppress(OSError):
+        os.lseek(fd, 0, os.SEEK_SET)
+        pid = os.read(fd, 32).decode("ascii", "replace").strip()
+        if pid.isdigit():
+            return f"PID {pid}"
+    return "PID unknown"
+
+
+def _acquire(lock: Path, target: Path) -> int | None:
+    """Lock ``lock`` (created as needed) for this process; None where no lock can be made (the
+    folder is missing or read-only: the write itself will say so)."""
+    import fcntl
+
+    for _ in range(20):
+        try:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, _new_file_mode())
+        except OSError:
+            return None
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = _holder(fd)
+            os.close(fd)
+            raise CadcogError(
+                f"{target}: another cadcog run ({holder}) is writing it; wait for it to end "
+                "or give another path"
+            ) from None
+        except OSError:  # a file system without locks
+            os.close(fd)
+            return None
+        try:
+            current = os.stat(lock).st_ino
+        except OSError:
+            current = -1
+        if current != os.fstat(fd).st_ino:  # the holder removed it as we opened it: again
+            os.close(fd)
+            continue
+        with suppress(OSError):
+            os.ftruncate(fd, 0)
+            os.write(fd, f"{os.getpid()}\n".encode("ascii"))
+        return fd
+    return None  # pragma: no cover - twenty lost races in a row
+
+
+@contextmanager
+def output_lock(target: str | Path) -> Iterator[None]:
+    """Hold an advisory lock on the output ``target`` while inside.
+
+    The lock is a small file beside it (``.NAME.cadcog-lock``, holding this process's id),
+    removed on the way out. A second cadcog run taking the same output's lock stops at once;
+    a run killed outright leaves the file, but not the lock, so the next run goes ahead. Streams
+    (standard output, devices, FIFOs) are not locked. Taking a lock this process holds is a
+    no-op.
 
     Raises
     ------
     CadcogError
-        If ``out_dir`` is a file, or its parent cannot be written (naming ``out_dir``).
+        If another process holds it, naming ``target`` and that process's id.
     """
+    path = Path(target)
+    if str(target) in ("", "-") or _stream_kind(path) is not None:
+        yield
+        return
+    try:
+        lock = _lock_file(path)
+    except (OSError, RuntimeError):
+        yield
+        return
+    key = str(lock)
+    if key in _HELD:
+        yield
+        return
+    fd = _acquire(lock, path)
+    if fd is None:
+        yield
+        return
+    _HELD[key] = fd
+    try:
+        yield
+    finally:
+        del _HELD[key]
+        with suppress(OSError):
+            os.unlink(lock)  # while still holding it: a waiter that opened it retries
+        os.close(fd)
+
+
+# --- streams -----------------------------------------------------------------------------------
+
+
+def _stream_kind(path: Path) -> str | None:
+    """``'stdout'`` for ``-``, ``'device'`` for an existing node that is not a regular file or a
+    folder (a FIFO, a terminal, /dev/null) or a path through /dev or /proc (``/dev/stdout``, a
+    link to ``/proc/self/fd/1``); None for an ordinary file name."""
+    if str(path) == "-":
+        return "stdout"
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    if stat.S_ISDIR(st.st_mode):
+        return None
+    if not stat.S_ISREG(st.st_mode):
+        return "device"
+    p = Path(os.path.abspath(path))
+    for _ in range(40):  # every link of the chain, in case one goes through /dev or /proc
+        if p.parts[1:2] in (("dev",), ("proc",)):
+            return "device"
+        if not p.is_symlink():
+            break
+        p = Path(os.path.abspath(p.parent / os.readlink(p)))
+    return None
+
+
+def is_stream(path: str | Path) -> bool:
+    """Whether an output ``path`` is streamed into rather than replaced (``-``, a device, a
+    FIFO, a link into /proc): a command then says what it wrote on stderr, not beside it."""
+    return str(path) == "-" or _stream_kind(Path(path)) is not None
+
+
+def _stream_out(path: Path, kind: str, data_file: Path) -> None:
+    """Copy the finished ``data_file`` into the stream ``path`` (never replacing it)."""
+    if kind == "stdout":
+        sys.stdout.flush()
+        data = data_file.read_bytes()
+        buffer = getattr(sys.stdout, "buffer", None)
+        if buffer is not None:
+            buffer.write(data)
+            buffer.flush()
+        else:  # a text stream (tests capture stdout so)
+            sys.stdout.write(data.decode("utf-8", "replace"))
+            sys.stdout.flush()
+        return
+    st = os.stat(path)
+    if stat.S_ISBLK(st.st_mode):
+        raise CadcogError(f"{path}: is a block device; give a file name")
+    fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CLOEXEC)  # no O_TRUNC, no O_CREAT
+    try:
+        with open(data_file, "rb") as src:
+            while chunk := src.read(1 << 20):
+                view = memoryview(chunk)
+                while view:
+                    view = view[os.write(fd, view) :]
+    finally:
+        os.close(fd)
+
+
+# --- staged outputs ----------------------------------------------------------------------------
+
+
+@contextmanager
+def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
+    """Yield a scratch directory that becomes ``out_dir`` on success, in one step.
+
+    The new folder holds what the command produced and, beside it, every entry of an existing
+    ``out_dir`` that the command does not produce (hard links, so nothing is copied); then the
+    two folders are swapped atomically (``renameat2(RENAME_EXCHANGE)``, or two renames with
+    signals held off where the system has no exchange) and the old one is removed. A signal at
+    any time leaves either the old folder or the new one, never a mixture. The working folder
+    itself (``--out .``) is not swapped from under the shell: its files are moved in with
+    signals held off. The folder is locked (:func:`output_lock`) while it is written.
+
+    Raises
+    ------
+    CadcogError
+        If ``out_dir`` is a file, standard output, or its parent cannot be written (naming
+        ``out_dir``), or if another run is writing it.
+    """
+    _refuse_empty(out_dir)
     out = Path(out_dir)
+    if str(out_dir) == "-":
+        raise CadcogError("-: this output is a folder; standard output cannot hold it")
     if out.exists() and not out.is_dir():
         raise CadcogError(f"{out}: exists and is not a directory")
-    parent = out.resolve().parent
+    real = out.resolve()
+    parent = real.parent
     created: list[Path] = []
     try:
         created = _make_dirs(parent)
-        stage = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".partial", dir=parent))
     except OSError as exc:
-        _remove_empty(created)
         raise _cannot_write(out, exc) from None
     done = False
     try:
-        yield stage
-        produced = [p for p in sorted(stage.rglob("*")) if p.is_file()]
-        _refuse_inputs([out / p.relative_to(stage) for p in produced])
-        try:
-            created += _make_dirs(out.resolve())
-            for src in produced:
-                dst = out / src.relative_to(stage)
-                dst.parent.mkdir(parents=True, exist_ok=True)
-                os.replace(src, dst)
-        except OSError as exc:
-            raise _cannot_write(out, exc) from None
-        done = True
+        with output_lock(out):
+            try:
+                stage = Path(
+                    tempfile.mkdtemp(prefix=f".{real.name}.", suffix=".partial", dir=parent)
+                )
+            except OSError as exc:
+                raise _cannot_write(out, exc) from None
+            try:
+                try:
+                    yield stage
+                except BaseException as exc:
+                    better = _renamed(exc, stage, out)
+                    if better is None:
+                        raise
+                    raise better from None
+                produced = [p.relative_to(stage) for p in sorted(stage.rglob("*")) if p.is_file()]
+                _refuse_inputs([out / p for p in produced])
+                try:
+                    _install_dir(stage, real, out, produced)
+                except OSError as exc:
+                    raise _cannot_write(out, exc) from None
+                _WRITTEN.append(out)
+                done = True
+            finally:
+                shutil.rmtree(stage, ignore_errors=True)
     finally:
-        shutil.rmtree(stage, ignore_errors=True)
         if not done:
             _remove_empty(created)
+
+
+def _install_dir(stage: Path, real: Path, out: Path, produced: list[Path]) -> None:
+    """Put the finished ``stage`` in place of ``real`` (see :func:`staged_output_dir`)."""
+    cwd = Path.cwd().resolve()
+    if not real.exists():
+        os.chmod(stage, 0o777 & ~_umask())
+        os.rename(stage, real)
+        return
+    _carry_over(real, stage, set(produced), out)
+    if real == cwd or real in cwd.parents:
+        _move_in(stage, real, produced)
+        return
+    os.chmod(stage, stat.S_IMODE(os.stat(real).st_mode))
+    if not _exchange(stage, real):
+        with _signals_held():
+            old = stage.with_name(stage.name + ".old")
+            os.rename(real, old)
+            os.rename(stage, real)
+            os.rename(old, stage)  # removed with the stage
+    # stage now holds the old folder; the caller removes it
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def _carry_over(old: Path, new: Path, produced: set[Path], out: Path) -> None:
+    """Hard-link into ``new`` every entry of ``old`` that the command did not produce."""
+    produced_dirs = {d for p in produced for d in p.parents if d != Path(".")}
+    for root, dirs, files in os.walk(old):
+        rel_root = Path(root).relative_to(old)
+        for name in list(dirs):
+            rel = rel_root / name
+            src = old / rel
+            if rel in produced:
+                raise CadcogError(f"{out}: cannot write here ({rel} is a folder)")
+            if src.is_symlink():
+                dirs.remove(name)
+                files.append(name)
+                continue
+            (new / rel).mkdir(exist_ok=True)
+            os.chmod(new / rel, stat.S_IMODE(src.stat().st_mode))
+        for name in files:
+            rel = rel_root / name
+            if rel in produced:
+                continue
+            if rel in produced_dirs:
+                raise CadcogError(f"{out}: cannot write here ({rel} is a file)")
+            src, dst = old / rel, new / rel
+            if src.is_symlink():
+                os.symlink(os.readlink(src), dst)
+                continue
+            try:
+                os.link(src, dst, follow_symlinks=False)
+            except OSError:
+                shutil.copy2(src, dst, follow_symlinks=False)
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two folders atomically (Linux ``renameat2``); False where the system cannot."""
+    if not sys.platform.startswith("linux"):
+        return False
+    import ctypes
+
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        renameat2 = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    at_fdcwd, rename_exchange = -100, 2
+    if renameat2(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), rename_exchange) == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.EINVAL, errno.ENOSYS, errno.EPERM, errno.ENOTSUP):
+        return False
+    raise OSError(err, os.strerror(err))
+
+
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """SIGINT and SIGTERM wait (not lost) until the block is done."""
+    held = {signal.SIGINT, signal.SIGTERM}
+    try:
+        previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    except (AttributeError, OSError, ValueError):  # pragma: no cover - no POSIX signals
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+def _move_in(stage: Path, real: Path, produced: list[Path]) -> None:
+    """Move the produced files into ``real`` one by one, with signals held off."""
+    with _signals_held():
+        for rel in produced:
+            dst = real / rel
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            os.chmod(stage / rel, _new_file_mode())
+            os.replace(stage / rel, dst)
 
 
 def round_floats(value: Any, digits: int = tolerances.JSON_SIGNIFICANT_DIGITS) -> Any:
@@ -168,39 +541,91 @@ def dumps_json(data: Any) -> str:
 def staged_file(path: str | Path) -> Iterator[Path]:
     """Yield a temporary path beside ``path`` (same suffix) that replaces ``path`` on success.
 
+    A symbolic link is written through (the file it points to is replaced, the link kept).
+    ``-`` (standard output) and nodes that are not regular files (``/dev/stdout``, a FIFO, a
+    terminal, ``/dev/null``) are never replaced: the finished output is written into them in
+    one piece. The file is locked (:func:`output_lock`) while it is written.
+
     Raises
     ------
     CadcogError
-        If ``path`` is a directory or its folder cannot be written (naming ``path``).
+        If ``path`` is a directory or its folder cannot be written (naming ``path``), or if
+        another run is writing it.
     """
+    _refuse_empty(path)
     target = Path(path)
+    kind = _stream_kind(target)
+    if kind is not None:
+        with _streamed(target, kind) as scratch:
+            yield scratch
+        return
     if target.is_dir():
         raise CadcogError(f"{target}: is a directory, expected a file name")
+    real = target.resolve()  # through a symbolic link: the link stays
     created: list[Path] = []
     try:
-        created = _make_dirs(target.parent)
-        fd, tmp = tempfile.mkstemp(
-            prefix=f".{target.stem}.", suffix=target.suffix, dir=target.parent
-        )
+        created = _make_dirs(real.parent)
     except OSError as exc:
-        _remove_empty(created)
         raise _cannot_write(target, exc) from None
-    os.close(fd)
     done = False
     try:
-        yield Path(tmp)
-        _refuse_inputs([target])
-        try:
-            os.chmod(tmp, _new_file_mode())
-            os.replace(tmp, target)
-        except OSError as exc:
-            raise _cannot_write(target, exc) from None
-        done = True
+        with output_lock(target):
+            try:
+                fd, tmp = tempfile.mkstemp(
+                    prefix=f".{real.stem}.", suffix=real.suffix, dir=real.parent
+                )
+            except OSError as exc:
+                raise _cannot_write(target, exc) from None
+            os.close(fd)
+            try:
+                try:
+                    yield Path(tmp)
+                except BaseException as exc:
+                    better = _renamed(exc, Path(tmp), target)
+                    if better is None:
+                        raise
+                    raise better from None
+                _refuse_inputs([target])
+                try:
+                    os.chmod(tmp, _new_file_mode())
+                    os.replace(tmp, real)
+                except OSError as exc:
+                    raise _cannot_write(target, exc) from None
+                _WRITTEN.append(target)
+                done = True
+            finally:
+                if os.path.exists(tmp):
+                    os.unlink(tmp)
     finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
         if not done:
             _remove_empty(created)
+
+
+@contextmanager
+def _streamed(target: Path, kind: str) -> Iterator[Path]:
+    """Stage in a private temporary folder, then stream into ``target`` (see
+    :func:`staged_file`)."""
+    shown = "standard output" if kind == "stdout" else str(target)
+    scratch = Path(tempfile.mkdtemp(prefix=".cadcog-stream."))
+    tmp = scratch / f"out{target.suffix}"
+    try:
+        try:
+            yield tmp
+        except BaseException as exc:
+            better = _renamed(exc, tmp, shown)
+            if better is None:
+                raise
+            raise better from None
+        if not tmp.exists():
+            return
+        _refuse_inputs([] if kind == "stdout" else [target])
+        try:
+            _stream_out(target, kind, tmp)
+        except OSError as exc:
+            raise _cannot_write(shown, exc) from None
+        _WRITTEN.append(target)
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
 
 
 def refuse_overwriting_inputs(output: str | Path, inputs: dict[str, str | Path | None]) -> None:
@@ -216,6 +641,8 @@ def refuse_overwriting_inputs(output: str | Path, inputs: dict[str, str | Path |
     CadcogError
         Naming both, if ``output`` resolves to the same file as an input.
     """
+    if str(output) in ("", "-"):
+        return
     out = Path(output).resolve()
     for name, value in inputs.items():
         if value is not None and Path(value).resolve() == out:

@@ -82,3 +82,8 @@ MIN_SOLID_DIMENSION_MM = 0.01
 #: stated level (absolute, 0.02 = ±2 percentage points at 5 %), measured on null campaigns from
 #: an independent generator (``benchmarks/study_validation_adc.py``, ``docs/validation.md``).
 VALIDATION_SIZE_TOLERANCE = 0.02
+
+#: Largest gap between the measurement equipment's base and the model's bounding box (mm) that a
+#: set-up may give: the ME is bolted onto the spacecraft (an adapter plate at most), so a base
+#: centre farther away is a typo or a unit slip (``base_center_mm`` in m or in.), not a set-up.
+ME_BASE_MAX_GAP_MM = 50.0

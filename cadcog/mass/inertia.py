@@ -23,6 +23,7 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.errors import quote
 from cadcog.mass.properties import MassProperties
 
 FloatArray = npt.NDArray[np.float64]
@@ -174,6 +175,11 @@ class Frame:
         ValueError
             If the text is not three signed axes forming a right-handed frame.
         """
+        if not isinstance(axes, str):  # the API passes what the caller gave
+            raise ValueError(
+                f"expected three signed axes such as '+y,-x,+z' (a str), got "
+                f"{type(axes).__name__} {quote(axes)}"
+            )
         parts = [p.strip().lower() for p in axes.split(",")]
         rows = []
         for part in parts:

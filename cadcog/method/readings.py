@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.core import bounds
-from cadcog.core.errors import ReadingsError
+from cadcog.core.errors import ReadingsError, quote
 from cadcog.core.fileio import note_input
 from cadcog.rig.inclinometer import InclinometerConfig, Verticals, verticals_from_readings
 
@@ -233,6 +233,14 @@ def _read_groups(
             continue
         if header is None:
             header = [f.strip() for f in fields]
+            twice = next((c for i, c in enumerate(header) if c and c in header[:i]), None)
+            if twice is not None:
+                first, second = [i + 1 for i, c in enumerate(header) if c == twice][:2]
+                raise fail(
+                    line,
+                    f"column {quote(twice)} appears twice (fields {first} and {second}): "
+                    "expected each column once",
+                )
             missing = [c for c in BASE_COLUMNS if c not in header]
             has_deg = all(c in header for c in DEG_COLUMNS)
             has_counts = all(c in header for c in COUNT_COLUMNS)

@@ -27,6 +27,7 @@ from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
 from cadcog.method.readings import Suspension, id_problem
 from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.rig.mounting import me_base_problem
 from cadcog.rig.geometry import (
     FACES,
     face_normal,
@@ -257,6 +258,8 @@ def load_setup(path: str | Path) -> Setup:
     me_t = root.table("measurement_equipment")
     rig = load_rig(base / me_t.string("rig")) if me_t.has("rig") else load_rig(default_rig_path())
     target = np.array(me_t.vector("base_center_mm"))
+    if (problem := me_base_problem(target, lo, hi)) is not None:
+        raise me_t.error("base_center_mm", problem)
     me_t.finish()
     rig_base = np.array([*rig.analytic_me.cog_mm[:2], rig.proof_mass.size_mm[2]])
     shift = target - rig_base

@@ -75,3 +75,27 @@ def test_a_hand_written_file_is_not_taken_up(tmp_path):
     with pytest.raises(CadcogError, match=r"line 2: a reading outside a recorded hang"):
         ReadingsFile.open(out, UNITS)
     assert out.read_text().count("\n") == 2  # untouched
+
+
+def test_a_full_disk_mid_hang_leaves_the_file_as_it_was_and_names_it(tmp_path, monkeypatch):
+    import errno
+    import os
+
+    from cadcog.bench import readingsfile
+
+    out = tmp_path / "r.csv"
+    rfile, _, _ = ReadingsFile.open(out, UNITS)
+    rfile.append(block_text("A", (0, 0, 10), True, _data(0), UNITS, "attempt=1"))
+    before = out.read_bytes()
+    real_write = os.write
+
+    def half_then_full(fd, data):  # a file-size limit reached inside the block
+        if len(data) > 100:
+            return real_write(fd, bytes(data[: len(data) // 2]))
+        raise OSError(errno.EFBIG, os.strerror(errno.EFBIG))
+
+    monkeypatch.setattr(readingsfile.os, "write", half_then_full)
+    with pytest.raises(CadcogError, match=r"r\.csv: cannot append the hang \(File too large: .*"
+                       r"ulimit -f.*the hangs recorded before it are kept"):  # fmt: skip
+        rfile.append(block_text("B", (10, 0, 5), True, _data(1), UNITS, "attempt=1"))
+    assert out.read_bytes() == before  # no half block for the next run to stumble on

@@ -10,6 +10,7 @@ the shipped example files unchanged.
 from __future__ import annotations
 
 import hashlib
+import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -630,6 +631,59 @@ CASES = [
         "acquire-out-not-a-regular-file",
         ["acquire", "--simulate", "--out", "/dev/zero", "--non-interactive"],
         r"/dev/zero: exists and is not a regular file",
+    ),
+    # issue 21, the second adversarial round
+    Case(
+        "estimate-duplicated-column",
+        ["estimate", "r.csv"],
+        r"r\.csv, line 1: column 'x_mm' appears twice \(fields 2 and 8\): expected each "
+        r"column once",
+        {"r.csv": HEADER.rstrip("\n") + ",x_mm\n" + GOOD_ROWS.replace("true\n", "true,0\n")},
+    ),
+    Case(
+        "massprops-fifo-step",
+        ["massprops", "pipe.step", "--density-kg-m3", "2700"],
+        r"pipe\.step: is a FIFO \(named pipe\), expected a regular file",
+        {"pipe.step": lambda p: os.mkfifo(p)},
+    ),
+    Case(
+        "report-fifo-campaign",
+        ["report", "--campaign", "pipe.csv", "--out", "rep"],
+        r"pipe\.csv: is a FIFO \(named pipe\), expected a regular file",
+        {"pipe.csv": lambda p: os.mkfifo(p)},
+    ),
+    Case(
+        "parts-cubesat-duplicate-component-name",
+        ["parts", "cubesat", "spec.toml", "--out", "o"],
+        r"spec\.toml: key 'components\[1\]\.name': 'eps_board' is also the name of "
+        r"components\[0\]",
+        {"spec.toml": spec_with('name = "battery_pack"', 'name = "eps_board"')},
+    ),
+    Case(
+        "massprops-10000-character-value-capped",
+        ["massprops", "m.step", "--units", "x" * 10_000],
+        r"invalid choice: 'x{30,}…\(10002 characters\)…x{30,}' \(choose from",
+    ),
+    Case("report-empty-out", ["report", "--out", ""], r"report: --out: expected a value"),
+    Case("campaign-empty-out-equals", ["campaign", "--out="], r"campaign: --out: expected a"),
+    Case("report-out-dash", ["report", "--out", "-"], r"-: this output is a folder"),
+    Case("parts-build-out-dash", ["parts", "build", "--out", "-"], r"-: this output is a folder"),
+    Case(
+        "parts-cubesat-out-fifo",
+        ["parts", "cubesat", "spec.toml", "--out", "pipe"],
+        r"pipe: exists and is not a directory",
+        {"spec.toml": SPEC, "pipe": lambda p: os.mkfifo(p)},
+    ),
+    Case(
+        "campaign-out-existing-folder",
+        ["campaign", "--out", "d"],
+        r"d: is a directory, expected a file name",
+        {"d/keep.txt": "kept"},
+    ),
+    Case(
+        "campaign-samples-huge-value-capped",
+        ["campaign", "--out", "c.csv", "--samples", "9" * 5000],
+        r"--samples: invalid int value: '9+…\(5002 characters\)…9+'",
     ),
 ]
 

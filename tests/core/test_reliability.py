@@ -1,0 +1,290 @@
+"""Issue 21: special files as outputs, two runs on one output, report folders swapped whole,
+resource limits. Each test reproduces a failure of the adversarial round first."""
+
+from __future__ import annotations
+
+import os
+import stat
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from cadcog.cli import main
+from cadcog.core import fileio
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import output_lock, staged_file, staged_output_dir
+
+HEADER = "point_id,x_mm,y_mm,z_mm,inc_x_counts,inc_y_counts,top_face_up"
+
+
+def _one_line(err: str) -> str:
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    return lines[0]
+
+
+# --- 1. special files as outputs ---------------------------------------------------------------
+
+
+def test_a_fifo_output_is_streamed_into_not_replaced(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)  # so that the writer's open succeeds
+    try:
+        assert main(["campaign", "--out", str(fifo)]) == 0
+        data = os.read(reader, 1 << 16).decode()
+    finally:
+        os.close(reader)
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)  # still a FIFO
+    assert HEADER in data and data.count("\nS1,") == 10
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe"]
+
+
+def test_a_link_to_proc_self_fd_is_written_through_and_kept(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    sink = tmp_path / "captured.txt"
+    with open(sink, "w", encoding="utf-8") as fh:
+        fh.write("before\n")
+        fh.flush()
+        link = tmp_path / "junit.xml"
+        link.symlink_to(f"/proc/self/fd/{fh.fileno()}")
+        assert main(["campaign", "--out", str(link)]) == 0
+    assert link.is_symlink()  # the link was not replaced by a file
+    text = sink.read_text(encoding="utf-8")
+    assert text.startswith("before\n# cadcog virtual campaign") and HEADER in text
+
+
+def test_a_character_device_output_is_not_replaced(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    dev = tmp_path / "null"
+    try:
+        os.mknod(dev, stat.S_IFCHR | 0o666, os.makedev(1, 3))  # /dev/null's numbers
+    except PermissionError:
+        pytest.skip("mknod needs CAP_MKNOD (not root, or a container without it)")
+    try:
+        with open(dev, "wb"):
+            pass
+    except OSError:
+        pytest.skip("device nodes are not usable on this mount (nodev)")
+    assert main(["campaign", "--out", str(dev)]) == 0
+    assert stat.S_ISCHR(os.stat(dev).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["null"]
+
+
+def test_dash_is_standard_output_and_no_file_named_dash(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["campaign", "--out", "-"]) == 0
+    got = capsys.readouterr()
+    assert HEADER in got.out and got.out.splitlines()[-1].startswith("S6,")  # only the CSV
+    assert got.err == "wrote 60 samples of 6 hangs to -\n"
+    assert list(tmp_path.iterdir()) == []
+    assert main(["report", "--out", "-"]) == 2
+    assert "is a folder; standard output cannot hold it" in _one_line(capsys.readouterr().err)
+    assert main(["acquire", "--simulate", "--out", "-"]) == 2
+    assert "give a file name" in _one_line(capsys.readouterr().err)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("words", [["--out", ""], ["--out="]])
+def test_an_empty_output_names_the_option(tmp_path, monkeypatch, capsys, words):
+    monkeypatch.chdir(tmp_path)
+    assert main(["campaign", *words]) == 2
+    line = _one_line(capsys.readouterr().err)
+    assert "--out: expected a value, got an empty one" in line and "directory" not in line
+
+
+# --- 2. two runs on one output -----------------------------------------------------------------
+
+_HOLDER = textwrap.dedent(
+    """
+    import sys
+    from cadcog.core.fileio import output_lock
+    with output_lock(sys.argv[1]):
+        print("held", flush=True)
+        sys.stdin.read()
+    """
+)
+
+
+def _holding(path: Path) -> subprocess.Popen[str]:
+    """Another process holding ``path``'s output lock (until its stdin closes)."""
+    child = subprocess.Popen(
+        [sys.executable, "-c", _HOLDER, str(path)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    assert child.stdout is not None and child.stdout.readline() == "held\n"
+    return child
+
+
+def test_a_second_run_on_one_output_is_refused_naming_the_holder(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    out, rep = tmp_path / "a.csv", tmp_path / "rep"
+    child = _holding(out)
+    try:
+        assert main(["campaign", "--out", str(out)]) == 2
+        line = _one_line(capsys.readouterr().err)
+        assert f"a.csv: another cadcog run (PID {child.pid}) is writing it" in line
+        assert main(["acquire", "--simulate", "--out", str(out)]) == 2  # before any device
+        assert f"PID {child.pid}" in _one_line(capsys.readouterr().err)
+        assert not out.exists()
+    finally:
+        assert child.stdin is not None
+        child.stdin.close()
+        child.wait()
+    assert main(["campaign", "--out", str(out)]) == 0  # released: the next run goes ahead
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv"]  # no lock file left
+    child = _holding(rep)
+    try:
+        with pytest.raises(CadcogError, match=f"rep: another cadcog run \\(PID {child.pid}\\)"):
+            with staged_output_dir(rep):
+                pass
+    finally:
+        assert child.stdin is not None
+        child.stdin.close()
+        child.wait()
+    assert not rep.exists()
+
+
+def test_a_lock_is_taken_once_per_process(tmp_path):
+    with output_lock(tmp_path / "a.csv"), staged_file(tmp_path / "a.csv") as tmp:
+        tmp.write_text("x\n", encoding="utf-8")
+    assert (tmp_path / "a.csv").read_text(encoding="utf-8") == "x\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv"]
+
+
+# --- 3. report folders swapped whole -----------------------------------------------------------
+
+
+def _old_report(tmp_path: Path) -> Path:
+    rep = tmp_path / "rep"
+    (rep / "sub").mkdir(parents=True)
+    (rep / "index.html").write_text("old page", encoding="utf-8")
+    (rep / "views.png").write_text("old views", encoding="utf-8")
+    (rep / "sub" / "notes.txt").write_text("the user's", encoding="utf-8")
+    return rep
+
+
+def _write_new(stage: Path) -> None:
+    (stage / "index.html").write_text("new page", encoding="utf-8")
+    (stage / "views.png").write_text("new views", encoding="utf-8")
+
+
+def _contents(folder: Path) -> dict[str, str]:
+    return {
+        str(p.relative_to(folder)): p.read_text(encoding="utf-8")
+        for p in sorted(folder.rglob("*"))
+        if p.is_file()
+    }
+
+
+def test_a_signal_at_the_swap_leaves_the_old_folder_whole(tmp_path, monkeypatch):
+    rep = _old_report(tmp_path)
+    before = _contents(rep)
+
+    def interrupted(a: Path, b: Path) -> bool:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(fileio, "_exchange", interrupted)
+    with pytest.raises(KeyboardInterrupt), staged_output_dir(rep) as stage:
+        _write_new(stage)
+    assert _contents(rep) == before  # not a new index.html beside an old views.png
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+@pytest.mark.parametrize("exchange", [True, False], ids=["renameat2", "two-renames"])
+def test_a_report_folder_is_replaced_whole_keeping_the_users_files(tmp_path, monkeypatch, exchange):
+    rep = _old_report(tmp_path)
+    notes_inode = (rep / "sub" / "notes.txt").stat().st_ino
+    old_inode = rep.stat().st_ino
+    if not exchange:
+        monkeypatch.setattr(fileio, "_exchange", lambda a, b: False)
+    with staged_output_dir(rep) as stage:
+        _write_new(stage)
+    assert _contents(rep) == {
+        "index.html": "new page",
+        "views.png": "new views",
+        "sub/notes.txt": "the user's",
+    }
+    assert rep.stat().st_ino != old_inode  # a new folder, not files moved one by one
+    assert (rep / "sub" / "notes.txt").stat().st_ino == notes_inode  # linked, not copied
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rep"]
+
+
+# --- 5. resource limits ------------------------------------------------------------------------
+
+_LIMITED = textwrap.dedent(
+    """
+    import resource, sys
+    from cadcog.cli import main
+    import cadcog.cli.campaign, cadcog.validation.campaign
+    if sys.argv[1] == "size":
+        resource.setrlimit(resource.RLIMIT_FSIZE, (4096, resource.RLIM_INFINITY))
+    else:
+        status = [l for l in open("/proc/self/status") if l.startswith("VmSize")]
+        vm = int(status[0].split()[1]) * 1024
+        resource.setrlimit(resource.RLIMIT_AS, (vm + 40_000_000, resource.RLIM_INFINITY))
+    sys.exit(main(["campaign", "--out", "out/big.csv", "--samples", sys.argv[2]]))
+    """
+)
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="needs Linux /proc")
+@pytest.mark.parametrize(
+    ("limit", "samples", "expected"),
+    [
+        (
+            "size",
+            "1000",
+            "out/big.csv: cannot write here (File too large: the disk is full or a "
+            "file-size limit (ulimit -f) was reached)",
+        ),
+        ("memory", "100000", "campaign: ran out of memory on "),
+    ],
+)
+def test_resource_limits_end_in_one_line_naming_the_users_path(tmp_path, limit, samples, expected):
+    run = subprocess.run(
+        [sys.executable, "-c", _LIMITED, limit, samples],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert run.returncode == 2, run.stderr
+    assert expected in _one_line(run.stderr)
+    assert ".partial" not in run.stderr and "/tmp" not in run.stderr.replace(str(tmp_path), "")
+    assert list(tmp_path.iterdir()) == []  # nothing written, the folder it made removed
+
+
+def test_a_memory_error_in_a_command_is_one_line(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    import cadcog.cli.campaign as campaign
+
+    def exhausted(args: object) -> int:
+        raise MemoryError
+
+    monkeypatch.setattr(campaign, "run", exhausted)
+    assert main(["campaign", "--out", "x.csv"]) == 2
+    assert "campaign: ran out of memory" in _one_line(capsys.readouterr().err)
+
+
+def test_after_a_signal_the_message_says_what_was_written_whole(tmp_path, capsys):
+    import signal
+
+    from cadcog.cli._main import _stopped
+
+    fileio.reset_written()
+    assert _stopped(signal.SIGTERM) == 143
+    assert capsys.readouterr().err == "cadcog: terminated; nothing was written\n"
+    with staged_file(tmp_path / "a.csv") as tmp:
+        tmp.write_text("x\n", encoding="utf-8")
+    assert _stopped(signal.SIGINT) == 130
+    assert capsys.readouterr().err == (
+        f"cadcog: interrupted; written whole before that: {tmp_path / 'a.csv'}\n"
+    )
+    fileio.reset_written()
