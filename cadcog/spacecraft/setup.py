@@ -27,12 +27,12 @@ from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
 from cadcog.method.readings import Suspension, id_problem
 from cadcog.rig.file import default_rig_path, load_rig
-from cadcog.rig.mounting import me_base_problem
 from cadcog.rig.geometry import (
     FACES,
     face_normal,
     face_normal_of_point,
 )
+from cadcog.rig.mounting import me_base_problem
 from cadcog.rig.parameters import MEVolume, Rig, me_cog_cov_mm2
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
 from cadcog.spacecraft.items import (
