@@ -568,8 +568,10 @@ def update(
     unmodelled_region_mm : sequence of 6 floats, optional
         ``(x0, y0, z0, x1, y1, z1)``: a box where an unmodelled mass (harness, fasteners) may
         be; needs ``unmodelled_sigma_kg``.
-    unmodelled_mass_kg, unmodelled_sigma_kg : float
-        Its prior mean (default 0) and 1 σ.
+    unmodelled_mass_kg : float
+        Its prior mean (default 0).
+    unmodelled_sigma_kg : float, optional
+        Its prior 1 σ (needed with a region).
 
     Returns
     -------

@@ -160,7 +160,7 @@ def run(args: argparse.Namespace) -> int:
     ):
         value = getattr(args, name)
         if value is not None and not (np.isfinite(value) and value > 0):
-            raise CadcogError(f"--{name.replace('_', '-')} must be a positive number, got {value}")
+            raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
     if args.setup is not None:
         return run_setup(args)
     me, config, rig = _me_data(args)

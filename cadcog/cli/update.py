@@ -93,6 +93,10 @@ def run(args: argparse.Namespace) -> int:
     _positive("mass_sigma_kg", args.mass_sigma_kg)
     _positive("unmodelled_mass_kg", args.unmodelled_mass_kg, zero=True)
     _positive("unmodelled_sigma_kg", args.unmodelled_sigma_kg)
+    if args.unmodelled_region_mm is not None and args.unmodelled_sigma_kg is None:
+        raise CadcogError("--unmodelled-region-mm needs --unmodelled-sigma-kg (its prior 1 σ)")
+    if args.unmodelled_region_mm is None and args.unmodelled_sigma_kg is not None:
+        raise CadcogError("--unmodelled-sigma-kg goes with --unmodelled-region-mm")
     try:
         unmodelled = unmodelled_from_region(
             args.unmodelled_region_mm, args.unmodelled_mass_kg, args.unmodelled_sigma_kg

@@ -18,18 +18,32 @@ weighed mass is compared with the CAD's too: 4 degrees of freedom instead of 3.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 import numpy.typing as npt
 
 from cadcog.method.plumblines import Compensation, chi2_sf
 from cadcog.spacecraft.envelope import check_envelope
-
-if TYPE_CHECKING:
-    from cadcog.spacecraft.setup import Setup
+from cadcog.spacecraft.items import LinearPrior
 
 FloatArray = npt.NDArray[np.float64]
+
+
+class CadSetup(Protocol):
+    """What the comparison needs of a set-up (:class:`cadcog.spacecraft.setup.Setup` has it)."""
+
+    @property
+    def cog_limits_mm(self) -> FloatArray | None: ...
+
+    @property
+    def geometric_center_mm(self) -> FloatArray: ...
+
+    @property
+    def form_factor(self) -> str | None: ...
+
+    def cad_prior(self) -> LinearPrior: ...
+
 
 #: What the comparison's σ contain, as the JSON and the text say.
 COVARIANCE_NOTE = (
@@ -40,7 +54,7 @@ COVARIANCE_NOTE = (
 
 
 def compare_with_cad(
-    setup: Setup,
+    setup: CadSetup,
     cog_mm: npt.ArrayLike,
     cov_mm2: npt.ArrayLike,
     compensation: Compensation | None = None,
@@ -50,6 +64,7 @@ def compare_with_cad(
     Parameters
     ----------
     setup : Setup
+        Its CAD's stated uncertainty and CubeSat envelope.
     cog_mm, cov_mm2 : array_like
         The compensated CoG and its covariance (``CogEstimate.cog_mm``/``cov_mm2``).
     compensation : Compensation, optional

@@ -334,7 +334,7 @@ def solve(
     r0 = y - model.predict(theta0)
     chi2 = float(r0 @ np.linalg.solve(j0 @ p0 @ j0.T + model.noise(theta0), r0))
     theta, cov = _gauss_newton(model, y, theta0, p0)
-    negative = unmodelled is not None and theta[4 * model.n] < 0.0
+    negative = bool(unmodelled is not None and theta[4 * model.n] < 0.0)
     if negative:  # held at zero: the hypothesis without an unmodelled mass
         model = Model(items, fixed, meas, False)
         theta0, p0 = parameter_prior(items, hyp, None)

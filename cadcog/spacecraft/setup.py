@@ -34,6 +34,7 @@ from cadcog.rig.geometry import (
 )
 from cadcog.rig.mounting import me_base_problem
 from cadcog.rig.parameters import MEVolume, Rig, me_cog_cov_mm2
+from cadcog.spacecraft.compare import compare_with_cad
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
 from cadcog.spacecraft.items import (
     DEFAULT_WEIGHING_SIGMA_KG,
@@ -190,8 +191,6 @@ def estimate_for_setup(
     )
     if not compare:
         return estimate
-    from cadcog.spacecraft.compare import compare_with_cad
-
     cad = compare_with_cad(setup, estimate.cog_mm, estimate.cov_mm2, estimate.compensation)
     return replace(estimate, cad=cad)
 

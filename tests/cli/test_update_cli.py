@@ -89,13 +89,15 @@ def test_a_heavier_battery_is_found_and_the_update_covers_the_truth(tmp_path, ca
         battery["delta_rel"] > 0
         and abs(battery["delta_rel"] - 0.08) < 3 * battery["delta_sigma_rel"]
     )
-    assert out["items"][0]["item"].endswith("/battery_pack")  # the likeliest explanation
-    assert out["consistency"]["consistent"]  # 2.7 σ on one item is within the uncertainties
+    # One run says nothing about which item the data single out: the rates over 200 seeds are
+    # benchmarks/study_spacecraft_calibration.py's. Here: the probabilities are a distribution.
+    assert sum(e["probability"] for e in out["explanations"]) == pytest.approx(1.0)
+    assert out["verdict"]["differs"] and out["verdict"]["consistent"]  # 36 g: within the CAD σ
     # The report: a page, its figure and the same numbers as --json.
     assert {p.name for p in report.iterdir()} == {"index.html", "cog.png", "update.json"}
     assert json.loads((report / "update.json").read_text()) == out
     page = (report / "index.html").read_text()
-    assert "battery_pack" in page and "consistent" in page
+    assert "battery_pack" in page and "within the CAD&#x27;s stated uncertainties" in page
 
 
 def test_a_harness_missing_from_the_cad_is_flagged_then_found_in_its_region(tmp_path, capsys):
@@ -111,15 +113,16 @@ def test_a_harness_missing_from_the_cad_is_flagged_then_found_in_its_region(tmp_
     readings = tmp_path / "readings.csv"
     _campaign(setup, readings, capsys)
     plain = _update(readings, truth.mass.mass_kg, capsys)
-    assert not plain["consistency"]["consistent"]  # no item's uncertainty explains 152 g
-    assert plain["consistency"]["p_value"] < 1e-6
+    assert not plain["verdict"]["consistent"]  # no item's uncertainty explains 152 g
+    assert plain["verdict"]["p_value"] < 1e-6
+    assert plain["explanations"][0]["cause"] == "unmodelled"  # the most probable explanation
     # Without --json the same verdict says the updated values are not to be used.
     args = ["update", str(readings), "--setup", str(SETUP)]
     assert main([*args, "--weighed-mass-kg", f"{truth.mass.mass_kg!r}"]) == 0
-    assert "LARGER" in capsys.readouterr().out
+    assert "BEYOND the CAD's stated uncertainties" in capsys.readouterr().out
     region = "--unmodelled-region-mm=0,0,-165,45,45,-140"
     found = _update(readings, truth.mass.mass_kg, capsys, region, "--unmodelled-sigma-kg", "0.1")
-    assert found["consistency"]["consistent"]
+    assert found["verdict"]["consistent"]
     u = found["unmodelled"]
     assert abs(u["mass_kg"] - ballast.mass_kg) < 3 * u["mass_sigma_kg"]
     assert _mahalanobis2(u["cog_mm"], u["cog_cov_mm2"], ballast.cog_mm) < CHI2_999
@@ -135,7 +138,7 @@ def test_the_cad_as_built_is_consistent_and_barely_changed(tmp_path, capsys, cub
     readings = tmp_path / "readings.csv"
     _campaign(SETUP, readings, capsys, seed=11)
     out = _update(readings, cubesat_setup.mass.mass_kg, capsys)
-    assert out["consistency"]["consistent"]
+    assert out["verdict"]["consistent"] and not out["verdict"]["model_rejected"]
     assert max(abs(c["pull"]) for c in out["items"]) < 2.0
     # The measurement's CoG has the suspension test's covariance (compensated with the weighing).
     meas = out["measured"]

@@ -89,7 +89,7 @@ def test_cubesat_ellipsoids_cover_and_plan_comes_true(cubesat_setup):
         sc,
         setup.error_model(),
         setup.rig.inclinometer,
-        setup.me_data(),
+        setup.me_data(weighed_mass_kg=setup.mass.mass_kg),  # the truth is the CAD: as weighed
         BodyBox(lo, hi, "setup"),
         setup.mass.cog_mm,
     )
