@@ -23,9 +23,8 @@ FloatArray = npt.NDArray[np.float64]
 #: Gauss-Newton iterations at most (the CubeSat example converges in 4-6).
 MAX_ITERATIONS = 30
 
-#: Gauss-Newton stops when no parameter moves by more than this many prior σ (the noise
-#: depends on the total mass, so convergence is linear: each step ~30× smaller).
-GN_STEP_TOLERANCE = 1e-7
+#: Gauss-Newton stops when no parameter moves by more than this many prior σ.
+GN_STEP_TOLERANCE = 1e-5
 
 #: How much wider an item's mass and CoG σ are when it is the one that is wrong (``H_I``).
 ALTERNATIVE_SIGMA_FACTOR = 10.0
@@ -145,6 +144,13 @@ class Model:
         self.with_u = with_unmodelled
         self.meas = meas
         self.size = 4 * self.n + (4 if with_unmodelled else 0)
+        share = meas.me_mass_kg / (meas.mass_kg + meas.me_mass_kg)
+        self._noise = np.zeros((4, 4))
+        self._noise[0, 0] = meas.mass_sigma_kg**2
+        self._noise[1:, 1:] = meas.assembly_cov_mm2 + share**2 * meas.me_cog_cov_mm2
+        self._noise_inv = np.linalg.inv(self._noise)
+        self._rows = np.tile(np.arange(3), self.n)
+        self._cols = self.n + np.arange(3 * self.n)
 
     def split(self, theta: FloatArray) -> tuple[FloatArray, FloatArray, float, FloatArray]:
         n = self.n
@@ -178,8 +184,7 @@ class Model:
         dmom = np.zeros((3, self.size))
         dmass[:n] = self.m
         dmom[:, :n] = (self.m[:, None] * (self.c + s)).T
-        for k in range(n):
-            dmom[:, n + 3 * k : n + 3 * k + 3] = np.eye(3) * self.m[k] * (1.0 + d[k])
+        dmom[self._rows, self._cols] = np.repeat(self.m * (1.0 + d), 3)
         if self.with_u:
             dmass[4 * n] = 1.0
             dmom[:, 4 * n + 1 :] = np.eye(3)
@@ -188,14 +193,10 @@ class Model:
         jac[1:] = (dmom - np.outer(g, dmass)) / mt
         return jac
 
-    def noise(self, theta: FloatArray) -> FloatArray:
-        mass, _ = self.mass_moment(theta)
-        me = self.meas
-        share = me.me_mass_kg / (mass + me.me_mass_kg)
-        r = np.zeros((4, 4))
-        r[0, 0] = me.mass_sigma_kg**2
-        r[1:, 1:] = me.assembly_cov_mm2 + share**2 * me.me_cog_cov_mm2
-        return r
+    def noise(self, theta: FloatArray | None = None) -> FloatArray:
+        """Covariance of ``y``'s errors: the weighing's, and the assembly CoG's plus the ME's
+        CAD uncertainty at its share of the weighed assembly (the same for every ``θ``)."""
+        return self._noise
 
     def derived(self, theta: FloatArray, at_mm: FloatArray) -> FloatArray:
         """``(M, G, J_xx, J_xy, J_xz, J_yy, J_yz, J_zz)`` of the spacecraft (J about G) for
@@ -291,20 +292,22 @@ def parameter_prior(
 
 
 def _gauss_newton(
-    model: Model, y: FloatArray, theta0: FloatArray, p0: FloatArray
+    model: Model,
+    y: FloatArray,
+    theta0: FloatArray,
+    p0: FloatArray,
 ) -> tuple[FloatArray, FloatArray]:
     """MAP and its covariance (inverse Hessian) for a Gaussian prior, by Gauss-Newton in the
     prior's square-root coordinates ``θ = θ₀ + L z`` (``P₀ = L Lᵀ``; zero-variance directions
-    stay at the prior)."""
+    stay at the prior))."""
     w, v = np.linalg.eigh(0.5 * (p0 + p0.T))
     keep = w > 1e-30 * max(float(w.max()), 1e-300)
     root = v[:, keep] * np.sqrt(w[keep])
     z = np.zeros(root.shape[1])
-    y_pred = model.predict(theta0)
+    r_inv = model._noise_inv
     for _ in range(MAX_ITERATIONS):
         theta = theta0 + root @ z
         jz = model.jacobian(theta) @ root
-        r_inv = np.linalg.inv(model.noise(theta))
         y_pred = model.predict(theta)
         hessian = jz.T @ r_inv @ jz + np.eye(z.size)
         step = np.linalg.solve(hessian, jz.T @ r_inv @ (y - y_pred) - z)
@@ -313,7 +316,7 @@ def _gauss_newton(
             break
     theta = theta0 + root @ z
     jz = model.jacobian(theta) @ root
-    hessian = jz.T @ np.linalg.inv(model.noise(theta)) @ jz + np.eye(z.size)
+    hessian = jz.T @ r_inv @ jz + np.eye(z.size)
     cov = root @ np.linalg.inv(hessian) @ root.T
     return theta, 0.5 * (cov + cov.T)
 

@@ -69,11 +69,14 @@ def _covered(err: np.ndarray, cov: np.ndarray) -> bool:
     return bool(err @ np.linalg.solve(cov, err) <= CHI2_3_95)
 
 
-def _one(setup: Any, camp: fm.Campaign, csv: Path) -> Outcome:
+#: Campaigns per scenario on which ``cadcog.estimate`` itself is run and compared with the
+#: update's measured CoG (the same compensation with the weighed mass); the coverage of the
+#: rest uses the update's, to halve the test's time.
+ESTIMATE_CHECKED = 20
+
+
+def _one(setup: Any, camp: fm.Campaign, csv: Path, check_estimate: bool = True) -> Outcome:
     truth = camp.truth
-    est = cadcog.estimate(
-        csv, setup=setup, weighed_mass_kg=camp.weighed_mass_kg, mass_sigma_kg=MASS_SIGMA_KG
-    )
     region = truth.region_mm
     upd = cadcog.update(
         csv,
@@ -83,6 +86,13 @@ def _one(setup: Any, camp: fm.Campaign, csv: Path) -> Outcome:
         unmodelled_region_mm=region,
         unmodelled_sigma_kg=None if region is None else UNMODELLED_SIGMA_KG,
     )
+    est_cog, est_cov = np.asarray(upd.measured_cog_mm), np.asarray(upd.measured_cog_cov_mm2)
+    if check_estimate:
+        est = cadcog.estimate(
+            csv, setup=setup, weighed_mass_kg=camp.weighed_mass_kg, mass_sigma_kg=MASS_SIGMA_KG
+        )
+        np.testing.assert_allclose(est.cog_mm, est_cog, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(est.cov_mm2, est_cov, rtol=1e-9, atol=1e-12)
     post = upd.posterior
     unmod = None
     if truth.unmodelled_mass_kg is not None and upd.unmodelled_mass_kg is not None:
@@ -95,7 +105,7 @@ def _one(setup: Any, camp: fm.Campaign, csv: Path) -> Outcome:
     if truth.changed is not None:
         prob = sum(float(e.probability) for e in expl if e.cause == truth.changed)
     return Outcome(
-        est_w=_covered(np.asarray(est.cog_mm) - truth.cog_mm, np.asarray(est.cov_mm2)),
+        est_w=_covered(est_cog - truth.cog_mm, est_cov),
         upd_cog=_covered(
             np.asarray(post.cog_mm) - truth.cog_mm, np.asarray(upd.posterior_cog_cov_mm2)
         ),
@@ -131,7 +141,7 @@ def outcomes(
         for seed in range(SEEDS):
             camp = fm.campaign(cad, name, seed)
             csv = camp.write_csv(tmp / f"s{fm.SCENARIO_NUMBER[name]}_{seed}.csv")
-            rows.append(_one(setup, camp, csv))
+            rows.append(_one(setup, camp, csv, check_estimate=seed < ESTIMATE_CHECKED))
         out[name] = rows
     return out
 
