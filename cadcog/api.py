@@ -603,11 +603,11 @@ def update(
         if len(region) != 6:
             raise _fail(f, "unmodelled_region_mm", unmodelled_region_mm, "expected six numbers")
         _numbers(f, unmodelled_region_mm=region)
-    s = _setup(f, setup)
     try:
         prior = unmodelled_from_region(region, float(unmodelled_mass_kg), unmodelled_sigma_kg)
     except ValueError as exc:
         raise _fail(f, "unmodelled_region_mm", unmodelled_region_mm, str(exc)) from None
+    s = _setup(f, setup)
     try:
         result, _ = update_for_setup(
             s,

@@ -65,7 +65,8 @@ SAME_DEFAULTS = {
     "validate": {"campaigns": "campaigns", "seed": "seed", "level": "level"},
     "plan": {"trials": "trials", "max_set": "max_set", "seed": "seed"},
     "mass_properties": {"axes": "axes", "about": "about", "strict": "strict", "exclude": "exclude"},
-    "estimate": {"self_calibrate_wire": "self_calibrate_wire"},
+    "estimate": {"self_calibrate_wire": "self_calibrate_wire", "mass_sigma_kg": "mass_sigma_kg"},
+    "update": {"mass_sigma_kg": "mass_sigma_kg", "unmodelled_mass_kg": "unmodelled_mass_kg"},
 }
 COMMAND = {"mass_properties": "massprops"}
 
@@ -107,6 +108,22 @@ def test_estimate_without_a_rig_is_the_command_without_one(campaign_csv, capsys)
     mine = cadcog.estimate(campaign_csv)
     assert mine.compensation is None
     assert mine.to_json() == _cli_json(capsys, "estimate", str(campaign_csv))
+
+
+def test_update_is_what_the_command_prints(tmp_path, capsys) -> None:
+    setup = "parts/cubesat_3u_setup.toml"
+    csv = tmp_path / "r.csv"
+    points = "--points=+x_-30_-30,-x_30_-30,+y_30_-30,-y_-30_-30"
+    assert main(["campaign", "--setup", setup, points, "--out", str(csv)]) == 0
+    capsys.readouterr()
+    mine = cadcog.update(csv, setup, 2.6, unmodelled_region_mm=(-45, -45, -165, 45, 45, -140),
+                         unmodelled_sigma_kg=0.1)  # fmt: skip
+    theirs = _cli_json(
+        capsys, "update", str(csv), "--setup", setup, "--weighed-mass-kg", "2.6",
+        "--unmodelled-region-mm=-45,-45,-165,45,45,-140", "--unmodelled-sigma-kg", "0.1",
+    )  # fmt: skip
+    assert mine.to_json() == theirs
+    assert mine.to_dict()["verdict"]["differs"]  # 17 g over the CAD, weighed to 1 g
 
 
 def test_validate_is_what_the_command_prints(campaign_csv, capsys) -> None:
@@ -185,6 +202,22 @@ BAD_CALLS = [
     (
         lambda: cadcog.estimate("r.csv", cadcog.load_rig(), setup="s.toml"),
         r"estimate: give rig or setup, not both",
+    ),
+    (
+        lambda: cadcog.estimate("r.csv", weighed_mass_kg=2.5),
+        r"estimate: weighed_mass_kg needs a rig or a set-up",
+    ),
+    (
+        lambda: cadcog.update("r.csv", "s.toml", 0.0),
+        r"update\(weighed_mass_kg=0\.0\): expected a positive number",
+    ),
+    (
+        lambda: cadcog.update("r.csv", "s.toml", 2.5, unmodelled_region_mm=[0, 0, 0, 1]),
+        r"update\(unmodelled_region_mm=\[0, 0, 0, 1\]\): expected six numbers",
+    ),
+    (
+        lambda: cadcog.update("r.csv", "s.toml", 2.5, unmodelled_sigma_kg=0.1),
+        r"update\(unmodelled_region_mm=None\): an unmodelled mass σ needs a region",
     ),
 ]
 
