@@ -112,7 +112,8 @@ INCONSISTENT_NOTE = (
 REJECTED_NOTE = (
     "No explanation fits the gap (every hypothesis is rejected at 5 %): the revised CoG and "
     "mass are the measurement's, with the measurement's uncertainty; the CAD cannot be "
-    "updated from this test. Look for a missing or misplaced part, or check the test."
+    "updated from this test (the inertia shown rests on the rejected explanations: do not use "
+    "it). Look for a missing or misplaced part, or check the test."
 )
 
 
@@ -209,7 +210,8 @@ class UpdateResult(JsonResult):
     measured_cog_mm, measured_cog_cov_mm2
         The spacecraft's CoG from the test, compensated with the weighed mass.
     posterior, posterior_mass_sigma_kg, posterior_cog_cov_mm2, posterior_inertia_sigma_kg_mm2
-        The revised figures (the measurement's when the model is rejected).
+        The revised figures: the mixture over the explanations; when the model is rejected the
+        mass and CoG are the measurement's (the inertia stays the mixture's, not to be used).
     items : tuple of ItemChange
     explanations : tuple of Explanation
         Most probable first.
