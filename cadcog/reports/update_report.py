@@ -27,8 +27,11 @@ if TYPE_CHECKING:
 
 REPORT_FILE = "index.html"
 
-#: Items listed on the page (the JSON beside it has them all).
+#: Items (and explanations) listed on the page (the JSON beside it has them all).
 PAGE_ITEMS = 25
+
+#: Explanations below this posterior probability are left to update.json.
+PAGE_MIN_PROBABILITY = 0.01
 
 
 def write_update_report(
@@ -116,10 +119,14 @@ def render_html(
         caveat = f"<p class='note bad'>{esc(REJECTED_NOTE)}</p>"
     elif not r.consistent:
         caveat = f"<p class='note bad'>{esc(INCONSISTENT_NOTE)}</p>"
+    shown = [e for e in r.explanations if e.probability >= PAGE_MIN_PROBABILITY][:PAGE_ITEMS]
     explanation_rows = [
         [esc(e.label), f"{e.probability:.1%}", f"{e.prior_probability:.0%}", esc(e.description)]
-        for e in r.explanations
+        for e in shown or r.explanations[:1]
     ]
+    if len(r.explanations) > len(explanation_rows):
+        rest = len(r.explanations) - len(explanation_rows)
+        explanation_rows.append(["", "", "", f"{rest} less probable explanations in update.json"])
     j, s = r.posterior.inertia_kg_mm2, r.posterior_inertia_sigma_kg_mm2
     inertia_rows = [
         ["xyz"[i], *[f"{num(j[i, k], 2)} ± {s[i, k]:.2f}" for k in range(3)]] for i in range(3)
