@@ -116,7 +116,11 @@ def test_kernel_equals_a_dense_implementation(spokes, mode, wire_model, seed):
     assume(cond < 1e8)  # near-parallel lines (or λ unidentifiable): round-off decides
     scale = np.sqrt(np.max(np.diag(cov)))
     np.testing.assert_allclose(batch.cog_mm[:, 0], x, atol=1e-6 * scale + 1e-9)
-    np.testing.assert_allclose(gls.sym_to_full(batch.cov_mm2[:, 0]), cov, rtol=1e-5, atol=1e-12)
+    # An entry that cancels to near zero is compared at the covariance's own scale (a fresh
+    # local run found one at −2.0e-7 of 0.086, off by 7e-11).
+    np.testing.assert_allclose(
+        gls.sym_to_full(batch.cov_mm2[:, 0]), cov, rtol=1e-5, atol=1e-8 * np.max(np.abs(cov))
+    )
     assert batch.scale_mm[0] == pytest.approx(lam, abs=1e-6 * np.sqrt(lam_var_dense) + 1e-9)
 
 
