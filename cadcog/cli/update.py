@@ -164,7 +164,7 @@ def print_update(r: UpdateResult) -> None:
     width = max((len(e.label) for e in shown), default=0)
     for e in shown:
         print(
-            f"  {e.label:<{width}}  {e.probability:6.1%}  ({e.prior_probability:.0%})  "
+            f"  {e.label:<{width}}  {e.probability:6.1%}  ({e.prior_probability:.2g})  "
             f"{e.description}"
         )
     ranked = r.ranked_items()[:8]

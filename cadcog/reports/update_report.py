@@ -121,7 +121,7 @@ def render_html(
         caveat = f"<p class='note bad'>{esc(INCONSISTENT_NOTE)}</p>"
     shown = [e for e in r.explanations if e.probability >= PAGE_MIN_PROBABILITY][:PAGE_ITEMS]
     explanation_rows = [
-        [esc(e.label), f"{e.probability:.1%}", f"{e.prior_probability:.0%}", esc(e.description)]
+        [esc(e.label), f"{e.probability:.1%}", f"{e.prior_probability:.2g}", esc(e.description)]
         for e in shown or r.explanations[:1]
     ]
     if len(r.explanations) > len(explanation_rows):

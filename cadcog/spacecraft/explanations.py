@@ -9,7 +9,7 @@ unmodelled mass and its moment. Pure numpy.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -31,6 +31,10 @@ ALTERNATIVE_SIGMA_FACTOR = 10.0
 
 #: Prior probability that a given item is wrong beyond its stated σ (``H_I``).
 ALTERNATIVE_PRIOR_PROBABILITY = 0.02
+
+#: Largest total prior probability of "one item is off" (many items share it: with more than
+#: 15 items each gets less than :data:`ALTERNATIVE_PRIOR_PROBABILITY`).
+MAX_ALTERNATIVES_PROBABILITY = 0.3
 
 #: Prior probability of an unmodelled mass anywhere in the spacecraft (``H_u``).
 UNMODELLED_PRIOR_PROBABILITY = 0.05
@@ -367,9 +371,17 @@ def hypotheses(
     n = len(items)
     ones = np.ones(n)
     k = ALTERNATIVE_SIGMA_FACTOR
-    half = ALTERNATIVE_PRIOR_PROBABILITY / 2.0
+    # A real export has dozens of items: "one item is off" keeps a total prior of at most
+    # MAX_ALTERNATIVES_PROBABILITY, shared by the items that have mass.
+    massive = [item for item in items if item.properties.mass_kg > 0]
+    per_item = min(
+        ALTERNATIVE_PRIOR_PROBABILITY, MAX_ALTERNATIVES_PROBABILITY / max(len(massive), 1)
+    )
+    half = per_item / 2.0
     alternatives: list[Hypothesis] = []
     for j, item in enumerate(items):
+        if not item.properties.mass_kg > 0:
+            continue  # a massless body cannot explain a gap
         wide = np.where(np.arange(n) == j, k, 1.0)
         alternatives.append(
             Hypothesis(
@@ -414,10 +426,6 @@ def hypotheses(
             )
         )
     null_prior = 1.0 - sum(h.prior_probability for h in alternatives)
-    if null_prior <= 0.0:  # very many items: share the prior evenly
-        share = 1.0 / (len(alternatives) + 1)
-        alternatives = [replace(h, prior_probability=share) for h in alternatives]
-        null_prior = share
     null = Hypothesis(
         "none",
         "every item within its stated σ"

@@ -189,10 +189,35 @@ def estimate_for_setup(
         point_sigma_mm=point_sigma_mm,
         min_angle_deg=min_angle_deg,
     )
+    warning = _outside_warning(setup, estimate.cog_mm, estimate.cov_mm2)
+    if warning:
+        estimate = replace(estimate, warnings=(*estimate.warnings, warning))
     if not compare:
         return estimate
     cad = compare_with_cad(setup, estimate.cog_mm, estimate.cov_mm2, estimate.compensation)
     return replace(estimate, cad=cad)
+
+
+def _outside_warning(setup: Setup, cog_mm: FloatArray, cov_mm2: FloatArray) -> str:
+    """A warning when the CoG lies outside the model's bounding box by more than 3 σ on an axis:
+    a CoG cannot be there, so the test did not locate it (too heavy a measurement equipment,
+    hangs too close to parallel, or readings from another object)."""
+    lo, hi = setup.bbox_mm
+    sigma = np.sqrt(np.maximum(np.diag(cov_mm2), 0.0))
+    out = [
+        axis
+        for axis, c, a, b, e in zip("xyz", cog_mm, lo, hi, sigma, strict=True)
+        if c < a - 3 * e or c > b + 3 * e
+    ]
+    if not out:
+        return ""
+    ratio = setup.me_mass_kg / setup.mass.mass_kg
+    return (
+        f"the CoG [{', '.join(f'{v:.1f}' for v in cog_mm)}] mm lies outside the model's bounding "
+        f"box along {', '.join(out)} by more than 3 σ: the test did not locate it (the "
+        f"measurement equipment weighs {ratio:.2g} × the spacecraft; check the hangs, the "
+        "readings and the set-up)"
+    )
 
 
 def update_for_setup(
@@ -216,6 +241,15 @@ def update_for_setup(
     """
     from cadcog.spacecraft.update import Measurement, update_budget
 
+    if unmodelled is not None:
+        lo, hi = setup.bbox_mm
+        if np.any(unmodelled.hi_mm < lo) or np.any(unmodelled.lo_mm > hi):
+            raise CadcogError(
+                f"the unmodelled mass region {unmodelled.lo_mm.tolist()}-"
+                f"{unmodelled.hi_mm.tolist()} mm does not meet the model's bounding box "
+                f"{np.asarray(lo).round(2).tolist()}-{np.asarray(hi).round(2).tolist()} mm "
+                f"({setup.source}): give a region inside the spacecraft"
+            )
     estimate = estimate_for_setup(
         setup, suspensions, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg
     )

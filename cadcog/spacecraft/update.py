@@ -23,11 +23,13 @@ one thing is wrong by much. Besides ``H₀`` (every item within its stated σ; t
 unmodelled mass in its region, if one is given) the update weighs:
 
 - for each item ``I``, two: its mass σ (a part heavier than its data sheet), or its CoG σ (a
-  CoG far from its model), :data:`ALTERNATIVE_SIGMA_FACTOR` times wider; prior probability
-  :data:`ALTERNATIVE_PRIOR_PROBABILITY` per item, half each;
+  CoG far from its model), ``ALTERNATIVE_SIGMA_FACTOR`` times wider; prior probability
+  ``ALTERNATIVE_PRIOR_PROBABILITY`` per item, half each (at most
+  ``MAX_ALTERNATIVES_PROBABILITY`` in all, shared, when there are many items; massless items
+  are not weighed). These constants are :mod:`cadcog.spacecraft.explanations`'s;
 - ``H_u``: an unmodelled mass anywhere in the spacecraft's bounding box (harness, fasteners,
   adhesive; replacing the user's region), prior ``0 ± UNMODELLED_SIGMA_FRACTION · M_CAD``,
-  prior probability :data:`UNMODELLED_PRIOR_PROBABILITY`.
+  prior probability ``UNMODELLED_PRIOR_PROBABILITY``.
 
 Each hypothesis is solved by Gauss-Newton on the exact (ratio) model, with the unmodelled mass
 kept ≥ 0 (when the data want it negative it is fixed at 0 and the result says so); its
@@ -294,7 +296,7 @@ class UpdateResult(JsonResult):
             return ""
         sigma_g = (self.unmodelled_mass_sigma_kg or 0.0) * 1e3
         text = f"{self.unmodelled_mass_kg * 1e3:.1f} ± {sigma_g:.1f} g"
-        if self.unmodelled_probability < 1.0:
+        if self.unmodelled_probability < 0.999:
             text = f"if there is one (P = {self.unmodelled_probability:.1%}): " + text
         if self.unmodelled_cog_mm is not None and self.unmodelled_cog_cov_mm2 is not None:
             sd = np.sqrt(np.maximum(np.diag(self.unmodelled_cog_cov_mm2), 0.0))
@@ -307,7 +309,7 @@ class UpdateResult(JsonResult):
                 + "] mm"
             )
         else:
-            text += " (not resolved from zero: no position)"
+            text += " (not resolved from zero: its position is not estimated)"
         if self.unmodelled_negative:
             text += "; the data wanted it negative: held at 0"
         return text

@@ -125,3 +125,14 @@ def test_setup_point_inside_the_model_names_the_key(tmp_path, capsys):
     assert main(["plan", str(bad)]) == 2
     err = capsys.readouterr().err
     assert "candidates.points[0].position_mm" in err and "inside the model" in err
+
+
+def test_a_cog_outside_the_model_is_said_to_be_unlocated(cubesat_setup):
+    """A compensated CoG more than 3 σ outside the bounding box cannot be the spacecraft's."""
+    from cadcog.spacecraft.setup import _outside_warning
+
+    cov = np.eye(3) * 4.0  # 2 mm
+    assert _outside_warning(cubesat_setup, np.array([0.0, 0.0, 10.0]), cov) == ""
+    assert _outside_warning(cubesat_setup, np.array([55.0, 0.0, 10.0]), cov) == ""  # 2.5 σ out
+    text = _outside_warning(cubesat_setup, np.array([0.0, 57.0, 10.0]), cov)
+    assert "outside the model's bounding box along y" in text and "did not locate it" in text

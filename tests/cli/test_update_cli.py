@@ -183,3 +183,13 @@ def test_a_malformed_region_is_a_usage_error(capsys):
     assert main([*argv, "--unmodelled-region-mm", "-1,2,3"]) == 2
     err = capsys.readouterr().err
     assert "argument --unmodelled-region-mm: expected six numbers" in err and "-1,2,3" in err
+
+
+def test_a_region_outside_the_spacecraft_is_refused(tmp_path, capsys):
+    readings = tmp_path / "readings.csv"
+    _campaign(SETUP, readings, capsys)
+    argv = ["update", str(readings), "--setup", str(SETUP), "--weighed-mass-kg", "2.6"]
+    region = "--unmodelled-region-mm=200,0,0,300,1,1"
+    assert main([*argv, region, "--unmodelled-sigma-kg", "0.1"]) == 2
+    err = capsys.readouterr().err
+    assert "does not meet the model's bounding box" in err and "\n" not in err.rstrip("\n")

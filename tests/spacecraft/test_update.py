@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from cadcog.mass.properties import box_properties, combine
+from cadcog.mass.properties import MassProperties, box_properties, combine
 from cadcog.spacecraft.items import Item
 from cadcog.spacecraft.update import Measurement, UnmodelledPrior, recompensate, update_budget
 
@@ -249,3 +249,23 @@ def test_unmodelled_mass_and_position_intervals_cover_drawn_truths():
     assert 0.90 < hits_mass / n < 0.995, hits_mass / n
     assert unresolved < 0.2 * n  # truths down to 5 g: not all resolved from zero
     assert 0.90 < hits_position / (n - unresolved) < 0.995, hits_position / (n - unresolved)
+
+
+def test_many_items_share_a_bounded_prior_and_massless_ones_are_not_weighed():
+    """A real export has dozens of items: "one item is off" keeps at most 30 % prior in all,
+    so "none" keeps most of its prior; a massless body is no explanation."""
+    from cadcog.spacecraft.explanations import MAX_ALTERNATIVES_PROBABILITY
+
+    box = box_properties
+    items = [
+        Item.with_default_cog(f"part{k}", box([5, 5, 5], [10.0 * k, 0, 0], mass_kg=0.01), 0.05)
+        for k in range(80)
+    ]
+    items.append(Item("ghost", MassProperties(0.0, np.zeros(3), np.zeros((3, 3)), 0.0), 0.05, 1.0))
+    truth = combine([i.properties for i in items[:80]] + [FIXED])
+    r = update_budget(items, FIXED, _measure(truth, np.eye(3) * 0.04, 0.001))
+    priors = {e.label: e.prior_probability for e in r.explanations}
+    assert sum(priors.values()) == pytest.approx(1.0)
+    assert priors["none"] == pytest.approx(1.0 - MAX_ALTERNATIVES_PROBABILITY)
+    assert not any(label.startswith("ghost") for label in priors)
+    assert r.explanations[0].label == "none"
