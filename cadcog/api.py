@@ -328,8 +328,6 @@ def estimate(
     >>> bool((error_mm**2).sum() ** 0.5 < 3.0), est.cov_mm2.shape
     (True, (3, 3))
     """
-    from dataclasses import replace
-
     from cadcog.method.errormodel import ErrorModel
     from cadcog.method.estimate import BodyBox, MEData, estimate_cog
     from cadcog.method.readings import read_readings
@@ -369,12 +367,7 @@ def estimate(
         r = _rig(f, rig)
         me = MEData.from_rig(r)
         if weighed_mass_kg is not None:
-            me = replace(
-                me,
-                object_mass_kg=weighed_mass_kg,
-                object_mass_sigma_kg=mass_sigma_kg,
-                object_mass_source="weighed",
-            )
+            me = me.weighed(weighed_mass_kg, mass_sigma_kg)
         return estimate_cog(
             read_readings(path, r.inclinometer),
             r.inclinometer,

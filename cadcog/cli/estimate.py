@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -115,12 +114,7 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
         rig = load_rig(args.rig)
         me = MEData.from_rig(rig)
         if args.weighed_mass_kg is not None:
-            me = replace(
-                me,
-                object_mass_kg=args.weighed_mass_kg,
-                object_mass_sigma_kg=args.mass_sigma_kg,
-                object_mass_source="weighed",
-            )
+            me = me.weighed(args.weighed_mass_kg, args.mass_sigma_kg)
         return me, rig.inclinometer, rig
     if args.weighed_mass_kg is not None:
         raise CadcogError(

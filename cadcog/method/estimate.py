@@ -7,7 +7,7 @@ weighted joint estimate of the assembly CoG (docs/method.md §2) → ME compensa
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -66,6 +66,15 @@ class MEData:
             rig.me_cog_cov_mm2,
             f"rig {rig.source}",
             object_mass_source="rig",
+        )
+
+    def weighed(self, mass_kg: float, sigma_kg: float) -> MEData:
+        """The same ME with the object's weighed mass and the weighing's 1 σ."""
+        return replace(
+            self,
+            object_mass_kg=mass_kg,
+            object_mass_sigma_kg=sigma_kg,
+            object_mass_source="weighed",
         )
 
 

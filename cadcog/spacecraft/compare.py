@@ -96,7 +96,7 @@ def compare_with_cad(
     diff = cog - prior.cog_mm
     # A joint test: the CoG difference, and with a weighing the mass difference too.
     resid, joint = diff, diff_cov
-    out: dict[str, Any] = {}
+    mass_fields: dict[str, float] = {}
     if weighed and compensation is not None:
         dm = compensation.object_mass_kg - prior.mass_kg
         var_m = compensation.object_mass_sigma_kg**2 + prior.mass_sigma_kg**2
@@ -108,12 +108,12 @@ def compare_with_cad(
         # Cov(G_true, M_true) = J_G P J_Mᵀ under the null.
         joint[:3, 3] = joint[3, :3] = cross
         resid = np.concatenate([diff, [dm]])
-        out["mass_difference_kg"] = dm
-        out["mass_difference_sigma"] = dm / np.sqrt(var_m) if var_m > 0 else float("inf")
+        mass_fields["mass_difference_kg"] = dm
+        mass_fields["mass_difference_sigma"] = dm / np.sqrt(var_m) if var_m > 0 else float("inf")
     chi2 = float(resid @ np.linalg.solve(joint, resid))
     sigma = np.sqrt(np.diag(diff_cov))
     meas_sigma = np.sqrt(np.diag(cov))
-    out = {
+    out: dict[str, Any] = {
         "cad_cog_mm": prior.cog_mm.tolist(),
         "cad_cog_cov_mm2": prior.cog_cov_mm2.tolist(),
         "cad_mass_kg": prior.mass_kg,
@@ -124,7 +124,7 @@ def compare_with_cad(
         "difference_sigma": (diff / sigma).tolist(),
         "measurement_sigma": (diff / meas_sigma).tolist(),
         "mahalanobis": float(np.sqrt(diff @ np.linalg.solve(diff_cov, diff))),
-        **out,
+        **mass_fields,
         "chi2": chi2,
         "dof": int(resid.size),
         "p_value": chi2_sf(chi2, int(resid.size)),

@@ -149,10 +149,12 @@ class Model:
         self.meas = meas
         self.size = 4 * self.n + (4 if with_unmodelled else 0)
         share = meas.me_mass_kg / (meas.mass_kg + meas.me_mass_kg)
-        self._noise = np.zeros((4, 4))
-        self._noise[0, 0] = meas.mass_sigma_kg**2
-        self._noise[1:, 1:] = meas.assembly_cov_mm2 + share**2 * meas.me_cog_cov_mm2
-        self._noise_inv = np.linalg.inv(self._noise)
+        # Covariance of y's errors: the weighing's, and the assembly CoG's plus the ME's CAD
+        # uncertainty at its share of the weighed assembly (the same for every θ).
+        self.noise = np.zeros((4, 4))
+        self.noise[0, 0] = meas.mass_sigma_kg**2
+        self.noise[1:, 1:] = meas.assembly_cov_mm2 + share**2 * meas.me_cog_cov_mm2
+        self.noise_inv = np.linalg.inv(self.noise)
         self._rows = np.tile(np.arange(3), self.n)
         self._cols = self.n + np.arange(3 * self.n)
 
@@ -196,11 +198,6 @@ class Model:
         jac[0] = dmass
         jac[1:] = (dmom - np.outer(g, dmass)) / mt
         return jac
-
-    def noise(self, theta: FloatArray | None = None) -> FloatArray:
-        """Covariance of ``y``'s errors: the weighing's, and the assembly CoG's plus the ME's
-        CAD uncertainty at its share of the weighed assembly (the same for every ``θ``)."""
-        return self._noise
 
     def derived(self, theta: FloatArray, at_mm: FloatArray) -> FloatArray:
         """``(M, G, J_xx, J_xy, J_xz, J_yy, J_yz, J_zz)`` of the spacecraft (J about G) for
@@ -303,12 +300,12 @@ def _gauss_newton(
 ) -> tuple[FloatArray, FloatArray]:
     """MAP and its covariance (inverse Hessian) for a Gaussian prior, by Gauss-Newton in the
     prior's square-root coordinates ``θ = θ₀ + L z`` (``P₀ = L Lᵀ``; zero-variance directions
-    stay at the prior))."""
+    stay at the prior)."""
     w, v = np.linalg.eigh(0.5 * (p0 + p0.T))
     keep = w > 1e-30 * max(float(w.max()), 1e-300)
     root = v[:, keep] * np.sqrt(w[keep])
     z = np.zeros(root.shape[1])
-    r_inv = model._noise_inv
+    r_inv = model.noise_inv
     for _ in range(MAX_ITERATIONS):
         theta = theta0 + root @ z
         jz = model.jacobian(theta) @ root
@@ -339,7 +336,7 @@ def solve(
     theta0, p0 = parameter_prior(items, hyp, unmodelled)
     j0 = model.jacobian(theta0)
     r0 = y - model.predict(theta0)
-    chi2 = float(r0 @ np.linalg.solve(j0 @ p0 @ j0.T + model.noise(theta0), r0))
+    chi2 = float(r0 @ np.linalg.solve(j0 @ p0 @ j0.T + model.noise, r0))
     theta, cov = _gauss_newton(model, y, theta0, p0)
     negative = bool(unmodelled is not None and theta[4 * model.n] < 0.0)
     if negative:  # held at zero: the hypothesis without an unmodelled mass
@@ -348,7 +345,7 @@ def solve(
         theta, cov = _gauss_newton(model, y, theta0, p0)
     # Evidence: the Gaussian marginal of the model linearised at the MAP.
     j = model.jacobian(theta)
-    s = j @ p0 @ j.T + model.noise(theta)
+    s = j @ p0 @ j.T + model.noise
     resid = y - model.predict(theta) - j @ (theta0 - theta)
     _, logdet = np.linalg.slogdet(2.0 * np.pi * s)
     log_evidence = -0.5 * (float(resid @ np.linalg.solve(s, resid)) + logdet)

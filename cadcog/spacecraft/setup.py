@@ -114,19 +114,16 @@ class Setup:
 
         The mass is the weighed one (± ``mass_sigma_kg``) when given, else the CAD's with the
         CAD's own mass uncertainty, which the compensated CoG then carries."""
-        if weighed_mass_kg is not None:
-            mass, sigma, source = weighed_mass_kg, mass_sigma_kg, "weighed"
-        else:
-            mass, sigma, source = self.mass.mass_kg, self.cad_prior().mass_sigma_kg, "CAD"
-        return MEData(
-            mass,
+        cad = MEData(
+            self.mass.mass_kg,
             self.me_mass_kg,
             self.me_cog_mm,
             self.me_cog_cov_mm2,
             f"setup {self.source}",
-            sigma,
-            source,
+            self.cad_prior().mass_sigma_kg,
+            "CAD",
         )
+        return cad if weighed_mass_kg is None else cad.weighed(weighed_mass_kg, mass_sigma_kg)
 
     @property
     def assembly_cog_mm(self) -> FloatArray:

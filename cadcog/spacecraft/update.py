@@ -67,7 +67,7 @@ import numpy.typing as npt
 from cadcog.core.results import JsonResult
 from cadcog.mass.inertia import TENSOR_CONVENTION
 from cadcog.mass.properties import MassProperties, combine
-from cadcog.method.plumblines import chi2_sf
+from cadcog.method.plumblines import chi2_sf, compensate_me
 from cadcog.spacecraft.explanations import (
     Measurement,
     Model,
@@ -76,11 +76,10 @@ from cadcog.spacecraft.explanations import (
     hypotheses,
     mixture,
     numeric_jacobian,
-    parameter_prior,
     solve,
     unmodelled_from_region,
 )
-from cadcog.spacecraft.items import Item, items_from_bodies
+from cadcog.spacecraft.items import Item, items_from_bodies, linear_prior
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -436,7 +435,7 @@ def update_budget(
     # The verdicts.
     zero = np.zeros(null_model.size)
     r0 = y - null_model.predict(zero)
-    differs_chi2 = float(r0 @ np.linalg.solve(null_model.noise(zero), r0))
+    differs_chi2 = float(r0 @ np.linalg.solve(null_model.noise, r0))
     model_rejected = max(p_values) < LEVEL
     # Mixture of the derived quantities over the hypotheses that matter.
     derived_means, derived_covs, used = [], [], []
@@ -454,12 +453,8 @@ def update_budget(
         derived_covs.append(jd @ s.cov @ jd.T)
         used.append(w)
     mean_d, cov_d = mixture(np.array(used), derived_means, derived_covs)
-    cad = combine(_parts(null_model, zero))
-    p_null = parameter_prior(items, None, None)[1]
-    jd0 = numeric_jacobian(
-        lambda t: null_model.derived(t, np.zeros(3)), zero, np.sqrt(np.maximum(np.diag(p_null), 0))
-    )
-    cov_d0 = jd0 @ p_null @ jd0.T
+    cad = combine([i.properties for i in items] + ([fixed] if fixed is not None else []))
+    cad_prior = linear_prior(items, fixed)
     measured_cog, measured_cov = recompensate(measurement)
     inertia = np.zeros((3, 3))
     iu = np.triu_indices(3)
@@ -498,8 +493,8 @@ def update_budget(
     )
     return UpdateResult(
         cad,
-        cov_d0[1:4, 1:4],
-        float(np.sqrt(max(cov_d0[0, 0], 0.0))),
+        cad_prior.cog_cov_mm2,
+        cad_prior.mass_sigma_kg,
         measurement.mass_kg,
         measurement.mass_sigma_kg,
         measured_cog,
@@ -522,18 +517,6 @@ def update_budget(
         p_values[0],
         model_rejected,
     )
-
-
-def _parts(model: Model, theta: FloatArray) -> list[MassProperties]:
-    """The CAD's parts for ``θ`` (the CAD itself at ``θ = 0``)."""
-    d, s, _, _ = model.split(theta)
-    parts = [
-        MassProperties(float(m * (1 + dk)), c + sk, j * (1 + dk), 0.0)
-        for m, c, j, dk, sk in zip(model.m, model.c, model.j, d, s, strict=True)
-    ]
-    if model.fixed is not None:
-        parts.append(model.fixed)
-    return parts
 
 
 def _unmodelled_position(s: Solution) -> FloatArray:
@@ -615,10 +598,14 @@ def _unmodelled_mixture(
 
 def recompensate(meas: Measurement) -> tuple[FloatArray, FloatArray]:
     """The spacecraft's CoG from the assembly CoG with the *weighed* mass (eqs. 10, 16), its
-    covariance including the weighing's σ."""
-    ratio = meas.me_mass_kg / meas.mass_kg
-    cog = (1.0 + ratio) * meas.assembly_cog_mm - ratio * meas.me_cog_mm
-    cov = (1.0 + ratio) ** 2 * meas.assembly_cov_mm2 + ratio**2 * meas.me_cog_cov_mm2
-    v = ratio / meas.mass_kg * (meas.assembly_cog_mm - meas.me_cog_mm)
-    cov = cov + meas.mass_sigma_kg**2 * np.outer(v, v)
-    return np.asarray(cog), np.asarray(cov)
+    covariance including the weighing's σ (:func:`cadcog.method.plumblines.compensate_me`)."""
+    c = compensate_me(
+        meas.assembly_cog_mm,
+        meas.assembly_cov_mm2,
+        object_mass_kg=meas.mass_kg,
+        me_mass_kg=meas.me_mass_kg,
+        me_cog_mm=meas.me_cog_mm,
+        me_cog_cov_mm2=meas.me_cog_cov_mm2,
+        object_mass_sigma_kg=meas.mass_sigma_kg,
+    )
+    return c.cog_mm, c.cov_mm2
