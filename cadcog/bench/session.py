@@ -24,6 +24,7 @@ import numpy as np
 
 from cadcog.bench.readingsfile import ReadingsFile, block_text, parse_block, suspension_of
 from cadcog.bench.recorder import HangData, Recorder
+from cadcog.bench.swinglog import SwingLog, default_swing_path
 from cadcog.bench.target import (
     BenchTarget,
     PlannedHang,
@@ -182,8 +183,11 @@ def run_session(
     operator: Operator,
     say: Callable[[str], None] = print,
     preamble: tuple[str, ...] = (),
+    swings_out: str | Path | None = None,
 ) -> SessionResult:
-    """Run the guided test run; append each good hang to ``out``; return what happened.
+    """Run the guided test run; append each good hang to ``out`` (and its swing from release
+    to settle to ``swings_out``, default beside ``out``: ``cadcog inertia``'s input); return
+    what happened.
 
     Raises
     ------
@@ -194,6 +198,7 @@ def run_session(
     units = recorder.open()
     say(f"device: {units.header.describe()} on {recorder.link.name}")
     rfile, blocks, repaired = ReadingsFile.open(out, units, preamble)
+    swings = SwingLog.open(default_swing_path(out) if swings_out is None else swings_out)
     result = SessionResult(Path(out), units.header.describe(), repaired_lines=repaired)
     planned = {h.id: h for h in target.hangs}
     suspensions: list[Suspension] = []
@@ -267,6 +272,7 @@ def run_session(
             else:
                 report = report_with(report, attempt, "recorded")
             rfile.append(text)
+            swings.append(h.id, data.swing_t_s, data.swing_deg)
             suspensions.append(new)
             result.hangs.append(report)
             say(f"  {h.id}: recorded {report.samples} samples in {out}")

@@ -31,6 +31,12 @@ def add_parser(sub: Any) -> None:
         "same command again to resume an interrupted run. See docs/bench.md.",
     )
     p.add_argument("--out", type=Path, required=True, help="readings CSV to create or resume")
+    p.add_argument(
+        "--swings",
+        type=Path,
+        help="swing CSV to create or resume: each hang's samples from release to settle, for "
+        "cadcog inertia (default: beside --out, NAME.swings.csv)",
+    )
     p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
     p.add_argument("--setup", type=Path, help="spacecraft set-up file instead of a rig")
     p.add_argument(
@@ -197,6 +203,10 @@ def run(args: argparse.Namespace) -> int:
 
     _check_numbers(args)
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
+    if args.swings is not None:
+        refuse_overwriting_inputs(
+            args.swings, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
+        )
     if args.report is not None and args.report.exists() and not args.report.is_dir():
         raise CadcogError(f"--report {args.report}: exists and is not a directory")
     target = _target(args)
@@ -241,7 +251,7 @@ def run(args: argparse.Namespace) -> int:
                 args.timeout_s,
                 progress=None if args.json else live,
             )
-            result = run_session(target, recorder, args.out, operator, say, preamble)
+            result = run_session(target, recorder, args.out, operator, say, preamble, args.swings)
         finally:
             link.close()
     except (KeyboardInterrupt, SessionQuit) as exc:
