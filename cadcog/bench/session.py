@@ -148,6 +148,8 @@ class SessionResult(JsonResult):
     repaired_lines: int = 0
     estimate: CogEstimate | None = None
     link: str = ""
+    inertia: Any = None  # cadcog.dynamics.result.InertiaResult, from 3 or more swings
+    inertia_note: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -158,6 +160,11 @@ class SessionResult(JsonResult):
             "hangs": [h.to_dict() for h in self.hangs],
             "link": self.link,
             "estimate": None if self.estimate is None else estimate_summary(self.estimate),
+            "inertia": (
+                self.inertia.to_dict()
+                if self.inertia is not None
+                else {"not_estimated": self.inertia_note}
+            ),
         }
 
 
@@ -184,10 +191,12 @@ def run_session(
     say: Callable[[str], None] = print,
     preamble: tuple[str, ...] = (),
     swings_out: str | Path | None = None,
+    inertia_target: BenchTarget | None = None,
 ) -> SessionResult:
     """Run the guided test run; append each good hang to ``out`` (and its swing from release
     to settle to ``swings_out``, default beside ``out``: ``cadcog inertia``'s input); return
-    what happened.
+    what happened, with the inertia tensor from the swings when three hangs or more have one
+    (``inertia_target``: what the swings are modelled with, default ``target``).
 
     Raises
     ------
@@ -281,7 +290,26 @@ def run_session(
     if len(suspensions) >= 2:
         final = read_readings(out, target.inclinometer)
         result.estimate = estimate_hangs(target, final)
+        result.inertia, result.inertia_note = _inertia(inertia_target or target, swings, final)
     return result
+
+
+def _inertia(
+    target: BenchTarget, swings: SwingLog, suspensions: list[Suspension]
+) -> tuple[Any, str]:
+    """The tensor from the recorded swings, or why there is none."""
+    from cadcog.dynamics.measure import inertia_for_rig, inertia_for_setup
+    from cadcog.dynamics.swingfile import read_swings
+
+    if len(swings.done) < 3:
+        return None, f"{len(swings.done)} hang(s) with a swing: the tensor needs 3 or more"
+    try:
+        recorded = read_swings(swings.path)
+        if target.setup is None:
+            return inertia_for_rig(target.rig, recorded, suspensions), ""
+        return inertia_for_setup(target.setup, recorded, suspensions), ""
+    except CadcogError as exc:
+        return None, str(exc)
 
 
 def report_with(report: HangReport, attempt: int, outcome: str | None = None) -> HangReport:

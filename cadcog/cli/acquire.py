@@ -188,6 +188,13 @@ class _Live:
         print(text, flush=True)
 
 
+def default_or(swings: Path | None, out: Path) -> Path:
+    """The swing file the run wrote: ``--swings``, else beside ``--out``."""
+    from cadcog.bench.swinglog import default_swing_path
+
+    return default_swing_path(out) if swings is None else swings
+
+
 def run(args: argparse.Namespace) -> int:
     from cadcog.bench.link import SerialLink
     from cadcog.bench.recorder import Recorder
@@ -225,8 +232,11 @@ def run(args: argparse.Namespace) -> int:
     operator: Operator
     interactive = not args.non_interactive and sys.stdin.isatty()
     device = None
+    inertia_target = None
     if args.simulate:
-        from cadcog.bench.simulator import PtyDevice, SimulatedDevice
+        from cadcog.bench.simulator import PtyDevice, SimulatedDevice, as_simulated
+
+        inertia_target = as_simulated(target)  # the simulated object swings about a pivot
 
         device = SimulatedDevice(target, _spec(args), _faults(args), seed=args.seed)
         pty = PtyDevice(device, args.time_scale).__enter__()
@@ -251,7 +261,9 @@ def run(args: argparse.Namespace) -> int:
                 args.timeout_s,
                 progress=None if args.json else live,
             )
-            result = run_session(target, recorder, args.out, operator, say, preamble, args.swings)
+            result = run_session(
+                target, recorder, args.out, operator, say, preamble, args.swings, inertia_target
+            )
         finally:
             link.close()
     except (KeyboardInterrupt, SessionQuit) as exc:
@@ -325,6 +337,13 @@ def _finish(args: argparse.Namespace, target: Any, result: Any, device: Any) -> 
                     + ", ".join(f"{v:+.3f}" for v in e)
                     + f"] mm, Mahalanobis distance {truth['mahalanobis']:.2f}"
                 )
+            if result.inertia is not None:
+                from cadcog.cli.inertia import print_inertia
+
+                print(f"\ninertia from the swings in {default_or(args.swings, args.out)}:\n")
+                print_inertia(result.inertia)
+            else:
+                print(f"\nno inertia from the swings: {result.inertia_note}")
     if page is not None:
         print(f"report: {page}", file=sys.stderr)
     elif args.report is not None:
