@@ -72,6 +72,12 @@ def add_parser(sub: Any) -> None:
         type=float,
         help="prior 1-σ of the unmodelled mass (needed with --unmodelled-region-mm)",
     )
+    p.add_argument(
+        "--swings",
+        type=Path,
+        help="the same hangs' swing CSV: their inertia tensor (cadcog inertia) is observed too "
+        "and constrains the same item masses",
+    )
     p.add_argument("--report", type=Path, metavar="DIR", help="write an HTML report to DIR")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
@@ -105,6 +111,21 @@ def run(args: argparse.Namespace) -> int:
         raise CadcogError(f"--unmodelled-region-mm: {exc}") from None
     setup = load_setup(args.setup)
     suspensions = read_readings(args.readings, setup.rig.inclinometer)
+    inertia = None
+    if args.swings is not None:
+        from cadcog.dynamics.measure import inertia_for_setup
+        from cadcog.dynamics.swingfile import read_swings
+        from cadcog.dynamics.tensorfit import entries
+
+        measured = inertia_for_setup(
+            setup,
+            read_swings(args.swings),
+            suspensions,
+            weighed_mass_kg=args.weighed_mass_kg,
+            mass_sigma_kg=args.mass_sigma_kg,
+            source=str(args.swings),
+        )
+        inertia = (entries(measured.inertia_kg_mm2), measured.cov_kg2_mm4)
     try:
         result, estimate = update_for_setup(
             setup,
@@ -112,6 +133,7 @@ def run(args: argparse.Namespace) -> int:
             args.weighed_mass_kg,
             mass_sigma_kg=args.mass_sigma_kg,
             unmodelled=unmodelled,
+            inertia=inertia,
         )
     except ValueError as exc:
         raise CadcogError(f"{args.readings}: {exc}") from None

@@ -113,6 +113,12 @@ class Measurement:
     me_cog_mm : ndarray, shape (3,)
     me_cog_cov_mm2 : ndarray, shape (3, 3)
         The ME's CAD CoG and its uncertainty.
+    inertia_kg_mm2 : ndarray, shape (6,), optional
+        The spacecraft's inertia tensor about its CoG measured from the swings
+        (``cadcog inertia``), entries ``[xx, yy, zz, xy, xz, yz]`` (tensor convention).
+    inertia_cov : ndarray, shape (6, 6), optional
+        Its covariance (kg²·mm⁴). Taken as independent of the CoG and the weighing (an
+        approximation: the tensor's estimate uses both).
     """
 
     assembly_cog_mm: FloatArray
@@ -122,6 +128,21 @@ class Measurement:
     me_mass_kg: float
     me_cog_mm: FloatArray
     me_cog_cov_mm2: FloatArray = field(default_factory=lambda: np.zeros((3, 3)))
+    inertia_kg_mm2: FloatArray | None = None
+    inertia_cov: FloatArray | None = None
+
+    @property
+    def observed(self) -> FloatArray:
+        """``y``: the weighed mass, the assembly CoG and, when measured, the six entries."""
+        parts: list[FloatArray] = [np.array([self.mass_kg]), np.asarray(self.assembly_cog_mm)]
+        if self.inertia_kg_mm2 is not None:
+            parts.append(np.asarray(self.inertia_kg_mm2))
+        return np.concatenate(parts)
+
+
+#: ``derived``'s inertia entries (upper triangle xx, xy, xz, yy, yz, zz) in the order
+#: ``[xx, yy, zz, xy, xz, yz]`` of a measured tensor.
+_INERTIA_ORDER = [4, 7, 9, 5, 6, 8]
 
 
 # --- the model ------------------------------------------------------------------------------------
@@ -153,9 +174,13 @@ class Model:
         share = meas.me_mass_kg / (meas.mass_kg + meas.me_mass_kg)
         # Covariance of y's errors: the weighing's, and the assembly CoG's plus the ME's CAD
         # uncertainty at its share of the weighed assembly (the same for every θ).
-        self.noise = np.zeros((4, 4))
+        self.with_inertia = meas.inertia_kg_mm2 is not None
+        n_obs = 10 if self.with_inertia else 4
+        self.noise = np.zeros((n_obs, n_obs))
         self.noise[0, 0] = meas.mass_sigma_kg**2
-        self.noise[1:, 1:] = meas.assembly_cov_mm2 + share**2 * meas.me_cog_cov_mm2
+        self.noise[1:4, 1:4] = meas.assembly_cov_mm2 + share**2 * meas.me_cog_cov_mm2
+        if meas.inertia_cov is not None:
+            self.noise[4:, 4:] = meas.inertia_cov
         self.noise_inv = np.linalg.inv(self.noise)
         self._rows = np.tile(np.arange(3), self.n)
         self._cols = self.n + np.arange(3 * self.n)
@@ -185,7 +210,18 @@ class Model:
         mass, moment = self.mass_moment(theta)
         me = self.meas
         g = (moment + me.me_mass_kg * me.me_cog_mm) / (mass + me.me_mass_kg)
-        return np.concatenate([[mass], g])
+        if not self.with_inertia:
+            return np.concatenate([[mass], g])
+        return np.concatenate([[mass], g, self._inertia(theta[None, :])[0]])
+
+    def _inertia(self, thetas: FloatArray) -> FloatArray:
+        """The spacecraft's six entries about its CoG for rows of ``thetas`` (an unmodelled
+        mass at its own position ``h / m_u``)."""
+        at = np.zeros(3)
+        if self.with_u:
+            _, _, mu, h = self.split(thetas[0])
+            at = h / mu if mu > 0 else at
+        return np.asarray(self.derived(thetas, at)[:, _INERTIA_ORDER])
 
     def jacobian(self, theta: FloatArray) -> FloatArray:
         """``∂(M, G_asm)/∂θ``, shape (4, size)."""
@@ -203,9 +239,16 @@ class Model:
         if self.with_u:
             dmass[4 * n] = 1.0
             dmom[:, 4 * n + 1 :] = np.eye(3)
-        jac = np.zeros((4, self.size))
+        jac = np.zeros((len(self.noise), self.size))
         jac[0] = dmass
-        jac[1:] = (dmom - np.outer(g, dmass)) / mt
+        jac[1:4] = (dmom - np.outer(g, dmass)) / mt
+        if self.with_inertia:
+            # By central differences: δ relative (0.01), shifts and moments in mm (0.1).
+            scale = np.full(self.size, 0.1)
+            scale[:n] = 0.01
+            if self.with_u:
+                scale[4 * n] = 0.01 * max(self.m0, 1e-9)
+            jac[4:] = numeric_jacobian(self._inertia, theta, scale)
         return jac
 
     def derived(self, theta: FloatArray, at_mm: FloatArray) -> FloatArray:

@@ -225,12 +225,15 @@ def update_for_setup(
     *,
     mass_sigma_kg: float = DEFAULT_WEIGHING_SIGMA_KG,
     unmodelled: UnmodelledPrior | None = None,
+    inertia: tuple[FloatArray, FloatArray] | None = None,
 ) -> tuple[UpdateResult, CogEstimate]:
     """What the test and the weighing say about the CAD, as ``cadcog update`` computes it.
 
     The assembly CoG from :func:`estimate_for_setup` (the ME's weight from the weighing), then
     :func:`cadcog.spacecraft.update.update_budget` over the set-up's items, with an unmodelled
-    mass anywhere in the model's bounding box as one of the explanations weighed.
+    mass anywhere in the model's bounding box as one of the explanations weighed. ``inertia``:
+    the tensor measured from the swings (its six entries ``[xx, yy, zz, xy, xz, yz]`` and their
+    covariance, ``cadcog inertia``), observed with the mass and the CoG.
 
     Returns
     -------
@@ -260,6 +263,8 @@ def update_for_setup(
         setup.me_mass_kg,
         setup.me_cog_mm,
         setup.me_cog_cov_mm2,
+        None if inertia is None else np.asarray(inertia[0], dtype=float),
+        None if inertia is None else np.asarray(inertia[1], dtype=float),
     )
     result = update_budget(
         items, fixed, measurement, unmodelled=unmodelled, envelope_mm=setup.bbox_mm

@@ -42,9 +42,9 @@ changed* is the sum of its two hypotheses' posterior probabilities.
 **Verdicts**, each a test of stated size :data:`LEVEL`:
 
 - *differs*: ``χ² = rᵀ R⁻¹ r`` of the gap ``r = y − y_CAD`` against the measurement noise alone
-  (4 dof): the test tells the spacecraft from its CAD. Size 5 % on a spacecraft identical to
-  its CAD.
-- *consistent*: ``χ² = rᵀ (J P₀ Jᵀ + R)⁻¹ r`` under ``H₀`` (4 dof): the gap is within the CAD's
+  (4 dof; 10 with a measured tensor): the test tells the spacecraft from its CAD. Size 5 % on a
+  spacecraft identical to its CAD.
+- *consistent*: ``χ² = rᵀ (J P₀ Jᵀ + R)⁻¹ r`` under ``H₀`` (4 dof; 10): the gap is within the CAD's
   stated uncertainties. Size 5 % on spacecraft drawn from those uncertainties.
 - *model rejected*: no hypothesis explains the gap at level 5 % (each one's prior-predictive
   χ²): the revised CoG is then the measurement's, with the measurement's covariance (never
@@ -168,7 +168,7 @@ class Explanation(JsonResult):
     ``label`` is ``"none"`` (every item within its stated σ), ``"KEY (mass)"`` or ``"KEY (CoG)"``
     (that item's mass or CoG is off beyond its σ; ``item`` is ``KEY``) or ``"unmodelled"`` (a
     mass anywhere in the spacecraft the CAD lacks).
-    ``chi2``/``p_value``: its prior-predictive test (4 dof): does it explain the gap at all.
+    ``chi2``/``p_value``: its prior-predictive test (``dof``): does it explain the gap at all.
     """
 
     label: str
@@ -223,11 +223,14 @@ class UpdateResult(JsonResult):
         ``unmodelled_negative`` when the data wanted it below zero (it is then held at 0);
         ``unmodelled_probability`` the probability that there is one (1 with a region given).
     differs_chi2, differs_p_value
-        The gap against the measurement noise alone (4 dof).
+        The gap against the measurement noise alone (``dof``: 4, or 10 with a measured tensor).
     chi2, p_value
-        The gap against the CAD's stated uncertainties (``H₀``'s prior predictive, 4 dof).
+        The gap against the CAD's stated uncertainties (``H₀``'s prior predictive, ``dof``).
     model_rejected : bool
         No hypothesis explains the gap: the revised CoG and mass are the measurement's.
+    dof : int
+        Observed numbers: the weighed mass and the assembly CoG (4), and the measured tensor's
+        six entries when one was given (``cadcog update --swings``).
     """
 
     cad: MassProperties
@@ -420,7 +423,8 @@ def update_budget(
     env = None
     if envelope_mm is not None:
         env = (np.asarray(envelope_mm[0], float), np.asarray(envelope_mm[1], float))
-    y = np.concatenate([[measurement.mass_kg], measurement.assembly_cog_mm])
+    y = measurement.observed
+    dof = len(y)
     null_model = Model(items, fixed, measurement, False)
     cad_mass = null_model.m0
     hyps = hypotheses(items, cad_mass, unmodelled, env)
@@ -431,7 +435,7 @@ def update_budget(
     logs = np.array([np.log(s.hypothesis.prior_probability) + s.log_evidence for s in sols])
     weights = np.exp(logs - logs.max())
     weights /= weights.sum()
-    p_values = [chi2_sf(s.chi2, 4) for s in sols]
+    p_values = [chi2_sf(s.chi2, dof) for s in sols]
     # The verdicts.
     zero = np.zeros(null_model.size)
     r0 = y - null_model.predict(zero)
@@ -512,10 +516,11 @@ def update_budget(
         u_negative,
         u_prob,
         differs_chi2,
-        chi2_sf(differs_chi2, 4),
+        chi2_sf(differs_chi2, dof),
         sols[0].chi2,
         p_values[0],
         model_rejected,
+        dof,
     )
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from scipy import stats
@@ -269,3 +271,49 @@ def test_many_items_share_a_bounded_prior_and_massless_ones_are_not_weighed():
     assert priors["none"] == pytest.approx(1.0 - MAX_ALTERNATIVES_PROBABILITY)
     assert not any(label.startswith("ghost") for label in priors)
     assert r.explanations[0].label == "none"
+
+
+def _box_truth(deltas):
+    """The items as the boxes they are (their own inertia scaled with their mass), the fixed
+    harness with them: the spacecraft the update's model describes at these mass changes."""
+    parts = [
+        box_properties(size, i.properties.cog_mm, mass_kg=i.properties.mass_kg * (1 + d))
+        for i, d, size in zip(_items(), deltas, SIZES, strict=True)
+    ]
+    return combine([*parts, FIXED])
+
+
+def _with_inertia(meas, truth, rel_sigma):
+    """``meas`` with the truth's tensor measured to ``rel_sigma`` of its largest moment."""
+    t = truth.inertia_kg_mm2
+    entries = np.array([t[0, 0], t[1, 1], t[2, 2], t[0, 1], t[0, 2], t[1, 2]])
+    cov = (rel_sigma * np.max(np.diag(t))) ** 2 * np.eye(6)
+    return replace(meas, inertia_kg_mm2=entries, inertia_cov=cov)
+
+
+def test_an_inertia_measurement_is_observed_with_the_mass_and_cog():
+    truth = _box_truth(np.zeros(6))
+    meas = _measure(truth, np.eye(3) * 0.09, 0.002)
+    plain = update_budget(_items(), FIXED, meas)
+    both = update_budget(_items(), FIXED, _with_inertia(meas, truth, 0.005))
+    assert plain.dof == 4 and both.dof == 10
+    assert both.consistent and not both.differs
+    np.testing.assert_allclose(both.posterior.inertia_kg_mm2, truth.inertia_kg_mm2, rtol=1e-6)
+    # The measured tensor narrows the updated one (the diagonal, here 0.5 % of the largest).
+    assert np.all(
+        np.diag(both.posterior_inertia_sigma_kg_mm2) < np.diag(plain.posterior_inertia_sigma_kg_mm2)
+    )
+
+
+def test_the_inertia_tells_which_item_is_off():
+    # The camera 40 % heavier (4 of its σ): the weighing and the CoG say something is heavier
+    # high up; the tensor, sensitive to where along z the mass is and how spread, adds evidence.
+    truth = _box_truth([0, 0, 0, 0, 0, 0.4])
+    meas = _measure(truth, np.eye(3) * 0.09, 0.002)
+    plain = update_budget(_items(), FIXED, meas)
+    both = update_budget(_items(), FIXED, _with_inertia(meas, truth, 0.005))
+    p_plain = next(c.probability for c in plain.items if c.key == "camera")
+    p_both = next(c.probability for c in both.items if c.key == "camera")
+    assert p_both >= p_plain and p_both > 0.5
+    camera = next(c for c in both.items if c.key == "camera")
+    assert camera.delta_rel == pytest.approx(0.4, abs=3 * camera.delta_sigma_rel)
