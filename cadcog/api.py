@@ -627,6 +627,7 @@ def update(
     unmodelled_region_mm: Sequence[float] | None = None,
     unmodelled_mass_kg: float = 0.0,
     unmodelled_sigma_kg: float | None = None,
+    swings: str | Path | None = None,
 ) -> UpdateResult:
     """What the test and the weighing say about the CAD (``cadcog update``).
 
@@ -647,6 +648,9 @@ def update(
         Its prior mean (default 0).
     unmodelled_sigma_kg : float, optional
         Its prior 1 σ (needed with a region).
+    swings : str or Path, optional
+        The same hangs' swing CSV (``--swings``): the inertia tensor it measures
+        (:func:`inertia`) is observed too, and constrains the same items.
 
     Returns
     -------
@@ -683,13 +687,27 @@ def update(
     except ValueError as exc:
         raise _fail(f, "unmodelled_region_mm", unmodelled_region_mm, str(exc)) from None
     s = _setup(f, setup)
+    swings_path = None if swings is None else _path(f, "swings", swings)
     try:
+        suspensions = read_readings(path, s.rig.inclinometer)
+        inertia = None
+        if swings_path is not None:
+            from cadcog.dynamics.measure import inertia_observation
+
+            inertia = inertia_observation(
+                s,
+                swings_path,
+                suspensions,
+                weighed_mass_kg=float(weighed_mass_kg),
+                mass_sigma_kg=float(mass_sigma_kg),
+            )
         result, _ = update_for_setup(
             s,
-            read_readings(path, s.rig.inclinometer),
+            suspensions,
             float(weighed_mass_kg),
             mass_sigma_kg=float(mass_sigma_kg),
             unmodelled=prior,
+            inertia=inertia,
         )
     except CadcogError:
         raise

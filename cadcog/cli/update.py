@@ -113,19 +113,15 @@ def run(args: argparse.Namespace) -> int:
     suspensions = read_readings(args.readings, setup.rig.inclinometer)
     inertia = None
     if args.swings is not None:
-        from cadcog.dynamics.measure import inertia_for_setup
-        from cadcog.dynamics.swingfile import read_swings
-        from cadcog.dynamics.tensorfit import entries
+        from cadcog.dynamics.measure import inertia_observation
 
-        measured = inertia_for_setup(
+        inertia = inertia_observation(
             setup,
-            read_swings(args.swings),
+            args.swings,
             suspensions,
             weighed_mass_kg=args.weighed_mass_kg,
             mass_sigma_kg=args.mass_sigma_kg,
-            source=str(args.swings),
         )
-        inertia = (entries(measured.inertia_kg_mm2), measured.cov_kg2_mm4)
     try:
         result, estimate = update_for_setup(
             setup,

@@ -449,3 +449,26 @@ def inertia_from_files(
         mass_sigma_kg=mass_sigma_kg,
         source=str(swings_path),
     )
+
+
+def inertia_observation(
+    setup: Any,
+    swings_path: str | Path,
+    suspensions: Sequence[Suspension],
+    *,
+    weighed_mass_kg: float,
+    mass_sigma_kg: float,
+) -> tuple[FloatArray, FloatArray]:
+    """The tensor a swing file measures, as ``cadcog update --swings`` observes it: its six
+    entries ``[xx, yy, zz, xy, xz, yz]`` and their covariance."""
+    from cadcog.dynamics.swingfile import read_swings
+
+    measured = inertia_for_setup(
+        setup,
+        read_swings(swings_path),
+        suspensions,
+        weighed_mass_kg=weighed_mass_kg,
+        mass_sigma_kg=mass_sigma_kg,
+        source=str(swings_path),
+    )
+    return entries(measured.inertia_kg_mm2), measured.cov_kg2_mm4

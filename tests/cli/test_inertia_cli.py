@@ -78,3 +78,19 @@ def test_options_are_checked(campaign, capsys):
     assert "--weighed-mass-kg -1.0: expected at least 0" in capsys.readouterr().err
     assert main(["campaign", "--out", str(readings), "--swings", str(readings)]) == 2
     assert "same file" in capsys.readouterr().err
+
+
+def test_update_observes_the_swings_tensor(tmp_path, capsys):
+    setup = "parts/cubesat_3u_setup.toml"
+    points = "+x_-30_-30,-x_30_-30,+y_30_-30,-y_-30_-30,+x_30_90,Z1"
+    readings, swings = tmp_path / "c.csv", tmp_path / "s.csv"
+    argv = ["campaign", "--setup", setup, f"--points={points}", "--seed", "5"]
+    assert main([*argv, "--out", str(readings), "--swings", str(swings)]) == 0
+    mass = cadcog.load_setup(setup).mass.mass_kg
+    capsys.readouterr()
+    base = ["update", str(readings), "--setup", setup, "--weighed-mass-kg", str(mass), "--json"]
+    assert main([*base, "--swings", str(swings)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["verdict"]["dof"] == 10
+    api = cadcog.update(readings, setup, mass, swings=swings)
+    assert json.loads(api.to_json()) == out
