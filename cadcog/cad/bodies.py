@@ -79,7 +79,6 @@ class _ProductCheck:
 
     props: MassProperties  # unit density, the product's frame
     closed: bool
-    valid: bool
     box_lo: np.ndarray
     box_hi: np.ndarray
 
@@ -89,11 +88,10 @@ def _check_product(body: StepBody) -> _ProductCheck:
     if body.kind == "solid":
         props = volume_properties(shape)
         closed = _closed(shape)
-        valid = bool(BRepCheck_Analyzer(shape).IsValid())
     else:
-        props, closed, valid = surface_properties(shape), True, True
+        props, closed = surface_properties(shape), True
     lo, hi = bounding_boxes([shape])
-    return _ProductCheck(props, closed, valid, lo[0], hi[0])
+    return _ProductCheck(props, closed, lo[0], hi[0])
 
 
 def _global_box(check: _ProductCheck, body: StepBody) -> tuple[np.ndarray, np.ndarray]:
@@ -133,7 +131,6 @@ def integrate(
     problems: list[str] = []
     empty: list[str] = []
     open_solids: list[str] = []
-    invalid: list[str] = []
     made_solid: list[str] = []
     out: list[Body] = []
     for body in kept:
@@ -151,8 +148,6 @@ def integrate(
                 open_solids.append(body.path)
             elif not props.volume_mm3 > 1e-9:
                 empty.append(body.path)
-            if not check.valid:
-                invalid.append(body.path)
             if body.made_from_shell:
                 made_solid.append(body.path)
         lo, hi = _global_box(check, body)
@@ -168,4 +163,24 @@ def integrate(
             f"{' ...' if len(empty) > 10 else ''} (degenerate or inside-out solids); --exclude "
             "them or fix the model"
         )
-    return out, {"problems": problems, "invalid": invalid, "made_solid": made_solid}
+    return out, {"problems": problems, "made_solid": made_solid}
+
+
+def _valid(shape: TopoDS_Shape) -> bool:
+    return bool(BRepCheck_Analyzer(shape).IsValid())
+
+
+def invalid_solids(bodies: Sequence[Body], products: set[str] | None, workers: int) -> list[str]:
+    """Paths of the solids whose product OCCT's checker finds invalid, in file order.
+
+    Only the products in ``products`` are checked (None: every one): the check costs about as
+    much as the integration and changes no number, so it is kept for the solids that go
+    through a boolean (where invalid topology can make OCCT fail or mislead) and for
+    ``--strict``.
+    """
+    firsts: dict[str, TopoDS_Shape] = {}
+    for b in bodies:
+        if b.step.kind == "solid" and (products is None or b.step.product_key in products):
+            firsts.setdefault(b.step.product_key, b.step.local_shape)
+    valid = dict(zip(firsts, fork_map(_valid, list(firsts.values()), workers=workers), strict=True))
+    return [b.step.path for b in bodies if not valid.get(b.step.product_key, True)]

@@ -10,7 +10,7 @@ options mean:
 ``total_mass_kg``    scale every density to a weighing
 ``units``            the STEP file's true length unit, when its declaration is wrong
 ``exclude``          array of patterns of bodies or assemblies to leave out
-``overlaps``         ``"check"`` (default), ``"allow"`` or ``"resolve"``
+``overlaps``         ``"check"`` (default), ``"allow"``, ``"resolve"`` or ``"skip"``
 ===================  ==========================================================================
 
 Paths are relative to the file that names them.
@@ -82,8 +82,8 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
     exclude = t.strings("exclude") if t.has("exclude") else []
     overlaps: OverlapPolicy = "check"
     if t.has("overlaps"):
-        value = t.string("overlaps", choices=("check", "allow", "resolve"))
-        overlaps = "allow" if value == "allow" else "resolve" if value == "resolve" else "check"
+        value = t.string("overlaps", choices=("check", "allow", "resolve", "skip"))
+        overlaps = value if value in ("allow", "resolve", "skip") else "check"  # type: ignore[assignment]
     try:
         result = model_mass_properties(
             model,

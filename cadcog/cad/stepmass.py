@@ -33,7 +33,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from cadcog.cad.bodies import ProgressFactory, integrate, with_mass_factor
+from cadcog.cad.bodies import ProgressFactory, integrate, invalid_solids, with_mass_factor
 from cadcog.cad.massresults import (
     AllExcludedError,
     BodyResult,
@@ -146,9 +146,13 @@ def model_mass_properties(
         The file's true length unit (from :data:`UNIT_CHOICES`) when its declaration is wrong.
     exclude : sequence of str
         Glob patterns of bodies or assemblies to leave out, before any check.
-    overlaps : "check", "allow" or "resolve"
+    overlaps : "check", "allow", "resolve" or "skip"
+        Refuse overlaps above the threshold, count each solid as it is, cut each common volume
+        out of the less dense solid, or count each solid as it is without searching (no
+        summary; the fastest).
     strict : bool
-        Raise on any note.
+        Raise on any note; also checks every solid's topology (otherwise only the solids that
+        go through a boolean are checked).
     progress : ProgressFactory, optional
     workers : int
         Processes for the integrations and overlap booleans (results do not depend on it).
@@ -161,8 +165,10 @@ def model_mass_properties(
         ``strict``) any note.
     """
     src = model.source
-    if overlaps not in ("check", "allow", "resolve"):
-        raise CadcogError(f"overlaps: expected check, allow or resolve, got {quote(overlaps)}")
+    if overlaps not in ("check", "allow", "resolve", "skip"):
+        raise CadcogError(
+            f"overlaps: expected check, allow, resolve or skip, got {quote(overlaps)}"
+        )
     if units is not None and units not in LENGTH_UNIT_MM:
         raise CadcogError(f"--units: unknown unit {units!r}; expected {', '.join(UNIT_CHOICES)}")
     scale, notes, info = _unit_scale(model, units)
@@ -199,8 +205,11 @@ def model_mass_properties(
         )
 
     assign_densities(bodies, materials, total_mass_kg, notes, src)
-    summary, resolved_info = handle_overlaps(bodies, overlaps, scale, progress, src, workers)
+    summary, resolved_info, in_booleans = handle_overlaps(
+        bodies, overlaps, scale, progress, src, workers
+    )
     info.extend(resolved_info)
+    audit_bits["invalid"] = invalid_solids(bodies, None if strict else in_booleans, workers)
 
     raw = [with_mass_factor(b.props, b.density_kg_mm3) for b in bodies]
     counted = [(b, p) for b, p in zip(bodies, raw, strict=True) if p.mass_kg > 0]
