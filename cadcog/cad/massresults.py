@@ -8,6 +8,7 @@ mass-properties cache keeps (:mod:`cadcog.cad.cache`). Nothing here imports OCP.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -251,3 +252,84 @@ class ModelMassProperties(JsonResult):
             "notes": list(self.notes),
             "info": list(self.info),
         }
+
+
+# --- plain data, exactly ---------------------------------------------------------------------
+def _props_data(p: MassProperties) -> list[Any]:
+    return [p.mass_kg, p.cog_mm.tolist(), p.inertia_kg_mm2.tolist(), p.volume_mm3]
+
+
+def _props(d: list[Any]) -> MassProperties:
+    return MassProperties(d[0], np.array(d[1]), np.array(d[2]), d[3])
+
+
+def _tuple3(v: Any) -> Any:
+    return None if v is None else tuple(float(x) for x in v)
+
+
+def to_data(m: ModelMassProperties) -> dict[str, Any]:
+    """Every field of ``m`` as JSON-ready data (numbers as Python floats, tuples as lists):
+    :func:`from_data` gives back an equal result, to the last bit of every float."""
+
+    def fields(obj: Any) -> dict[str, Any]:
+        return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
+
+    bodies = []
+    for b in m.bodies:
+        d = fields(b)
+        d["nodes"] = list(b.nodes)
+        d["properties"] = _props_data(b.properties)
+        d["cog_sigma_mm"] = None if b.cog_sigma_mm is None else list(b.cog_sigma_mm)
+        bodies.append(d)
+    audit = fields(m.audit)
+    audit["left_out_surfaces"] = [list(x) for x in m.audit.left_out_surfaces]
+    audit["bbox_mm"] = [list(m.audit.bbox_mm[0]), list(m.audit.bbox_mm[1])]
+    for key in ("declared_units", "excluded", "closed_shells_made_solid", "invalid_topology"):
+        audit[key] = list(audit[key])
+    audit["curve_only_parts"] = list(m.audit.curve_only_parts)
+    overlaps = fields(m.overlaps)
+    overlaps["pairs"] = [fields(p) for p in m.overlaps.pairs]
+    overlaps["cog_shift_mm"] = list(m.overlaps.cog_shift_mm)
+    return {
+        "total": _props_data(m.total),
+        "bodies": bodies,
+        "audit": audit,
+        "overlaps": overlaps,
+        "notes": list(m.notes),
+        "info": list(m.info),
+    }
+
+
+def from_data(d: dict[str, Any]) -> ModelMassProperties:
+    """The :class:`ModelMassProperties` that :func:`to_data` gave ``d`` for.
+
+    Raises
+    ------
+    KeyError, TypeError, ValueError, IndexError
+        If ``d`` is not such data (a damaged cache entry: the caller computes afresh).
+    """
+    bodies = []
+    for b in d["bodies"]:
+        b = dict(b)
+        b["nodes"] = tuple(b["nodes"])
+        b["properties"] = _props(b["properties"])
+        b["cog_sigma_mm"] = _tuple3(b["cog_sigma_mm"])
+        bodies.append(BodyResult(**b))
+    a = dict(d["audit"])
+    a["left_out_surfaces"] = tuple((str(p), float(v)) for p, v in a["left_out_surfaces"])
+    a["bbox_mm"] = (_tuple3(a["bbox_mm"][0]), _tuple3(a["bbox_mm"][1]))
+    for key in ("declared_units", "excluded", "closed_shells_made_solid", "invalid_topology"):
+        a[key] = tuple(a[key])
+    a["curve_only_parts"] = tuple(a["curve_only_parts"])
+    a["density_sources"] = dict(a["density_sources"])
+    o = dict(d["overlaps"])
+    o["pairs"] = tuple(OverlapPair(**p) for p in o["pairs"])
+    o["cog_shift_mm"] = _tuple3(o["cog_shift_mm"])
+    return ModelMassProperties(
+        _props(d["total"]),
+        tuple(bodies),
+        ImportAudit(**a),
+        OverlapSummary(**o),
+        tuple(d["notes"]),
+        tuple(d["info"]),
+    )
