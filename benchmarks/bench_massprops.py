@@ -49,10 +49,12 @@ from tests.cad.stepfixtures import Assembly, Part, Place, kicad_like_board, writ
 MATERIALS = '[materials]\n"PCB*" = "FR-4"\n"COMPOUND*" = 3000.0\n"*" = "aluminium 6061-T6"\n'
 
 
-def satellite(n_solids: int) -> Assembly:
+def satellite(n_solids: int, instanced: bool = False) -> Assembly:
     """About ``n_solids`` solids: boards of 25 (a distinct PCB, 8 instances of one 3-solid
     component whose pins sink 0.4 mm into the PCB) in subsystems of 5 boards; below 25 solids,
-    one board with ``(n_solids - 1) // 3`` components."""
+    one board with ``(n_solids - 1) // 3`` components. ``instanced``: every board is an
+    instance of one board product (its booleans then shared), as identical boards or panels
+    exported with their assembly structure are."""
     comp = Part(
         "COMPOUND",
         [
@@ -64,13 +66,19 @@ def satellite(n_solids: int) -> Assembly:
     n_boards = max(1, n_solids // 25)
     per_board = 8 if n_solids >= 25 else max(1, (n_solids - 1) // 3)
     sat = Assembly(f"sat{n_solids}")
+    shared = None
     for s in range((n_boards + 4) // 5):
         subsystem = Assembly(f"subsystem_{s}")
         for b in range(min(5, n_boards - 5 * s)):
+            if shared is not None:
+                subsystem.add(shared, Place((0.0, 0.0, 12.0 * b), (0, 0, 1), 90.0 * (b % 2)))
+                continue
             board = Assembly(f"board_{s}_{b}")
             board.add(Part(f"PCB_{s}_{b}", [((90.0, 90.0, 1.6), (0.0, 0.0, 0.0))]))
             for k in range(per_board):
                 board.add(comp, Place((10.0 + 10 * k, 10.0 + 8 * (k % 3), 1.6), (0, 0, 1), 30 * k))
+            if instanced:
+                shared = board
             subsystem.add(board, Place((0.0, 0.0, 12.0 * b), (0, 0, 1), 90.0 * (b % 2)))
         sat.add(subsystem, Place((0.0, 0.0, 70.0 * s), (1, 0, 0), 0.0))
     return sat
@@ -199,10 +207,11 @@ def curve(args: argparse.Namespace, d: Path) -> None:
     models: list[tuple[str, Path, list[str]]] = []
     for n in args.curve:
         t = time.perf_counter()
-        step = write_step(satellite(n), d / f"sat{n}.step")
+        name = f"satellite({n}{', instanced' if args.instanced else ''})"
+        step = write_step(satellite(n, args.instanced), d / f"sat{n}.step")
         size = step.stat().st_size / 1e6
-        print(f"satellite({n}): written in {time.perf_counter() - t:.1f} s, {size:.1f} MB")
-        models.append((f"satellite({n})", step, ["--materials", str(mats)]))
+        print(f"{name}: written in {time.perf_counter() - t:.1f} s, {size:.1f} MB")
+        models.append((name, step, ["--materials", str(mats)]))
     for n in args.flat:
         t = time.perf_counter()
         step = write_step(flat(n), d / f"flat{n}.step")
@@ -227,6 +236,7 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--curve", type=int, nargs="*", default=[], metavar="N")
+    parser.add_argument("--instanced", action="store_true", help="--curve: boards instanced")
     parser.add_argument("--flat", type=int, nargs="*", default=[], metavar="N")
     parser.add_argument("--step", type=Path, nargs="*", default=[], metavar="FILE")
     parser.add_argument(

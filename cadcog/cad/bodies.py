@@ -94,10 +94,11 @@ def _check_product(body: StepBody) -> _ProductCheck:
     return _ProductCheck(props, closed, lo[0], hi[0])
 
 
-def _global_box(check: _ProductCheck, body: StepBody) -> tuple[np.ndarray, np.ndarray]:
+def _global_box(
+    check: _ProductCheck, body: StepBody, rigid: tuple[np.ndarray, np.ndarray] | None
+) -> tuple[np.ndarray, np.ndarray]:
     """The body's axis-aligned box: its product's box moved, exact for axis-aligned rotations
     (any multiple of 90°); other rotations are boxed afresh, since a moved box is looser."""
-    rigid = rigid_transform(body.placement)
     if rigid is not None:
         r, t = rigid
         if np.all(np.isclose(np.abs(r), np.round(np.abs(r)), atol=1e-12)):
@@ -150,7 +151,7 @@ def integrate(
                 empty.append(body.path)
             if body.made_from_shell:
                 made_solid.append(body.path)
-        lo, hi = _global_box(check, body)
+        lo, hi = _global_box(check, body, rigid)
         out.append(Body(body, props, box_lo=lo, box_hi=hi))
     if open_solids:
         problems.append(

@@ -35,7 +35,8 @@ def item_rules(
     """The body's mass uncertainty and growth allowance rules (item = deepest matched node)."""
     if materials is None:
         return None, None
-    return materials.uncertainty(item_candidates(body)), materials.growth(item_candidates(body))
+    candidates = item_candidates(body)
+    return materials.uncertainty(candidates), materials.growth(candidates)
 
 
 def item_candidates(body: StepBody) -> list[tuple[str, tuple[str, ...]]]:

@@ -185,10 +185,17 @@ class Placed:
     box_hi: FloatArray
 
 
-def relative_key(a: Placed, b: Placed) -> tuple[str, str, tuple[float, ...]] | None:
-    """Identifies the configuration of ``b`` seen from ``a``'s frame (None if not rigid)."""
+def relative_key(
+    a: Placed, b: Placed, a_rigid: bool | None = None
+) -> tuple[str, str, tuple[float, ...]] | None:
+    """Identifies the configuration of ``b`` seen from ``a``'s frame (None if not rigid);
+    ``a_rigid``: whether ``a``'s placement is rigid, when the caller knows."""
+    if a_rigid is None:
+        a_rigid = rigid_transform(a.placement) is not None
+    if not a_rigid:
+        return None
     rel = a.placement.Inverted().Multiplied(b.placement)
-    if rigid_transform(a.placement) is None or rigid_transform(rel) is None:
+    if rigid_transform(rel) is None:
         return None
     t = rel.Transformation()
     digits = tuple(round(t.Value(i, j), 9) for i in (1, 2, 3) for j in (1, 2, 3, 4))
@@ -238,9 +245,12 @@ def find_overlaps(
     jobs: list[tuple[TopoDS_Shape, TopoDS_Shape]] = []
     job_of: dict[object, int] = {}
     pair_job: list[tuple[int, bool]] = []  # (job index, computed in the first solid's frame)
+    rigid_of: dict[int, tuple[FloatArray, FloatArray] | None] = {}
+    for i in {i for i, _ in pairs}:
+        rigid_of[i] = rigid_transform(solids[i].placement)
     for i, j in pairs:
         a, b = solids[i], solids[j]
-        key = relative_key(a, b)
+        key = relative_key(a, b, rigid_of[i] is not None)
         if key is None:
             pair_job.append((len(jobs), False))
             jobs.append((a.shape, b.shape))
@@ -257,7 +267,7 @@ def find_overlaps(
     for (i, j), (k, local) in zip(pairs, pair_job, strict=True):
         common = commons[k]
         if common is not None and local:
-            rigid = rigid_transform(solids[i].placement)
+            rigid = rigid_of[i]
             common = None if rigid is None else placed(common, *rigid)
         if common is not None and is_overlap(
             common.volume_mm3 * scale**3, volumes_mm3[i], volumes_mm3[j]
