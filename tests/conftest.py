@@ -29,6 +29,14 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     )
 
 
+@pytest.fixture(autouse=True)
+def _own_cache_dir(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch):
+    """Each test's mass-properties cache (cadcog.cad.cache) is a fresh temporary folder: never
+    the user's ~/.cache, and no test sees another's entries."""
+    monkeypatch.setenv("CADCOG_CACHE_DIR", str(tmp_path_factory.mktemp("cadcog-cache")))
+    monkeypatch.delenv("CADCOG_NO_CACHE", raising=False)
+
+
 @pytest.fixture(scope="session")
 def paper_rig() -> Rig:
     return load_rig(default_rig_path())

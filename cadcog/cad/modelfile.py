@@ -10,7 +10,7 @@ options mean:
 ``total_mass_kg``    scale every density to a weighing
 ``units``            the STEP file's true length unit, when its declaration is wrong
 ``exclude``          array of patterns of bodies or assemblies to leave out
-``overlaps``         ``"check"`` (default), ``"allow"`` or ``"resolve"``
+``overlaps``         ``"check"`` (default), ``"allow"``, ``"resolve"`` or ``"skip"``
 ===================  ==========================================================================
 
 Paths are relative to the file that names them.
@@ -21,18 +21,19 @@ from __future__ import annotations
 import tempfile
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from cadcog.cad.stepmass import (
-    AllExcludedError,
-    ModelMassProperties,
-    OverlapPolicy,
-    model_mass_properties,
-)
-from cadcog.cad.stepread import read_step
+from cadcog.cad import cache
+from cadcog.cad.massresults import AllExcludedError, ModelMassProperties
 from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import note_input
 from cadcog.core.paramfile import TableReader
 from cadcog.core.units import UNIT_CHOICES
-from cadcog.mass.materials import MaterialMap, load_materials
+
+if TYPE_CHECKING:
+    from cadcog.cad.resolve import OverlapPolicy
+    from cadcog.cad.stepread import StepModel
+    from cadcog.mass.materials import MaterialMap
 
 #: Keys :func:`load_model` reads (a file's other tables are its own).
 MODEL_KEYS = ("model", "model_step", "materials", "total_mass_kg", "units", "exclude", "overlaps")
@@ -40,50 +41,47 @@ MODEL_KEYS = ("model", "model_step", "materials", "total_mass_kg", "units", "exc
 
 def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMassProperties:
     """The mass properties of the model a table names (see the module docstring); ``strict``
-    turns every note about the model into an error, as ``cadcog massprops --strict``."""
+    turns every note about the model into an error, as ``cadcog massprops --strict``.
+
+    The result is cached by the content of every input (:mod:`cadcog.cad.cache`): a second
+    run on unchanged files reads it back instead of building and integrating the model.
+    """
     total = t.number("total_mass_kg", positive=True) if t.has("total_mass_kg") else None
     if t.has("model"):
-        from cadcog.cad.assembly import write_assembly
-        from cadcog.cad.cubesat import build_cubesat, load_cubesat, material_map
-
-        spec_path = base / t.string("model")
-        spec = load_cubesat(spec_path)
-        asm, mats = build_cubesat(spec)
-        with tempfile.TemporaryDirectory() as tmp:
-            step = Path(tmp) / "model.step"
-            try:
-                write_assembly(asm, step)  # read back as any export is
-            except CadcogError as exc:  # name the user's spec, not the temporary file
-                why = str(exc).replace(str(step), "a temporary STEP file")
-                raise CadcogError(f"{spec_path}: cannot build its model: {why}") from None
-            except OSError as exc:
-                raise CadcogError(
-                    f"{spec_path}: cannot build its model in a temporary folder "
-                    f"({exc.strerror or exc})"
-                ) from None
-            model = read_step(step)
-        materials: MaterialMap | None = material_map(spec, mats)
-        if t.has("materials"):  # a materials file's rules come first, the spec's complete them
-            extra = load_materials(base / t.string("materials"))
-            assert materials is not None
-            materials = MaterialMap(
-                extra.rules + materials.rules,
-                extra.source,
-                extra.surface_rules,
-                extra.uncertainty_rules + materials.uncertainty_rules,
-                extra.growth_rules,
-            )
+        source = base / t.string("model")
     elif t.has("model_step"):
-        model = read_step(base / t.string("model_step"))
-        materials = load_materials(base / t.string("materials")) if t.has("materials") else None
+        source = base / t.string("model_step")
     else:
         raise t.error("model", "missing: give model (a cadcog CubeSat spec) or model_step")
+    materials_path = base / t.string("materials") if t.has("materials") else None
     units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
     exclude = t.strings("exclude") if t.has("exclude") else []
     overlaps: OverlapPolicy = "check"
     if t.has("overlaps"):
-        value = t.string("overlaps", choices=("check", "allow", "resolve"))
-        overlaps = "allow" if value == "allow" else "resolve" if value == "resolve" else "check"
+        value = t.string("overlaps", choices=("check", "allow", "resolve", "skip"))
+        overlaps = value if value in ("allow", "resolve", "skip") else "check"  # type: ignore[assignment]
+    files = [source] if materials_path is None else [source, materials_path]
+    settings = {
+        "kind": "model" if t.has("model") else "model_step",
+        "total_mass_kg": total,
+        "units": units,
+        "exclude": exclude,
+        "overlaps": overlaps,
+        "strict": strict,
+    }
+    try:
+        entry: str | None = cache.key(settings, files)
+    except OSError:  # a file that cannot be read: reading it below says why
+        entry = None
+    if entry is not None and (hit := cache.load(entry)) is not None:
+        what = "a parameter file it reads" if t.has("model") else "the STEP model it reads"
+        note_input(source, what)
+        if materials_path is not None:
+            note_input(materials_path, "a parameter file it reads")
+        return hit
+    model, materials = _read(t, source, materials_path)
+    from cadcog.cad.stepmass import model_mass_properties
+
     try:
         result = model_mass_properties(
             model,
@@ -97,6 +95,48 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
     except AllExcludedError:
         raise t.error("exclude", f"{exclude!r} excludes every body of the model") from None
     if t.has("model"):  # name the spec, not the temporary STEP it was read back from
-        source = f"{base / t.string('model')} (built)"
-        result = replace(result, audit=replace(result.audit, source=source))
+        result = replace(result, audit=replace(result.audit, source=f"{source} (built)"))
+    if entry is not None:
+        cache.store(entry, result)
     return result
+
+
+def _read(
+    t: TableReader, source: Path, materials_path: Path | None
+) -> tuple[StepModel, MaterialMap | None]:
+    """The model (a spec built and read back, or a STEP file) and its materials."""
+    from cadcog.cad.stepread import read_step
+    from cadcog.mass.materials import MaterialMap, load_materials
+
+    if not t.has("model"):
+        model = read_step(source)
+        return model, (load_materials(materials_path) if materials_path is not None else None)
+    from cadcog.cad.assembly import write_assembly
+    from cadcog.cad.cubesat import build_cubesat, load_cubesat, material_map
+
+    spec = load_cubesat(source)
+    asm, mats = build_cubesat(spec)
+    with tempfile.TemporaryDirectory() as tmp:
+        step = Path(tmp) / "model.step"
+        try:
+            write_assembly(asm, step)  # read back as any export is
+        except CadcogError as exc:  # name the user's spec, not the temporary file
+            why = str(exc).replace(str(step), "a temporary STEP file")
+            raise CadcogError(f"{source}: cannot build its model: {why}") from None
+        except OSError as exc:
+            raise CadcogError(
+                f"{source}: cannot build its model in a temporary folder ({exc.strerror or exc})"
+            ) from None
+        model = read_step(step)
+    materials: MaterialMap | None = material_map(spec, mats)
+    if materials_path is not None:  # a materials file's rules come first, the spec's complete them
+        extra = load_materials(materials_path)
+        assert materials is not None
+        materials = MaterialMap(
+            extra.rules + materials.rules,
+            extra.source,
+            extra.surface_rules,
+            extra.uncertainty_rules + materials.uncertainty_rules,
+            extra.growth_rules,
+        )
+    return model, materials

@@ -35,9 +35,10 @@ from cadcog.core.parallel import fork_map
 from cadcog.mass.properties import MassProperties
 
 FloatArray = npt.NDArray[np.float64]
+IntArray = npt.NDArray[np.intp]
 
-#: Rows of the pair matrix compared at once by :func:`candidate_pairs`.
-_BLOCK_ROWS = 512
+#: Box pairs compared at once by :func:`candidate_pairs` (about 100 bytes each).
+_BLOCK_PAIRS = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -80,6 +81,11 @@ def candidate_pairs(
 ) -> list[tuple[int, int]]:
     """Pairs ``(i, j)``, ``i < j``, whose boxes overlap by more than ``depth_mm`` on every axis.
 
+    A sort and sweep along the axis where boxes overlap least: only boxes whose intervals
+    overlap on that axis are compared on all three, with the same test as every pair would be
+    (``min(hi) - max(lo) > depth_mm``), so the pairs are the same; time and memory grow with
+    the boxes and the pairs found, not with their square.
+
     Examples
     --------
     >>> lo = np.array([[0, 0, 0], [1, 1, 1], [5, 0, 0.0]])
@@ -88,17 +94,36 @@ def candidate_pairs(
     [(0, 1)]
     """
     n = len(lo)
+    if n < 2:
+        return []
+    best: tuple[IntArray, IntArray] | None = None
+    for axis in range(3):
+        order: IntArray = np.argsort(lo[:, axis], kind="stable")
+        starts = lo[order, axis]
+        # Boxes after k in this order that start before k ends: hi - lo > depth ≥ 0 needs lo < hi.
+        ends = np.searchsorted(starts, hi[order, axis], side="left")
+        counts: IntArray = np.maximum(ends - np.arange(1, n + 1), 0)
+        if best is None or counts.sum() < best[1].sum():
+            best = (order, counts)
+    assert best is not None
+    order, counts = best
     pairs: list[tuple[int, int]] = []
-    for start in range(0, n, _BLOCK_ROWS):
-        rows = slice(start, min(start + _BLOCK_ROWS, n))
-        depth = np.minimum(hi[rows, None, :], hi[None, :, :]) - np.maximum(
-            lo[rows, None, :], lo[None, :, :]
-        )
-        hit = np.all(depth > depth_mm, axis=2)
-        i, j = np.nonzero(hit)
-        i = i + start
-        keep = j > i
-        pairs.extend(zip(i[keep].tolist(), j[keep].tolist(), strict=True))
+    first = 0
+    while first < n:  # blocks of about _BLOCK_PAIRS sweep pairs: bounded memory
+        total = np.cumsum(counts[first:])
+        last = first + max(1, int(np.searchsorted(total, _BLOCK_PAIRS, side="right")))
+        k = np.repeat(np.arange(first, last), counts[first:last])
+        if len(k):
+            offsets = np.arange(len(k)) - np.repeat(
+                np.cumsum(counts[first:last]) - counts[first:last], counts[first:last]
+            )
+            i = order[k]
+            j = order[k + 1 + offsets]
+            depth = np.minimum(hi[i], hi[j]) - np.maximum(lo[i], lo[j])
+            hit = np.all(depth > depth_mm, axis=1)
+            a, b = np.minimum(i[hit], j[hit]), np.maximum(i[hit], j[hit])
+            pairs.extend(zip(a.tolist(), b.tolist(), strict=True))
+        first = last
     return sorted(pairs)
 
 
@@ -160,10 +185,17 @@ class Placed:
     box_hi: FloatArray
 
 
-def _relative_key(a: Placed, b: Placed) -> tuple[str, str, tuple[float, ...]] | None:
-    """Identifies the configuration of ``b`` seen from ``a``'s frame (None if not rigid)."""
+def relative_key(
+    a: Placed, b: Placed, a_rigid: bool | None = None
+) -> tuple[str, str, tuple[float, ...]] | None:
+    """Identifies the configuration of ``b`` seen from ``a``'s frame (None if not rigid);
+    ``a_rigid``: whether ``a``'s placement is rigid, when the caller knows."""
+    if a_rigid is None:
+        a_rigid = rigid_transform(a.placement) is not None
+    if not a_rigid:
+        return None
     rel = a.placement.Inverted().Multiplied(b.placement)
-    if rigid_transform(a.placement) is None or rigid_transform(rel) is None:
+    if rigid_transform(rel) is None:
         return None
     t = rel.Transformation()
     digits = tuple(round(t.Value(i, j), 9) for i in (1, 2, 3) for j in (1, 2, 3, 4))
@@ -181,7 +213,7 @@ def find_overlaps(
     scale: float = 1.0,
     progress: Callable[[str, int], Callable[[int], None]] | None = None,
     workers: int = 1,
-) -> tuple[list[Overlap], int, int]:
+) -> tuple[list[Overlap], list[tuple[int, int]], int]:
     """Every overlapping pair of solids.
 
     Parameters
@@ -201,8 +233,8 @@ def find_overlaps(
     -------
     overlaps : list of Overlap
         Common volumes in the file's frame and unit (not scaled).
-    n_candidates : int
-        Pairs whose boxes overlapped.
+    candidates : list of (int, int)
+        Pairs whose boxes overlapped (each got a boolean, or shared one).
     n_contact : int
         Candidates whose common volume was contact, not overlap.
     """
@@ -213,9 +245,12 @@ def find_overlaps(
     jobs: list[tuple[TopoDS_Shape, TopoDS_Shape]] = []
     job_of: dict[object, int] = {}
     pair_job: list[tuple[int, bool]] = []  # (job index, computed in the first solid's frame)
+    rigid_of: dict[int, tuple[FloatArray, FloatArray] | None] = {}
+    for i in {i for i, _ in pairs}:
+        rigid_of[i] = rigid_transform(solids[i].placement)
     for i, j in pairs:
         a, b = solids[i], solids[j]
-        key = _relative_key(a, b)
+        key = relative_key(a, b, rigid_of[i] is not None)
         if key is None:
             pair_job.append((len(jobs), False))
             jobs.append((a.shape, b.shape))
@@ -232,7 +267,7 @@ def find_overlaps(
     for (i, j), (k, local) in zip(pairs, pair_job, strict=True):
         common = commons[k]
         if common is not None and local:
-            rigid = rigid_transform(solids[i].placement)
+            rigid = rigid_of[i]
             common = None if rigid is None else placed(common, *rigid)
         if common is not None and is_overlap(
             common.volume_mm3 * scale**3, volumes_mm3[i], volumes_mm3[j]
@@ -240,7 +275,7 @@ def find_overlaps(
             overlaps.append(Overlap(i, j, common))
         else:
             contact += 1
-    return overlaps, len(pairs), contact
+    return overlaps, pairs, contact
 
 
 def cut_by(shape: TopoDS_Shape, tools: Sequence[TopoDS_Shape]) -> TopoDS_Shape | None:

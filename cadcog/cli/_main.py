@@ -8,6 +8,7 @@ arguments and ``run(args)`` does the work by calling the library; no maths happe
 from __future__ import annotations
 
 import argparse
+import importlib
 import signal
 import sys
 from collections.abc import Iterator, Sequence
@@ -16,21 +17,6 @@ from pathlib import Path
 from types import FrameType
 from typing import NoReturn
 
-from cadcog.cli import (
-    acquire,
-    budget,
-    campaign,
-    check,
-    estimate,
-    inertia,
-    massprops,
-    parts,
-    plan,
-    report,
-    simulate,
-    update,
-    validate,
-)
 from cadcog.core import bounds
 from cadcog.core.errors import CadcogError, capped
 from cadcog.core.fileio import (
@@ -71,7 +57,31 @@ class OneLineParser(argparse.ArgumentParser):
         raise UsageError(f"{message} (see `{self.prog} --help`)")
 
 
-def build_parser() -> OneLineParser:
+#: Every subcommand, in the order ``cadcog --help`` lists them: its name and the module that
+#: declares it (``add_parser(subparsers)``) and runs it. A run imports only its command's module
+#: (numpy, scipy or OCP come with it, not with the others); ``--help`` and usage errors without a
+#: known command import them all, to list them.
+COMMANDS: dict[str, str] = {
+    "parts": "cadcog.cli.parts",
+    "estimate": "cadcog.cli.estimate",
+    "budget": "cadcog.cli.budget",
+    "simulate": "cadcog.cli.simulate",
+    "campaign": "cadcog.cli.campaign",
+    "validate": "cadcog.cli.validate",
+    "report": "cadcog.cli.report",
+    "massprops": "cadcog.cli.massprops",
+    "plan": "cadcog.cli.plan",
+    "check": "cadcog.cli.check",
+    "acquire": "cadcog.cli.acquire",
+    "update": "cadcog.cli.update",
+    "inertia": "cadcog.cli.inertia",
+}
+
+
+def build_parser(command: str | None = None) -> OneLineParser:
+    """The ``cadcog`` parser: with ``command`` (a name of :data:`COMMANDS`), only that command's
+    module is imported and the others are bare names; with ``command=""``, none is (enough for
+    ``--version``); with None, every one (``--help``)."""
     parser = OneLineParser(
         prog="cadcog",
         description="Centre of gravity of small spacecraft from CAD and from a double-suspension "
@@ -79,20 +89,22 @@ def build_parser() -> OneLineParser:
     )
     parser.add_argument("--version", action="version", version=f"cadcog {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    parts.add_parser(sub)
-    estimate.add_parser(sub)
-    budget.add_parser(sub)
-    simulate.add_parser(sub)
-    campaign.add_parser(sub)
-    validate.add_parser(sub)
-    report.add_parser(sub)
-    massprops.add_parser(sub)
-    plan.add_parser(sub)
-    check.add_parser(sub)
-    acquire.add_parser(sub)
-    update.add_parser(sub)
-    inertia.add_parser(sub)
+    for name, module in COMMANDS.items():
+        if command is None or name == command:
+            importlib.import_module(module).add_parser(sub)
+        else:
+            sub.add_parser(name)  # a name for argparse's list of choices, never run
     return parser
+
+
+def _command_of(words: Sequence[str]) -> str | None:
+    """The command to load for ``words``: its name, "" for ``--version`` alone (nothing to
+    load), None when every command is needed (``--help``, no command, an unknown one)."""
+    if words and words[0] in COMMANDS:
+        return words[0]
+    if words and words[0] == "--version":
+        return ""
+    return None
 
 
 class Terminated(BaseException):
@@ -262,9 +274,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     reset_written()
     try:
         with _sigterm_raises():
-            parser = build_parser()  # imports every command's module: a signal may come here
-            if words and words[0] in _subparsers(parser):
-                parser.command = words[0]
+            command = _command_of(words)
+            parser = build_parser(command)  # imports the command's module: a signal may come
+            if command:
+                parser.command = command
             refuse_empty_values(words)
             args = parser.parse_args(attach_dash_values(parser, words))
             check_option_values(parser, args)

@@ -85,6 +85,12 @@ def add_parser(sub: Any) -> None:
         help="cut each common volume out of the less dense solid of its pair (the denser keeps "
         "it; on equal densities the one earlier in the file)",
     )
+    o.add_argument(
+        "--skip-overlaps",
+        action="store_true",
+        help="do not look for overlaps at all (fastest, for models known to be clean): every "
+        "solid counted as it is, no overlap summary",
+    )
     p.add_argument("--strict", action="store_true", help="turn every note into an error (for CI)")
     p.add_argument(
         "--about",
@@ -185,6 +191,8 @@ def run(args: argparse.Namespace) -> int:
     policy: OverlapPolicy = (
         "allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check"
     )
+    if args.skip_overlaps:
+        policy = "skip"
     result = model_mass_properties(
         model,
         materials,

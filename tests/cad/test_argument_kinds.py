@@ -21,7 +21,7 @@ def test_an_unknown_overlap_policy_is_a_user_error(tmp_path):
     top.add(Part("box", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))]))
     model = read_step(write_step(top, tmp_path / "m.step"))
     with pytest.raises(
-        CadcogError, match=r"overlaps: expected check, allow or resolve, got 'maybe'"
+        CadcogError, match=r"overlaps: expected check, allow, resolve or skip, got 'maybe'"
     ):
         model_mass_properties(model, MaterialMap.uniform(2700.0), overlaps="maybe")  # type: ignore[arg-type]
 

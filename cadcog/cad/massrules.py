@@ -1,0 +1,147 @@
+"""Which rules of a materials file a STEP body falls under: the names a rule may match, the
+density each body gets and where it came from, its mass-uncertainty and growth items, and the
+rules that match nothing (see :func:`cadcog.cad.stepmass.model_mass_properties`)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from cadcog.cad.bodies import Body
+from cadcog.cad.stepread import StepBody
+from cadcog.core.errors import CadcogError
+from cadcog.mass.materials import DENSITY_RANGE_KG_M3, ItemRule, MaterialMap, glob_match
+
+
+def _rule_names(body: StepBody) -> tuple[str, ...]:
+    """Names a materials rule may match: the body's own, then its assemblies' (deepest first),
+    as full paths and as paths below the common top assembly."""
+    root = f"{body.root}/" if body.root else ""
+    above = tuple(reversed(body.assembly_paths))
+    below = tuple(a[len(root) :] for a in above if root and a.startswith(root))
+    return (*body.match_names(), *above, *below)
+
+
+def matches_any(patterns: Sequence[str], body: StepBody) -> bool:
+    root = f"{body.root}/" if body.root else ""
+    below = tuple(a[len(root) :] for a in body.assembly_paths if root and a.startswith(root))
+    names = (*body.match_names(), *body.assembly_paths, *below)
+    return any(glob_match(n, pat) for pat in patterns for n in names)
+
+
+def item_rules(
+    body: StepBody, materials: MaterialMap | None
+) -> tuple[ItemRule | None, ItemRule | None]:
+    """The body's mass uncertainty and growth allowance rules (item = deepest matched node)."""
+    if materials is None:
+        return None, None
+    candidates = item_candidates(body)
+    return materials.uncertainty(candidates), materials.growth(candidates)
+
+
+def item_candidates(body: StepBody) -> list[tuple[str, tuple[str, ...]]]:
+    """(node path, names a rule may match), the body first, then its assemblies deepest first;
+    paths both full and below the common top assembly."""
+    root = f"{body.root}/" if body.root else ""
+
+    def below(path: str) -> str:
+        return path[len(root) :] if root and path.startswith(root) else ""
+
+    own = body.nodes[-1]
+    own_names = (body.path, below(body.path), own.name, own.instance, own.product)
+    candidates = [(body.path, tuple(dict.fromkeys(v for v in own_names if v)))]
+    for k in range(len(body.nodes) - 1, 0, -1):
+        node = body.nodes[k - 1]
+        prefix = "/".join(n.name for n in body.nodes[:k])
+        names = (prefix, below(prefix), node.name, node.instance, node.product)
+        candidates.append((prefix, tuple(dict.fromkeys(v for v in names if v))))
+    return candidates
+
+
+def unmatched_rules(materials: MaterialMap, bodies: Sequence[StepBody]) -> list[str]:
+    """``"[table] pattern"`` of every rule that matches no name of any body or assembly: most
+    often a typo, whose bodies then fall to a later rule (a default) without a word."""
+    names: set[str] = set()
+    for b in bodies:
+        names.update(_rule_names(b))
+        for _, n in item_candidates(b):
+            names.update(n)
+    tables = {
+        "materials": [p for p, _ in materials.rules],
+        "surfaces": [p for p, _, _ in materials.surface_rules],
+        "mass_uncertainty": [p for p, _, _ in materials.uncertainty_rules],
+        "growth_allowance": [p for p, _, _ in materials.growth_rules],
+        "cog_uncertainty": [p for p, _ in materials.cog_rules],
+    }
+    return [
+        f"[{table}] {pattern!r}"
+        for table, patterns in tables.items()
+        for pattern in dict.fromkeys(patterns)
+        if not any(glob_match(n, pattern) for n in names)
+    ]
+
+
+def assign_densities(
+    bodies: list[Body],
+    materials: MaterialMap | None,
+    total_mass_kg: float | None,
+    notes: list[str],
+    src: Any,
+) -> None:
+    """Fill each body's material, density and its source; raise for solids without one."""
+    solids = [b for b in bodies if b.step.kind == "solid"]
+    xcaf_usable = [b for b in solids if b.step.material and b.step.material.density_kg_m3]
+    uniform = materials is None and total_mass_kg is not None and not xcaf_usable
+    origin = (materials.source if materials is not None else "") or "materials"
+    bad_xcaf: set[str] = set()
+    missing: list[str] = []
+    lo_d, hi_d = DENSITY_RANGE_KG_M3
+    for b in bodies:
+        names = _rule_names(b.step)
+        if b.step.kind == "surface":
+            found_s = materials.assign_surface(names) if materials is not None else None
+            if found_s is None:
+                b.material, b.source = "none", "left out (no areal density)"
+                b.areal_density_kg_m2 = 0.0
+            else:
+                b.material = found_s.material
+                b.source = f"materials rule {found_s.rule!r} ({origin})"
+                b.areal_density_kg_m2 = found_s.areal_density_kg_m2
+            continue
+        found = materials.assign(names) if materials is not None else None
+        xm = b.step.material
+        if found is not None:
+            b.material, b.density_kg_m3 = found.material, found.density_kg_m3
+            b.source = f"materials rule {found.rule!r} ({origin})"
+        elif uniform:
+            b.material, b.density_kg_m3 = "uniform", 1000.0
+            b.source = "uniform (scaled to --total-mass-kg)"
+        elif xm is not None and xm.density_kg_m3 and lo_d <= xm.density_kg_m3 <= hi_d:
+            b.material, b.density_kg_m3 = xm.name, xm.density_kg_m3
+            b.source = f"STEP material {xm.name!r} ({xm.raw})"
+        else:
+            if xm is not None:
+                bad_xcaf.add(f"{xm.name} ({xm.raw or 'no density'})")
+            missing.append(b.step.path)
+    from_file = [b for b in solids if b.source.startswith("STEP material")]
+    if len(from_file) >= 2 and len({(b.material, b.density_kg_m3) for b in from_file}) == 1:
+        b0 = from_file[0]
+        notes.append(
+            f"all {len(from_file)} solids without a materials rule carry the same STEP material "
+            f"{b0.material!r} ({b0.density_kg_m3:g} kg/m³): exporters stamp a default material "
+            "on every body (Fusion 360 writes 'Steel' on boards and plastics alike); check it, "
+            "or give a materials file"
+        )
+    if bad_xcaf:
+        notes.append(
+            "STEP materials without a usable density (kg/m³ between "
+            f"{lo_d:g} and {hi_d:g}): {', '.join(sorted(bad_xcaf))}"
+        )
+    if missing:
+        shown = ", ".join(missing[:10]) + (
+            f" and {len(missing) - 10} more" if len(missing) > 10 else ""
+        )
+        raise CadcogError(
+            f"{src}: no density for {len(missing)} solid(s): {shown}; give a materials file "
+            '(--materials; a catch-all "*" rule gives a default) or --density-kg-m3'
+        )

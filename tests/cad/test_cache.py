@@ -1,0 +1,110 @@
+"""The mass-properties cache: a hit is the computed result to the last bit, any change of an
+input is a miss, a damaged entry is recomputed, and the cache can be moved or turned off."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from cadcog.cad import cache, modelfile
+from cadcog.cad.massresults import from_data, to_data
+from cadcog.cad.modelfile import load_model
+from cadcog.cad.stepmass import model_mass_properties
+from cadcog.cad.stepread import read_step
+from cadcog.core.paramfile import TableReader, read_toml
+from tests.cad.stepfixtures import kicad_like_board, write_step
+
+MATERIALS = '[materials]\n"PCB*" = 1850.0\n"*" = 3000.0\n'
+
+
+@pytest.fixture
+def setup_file(tmp_path):
+    write_step(kicad_like_board(4), tmp_path / "board.step")
+    (tmp_path / "materials.toml").write_text(MATERIALS, encoding="utf-8")
+    path = tmp_path / "setup.toml"
+    path.write_text(
+        'model_step = "board.step"\nmaterials = "materials.toml"\noverlaps = "resolve"\n',
+        encoding="utf-8",
+    )
+    return path
+
+
+def _load(path):
+    return load_model(TableReader(read_toml(path), path), path.parent)
+
+
+def _bits(result) -> str:
+    """Every float of the result, exactly (``repr`` round-trips a double)."""
+    return json.dumps(to_data(result), default=lambda v: v.tolist())
+
+
+def test_the_data_form_gives_back_the_result_to_the_last_bit(setup_file):
+    model = read_step(setup_file.parent / "board.step")
+    r = model_mass_properties(model, None, overlaps="resolve")
+    assert r.overlaps.pairs and any(b.removed_mm3 for b in r.bodies)  # every part filled
+    back = from_data(json.loads(_bits(r)))
+    assert back.to_json() == r.to_json()
+    assert _bits(back) == _bits(r)
+    assert back.total.inertia_kg_mm2.tobytes() == r.total.inertia_kg_mm2.tobytes()
+    assert back.audit == r.audit and back.overlaps == r.overlaps
+
+
+def test_a_second_load_is_read_from_the_cache_and_equal(setup_file, monkeypatch):
+    first = _load(setup_file)
+    folder = cache.cache_dir()
+    assert folder is not None and len(list(folder.glob("*.json"))) == 1
+    monkeypatch.setattr(modelfile, "_read", lambda *a: pytest.fail("read again"))
+    second = _load(setup_file)
+    assert _bits(second) == _bits(first)
+
+
+@pytest.mark.parametrize("change", ["materials", "step", "setup"])
+def test_any_change_of_an_input_is_computed_afresh(setup_file, change):
+    first = _load(setup_file)
+    d = setup_file.parent
+    if change == "materials":
+        (d / "materials.toml").write_text(MATERIALS.replace("3000.0", "3100.0"), encoding="utf-8")
+    elif change == "step":
+        write_step(kicad_like_board(5), d / "board.step")
+    else:
+        setup_file.write_text(setup_file.read_text().replace("resolve", "allow"), "utf-8")
+    again = _load(setup_file)
+    assert again.total.mass_kg != first.total.mass_kg
+    fresh = _load(setup_file)  # and that new result is the one kept
+    assert _bits(fresh) == _bits(again)
+
+
+def test_a_damaged_entry_is_recomputed(setup_file):
+    first = _load(setup_file)
+    folder = cache.cache_dir()
+    assert folder is not None
+    (entry,) = folder.glob("*.json")
+    entry.write_text('{"format": 1, "result": {"total": [1.0]}}', encoding="utf-8")
+    assert _bits(_load(setup_file)) == _bits(first)
+
+
+def test_the_cache_follows_the_environment(setup_file, monkeypatch, tmp_path):
+    monkeypatch.setenv("CADCOG_CACHE_DIR", str(tmp_path / "elsewhere"))
+    _load(setup_file)
+    assert len(list((tmp_path / "elsewhere").glob("*.json"))) == 1
+    monkeypatch.setenv("CADCOG_NO_CACHE", "1")
+    monkeypatch.setenv("CADCOG_CACHE_DIR", str(tmp_path / "off"))
+    assert cache.cache_dir() is None
+    _load(setup_file)
+    assert not (tmp_path / "off").exists()
+    monkeypatch.delenv("CADCOG_NO_CACHE")
+    monkeypatch.delenv("CADCOG_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert cache.cache_dir() == tmp_path / "xdg" / "cadcog"
+    monkeypatch.setenv("XDG_CACHE_HOME", "relative/ignored")  # the spec: absolute paths only
+    assert cache.cache_dir() == cache.Path.home() / ".cache" / "cadcog"
+
+
+def test_an_unwritable_cache_changes_nothing(setup_file, monkeypatch, tmp_path):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("not a folder", encoding="utf-8")
+    monkeypatch.setenv("CADCOG_CACHE_DIR", str(blocker / "cache"))
+    r = _load(setup_file)
+    assert np.isfinite(r.total.mass_kg) and blocker.read_text(encoding="utf-8") == "not a folder"
