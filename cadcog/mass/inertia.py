@@ -59,6 +59,28 @@ class PrincipalAxes:
     axes: FloatArray
     degenerate: bool
 
+    @property
+    def n_equal(self) -> int:
+        """How many moments are equal (to :data:`DEGENERATE_RELATIVE`): 0, 2 or 3.
+
+        Examples
+        --------
+        >>> principal_axes(np.eye(3)).n_equal, principal_axes(np.diag([1.0, 1, 2])).n_equal
+        (3, 2)
+        """
+        d = np.diff(self.moments_kg_mm2)
+        scale = max(float(np.max(np.abs(self.moments_kg_mm2))), np.finfo(float).tiny)
+        equal = int(np.count_nonzero(d <= DEGENERATE_RELATIVE * scale))
+        return 0 if equal == 0 else equal + 1
+
+    def degeneracy_note(self) -> str:
+        """What equal moments mean for the axes, or "" when all three differ."""
+        if self.n_equal == 3:
+            return "all three moments are equal: every axis through the CoG is principal"
+        if self.n_equal == 2:
+            return "two moments are equal: their axes are not unique (any pair in their plane)"
+        return ""
+
     def angles_from_frame_deg(self) -> FloatArray:
         """Angle of each principal axis from the frame axis nearest to it (degrees).
 
