@@ -30,7 +30,7 @@ from typing import Any
 
 from cadcog.core import bounds
 from cadcog.core.errors import ReadingsError, quote
-from cadcog.core.fileio import note_input
+from cadcog.core.fileio import not_a_regular_file, note_input
 from cadcog.rig.inclinometer import InclinometerConfig, Verticals, verticals_from_readings
 
 BASE_COLUMNS = ("point_id", "x_mm", "y_mm", "z_mm", "top_face_up")
@@ -188,6 +188,8 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
     p = Path(path)
     if p.is_dir():
         raise ReadingsError(f"{p}: is a directory, expected a readings CSV file")
+    if p.exists() and not p.is_file():  # a device or a FIFO may never end: refuse it unread
+        raise ReadingsError(f"{p}: {not_a_regular_file(p)} (a readings CSV file)")
     try:
         f = p.open("rb")
     except FileNotFoundError:
