@@ -7,6 +7,7 @@ import json
 import sys
 from dataclasses import replace
 from pathlib import Path
+from collections.abc import Callable
 from typing import Any
 
 from cadcog.core.errors import CadcogError
@@ -139,6 +140,7 @@ def run(args: argparse.Namespace) -> int:
             model,
             workers=args.workers,
             progress=bar.update if bar is not None else None,
+            total=_set_total(bar) if bar is not None else None,
         )
     except ValueError as exc:
         raise CadcogError(str(exc)) from None
@@ -160,6 +162,16 @@ def run(args: argparse.Namespace) -> int:
     else:
         print_report(report)
     return 0
+
+
+def _set_total(bar: Any) -> Callable[[int], None]:
+    """Give a tqdm bar its total once the simulation knows it (groups × trials)."""
+
+    def set_total(n: int) -> None:
+        bar.total = n
+        bar.refresh()
+
+    return set_total
 
 
 def print_report(report: SimulationReport) -> None:
