@@ -17,7 +17,6 @@ if TYPE_CHECKING:
     from cadcog.spacecraft.update import UpdateResult
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG as DEFAULT_MASS_SIGMA_KG
 
-
 #: Exit status when the gap between test and CAD is larger than the CAD's uncertainties allow
 #: (every output is written; a CI job fails on it, as on a failed requirement in ``check``).
 EXIT_GAP = 1
