@@ -101,7 +101,9 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--axes",
         default="+x,+y,+z",
-        help="axes of that frame as signed model axes, e.g. +y,-x,+z (default +x,+y,+z)",
+        help="axes of that frame: signed model axes, e.g. +y,-x,+z (default +x,+y,+z), or the "
+        "frame's x and y (and z) as model vectors, e.g. '1,1,0;-1,1,0' (a rotation's rows; "
+        "right-handed, normalised)",
     )
     p.add_argument(
         "--products",

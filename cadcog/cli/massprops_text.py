@@ -14,7 +14,7 @@ import numpy as np
 
 from cadcog.cli._table import text_table
 from cadcog.core import numformat as nf
-from cadcog.mass.inertia import TENSOR_CONVENTION, products_of_inertia
+from cadcog.mass.inertia import products_of_inertia
 from cadcog.spacecraft.mass_budget import budget_rows
 from cadcog.spacecraft.mass_summary import MassReport
 
@@ -172,9 +172,7 @@ def print_inertia(report: MassReport, products: str) -> None:
             "coordinates):"
         )
         print(f"  CoG {nf.vector(f.point_to_frame(t.cog_mm))} mm")
-        print(
-            f"  inertia tensor about the origin, frame axes ({fu[0]}; tensor: {TENSOR_CONVENTION}):"
-        )
+        print(f"  inertia tensor about the origin, frame axes ({fu[0]}; off-diagonal −∫x·y dm):")
         cells = [[nf.in_unit(v, fu) for v in row] for row in jf]
         print(text_table(["", "", ""], cells, "rrr", 2).split("\n", 1)[1])
 
