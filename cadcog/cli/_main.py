@@ -26,6 +26,7 @@ from cadcog.cli import (
     parts,
     plan,
     report,
+    setup,
     simulate,
     update,
     validate,
@@ -90,6 +91,7 @@ def build_parser() -> OneLineParser:
     check.add_parser(sub)
     acquire.add_parser(sub)
     update.add_parser(sub)
+    setup.add_parser(sub)
     return parser
 
 
