@@ -80,19 +80,19 @@ def budget_table(
             else ""
         )
         sigma = "" if r.mass_sigma_kg is None else nf.in_unit(r.mass_sigma_kg, unit, 2)
-        body.append(
-            [
-                name,
-                each,
-                nf.in_unit(r.mass_kg, unit),
-                nf.share(r.share),
-                sigma,
-                nf.vector(r.cog_mm, 2),
-            ]
-        )
+        row = [name, each, nf.in_unit(r.mass_kg, unit), nf.share(r.share), sigma]
+        if b.growth_kg:
+            row.append(nf.in_unit(r.predicted_mass_kg, unit))
+        body.append([*row, nf.vector(r.cog_mm, 2)])
     u = unit[0]
-    headers = ["mass budget", f"n × each ({u})", f"mass ({u})", "share", f"± 1σ ({u})", "CoG (mm)"]
-    return text_table(headers, body, "lrrrrr", indent)
+    headers = ["mass budget", f"n × each ({u})", f"mass ({u})", "share", f"± 1σ ({u})"]
+    if b.growth_kg:
+        headers.append(f"with MGA ({u})")
+    headers.append("CoG (mm)")
+    if not any(row[1] for row in body):  # no copies grouped: no "n × each" column
+        headers.pop(1)
+        body = [[row[0], *row[2:]] for row in body]
+    return text_table(headers, body, "l" + "r" * (len(headers) - 1), indent)
 
 
 def print_report(
@@ -116,11 +116,11 @@ def print_report(
     if collapse_below > 0:
         print(f"(siblings each under {nf.share(collapse_below)} of the mass summed as 'N others')")
     t = r.total
+    unit = nf.mass_unit([t.mass_kg])
     line = f"\ntotal {nf.mass(t.mass_kg)}"
     if b.mass_sigma_kg is not None:
-        line += (
-            f" ± {nf.mass(b.mass_sigma_kg, 2)} (1 σ, {b.sigma_coverage:.0%} of the mass has one)"
-        )
+        sigma = f"{nf.in_unit(b.mass_sigma_kg, unit, 2)} {unit[0]}"
+        line += f" ± {sigma} (1 σ, {b.sigma_coverage:.0%} of the mass has one)"
     print(line + f", volume {nf.sig(t.volume_mm3, 5)} mm³")
     cog = f"CoG {nf.vector(t.cog_mm)} mm"
     if b.cog_cov_mm2 is not None:
@@ -129,7 +129,8 @@ def print_report(
     if b.growth_kg:
         print(
             f"with growth allowances: {nf.mass(b.predicted.mass_kg)} "
-            f"(+{nf.mass(b.growth_kg)}), CoG {nf.vector(b.predicted.cog_mm)} mm"
+            f"(+{nf.in_unit(b.growth_kg, unit)} {unit[0]}, {nf.share(b.growth_kg / t.mass_kg)}), "
+            f"CoG {nf.vector(b.predicted.cog_mm)} mm"
         )
     print_inertia(report, products)
     print_rest(report)

@@ -131,6 +131,7 @@ def _budget_table(report: MassReport) -> str:
                 nf.in_unit(r.mass_kg, unit),
                 nf.share(r.share),
                 "" if r.mass_sigma_kg is None else nf.in_unit(r.mass_sigma_kg, unit, 2),
+                nf.in_unit(r.predicted_mass_kg, unit),
                 vec(r.cog_mm, 2),
                 ", ".join(nf.sig(v, 3) for v in k),
                 str(r.n_bodies),
@@ -143,6 +144,7 @@ def _budget_table(report: MassReport) -> str:
         f"mass ({u})",
         "share",
         f"± 1σ ({u})",
+        f"with MGA ({u})",
         "CoG (mm)",
         "kx, ky, kz (mm)",
         "bodies",
@@ -161,7 +163,9 @@ def render_html(report: MassReport, views: Path, refusal: str | None = None) -> 
     name = Path(r.audit.source).name
     sigma_txt = ""
     if b.mass_sigma_kg is not None:
-        sigma_txt = f" ± {nf.mass(b.mass_sigma_kg, 2)} (1 σ, {b.sigma_coverage:.0%} of the mass)"
+        u = nf.mass_unit([t.mass_kg])
+        sigma = f"{nf.in_unit(b.mass_sigma_kg, u, 2)} {u[0]}"
+        sigma_txt = f" ± {sigma} (1 σ, {b.sigma_coverage:.0%} of the mass)"
     cog_sigma = ""
     if b.cog_cov_mm2 is not None:
         cog_sigma = f" ± {vec(np.sqrt(np.diag(b.cog_cov_mm2)))} mm (1 σ)"
@@ -285,8 +289,8 @@ def render_html(report: MassReport, views: Path, refusal: str | None = None) -> 
 <p>By assembly node, heaviest first; identical copies of a part are one row (<i>name ×n</i>,
 with the mass of each). Current best estimate; ± is 1 σ from the materials file's mass
 uncertainties, whose items vary independently; k is the radius of gyration about the node's
-own CoG (model axes). The predicted mass with growth allowances is in massprops.json
-(<code>predicted_mass_kg</code>).</p>
+own CoG (model axes). "With MGA" is the predicted mass with the materials file's mass growth
+allowances (AIAA S-120A's current best estimate plus growth).</p>
 {table_budget}
 
 <h2 id="inertia">Inertia</h2>

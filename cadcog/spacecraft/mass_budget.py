@@ -339,6 +339,8 @@ class BudgetRow:
     n_bodies : int
     collapsed : bool
         The row stands for siblings each below the collapse share.
+    predicted_mass_kg : float
+        With growth allowances.
     """
 
     level: int
@@ -353,6 +355,7 @@ class BudgetRow:
     path: str
     n_bodies: int
     collapsed: bool = False
+    predicted_mass_kg: float = 0.0
 
     @property
     def label(self) -> str:
@@ -384,6 +387,7 @@ def _merged(nodes: Sequence[BudgetNode], level: int, name: str, collapsed: bool)
         "" if collapsed else first.path,
         sum(n.n_bodies for n in nodes),
         collapsed,
+        sum(n.predicted_mass_kg for n in nodes),
     )
 
 
