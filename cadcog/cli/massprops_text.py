@@ -7,16 +7,13 @@ first, small siblings collapsed). Products of inertia are labelled with their co
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import Any
-
 import numpy as np
 
 from cadcog.cli._table import text_table
 from cadcog.core import numformat as nf
 from cadcog.mass.inertia import products_of_inertia
 from cadcog.spacecraft.mass_budget import budget_rows
-from cadcog.spacecraft.mass_summary import MassReport
+from cadcog.spacecraft.mass_summary import MassReport, density_sources
 
 #: The products' convention as one short label beside them.
 PRODUCT_LABELS = {
@@ -30,36 +27,6 @@ NAME_MAX_CHARS = 60
 
 def _count(n: int, one: str, many: str = "") -> str:
     return f"{n} {one if n == 1 else many or one + 's'}"
-
-
-def density_sources(bodies: Sequence[Any]) -> str:
-    """Where the densities came from, as the user gave them: ``--density-kg-m3 2700 ×12``...
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace as B
-    >>> bodies = [B(density_source="materials rule '*' (uniform density)", density_kg_m3=2700.0)]
-    >>> density_sources(bodies * 3)
-    '--density-kg-m3 2700 ×3'
-    >>> density_sources([B(density_source="materials rule 'rail*' (m.toml)", density_kg_m3=1.0),
-    ...                  B(density_source="STEP material 'Al' (AL6061)", density_kg_m3=1.0)])
-    'materials file m.toml ×1, STEP materials ×1'
-    """
-    counts: dict[str, int] = {}
-    for b in bodies:
-        src = b.density_source
-        if src.endswith("(uniform density)"):
-            key = f"--density-kg-m3 {b.density_kg_m3:g}"
-        elif src.startswith("materials rule") and src.endswith(")") and "(" in src:
-            key = f"materials file {src[src.rindex('(') + 1 : -1]}"
-        elif src.startswith("STEP material"):
-            key = "STEP materials"
-        elif src.startswith("uniform"):
-            key = "one density scaled to --total-mass-kg"
-        else:
-            key = src.split(" (", 1)[0]
-        counts[key] = counts.get(key, 0) + 1
-    return ", ".join(f"{k} ×{n}" for k, n in counts.items())
 
 
 def budget_table(

@@ -22,7 +22,7 @@ from cadcog.core.version import __version__
 from cadcog.mass.inertia import PRODUCT_CONVENTIONS, TENSOR_CONVENTION, products_of_inertia
 from cadcog.reports.html import CSS, img_tag, table, vec
 from cadcog.spacecraft.mass_budget import budget_rows
-from cadcog.spacecraft.mass_summary import MassReport
+from cadcog.spacecraft.mass_summary import MassReport, density_sources
 
 if TYPE_CHECKING:
     from cadcog.cad.stepread import StepModel
@@ -31,6 +31,10 @@ REPORT_FILE = "index.html"
 
 #: Budget tree levels shown on the page (the JSON beside it has every level).
 PAGE_TREE_DEPTH = 4
+
+#: On the page, siblings each under this share of the mass are summed into one row (the JSON
+#: and ``--csv`` have every body).
+PAGE_COLLAPSE_BELOW = 0.001
 
 
 def envelope_corners(report: MassReport) -> np.ndarray | None:
@@ -93,7 +97,7 @@ def _audit_rows(report: MassReport) -> list[list[str]]:
     if a.left_out_surfaces:
         area = sum(x for _, x in a.left_out_surfaces)
         surfaces += f" ({len(a.left_out_surfaces)} left out: {area:.4g} mm², no areal density)"
-    sources = ", ".join(f"{esc(k)} ×{n}" for k, n in a.density_sources.items())
+    sources = esc(density_sources(r.bodies))
     rows = [
         ["declared length unit", esc(units)],
         ["products / instances", f"{a.n_products} / {a.n_instances}"],
@@ -122,18 +126,18 @@ def _budget_table(report: MassReport) -> str:
     b = report.budget
     unit = nf.mass_unit([b.root.mass_kg])
     rows = []
-    for r in budget_rows(b.root, PAGE_TREE_DEPTH):
+    for r in budget_rows(b.root, PAGE_TREE_DEPTH, collapse_below=PAGE_COLLAPSE_BELOW):
         k = r.radii_of_gyration_mm
         rows.append(
             [
                 "&nbsp;" * 4 * r.level + esc(r.label),
                 nf.in_unit(r.unit_mass_kg, unit) if r.count > 1 and r.unit_mass_kg else "",
                 nf.in_unit(r.mass_kg, unit),
-                nf.share(r.share),
+                f'<span class="v">{nf.share(r.share)}</span>',
                 "" if r.mass_sigma_kg is None else nf.in_unit(r.mass_sigma_kg, unit, 2),
                 nf.in_unit(r.predicted_mass_kg, unit),
-                vec(r.cog_mm, 2),
-                ", ".join(nf.sig(v, 3) for v in k),
+                f'<span class="v">{vec(r.cog_mm, 2)}</span>',
+                f'<span class="v">{", ".join(nf.sig(v, 3) for v in k)}</span>',
                 str(r.n_bodies),
             ]
         )
@@ -290,7 +294,8 @@ def render_html(report: MassReport, views: Path, refusal: str | None = None) -> 
 with the mass of each). Current best estimate; ± is 1 σ from the materials file's mass
 uncertainties, whose items vary independently; k is the radius of gyration about the node's
 own CoG (model axes). "With MGA" is the predicted mass with the materials file's mass growth
-allowances (AIAA S-120A's current best estimate plus growth).</p>
+allowances (AIAA S-120A's current best estimate plus growth). Siblings each under 0.1 % of the
+mass are summed as "N others" (every body is in massprops.json and in <code>--csv</code>).</p>
 {table_budget}
 
 <h2 id="inertia">Inertia</h2>

@@ -301,11 +301,11 @@ def mass_budget(lines: Sequence[BudgetLine], name: str = "total") -> MassBudget:
 
 
 # --- the budget as people read it: identical parts grouped, sorted, small ones collapsed -------
-#: Two sibling nodes are copies of one part when their base names (without ``[n]``), body
-#: counts and masses agree to this relative difference.
+#: Two sibling nodes are copies of one part when their base names (without an instance suffix
+#: ``[n]`` or a body suffix ``#n``), body counts and masses agree to this relative difference.
 IDENTICAL_MASS_RELATIVE = 1e-9
 
-_INSTANCE_SUFFIX = re.compile(r"\[\d+\]$")
+_INSTANCE_SUFFIX = re.compile(r"(\[\d+\]|#\d+)+$")
 
 
 @dataclass(frozen=True)
