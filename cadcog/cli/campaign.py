@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import is_stream, refuse_overwriting_inputs
+from cadcog.core.fileio import dumps_json, is_stream, refuse_overwriting_inputs
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.uncertainty.montecarlo import Scenario
@@ -42,6 +42,7 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("--points", help="with --setup: comma-separated candidate ids to hang from")
     p.add_argument("--out", type=Path, required=True, help="CSV file to write")
+    p.add_argument("--json", action="store_true", help="print what was written as one JSON object")
     p.set_defaults(func=run)
 
 
@@ -74,11 +75,7 @@ def run(args: argparse.Namespace) -> int:
         f"{model.samples} samples per hang; {model.summary()}"
     )
     write_campaign(args.out, rows, comment)
-    print(
-        f"wrote {len(rows)} samples of {len(rig.suspension_points)} hangs to {args.out}",
-        file=sys.stderr if is_stream(args.out) else sys.stdout,
-    )
-    return 0
+    return _written(args, len(rows), len(rig.suspension_points))
 
 
 def run_setup(args: argparse.Namespace) -> int:
@@ -103,8 +100,18 @@ def run_setup(args: argparse.Namespace) -> int:
         rows,
         f"cadcog virtual campaign: setup {setup.name}, seed {args.seed}; {model.summary()}",
     )
-    print(
-        f"wrote {len(rows)} samples of {len(ids)} hangs to {args.out}",
-        file=sys.stderr if is_stream(args.out) else sys.stdout,
-    )
+    return _written(args, len(rows), len(ids))
+
+
+def _written(args: argparse.Namespace, n_samples: int, n_hangs: int) -> int:
+    """Say what was written: ``report: PATH`` on stderr, then a line or JSON on stdout (both on
+    stderr when the CSV itself went to stdout)."""
+    out = sys.stderr if is_stream(args.out) else sys.stdout
+    if not is_stream(args.out):
+        print(f"report: {args.out}", file=sys.stderr)
+    if args.json:
+        data = {"out": str(args.out), "n_samples": n_samples, "n_hangs": n_hangs, "seed": args.seed}
+        print(dumps_json(data), end="", file=out)
+    else:
+        print(f"wrote {n_samples} samples of {n_hangs} hangs to {args.out}", file=out)
     return 0

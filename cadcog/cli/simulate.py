@@ -157,6 +157,7 @@ def run(args: argparse.Namespace) -> int:
                 tmp,
                 f"{rig.name}: {report.fits.n} trials, {len(report.groups)} groups",
             )
+        print(f"report: {args.plot}", file=sys.stderr)
     if args.json:
         print(json.dumps(round_floats(report.to_dict()), indent=2, ensure_ascii=False))
     else:
