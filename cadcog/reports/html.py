@@ -25,7 +25,7 @@ img { max-width: 100%; border: 1px solid #eee; margin: 0.5em 0; }
 .note { background: #f7f7fb; border-left: 4px solid #99a; padding: 0.5em 1em; font-size: 0.9em; }
 .big { font-size: 1.25em; }
 nav a { margin-right: 1em; }
-.wide { overflow-x: auto; } td.l { overflow-wrap: anywhere; }
+.wide { overflow-x: auto; } td.l { overflow-wrap: break-word; }  /* ids break only if too long */
 td { font-variant-numeric: tabular-nums; } .v { white-space: nowrap; }
 """
 

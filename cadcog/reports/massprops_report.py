@@ -46,6 +46,24 @@ def envelope_corners(report: MassReport) -> np.ndarray | None:
     return np.asarray(env.geometric_center_mm + (signs * env.limits_mm) @ report.frame.axes)
 
 
+#: Parts named on the views: the heaviest few.
+VIEW_LABELS = 6
+
+
+def view_labels(report: MassReport) -> list[tuple[str, np.ndarray]]:
+    """(name, CoG) of the parts to name on the views, heaviest first: the budget's rows two
+    levels down that show no children (copies grouped); names cut to 24 characters. Each view
+    names the first :data:`VIEW_LABELS` of them that do not crowd one another."""
+    rows = budget_rows(report.budget.root, 2)
+    leaves = [
+        r
+        for k, r in enumerate(rows)
+        if r.level > 0 and not r.collapsed and (k + 1 == len(rows) or rows[k + 1].level <= r.level)
+    ]
+    leaves.sort(key=lambda r: -r.mass_kg)
+    return [(r.label[:24], r.cog_mm) for r in leaves]
+
+
 def write_mass_report(
     report: MassReport, model: StepModel, out_dir: str | Path, *, refusal: str | None = None
 ) -> Path:
@@ -70,6 +88,7 @@ def write_mass_report(
             report.principal.axes,
             views,
             envelope_corners_mm=envelope_corners(report),
+            labels=view_labels(report),
             title=f"{Path(report.result.audit.source).name}: CoG (+), principal axes",
         )
         data = report.to_dict()

@@ -227,6 +227,13 @@ def cog_ellipses(
     plt.close(fig)
 
 
+#: Longest side over shortest side of a model view drawn to scale; flatter views are stretched.
+VIEW_MAX_ASPECT = 4.0
+
+#: Most parts named in one view.
+VIEW_LABELS = 6
+
+
 def model_views(
     meshes: Sequence[tuple[np.ndarray, np.ndarray, str]],
     cog_mm: np.ndarray,
@@ -235,8 +242,12 @@ def model_views(
     *,
     envelope_corners_mm: np.ndarray | None = None,
     title: str = "",
+    labels: Sequence[tuple[str, np.ndarray]] = (),
 ) -> None:
     """Three orthographic views of a model with its CoG, principal axes and CoG envelope.
+
+    A view whose sides differ by more than :data:`VIEW_MAX_ASPECT` (a flat board seen edge-on)
+    is stretched across to that ratio, and its title says by how much: a board is not a line.
 
     Parameters
     ----------
@@ -247,6 +258,9 @@ def model_views(
         Rows: unit principal axes (drawn from the CoG, ascending moment: C0, C1, C2).
     envelope_corners_mm : ndarray, shape (8, 3), optional
         Corners of the CoG envelope box, drawn as its projected outline.
+    labels : sequence of (name, point (3,) mm)
+        Parts to name at their CoG, heaviest first: each view names up to :data:`VIEW_LABELS`
+        of them, skipping one that would crowd a label already placed.
     """
     from matplotlib.collections import PolyCollection
 
@@ -282,8 +296,24 @@ def model_views(
         pad = 0.05 * extent
         ax.set_xlim(lo[i] - pad, hi[i] + pad)
         ax.set_ylim(lo[j] - pad, hi[j] + pad)
-        ax.set_aspect("equal", adjustable="box")
-        ax.set_title(f"{names[i]}-{names[j]} view", fontsize=9)
+        placed: list[tuple[float, float]] = []
+        for text, point in labels:  # heaviest first; skip one that would crowd a placed one
+            x, y = float(point[i]), float(point[j])
+            if len(placed) >= VIEW_LABELS or any(
+                abs(x - px) < 0.5 * extent and abs(y - py) < 0.06 * extent for px, py in placed
+            ):
+                continue
+            placed.append((x, y))
+            ax.annotate(text, (x, y), fontsize=6, color="#333", ha="center", va="bottom")
+        wide, tall = (hi[i] - lo[i]) + 2 * pad, (hi[j] - lo[j]) + 2 * pad
+        stretch = max(wide, tall) / max(min(wide, tall), 1e-9) / VIEW_MAX_ASPECT
+        if stretch > 1.0:
+            ax.set_aspect(1.0 / stretch if wide < tall else stretch, adjustable="box")
+            across = names[i] if wide < tall else names[j]
+            ax.set_title(f"{names[i]}-{names[j]} view ({across} ×{stretch:.2g})", fontsize=9)
+        else:
+            ax.set_aspect("equal", adjustable="box")
+            ax.set_title(f"{names[i]}-{names[j]} view", fontsize=9)
     handles = [
         plt.Line2D([], [], color="r", marker="+", ls="", ms=10, label="CoG"),
         *[plt.Line2D([], [], color=f"C{k}", label=f"principal axis {k + 1}") for k in range(3)],

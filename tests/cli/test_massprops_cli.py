@@ -186,3 +186,19 @@ def test_text_groups_copies_names_the_convention_and_fits_small_masses(model, ca
     assert "Pxy = +∫xy dm" in out and "densities from --density-kg-m3 1000 ×5" in out
     assert main(["massprops", str(step), "--density-kg-m3", "1000", "--products", "negative"]) == 0
     assert "Ixy = −∫xy dm" in capsys.readouterr().out
+
+
+def test_the_views_name_the_heaviest_parts_two_levels_down(model):
+    from cadcog.cad.stepmass import model_mass_properties
+    from cadcog.cad.stepread import read_step
+    from cadcog.mass.materials import MaterialMap
+    from cadcog.reports.massprops_report import view_labels
+    from cadcog.spacecraft.mass_summary import build_mass_report
+
+    step, _ = model
+    result = model_mass_properties(read_step(step), MaterialMap.uniform(1000.0))
+    labels = view_labels(build_mass_report(result))
+    names = [name for name, _ in labels]
+    assert names[0] == "base" and "bracket ×2" in names  # base 7.2 g; the brackets grouped
+    masses = {r.path.rsplit("/", 1)[-1]: r.properties.mass_kg for r in result.bodies}
+    assert masses["base"] == max(masses.values())
