@@ -193,6 +193,10 @@ def ellipse_plot(
     plt.close(fig)
 
 
+#: (marker, size) of each estimate on :func:`cog_ellipses`, in order.
+ESTIMATE_MARKERS = (("+", 11), ("o", 9), ("s", 13), ("D", 7))
+
+
 def cog_ellipses(
     estimates: Sequence[tuple[str, np.ndarray, np.ndarray]], path: Path, title: str = ""
 ) -> None:
@@ -212,7 +216,10 @@ def cog_ellipses(
             pts = vecs @ (np.sqrt(np.maximum(vals, 0))[:, None] * circle) * k95
             colour = f"C{n}"
             ax.plot(cog[i] + pts[0], cog[j] + pts[1], color=colour, lw=1.2)
-            ax.plot(cog[i], cog[j], "+", color=colour, ms=10, label=label)
+            # a shape of its own each, hollow: coincident points (a simulated truth that is
+            # the CAD) stay visible one over the other
+            marker, size = ESTIMATE_MARKERS[n % len(ESTIMATE_MARKERS)]
+            ax.plot(cog[i], cog[j], marker, color=colour, mfc="none", ms=size, mew=1.5, label=label)
         ax.set_xlabel(f"{'xyz'[i]} (mm)")
         ax.set_ylabel(f"{'xyz'[j]} (mm)")
         ax.margins(0.12)  # each panel scaled to its ellipses: none squashed to a line
