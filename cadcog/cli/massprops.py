@@ -113,7 +113,10 @@ def add_parser(sub: Any) -> None:
         "Pxy = +∫xy dm (default), negative Ixy = −∫xy dm",
     )
     p.add_argument(
-        "--form-factor", choices=tuple(CDS_COG_LIMITS_MM), help="check the CubeSat CoG envelope"
+        "--form-factor",
+        choices=tuple(CDS_COG_LIMITS_MM),
+        help="check the CoG envelope of a CubeSat (1U...12U) or a PocketQube (1p, 2p, 3p: "
+        "provisional limits, ±10 mm)",
     )
     p.add_argument(
         "--cog-limits-mm", type=_limits, help="custom CoG envelope half-widths X,Y,Z (mm)"

@@ -31,10 +31,10 @@ from cadcog.mass.inertia import (
 )
 from cadcog.spacecraft.envelope import (
     CDS_COG_LIMITS_MM,
-    CDS_SOURCE,
     EnvelopeCheck,
     check_envelope,
     limits_for,
+    source_for,
 )
 from cadcog.spacecraft.mass_budget import MassBudget, mass_budget
 
@@ -247,7 +247,7 @@ def build_mass_report(
         if form_factor not in CDS_COG_LIMITS_MM:
             known = ", ".join(CDS_COG_LIMITS_MM)
             raise ValueError(f"unknown form factor {form_factor!r}; known: {known}")
-        limits, source = limits_for(form_factor), CDS_SOURCE
+        limits, source = limits_for(form_factor), source_for(form_factor)
     if cog_limits_mm is not None or form_factor is not None:
         envelope = check_envelope(
             total.cog_mm,
