@@ -30,13 +30,19 @@ import numpy as np
 from cadcog.bench.recorder import DeviceUnits, HangData
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import staged_file
-from cadcog.method.readings import Suspension
+from cadcog.method.readings import (
+    FACE_COLUMN,
+    POSITION_COLUMNS,
+    Suspension,
+    format_face,
+    header_columns,
+)
 
 _BEGIN = re.compile(r"^# hang (\S+) begin(.*)$")
 _END = re.compile(r"^# hang (\S+) end samples=(\d+)\s*$")
 
-BASE_COLUMNS = ("point_id", "x_mm", "y_mm", "z_mm")
-TAIL_COLUMNS = ("top_face_up", "t_s")
+BASE_COLUMNS = POSITION_COLUMNS  # the format's columns: cadcog.method.readings
+TAIL_COLUMNS = (FACE_COLUMN, "t_s")  # t_s: the sample's time, which readers ignore
 
 #: The largest readings file resumed (it is read whole): an hour at 100 samples/s is about
 #: 20 MB, so this is ten hours of recording, and the memory it takes stays well under 1 GB.
@@ -45,7 +51,7 @@ MAX_RESUME_BYTES = 200_000_000
 
 def columns(value_columns: tuple[str, str]) -> tuple[str, ...]:
     """The CSV header for a device's value columns."""
-    return (*BASE_COLUMNS, *value_columns, *TAIL_COLUMNS)
+    return header_columns(value_columns, ("t_s",))
 
 
 @dataclass(frozen=True)
@@ -87,7 +93,7 @@ def block_text(
 ) -> str:
     """The text of one hang block (begin marker, one row per averaged sample, end marker)."""
     x, y, z = (f"{float(c):.3f}" for c in position_mm)
-    face = "true" if top_face_up else "false"
+    face = format_face(top_face_up)
     lines = [f"# hang {point_id} begin {info}"]
     for t, (vx, vy) in zip(data.t_s, data.values, strict=True):
         lines.append(

@@ -75,6 +75,7 @@ COMMANDS: dict[str, str] = {
     "acquire": "cadcog.cli.acquire",
     "update": "cadcog.cli.update",
     "inertia": "cadcog.cli.inertia",
+    "setup": "cadcog.cli.setup",
 }
 
 

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import is_stream, refuse_overwriting_inputs
+from cadcog.core.fileio import dumps_json, is_stream, refuse_overwriting_inputs
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.uncertainty.montecarlo import Scenario
@@ -50,6 +50,7 @@ def add_parser(sub: Any) -> None:
         help="also write each hang's swing from release (a swing CSV for cadcog inertia), "
         "from the linear model with the CAD's inertia",
     )
+    p.add_argument("--json", action="store_true", help="print what was written as one JSON object")
     p.set_defaults(func=run)
 
 
@@ -63,10 +64,7 @@ def _write_swings(args: argparse.Namespace, context: Any, rows: list[Any], confi
 
     hangs = campaign_suspensions(rows, config)
     write_swings(args.swings, virtual_swings(context, hangs, seed=args.seed))
-    print(
-        f"wrote the swings of {len(hangs)} hangs to {args.swings}",
-        file=sys.stderr if is_stream(args.out) else sys.stdout,
-    )
+    print(f"report: {args.swings}", file=sys.stderr)
 
 
 def _model(args: argparse.Namespace, model: ErrorModel) -> ErrorModel:
@@ -102,15 +100,11 @@ def run(args: argparse.Namespace) -> int:
         f"{model.samples} samples per hang; {model.summary()}"
     )
     write_campaign(args.out, rows, comment)
-    print(
-        f"wrote {len(rows)} samples of {len(rig.suspension_points)} hangs to {args.out}",
-        file=sys.stderr if is_stream(args.out) else sys.stdout,
-    )
     if args.swings is not None:
         from cadcog.dynamics.measure import context_for_rig
 
         _write_swings(args, context_for_rig(rig), rows, rig.inclinometer)
-    return 0
+    return _written(args, len(rows), len(rig.suspension_points))
 
 
 def run_setup(args: argparse.Namespace) -> int:
@@ -135,14 +129,28 @@ def run_setup(args: argparse.Namespace) -> int:
         rows,
         f"cadcog virtual campaign: setup {setup.name}, seed {args.seed}; {model.summary()}",
     )
-    print(
-        f"wrote {len(rows)} samples of {len(ids)} hangs to {args.out}",
-        file=sys.stderr if is_stream(args.out) else sys.stdout,
-    )
     if args.swings is not None:
         from cadcog.dynamics.measure import context_for_setup
 
         _write_swings(
             args, context_for_setup(setup, np.zeros((6, 6))), rows, setup.rig.inclinometer
         )
+    return _written(args, len(rows), len(ids))
+
+
+def _written(args: argparse.Namespace, n_samples: int, n_hangs: int) -> int:
+    """Say what was written: ``report: PATH`` on stderr, then a line or JSON on stdout (both on
+    stderr when the CSV itself went to stdout)."""
+    out = sys.stderr if is_stream(args.out) else sys.stdout
+    if not is_stream(args.out):
+        print(f"report: {args.out}", file=sys.stderr)
+    if args.json:
+        data = {"out": str(args.out), "n_samples": n_samples, "n_hangs": n_hangs, "seed": args.seed}
+        if args.swings is not None:
+            data["swings"] = str(args.swings)
+        print(dumps_json(data), end="", file=out)
+    else:
+        print(f"wrote {n_samples} samples of {n_hangs} hangs to {args.out}", file=out)
+        if args.swings is not None:
+            print(f"wrote the swings of {n_hangs} hangs to {args.swings}", file=out)
     return 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -63,6 +64,9 @@ def run(args: argparse.Namespace) -> int:
             tmp.write_text(
                 junit_xml(check.name, results, time.perf_counter() - started), encoding="utf-8"
             )
+        print(f"report: {args.junit}", file=sys.stderr)
+    if written is not None:
+        print(f"report: {written}", file=sys.stderr)
     if args.json:
         print(check.to_json())
     else:

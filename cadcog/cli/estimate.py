@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.cli._table import text_table
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 from cadcog.method.errormodel import ErrorModel
@@ -213,18 +214,30 @@ def _fmt(values: Any, width: int = 9, digits: int = 3) -> str:
 
 def print_estimate(result: CogEstimate) -> None:
     """Readable report of an estimate."""
-    print(f"{'point':<8}{'n':>4}{'inc_x_deg':>11}{'inc_y_deg':>11}  top_up  residual_mm  sigma")
     residuals = {r.id: r for r in result.joint.residuals}
+    rows = []
     for s in result.suspensions:
         r = residuals[s.id]
-        mark = "  <- inconsistent" if r.inconsistent else ""
-        print(
-            f"{s.id:<8}{s.n_samples:>4}{s.inc_x_deg:>11.3f}{s.inc_y_deg:>11.3f}  "
-            f"{s.top_face_up!s:<7}{r.distance_mm:>12.3f}{r.normalized:>7.2f}{mark}"
+        rows.append(
+            [
+                s.id,
+                str(s.n_samples),
+                f"{s.inc_x_deg:.3f}",
+                f"{s.inc_y_deg:.3f}",
+                "yes" if s.top_face_up else "no",
+                f"{r.distance_mm:.3f}",
+                f"{r.normalized:.2f}",
+                "<- inconsistent" if r.inconsistent else "",
+            ]
         )
-    print(f"\n{'pair':<12}{'midpoint_mm':<35}{'gap_mm':>8}{'angle_deg':>11}")
-    for p in result.joint.pairs:
-        print(f"{p.a + '-' + p.b:<12}{_fmt(p.midpoint_mm):<35}{p.gap_mm:>8.3f}{p.angle_deg:>11.2f}")
+    headers = ["point", "n", "inc_x_deg", "inc_y_deg", "top_up", "residual_mm", "sigma", ""]
+    print(text_table(headers, rows, "lrrrlrrl"))
+    print()
+    pair_rows = [
+        [f"{p.a} & {p.b}", _fmt(p.midpoint_mm), f"{p.gap_mm:.3f}", f"{p.angle_deg:.2f}"]
+        for p in result.joint.pairs
+    ]
+    print(text_table(["pair", "midpoint_mm", "gap_mm", "angle_deg"], pair_rows, "llrr"))
     print()
     sigma = np.sqrt(np.diag(result.joint.cov_mm2))
     j = result.joint

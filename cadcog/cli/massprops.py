@@ -7,17 +7,22 @@ import json
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from cadcog.cli.massprops_text import print_report
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import round_floats
 from cadcog.core.units import UNIT_CHOICES
-from cadcog.mass.inertia import PRODUCT_CONVENTIONS, products_of_inertia
+from cadcog.mass.inertia import PRODUCT_CONVENTIONS
 from cadcog.mass.materials import LIBRARY, MaterialMap, load_materials
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
 from cadcog.spacecraft.mass_summary import MassReport, build_mass_report, parse_point
+
+if TYPE_CHECKING:
+    from cadcog.cad.stepmass import ModelMassProperties
+    from cadcog.cad.stepread import StepModel
 
 
 def _point(text: str) -> str | tuple[float, float, float]:
@@ -102,7 +107,9 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--axes",
         default="+x,+y,+z",
-        help="axes of that frame as signed model axes, e.g. +y,-x,+z (default +x,+y,+z)",
+        help="axes of that frame: signed model axes, e.g. +y,-x,+z (default +x,+y,+z), or the "
+        "frame's x and y (and z) as model vectors, e.g. '1,1,0;-1,1,0' (a rotation's rows; "
+        "right-handed, normalised)",
     )
     p.add_argument(
         "--products",
@@ -112,13 +119,31 @@ def add_parser(sub: Any) -> None:
         "Pxy = +∫xy dm (default), negative Ixy = −∫xy dm",
     )
     p.add_argument(
-        "--form-factor", choices=tuple(CDS_COG_LIMITS_MM), help="check the CubeSat CoG envelope"
+        "--form-factor",
+        choices=tuple(CDS_COG_LIMITS_MM),
+        help="check the CoG envelope of a CubeSat (1U...12U) or a PocketQube (1p, 2p, 3p: "
+        "provisional limits, ±10 mm)",
     )
     p.add_argument(
         "--cog-limits-mm", type=_limits, help="custom CoG envelope half-widths X,Y,Z (mm)"
     )
     p.add_argument("--depth", type=int, default=2, help="budget tree levels shown (default 2)")
+    p.add_argument(
+        "--collapse-below-percent",
+        type=float,
+        default=0.0,
+        metavar="PCT",
+        help="in the text budget, sum the siblings each under PCT %% of the total mass into one "
+        "'N others' row (default 0: every node)",
+    )
     p.add_argument("--report", type=Path, metavar="DIR", help="write an HTML report to DIR")
+    p.add_argument(
+        "--csv",
+        type=Path,
+        metavar="PATH",
+        help="write the budget (every level, copies grouped) and every body as CSV: mass, CoG, "
+        "inertia (Pxy = +∫xy dm), radii of gyration, density source per row",
+    )
     p.add_argument(
         "--workers", type=int, help="processes for integration and overlap checks (default: CPUs)"
     )
@@ -180,6 +205,11 @@ def _materials(args: argparse.Namespace) -> MaterialMap | None:
 def run(args: argparse.Namespace) -> int:
     if args.depth < 0:
         raise CadcogError("--depth must be 0 or more")
+    if not (np.isfinite(args.collapse_below_percent) and 0 <= args.collapse_below_percent < 100):
+        raise CadcogError(
+            f"--collapse-below-percent: expected a number from 0 to under 100, got "
+            f"{args.collapse_below_percent:g}"
+        )
     if args.workers is not None and args.workers < 1:
         raise CadcogError("--workers must be at least 1")
     materials = _materials(args)
@@ -193,19 +223,41 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.skip_overlaps:
         policy = "skip"
-    result = model_mass_properties(
-        model,
-        materials,
-        total_mass_kg=args.total_mass_kg,
-        units=args.units,
-        exclude=args.exclude,
-        overlaps=policy,
-        strict=args.strict,
-        progress=_progress(),
-        workers=args.workers or available_workers(),
-    )
+
+    def compute(overlaps: OverlapPolicy, strict: bool) -> ModelMassProperties:
+        return model_mass_properties(
+            model,
+            materials,
+            total_mass_kg=args.total_mass_kg,
+            units=args.units,
+            exclude=args.exclude,
+            overlaps=overlaps,
+            strict=strict,
+            progress=_progress(),
+            workers=args.workers or available_workers(),
+        )
+
     try:
-        report = build_mass_report(
+        result = compute(policy, args.strict)
+    except CadcogError as exc:
+        if not (args.json or args.report or args.csv):
+            raise
+        refusal = str(exc)
+        try:  # what the refusal is about, counted as it is: for CI to parse
+            as_is: ModelMassProperties | None = compute(
+                "allow" if policy == "check" else policy, False
+            )
+        except CadcogError:
+            as_is = None
+        emit_refusal(args, refusal, as_is, model, policy)
+        raise
+    emit(args, result, model)
+    return 0
+
+
+def _build_report(args: argparse.Namespace, result: ModelMassProperties) -> MassReport:
+    try:
+        return build_mass_report(
             result,
             about=args.about,
             axes=args.axes,
@@ -214,116 +266,61 @@ def run(args: argparse.Namespace) -> int:
         )
     except ValueError as exc:
         raise CadcogError(f"--about/--axes: {exc}") from None
+
+
+def emit(args: argparse.Namespace, result: ModelMassProperties, model: StepModel) -> None:
+    """Every output the command line asks for: report, CSV, then JSON or text on stdout."""
+    report = _build_report(args, result)
     if args.report is not None:
         from cadcog.reports.massprops_report import write_mass_report
 
         page = write_mass_report(report, model, args.report)
         print(f"report: {page}", file=sys.stderr)
+    if args.csv is not None:
+        from cadcog.reports.budget_csv import write_budget_csv
+
+        print(f"report: {write_budget_csv(report, args.csv)}", file=sys.stderr)
     if args.json:
         print(json.dumps(round_floats(report.to_dict()), indent=2, ensure_ascii=False))
     else:
-        print_report(report, args.depth, args.products)
-    return 0
+        print_report(report, args.depth, args.products, args.collapse_below_percent / 100.0)
 
 
-def _v(values: Any, digits: int = 3) -> str:
-    # round first, then add 0.0: round-off must not print as "-0.000"
-    return "[" + ", ".join(f"{round(float(v), digits) + 0.0:.{digits}f}" for v in values) + "]"
+def emit_refusal(
+    args: argparse.Namespace,
+    refusal: str,
+    as_is: ModelMassProperties | None,
+    model: StepModel,
+    policy: str,
+) -> None:
+    """On a refusal, still write what ``--json``/``--report``/``--csv`` asked for.
 
-
-def _count(n: int, one: str, many: str = "") -> str:
-    return f"{n} {one if n == 1 else many or one + 's'}"
-
-
-def _n(value: float, digits: int = 4) -> str:
-    return f"{round(float(value), digits) + 0.0:.{digits}f}"
-
-
-def print_report(report: MassReport, depth: int, products: str) -> None:
-    """Readable report: audit, budget tree, totals, inertia, overlaps, envelope, notes."""
-    r, a, b = report.result, report.result.audit, report.budget
-    units = ", ".join(a.declared_units) or "none"
-    if a.units_override:
-        units += f" (overridden: {a.units_override}, lengths × {a.scale_to_mm:g})"
-    print(f"{a.source}: declared unit {units}")
-    print(
-        f"{_count(a.n_products, 'product')}, {_count(a.n_instances, 'instance')}: "
-        f"{_count(a.n_solids, 'solid')}, {_count(a.n_surfaces, 'surface body', 'surface bodies')}"
-        "; densities from " + ", ".join(f"{k} ×{n}" for k, n in a.density_sources.items())
-    )
-    if a.excluded:
-        print(f"excluded: {len(a.excluded)} bodies")
-    nodes = list(b.root.walk(depth))
-    width = min(max([len("mass budget")] + [2 * lv + len(n.name) for lv, n in nodes]) + 2, 64)
-    print(f"\n{'mass budget':<{width}}{'mass_kg':>11}{'share':>8}{'±_kg':>10}  cog_mm")
-    for level, node in nodes:
-        sigma = "" if node.mass_sigma_kg is None else f"{node.mass_sigma_kg:.6f}"
-        name = "  " * level + node.name
-        if len(name) > width - 2:
-            name = name[: width - 3] + "…"
-        print(
-            f"{name:<{width}}{node.mass_kg:>11.6f}{node.share:>8.2%}{sigma:>10}  "
-            f"{_v(node.cog_mm, 2)}"
+    The JSON holds ``"refused": {"error": ..., "exit_status": 2}`` and, when the model can be
+    counted as it is (each solid whole, notes not errors), the full result of that count with
+    ``"refused"["counted_as"]`` saying so; the report and the CSV show that count under the
+    refusal. The command still exits 2.
+    """
+    refused: dict[str, Any] = {"error": refusal, "exit_status": 2}
+    report = None
+    if as_is is not None:
+        refused["counted_as"] = (
+            "each solid as it is (--allow-overlap), notes not errors: what was refused"
+            if policy == "check"
+            else "notes not errors (without --strict): what was refused"
         )
-    t = r.total
-    line = f"\ntotal {t.mass_kg:.5f} kg"
-    if b.mass_sigma_kg is not None:
-        line += f" ± {b.mass_sigma_kg:.5f} (1 σ, {b.sigma_coverage:.0%} of the mass has one)"
-    print(line + f", volume {t.volume_mm3:.1f} mm³")
-    cog = f"CoG {_v(t.cog_mm)} mm"
-    if b.cog_cov_mm2 is not None:
-        cog += f" ± {_v(np.sqrt(np.diag(b.cog_cov_mm2)))} mm (1 σ)"
-    print(cog)
-    if b.growth_kg:
-        print(
-            f"with growth allowances: {b.predicted.mass_kg:.5f} kg (+{b.growth_kg:.5f}), "
-            f"CoG {_v(b.predicted.cog_mm)} mm"
-        )
-    j = t.inertia_kg_mm2
-    p = products_of_inertia(j, products)  # type: ignore[arg-type]
-    print("\ninertia about the CoG, model axes (kg·mm²):")
-    print(f"  Ixx {_n(j[0, 0])}  Iyy {_n(j[1, 1])}  Izz {_n(j[2, 2])}")
-    symbol = "P" if products == "positive" else "I"
-    print(
-        f"  {symbol}xy {_n(p['xy'])}  {symbol}xz {_n(p['xz'])}  {symbol}yz {_n(p['yz'])}"
-        f"  ({PRODUCT_CONVENTIONS[products]}; --products)"
-    )
-    pa = report.principal
-    print("principal moments (kg·mm²) and axes (model components):")
-    for k in range(3):
-        angle = pa.angles_from_frame_deg()[k]
-        print(
-            f"  {pa.moments_kg_mm2[k]:12.4f}  {_v(pa.axes[k], 4)}  ({angle:.1f}° from a model axis)"
-        )
-    if pa.degenerate:
-        print("  (two moments are equal: their axes are not unique)")
-    f = report.frame
-    if f.label != "cog, axes +x,+y,+z":
-        jf = report.frame_inertia_kg_mm2
-        print(f"\nin the frame at {f.label} (origin {_v(f.origin_mm)} mm in model coordinates):")
-        print(f"  CoG {_v(f.point_to_frame(t.cog_mm))} mm")
-        print("  inertia tensor about the origin, frame axes (kg·mm²; off-diagonal −∫ x·y dm):")
-        for row in jf:
-            print("  " + "  ".join(f"{_n(v):>12}" for v in row))
-    ov = r.overlaps
-    if ov.pairs:
-        print(f"\noverlaps ({ov.policy}): {ov.headline()}")
-        for pair in ov.pairs[:10]:
-            print(
-                f"  {report.short(pair.a)} & {report.short(pair.b)}: {pair.volume_mm3:.4g} mm³, "
-                f"{pair.mass_kg * 1e3:.4g} g ({'kept by' if ov.policy == 'resolve' else 'denser:'} "
-                f"{report.short(pair.kept_by)})"
-            )
-        if len(ov.pairs) > 10:
-            print(f"  ... {len(ov.pairs) - 10} more in --json")
-    env = report.envelope
-    if env is not None:
-        label = env.form_factor or "custom"
-        print(
-            f"\n{label} CoG offset from the geometric centre {_v(env.offset_mm, 2)} mm, limits "
-            f"±{_v(env.limits_mm, 1)} mm: {env.verdict()} ({env.source})"
-        )
-    for n in r.info:
-        print(f"info: {n}")
-    for n in r.notes:
-        print(f"note: {n}")
+        try:
+            report = _build_report(args, as_is)
+        except CadcogError:
+            report = None
+    if report is not None and args.report is not None:
+        from cadcog.reports.massprops_report import write_mass_report
+
+        page = write_mass_report(report, model, args.report, refusal=refusal)
+        print(f"report: {page}", file=sys.stderr)
+    if report is not None and args.csv is not None:
+        from cadcog.reports.budget_csv import write_budget_csv
+
+        print(f"report: {write_budget_csv(report, args.csv)}", file=sys.stderr)
+    if args.json:
+        data = {"refused": refused, **(report.to_dict() if report is not None else {})}
+        print(json.dumps(round_floats(data), indent=2, ensure_ascii=False))

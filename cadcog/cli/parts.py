@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import Any
 
+from cadcog.core.fileio import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 
 
@@ -27,6 +29,7 @@ def add_parser(sub: Any) -> None:
     build.add_argument(
         "--out", type=Path, default=Path("build"), help="output directory (default: build/)"
     )
+    build.add_argument("--json", action="store_true", help="print one JSON object")
     build.set_defaults(func=run_build)
     cubesat = parts_sub.add_parser(
         "cubesat",
@@ -41,6 +44,7 @@ def add_parser(sub: Any) -> None:
         default=Path("build/cubesat"),
         help="output directory (default build/cubesat)",
     )
+    cubesat.add_argument("--json", action="store_true", help="print one JSON object")
     cubesat.set_defaults(func=run_cubesat)
 
 
@@ -70,6 +74,10 @@ def run_build(args: argparse.Namespace) -> int:
     from cadcog.cad.build import build_parts
 
     result = build_parts(rig, args.out)
+    print(f"report: {result.out_dir}", file=sys.stderr)
+    if args.json:
+        print(dumps_json(result.ground_truth), end="")
+        return 0
     print(f"rig {rig.name!r} from {rig.source}")
     print_ground_truth(result.ground_truth)
     error = result.ground_truth["integration"]["estimated_relative_error"]
@@ -92,8 +100,13 @@ def run_cubesat(args: argparse.Namespace) -> int:
     with staged_output_dir(args.out) as stage:
         write_assembly(asm, stage / f"{spec.name}.step")
         (stage / f"{spec.name}_materials.toml").write_text(materials_toml(spec, materials), "utf-8")
-    print(
-        f"wrote {args.out / (spec.name + '.step')} ({len(materials)} solids) and "
-        f"{args.out / (spec.name + '_materials.toml')}"
-    )
+    step, mats = args.out / f"{spec.name}.step", args.out / f"{spec.name}_materials.toml"
+    print(f"report: {step}\nreport: {mats}", file=sys.stderr)
+    if args.json:
+        print(
+            dumps_json({"step": str(step), "materials": str(mats), "n_solids": len(materials)}),
+            end="",
+        )
+        return 0
+    print(f"wrote {step} ({len(materials)} solids) and {mats}")
     return 0

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import not_a_regular_file
+from cadcog.core.fileio import dumps_json, not_a_regular_file
 from cadcog.rig.file import default_rig_path, load_rig
 
 
@@ -26,6 +26,11 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--campaign", type=Path, help="measured readings CSV (default: virtual)")
     p.add_argument("--seed", type=int, default=0, help="seed of the simulations (default 0)")
     p.add_argument("--out", type=Path, required=True, help="output directory")
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print the summary as one JSON object (report path included)",
+    )
     p.set_defaults(func=run)
 
 
@@ -51,9 +56,27 @@ def run(args: argparse.Namespace) -> int:
     val, verdict = result.validation.validation, result.validation.verdict
     sigma = np.sqrt(np.diag(est.cov_mm2))
     truth = np.array(result.ground_truth["bodies"]["proof_mass"]["cog_mm"])
+    kind = "virtual" if result.campaign_is_virtual else "measured"
+    print(f"report: {result.report}", file=sys.stderr)
+    if args.json:
+        summary = {
+            "rig": rig.name,
+            "report": str(result.report),
+            "cad_proof_mass_cog_mm": truth.tolist(),
+            "simulated_pair_error_mm": {"q50": sim.fits.q50_mm, "q95": sim.fits.q95_mm},
+            "campaign": {
+                "kind": kind,
+                "n_pairs": len(val.pairs),
+                "consistent": bool(verdict.consistent),
+                "p_value": verdict.p_value,
+            },
+            "cog_mm": est.cog_mm.tolist(),
+            "cog_sigma_mm": sigma.tolist(),
+        }
+        print(dumps_json(summary), end="")
+        return 0
     print(f"rig {rig.name!r}: CAD proof-mass CoG {np.round(truth, 3).tolist()} mm")
     print(f"simulated pair error: median {sim.fits.q50_mm:.2f} mm, 95 % {sim.fits.q95_mm:.2f} mm")
-    kind = "virtual" if result.campaign_is_virtual else "measured"
     print(
         f"{kind} campaign: {len(val.pairs)} pairs, "
         f"{'consistent' if verdict.consistent else 'NOT consistent'} with the error model "
@@ -63,5 +86,4 @@ def run(args: argparse.Namespace) -> int:
         f"compensated CoG {np.round(est.cog_mm, 3).tolist()} mm ± "
         f"{np.round(sigma, 3).tolist()} mm (1 σ)"
     )
-    print(f"report: {result.report}")
     return 0

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -139,6 +140,7 @@ def run(args: argparse.Namespace) -> int:
             model,
             workers=args.workers,
             progress=bar.update if bar is not None else None,
+            total=_set_total(bar) if bar is not None else None,
         )
     except ValueError as exc:
         raise CadcogError(str(exc)) from None
@@ -155,11 +157,22 @@ def run(args: argparse.Namespace) -> int:
                 tmp,
                 f"{rig.name}: {report.fits.n} trials, {len(report.groups)} groups",
             )
+        print(f"report: {args.plot}", file=sys.stderr)
     if args.json:
         print(json.dumps(round_floats(report.to_dict()), indent=2, ensure_ascii=False))
     else:
         print_report(report)
     return 0
+
+
+def _set_total(bar: Any) -> Callable[[int], None]:
+    """Give a tqdm bar its total once the simulation knows it (groups × trials)."""
+
+    def set_total(n: int) -> None:
+        bar.total = n
+        bar.refresh()
+
+    return set_total
 
 
 def print_report(report: SimulationReport) -> None:

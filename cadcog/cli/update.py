@@ -17,6 +17,10 @@ if TYPE_CHECKING:
     from cadcog.spacecraft.update import UpdateResult
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG as DEFAULT_MASS_SIGMA_KG
 
+#: Exit status when the gap between test and CAD is larger than the CAD's uncertainties allow
+#: (every output is written; a CI job fails on it, as on a failed requirement in ``check``).
+EXIT_GAP = 1
+
 
 def _region(text: str) -> tuple[float, ...]:
     try:
@@ -38,7 +42,9 @@ def add_parser(sub: Any) -> None:
         "the item masses (within the materials file's mass uncertainties), and optionally an "
         "unmodelled mass in a region, that explain the measured CoG and the weighed mass: "
         "which items most likely explain the gap, the updated mass, CoG and inertia with their "
-        "covariance, and whether the gap is larger than the uncertainties allow. See "
+        "covariance, and whether the gap is larger than the uncertainties allow. Exit status: 0 "
+        "the test agrees with the CAD within its uncertainties, 1 the gap is larger than they "
+        "allow (every output still written: a CI job fails here), 2 bad input. See "
         "docs/spacecraft.md.",
     )
     p.add_argument("readings", type=Path, help="readings CSV of the suspension test")
@@ -144,7 +150,7 @@ def run(args: argparse.Namespace) -> int:
         print_update(result)
     for w in estimate.warnings:
         print(f"cadcog: warning: {w}", file=sys.stderr)
-    return 0
+    return 0 if result.consistent else EXIT_GAP
 
 
 def _pm(value: float, sigma: float, digits: int) -> str:

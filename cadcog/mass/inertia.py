@@ -36,6 +36,10 @@ DEGENERATE_RELATIVE = 1e-6
 #: How far a frame's axes may be from orthonormal (largest entry of ``R Rᵀ − 𝟙``).
 ORTHONORMAL_TOLERANCE = 1e-6
 
+#: Axis vectors whose pairwise cosines are below this are squared up to the nearest
+#: orthonormal frame (0.057°: vectors typed to four figures); above it they are refused.
+SQUARE_UP_COS = 1e-3
+
 _AXIS_INDEX = {"x": 0, "y": 1, "z": 2}
 
 
@@ -58,6 +62,28 @@ class PrincipalAxes:
     moments_kg_mm2: FloatArray
     axes: FloatArray
     degenerate: bool
+
+    @property
+    def n_equal(self) -> int:
+        """How many moments are equal (to :data:`DEGENERATE_RELATIVE`): 0, 2 or 3.
+
+        Examples
+        --------
+        >>> principal_axes(np.eye(3)).n_equal, principal_axes(np.diag([1.0, 1, 2])).n_equal
+        (3, 2)
+        """
+        d = np.diff(self.moments_kg_mm2)
+        scale = max(float(np.max(np.abs(self.moments_kg_mm2))), np.finfo(float).tiny)
+        equal = int(np.count_nonzero(d <= DEGENERATE_RELATIVE * scale))
+        return 0 if equal == 0 else equal + 1
+
+    def degeneracy_note(self) -> str:
+        """What equal moments mean for the axes, or "" when all three differ."""
+        if self.n_equal == 3:
+            return "all three moments are equal: every axis through the CoG is principal"
+        if self.n_equal == 2:
+            return "two moments are equal: their axes are not unique (any pair in their plane)"
+        return ""
 
     def angles_from_frame_deg(self) -> FloatArray:
         """Angle of each principal axis from the frame axis nearest to it (degrees).
@@ -168,18 +194,35 @@ class Frame:
 
     @classmethod
     def parse(cls, axes: str, origin_mm: npt.ArrayLike, label: str = "") -> Frame:
-        """A frame from signed model axes, e.g. ``"+y,-x,+z"``: the frame's x is model +y...
+        """A frame from signed model axes or from axis vectors.
+
+        - ``"+y,-x,+z"``: the frame's x is model +y...;
+        - ``"1,1,0;-1,1,0"`` or ``"1,1,0;-1,1,0;0,0,1"``: the frame's x and y axes (and z) as
+          model vectors, any length (each is normalised); without z, ``z = x × y``. The rows
+          of a rotation matrix from model to frame are these vectors. Axes within
+          :data:`SQUARE_UP_COS` of perpendicular (vectors typed to four figures) are squared
+          up to the nearest orthonormal frame; farther, the text is refused.
 
         Raises
         ------
         ValueError
-            If the text is not three signed axes forming a right-handed frame.
+            If the text is neither, or its axes are not a right-handed orthogonal frame.
+
+        Examples
+        --------
+        >>> f = Frame.parse("1,1,0;-1,1,0", [0, 0, 0])
+        >>> f.axes.round(4).tolist()
+        [[0.7071, 0.7071, 0.0], [-0.7071, 0.7071, 0.0], [0.0, 0.0, 1.0]]
+        >>> Frame.parse("0.7071,0.7071,0;-0.7071,0.7071,0", [0, 0, 0]).axes[2].tolist()
+        [0.0, 0.0, 1.0]
         """
         if not isinstance(axes, str):  # the API passes what the caller gave
             raise ValueError(
                 f"expected three signed axes such as '+y,-x,+z' (a str), got "
                 f"{type(axes).__name__} {quote(axes)}"
             )
+        if ";" in axes:
+            return cls(np.asarray(origin_mm, dtype=float), _vector_axes(axes), label or axes)
         parts = [p.strip().lower() for p in axes.split(",")]
         rows = []
         for part in parts:
@@ -197,6 +240,36 @@ class Frame:
     def point_to_frame(self, point_mm: npt.ArrayLike) -> FloatArray:
         """Coordinates of a model point in this frame."""
         return np.asarray(self.axes @ (np.asarray(point_mm, dtype=float) - self.origin_mm))
+
+
+def _vector_axes(text: str) -> FloatArray:
+    """Rows of a right-handed orthonormal frame from ``"x1,x2,x3;y1,y2,y3[;z1,z2,z3]"``."""
+    expected = "expected two or three axis vectors 'X1,X2,X3;Y1,Y2,Y3[;Z1,Z2,Z3]'"
+    rows = []
+    for part in text.split(";"):
+        try:
+            v = [float(c) for c in part.split(",")]
+        except ValueError:
+            v = []
+        if len(v) != 3 or not all(np.isfinite(v)) or np.linalg.norm(v) == 0:
+            raise ValueError(f"{expected}, got {text!r}")
+        rows.append(np.asarray(v) / np.linalg.norm(v))
+    if len(rows) not in (2, 3):
+        raise ValueError(f"{expected}, got {text!r}")
+    if len(rows) == 2:
+        rows.append(np.cross(rows[0], rows[1]))
+    r = np.array(rows)
+    gram = r @ r.T - np.eye(3)
+    worst = float(np.max(np.abs(gram)))
+    if worst > SQUARE_UP_COS:
+        raise ValueError(
+            f"axes {text!r} are {np.degrees(np.arcsin(min(worst, 1.0))):.2g}° from perpendicular "
+            f"(more than {np.degrees(np.arcsin(SQUARE_UP_COS)):.2g}°): expected orthogonal axes"
+        )
+    if np.linalg.det(r) < 0:
+        raise ValueError(f"axes {text!r} are left-handed: expected x × y = z")
+    u, _, vt = np.linalg.svd(r)  # the nearest orthonormal matrix (polar decomposition)
+    return np.asarray(u @ vt)
 
 
 def inertia_in_frame(props: MassProperties, frame: Frame) -> FloatArray:

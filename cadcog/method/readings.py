@@ -30,12 +30,39 @@ from typing import Any
 
 from cadcog.core import bounds
 from cadcog.core.errors import ReadingsError, quote
-from cadcog.core.fileio import note_input
+from cadcog.core.fileio import not_a_regular_file, note_input
 from cadcog.rig.inclinometer import InclinometerConfig, Verticals, verticals_from_readings
 
-BASE_COLUMNS = ("point_id", "x_mm", "y_mm", "z_mm", "top_face_up")
+# The format's columns, here only: the writers (cadcog.validation.campaign for virtual
+# campaigns, cadcog.bench.readingsfile at the bench) build their headers from these.
+#: Where the object hung from: the point's id and the wire's exit in the body frame (mm).
+POSITION_COLUMNS = ("point_id", "x_mm", "y_mm", "z_mm")
+#: Which way up the inclinometer's top face was (true/false/1/0).
+FACE_COLUMN = "top_face_up"
+#: The columns every readings file has.
+BASE_COLUMNS = (*POSITION_COLUMNS, FACE_COLUMN)
+#: The two readings: angles in degrees, or raw ADC counts.
 DEG_COLUMNS = ("inc_x_deg", "inc_y_deg")
 COUNT_COLUMNS = ("inc_x_counts", "inc_y_counts")
+
+
+def header_columns(value_columns: Sequence[str], extra: Sequence[str] = ()) -> tuple[str, ...]:
+    """The header a writer puts: the position, the two value columns, ``top_face_up``, then
+    ``extra`` columns (which readers ignore).
+
+    Examples
+    --------
+    >>> ",".join(header_columns(COUNT_COLUMNS))
+    'point_id,x_mm,y_mm,z_mm,inc_x_counts,inc_y_counts,top_face_up'
+    """
+    return (*POSITION_COLUMNS, *value_columns, FACE_COLUMN, *extra)
+
+
+def format_face(top_face_up: bool) -> str:
+    """``top_face_up`` as writers put it: ``true`` or ``false``."""
+    return "true" if top_face_up else "false"
+
+
 _BOOLS = {"true": True, "1": True, "false": False, "0": False}
 
 
@@ -188,6 +215,8 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
     p = Path(path)
     if p.is_dir():
         raise ReadingsError(f"{p}: is a directory, expected a readings CSV file")
+    if p.exists() and not p.is_file():  # a device or a FIFO may never end: refuse it unread
+        raise ReadingsError(f"{p}: {not_a_regular_file(p)} (a readings CSV file)")
     try:
         f = p.open("rb")
     except FileNotFoundError:

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 CSS = """
-body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; max-width: 1000px;
+body { font-family: system-ui, -apple-system, "Segoe UI", sans-serif; max-width: 1240px;
        margin: 2em auto; padding: 0 1em; color: #222; line-height: 1.45; }
 h1 { margin-bottom: 0.1em; } h2 { border-bottom: 2px solid #dde; padding-bottom: 0.2em;
        margin-top: 1.8em; }
@@ -25,7 +25,8 @@ img { max-width: 100%; border: 1px solid #eee; margin: 0.5em 0; }
 .note { background: #f7f7fb; border-left: 4px solid #99a; padding: 0.5em 1em; font-size: 0.9em; }
 .big { font-size: 1.25em; }
 nav a { margin-right: 1em; }
-.wide { overflow-x: auto; } td.l { overflow-wrap: anywhere; }
+.wide { overflow-x: auto; } td.l { overflow-wrap: break-word; }  /* ids break only if too long */
+td { font-variant-numeric: tabular-nums; } .v { white-space: nowrap; }
 """
 
 

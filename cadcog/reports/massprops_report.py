@@ -16,11 +16,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from cadcog.core import numformat as nf
 from cadcog.core.fileio import dumps_json, staged_output_dir
 from cadcog.core.version import __version__
-from cadcog.mass.inertia import PRODUCT_CONVENTIONS, products_of_inertia
-from cadcog.reports.html import CSS, img_tag, num, table, vec
-from cadcog.spacecraft.mass_summary import MassReport
+from cadcog.mass.inertia import PRODUCT_CONVENTIONS, TENSOR_CONVENTION, products_of_inertia
+from cadcog.reports.html import CSS, img_tag, table, vec
+from cadcog.spacecraft.mass_budget import budget_rows
+from cadcog.spacecraft.mass_summary import MassReport, density_sources
 
 if TYPE_CHECKING:
     from cadcog.cad.stepread import StepModel
@@ -29,6 +31,10 @@ REPORT_FILE = "index.html"
 
 #: Budget tree levels shown on the page (the JSON beside it has every level).
 PAGE_TREE_DEPTH = 4
+
+#: On the page, siblings each under this share of the mass are summed into one row (the JSON
+#: and ``--csv`` have every body).
+PAGE_COLLAPSE_BELOW = 0.001
 
 
 def envelope_corners(report: MassReport) -> np.ndarray | None:
@@ -40,8 +46,32 @@ def envelope_corners(report: MassReport) -> np.ndarray | None:
     return np.asarray(env.geometric_center_mm + (signs * env.limits_mm) @ report.frame.axes)
 
 
-def write_mass_report(report: MassReport, model: StepModel, out_dir: str | Path) -> Path:
-    """Write ``out_dir/index.html`` (with ``views.png`` and ``massprops.json``); its path."""
+#: Parts named on the views: the heaviest few.
+VIEW_LABELS = 6
+
+
+def view_labels(report: MassReport) -> list[tuple[str, np.ndarray]]:
+    """(name, CoG) of the parts to name on the views, heaviest first: the budget's rows two
+    levels down that show no children (copies grouped); names cut to 24 characters. Each view
+    names the first :data:`VIEW_LABELS` of them that do not crowd one another."""
+    rows = budget_rows(report.budget.root, 2)
+    leaves = [
+        r
+        for k, r in enumerate(rows)
+        if r.level > 0 and not r.collapsed and (k + 1 == len(rows) or rows[k + 1].level <= r.level)
+    ]
+    leaves.sort(key=lambda r: -r.mass_kg)
+    return [(r.label[:24], r.cog_mm) for r in leaves]
+
+
+def write_mass_report(
+    report: MassReport, model: StepModel, out_dir: str | Path, *, refusal: str | None = None
+) -> Path:
+    """Write ``out_dir/index.html`` (with ``views.png`` and ``massprops.json``); its path.
+
+    With ``refusal`` (the error the command exits 2 with), the page opens with it and shows
+    ``report`` as the count that was refused; the JSON beside it holds ``"refused"``.
+    """
     from cadcog.cad.tessellate import body_meshes
     from cadcog.reports import plots
 
@@ -58,10 +88,14 @@ def write_mass_report(report: MassReport, model: StepModel, out_dir: str | Path)
             report.principal.axes,
             views,
             envelope_corners_mm=envelope_corners(report),
+            labels=view_labels(report),
             title=f"{Path(report.result.audit.source).name}: CoG (+), principal axes",
         )
-        (stage / "massprops.json").write_text(dumps_json(report.to_dict()), encoding="utf-8")
-        (stage / REPORT_FILE).write_text(render_html(report, views), encoding="utf-8")
+        data = report.to_dict()
+        if refusal is not None:
+            data = {"refused": {"error": refusal, "exit_status": 2}, **data}
+        (stage / "massprops.json").write_text(dumps_json(data), encoding="utf-8")
+        (stage / REPORT_FILE).write_text(render_html(report, views, refusal), encoding="utf-8")
     return out / REPORT_FILE
 
 
@@ -82,7 +116,7 @@ def _audit_rows(report: MassReport) -> list[list[str]]:
     if a.left_out_surfaces:
         area = sum(x for _, x in a.left_out_surfaces)
         surfaces += f" ({len(a.left_out_surfaces)} left out: {area:.4g} mm², no areal density)"
-    sources = ", ".join(f"{esc(k)} ×{n}" for k, n in a.density_sources.items())
+    sources = esc(density_sources(r.bodies))
     rows = [
         ["declared length unit", esc(units)],
         ["products / instances", f"{a.n_products} / {a.n_instances}"],
@@ -105,40 +139,74 @@ def _audit_rows(report: MassReport) -> list[list[str]]:
     return rows
 
 
-def render_html(report: MassReport, views: Path) -> str:
+def _budget_table(report: MassReport) -> str:
+    """The budget as on the text output: copies grouped, heaviest first, one mass unit."""
+    esc = html.escape
+    b = report.budget
+    unit = nf.mass_unit([b.root.mass_kg])
+    rows = []
+    for r in budget_rows(b.root, PAGE_TREE_DEPTH, collapse_below=PAGE_COLLAPSE_BELOW):
+        k = r.radii_of_gyration_mm
+        rows.append(
+            [
+                "&nbsp;" * 4 * r.level + esc(r.label),
+                nf.in_unit(r.unit_mass_kg, unit) if r.count > 1 and r.unit_mass_kg else "",
+                nf.in_unit(r.mass_kg, unit),
+                f'<span class="v">{nf.share(r.share)}</span>',
+                "" if r.mass_sigma_kg is None else nf.in_unit(r.mass_sigma_kg, unit, 2),
+                nf.in_unit(r.predicted_mass_kg, unit),
+                f'<span class="v">{vec(r.cog_mm, 2)}</span>',
+                f'<span class="v">{", ".join(nf.sig(v, 3) for v in k)}</span>',
+                str(r.n_bodies),
+            ]
+        )
+    u = unit[0]
+    header = [
+        "node",
+        f"each ({u})",
+        f"mass ({u})",
+        "share",
+        f"± 1σ ({u})",
+        f"with MGA ({u})",
+        "CoG (mm)",
+        "kx, ky, kz (mm)",
+        "bodies",
+    ]
+    return table(header, rows)
+
+
+def _inertia_rows(j: np.ndarray, unit: tuple[str, float]) -> list[list[str]]:
+    return [[f"{'xyz'[i]}", *[nf.in_unit(v, unit) for v in j[i]]] for i in range(3)]
+
+
+def render_html(report: MassReport, views: Path, refusal: str | None = None) -> str:
     esc = html.escape
     r, b = report.result, report.budget
     t = r.total
     name = Path(r.audit.source).name
     sigma_txt = ""
     if b.mass_sigma_kg is not None:
-        sigma_txt = f" ± {b.mass_sigma_kg:.4f} kg (1 σ, {b.sigma_coverage:.0%} of the mass)"
+        u = nf.mass_unit([t.mass_kg])
+        sigma = f"{nf.in_unit(b.mass_sigma_kg, u, 2)} {u[0]}"
+        sigma_txt = f" ± {sigma} (1 σ, {b.sigma_coverage:.0%} of the mass)"
     cog_sigma = ""
     if b.cog_cov_mm2 is not None:
         cog_sigma = f" ± {vec(np.sqrt(np.diag(b.cog_cov_mm2)))} mm (1 σ)"
-    budget_rows = [
-        [
-            "&nbsp;" * 4 * level + esc(node.name),
-            f"{node.mass_kg:.6f}",
-            f"{node.share:.2%}",
-            "" if node.mass_sigma_kg is None else f"{node.mass_sigma_kg:.6f}",
-            f"{node.predicted_mass_kg:.6f}",
-            vec(node.cog_mm, 2),
-            str(node.n_bodies),
-        ]
-        for level, node in b.root.walk(PAGE_TREE_DEPTH)
-    ]
     j = t.inertia_kg_mm2
-    inertia_rows = [[f"{'xyz'[i]}", *[num(v) for v in j[i]]] for i in range(3)]
+    unit = nf.inertia_unit(j.ravel())
+    inertia_rows = _inertia_rows(j, unit)
     product_rows = [
-        [esc(PRODUCT_CONVENTIONS[c]), *[num(v) for v in products_of_inertia(j, c).values()]]
+        [
+            esc(PRODUCT_CONVENTIONS[c]),
+            *[nf.in_unit(v, unit) for v in products_of_inertia(j, c).values()],
+        ]
         for c in ("positive", "negative")
     ]
     pa = report.principal
     principal_rows = [
         [
             f"{k + 1}",
-            f"{pa.moments_kg_mm2[k]:.4f}",
+            nf.in_unit(pa.moments_kg_mm2[k], unit),
             vec(pa.axes[k], 4),
             f"{pa.angles_from_frame_deg()[k]:.2f}",
         ]
@@ -146,9 +214,16 @@ def render_html(report: MassReport, views: Path) -> str:
     ]
     f = report.frame
     jf = report.frame_inertia_kg_mm2
-    frame_rows = [[f"{'xyz'[i]}", *[num(v) for v in jf[i]]] for i in range(3)]
-    degenerate = " (two moments are equal: their axes are not unique)" if pa.degenerate else ""
-    budget_header = ["node", "mass (kg)", "share", "± (kg)", "predicted (kg)", "CoG (mm)", "bodies"]
+    frame_unit = nf.inertia_unit(jf.ravel())
+    frame_rows = _inertia_rows(jf, frame_unit)
+    degenerate = f" ({esc(pa.degeneracy_note())})" if pa.degeneracy_note() else ""
+    radii = np.sqrt(np.clip(np.diagonal(j), 0.0, None) / t.mass_kg)
+    refusal_html = (
+        f'<p class="big"><span class="bad">Refused (exit 2):</span> {esc(refusal)}</p>'
+        "<p>What follows is the model counted as it is, so that the refusal can be read.</p>"
+        if refusal
+        else ""
+    )
     env = report.envelope
     envelope_html = "<p>No form factor or limits given (<code>--form-factor</code>).</p>"
     if env is not None:
@@ -170,13 +245,14 @@ def render_html(report: MassReport, views: Path) -> str:
             f"edge of the CAD uncertainty: {_ok(env.within_at_95)}. "
             f"<span class='sub'>{esc(env.source)}</span></p>"
         )
+    body_unit = nf.mass_unit(x.properties.mass_kg for x in r.bodies)
     body_rows = [
         [
             esc(report.short(x.path)),
             esc(x.kind),
             esc(x.material),
             esc(x.density_source),
-            f"{x.properties.mass_kg:.5f}",
+            nf.in_unit(x.properties.mass_kg, body_unit),
             vec(x.properties.cog_mm, 2),
         ]
         for x in r.bodies
@@ -185,13 +261,20 @@ def render_html(report: MassReport, views: Path) -> str:
         [
             esc(report.short(p.a)),
             esc(report.short(p.b)),
-            f"{p.volume_mm3:.4g}",
-            f"{p.mass_kg * 1e3:.4g}",
+            nf.sig(p.volume_mm3),
+            nf.sig(p.mass_kg * 1e3),
             esc(report.short(p.kept_by)),
         ]
         for p in r.overlaps.pairs[:10]
     ]
-    body_header = ["path", "kind", "material", "density source", "mass (kg)", "CoG (mm)"]
+    body_header = [
+        "path",
+        "kind",
+        "material",
+        "density source",
+        f"mass ({body_unit[0]})",
+        "CoG (mm)",
+    ]
     notes = "".join(f"<li>{esc(n)}</li>" for n in r.notes) or "<li>none</li>"
     info = "".join(f"<li>{esc(n)}</li>" for n in r.info) or "<li>none</li>"
     overlaps_html = (
@@ -201,6 +284,9 @@ def render_html(report: MassReport, views: Path) -> str:
         if pair_rows
         else ""
     )
+    table_budget = _budget_table(report)
+    growth = f" With growth allowances: {nf.mass(b.predicted.mass_kg)}." if b.growth_kg else ""
+    principal_header = ["axis", f"moment ({unit[0]})", "direction", "angle from nearest axis (°)"]
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
@@ -212,30 +298,38 @@ def render_html(report: MassReport, views: Path) -> str:
 <a href="#inertia">Inertia</a><a href="#views">Views</a><a href="#envelope">Envelope</a>
 <a href="#bodies">Bodies</a></nav>
 
-<p class="big">Mass <b>{t.mass_kg:.4f} kg</b>{sigma_txt}; CoG <b>{vec(t.cog_mm)} mm</b>{cog_sigma}
-(model frame).{f" With growth allowances: {b.predicted.mass_kg:.4f} kg." if b.growth_kg else ""}</p>
+{refusal_html}
+<p class="big">Mass <b>{nf.mass(t.mass_kg)}</b>{sigma_txt}; CoG <b>{vec(t.cog_mm)} mm</b>{cog_sigma}
+(model frame).{growth}</p>
 
 <h2 id="audit">Import audit</h2>
-{table(["", ""], _audit_rows(report), 2)}
+{table(["what was read", "found"], _audit_rows(report), 2)}
 {overlaps_html}
 <p>Notes (things to look at):</p><ul>{notes}</ul>
 <p>Done as asked:</p><ul>{info}</ul>
 
 <h2 id="budget">Mass budget</h2>
-<p>By assembly node (current best estimate; ± is 1 σ from the materials file's mass
-uncertainties, whose items vary independently; the predicted mass includes growth
-allowances).</p>
-{table(budget_header, budget_rows)}
+<p>By assembly node, heaviest first; identical copies of a part are one row (<i>name ×n</i>,
+with the mass of each). Current best estimate; ± is 1 σ from the materials file's mass
+uncertainties, whose items vary independently; k is the radius of gyration about the node's
+own CoG (model axes). "With MGA" is the predicted mass with the materials file's mass growth
+allowances (AIAA S-120A's current best estimate plus growth). Siblings each under 0.1 % of the
+mass are summed as "N others" (every body is in massprops.json and in <code>--csv</code>).</p>
+{table_budget}
 
 <h2 id="inertia">Inertia</h2>
-<p>About the CoG, model axes (kg·mm²); tensor entries off the diagonal are −∫ x·y dm.</p>
-{table(["", "x", "y", "z"], inertia_rows)}
+<p>About the CoG, model axes ({unit[0]}). Tensor: {esc(TENSOR_CONVENTION)}.</p>
+{table(["tensor", "x", "y", "z"], inertia_rows)}
 {table(["products of inertia", "xy", "xz", "yz"], product_rows)}
-<p>Principal moments and axes (model components){degenerate}:</p>
-{table(["", "moment (kg·mm²)", "axis", "angle from nearest model axis (°)"], principal_rows)}
+<p>Radii of gyration about the CoG: kx {nf.sig(radii[0])}, ky {nf.sig(radii[1])},
+kz {nf.sig(radii[2])} mm.</p>
+<p>Principal moments and axes (model components; each axis's largest component is positive,
+the third is the cross product of the first two){degenerate}:</p>
+{table(principal_header, principal_rows)}
 <p>In the frame at {esc(f.label)} (origin {vec(f.origin_mm)} mm): CoG
-{vec(f.point_to_frame(t.cog_mm))} mm; inertia about the origin (kg·mm²):</p>
-{table(["", "x", "y", "z"], frame_rows)}
+{vec(f.point_to_frame(t.cog_mm))} mm; inertia tensor about the origin ({frame_unit[0]};
+off-diagonal −∫ x·y dm):</p>
+{table(["tensor", "x", "y", "z"], frame_rows)}
 
 <h2 id="views">Views</h2>
 {img_tag(views, "three views of the model with its CoG and principal axes")}

@@ -13,11 +13,23 @@ from cadcog.uncertainty.fits import NormFits
 from cadcog.uncertainty.montecarlo import NormHistogram
 from cadcog.validation.verification import Validation
 
+#: √(χ²₃ quantile at 0.95): the 95 % ellipsoid of a 3-D normal is this many σ
+#: (``scipy.stats.chi2.ppf(0.95, 3)`` = 7.814727903251178; tests/test_plots.py checks it).
+K95_3D = 2.7954834829151074
+
+
+def rayleigh_pdf(r: np.ndarray, sigma: float) -> np.ndarray:
+    """Rayleigh density ``r/σ² · exp(−r²/2σ²)`` (1/mm), r in mm, shape of ``r``."""
+    return np.asarray(r / sigma**2 * np.exp(-(r**2) / (2 * sigma**2)))
+
+
+def maxwell_pdf(r: np.ndarray, a: float) -> np.ndarray:
+    """Maxwell density ``√(2/π) r²/a³ · exp(−r²/2a²)`` (1/mm), r in mm, shape of ``r``."""
+    return np.asarray(np.sqrt(2 / np.pi) * r**2 / a**3 * np.exp(-(r**2) / (2 * a**2)))
+
 
 def error_histogram(hist: NormHistogram, fits: NormFits, path: Path, title: str) -> None:
-    """Histogram of |e| with the fitted Rayleigh and Maxwell PDFs and the 95 % quantile."""
-    from scipy import stats
-
+    """Histogram of |e| with the two fitted PDFs closest to it (KS) and the 95 % quantile."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.2), dpi=120)
     # Near-collinear pairs give a long tail: show the body, say how much lies beyond.
@@ -34,38 +46,25 @@ def error_histogram(hist: NormHistogram, fits: NormFits, path: Path, title: str)
         label=f"simulated ({beyond:.2%} beyond {top:.1f} mm)",
     )
     r = np.linspace(0, top, 400)
-    ax.plot(
-        r,
-        stats.rayleigh.pdf(r, scale=fits.rayleigh_sigma_mm),
-        "C1",
-        label=f"Rayleigh, ML σ={fits.rayleigh_sigma_mm:.3f} mm (KS {fits.ks_rayleigh:.3f})",
-    )
-    ax.plot(
-        r,
-        stats.maxwell.pdf(r, scale=fits.maxwell_a_mm),
-        "C2",
-        label=f"Maxwell, ML a={fits.maxwell_a_mm:.3f} mm (KS {fits.ks_maxwell:.3f})",
-    )
-    ax.plot(
-        r,
-        stats.rayleigh.pdf(r, scale=fits.rayleigh_sigma_median_mm),
-        "C1--",
-        label=f"Rayleigh, median fit σ={fits.rayleigh_sigma_median_mm:.3f} mm "
-        f"(KS {fits.ks_rayleigh_median:.3f})",
-    )
-    ax.plot(
-        r,
-        stats.maxwell.pdf(r, scale=fits.maxwell_a_median_mm),
-        "C2--",
-        label=f"Maxwell, median fit a={fits.maxwell_a_median_mm:.3f} mm "
-        f"(KS {fits.ks_maxwell_median:.3f})",
-    )
+    candidates = [
+        (fits.ks_rayleigh, "C1", "Rayleigh, ML", "σ", rayleigh_pdf(r, fits.rayleigh_sigma_mm),
+         fits.rayleigh_sigma_mm),
+        (fits.ks_maxwell, "C2", "Maxwell, ML", "a", maxwell_pdf(r, fits.maxwell_a_mm),
+         fits.maxwell_a_mm),
+        (fits.ks_rayleigh_median, "C1--", "Rayleigh, median fit", "σ",
+         rayleigh_pdf(r, fits.rayleigh_sigma_median_mm), fits.rayleigh_sigma_median_mm),
+        (fits.ks_maxwell_median, "C2--", "Maxwell, median fit", "a",
+         maxwell_pdf(r, fits.maxwell_a_median_mm), fits.maxwell_a_median_mm),
+    ]  # fmt: skip
+    # the two fits closest to the data (smallest KS distance); all four are in simulation.json
+    for ks, style, name, symbol, pdf, value in sorted(candidates, key=lambda c: c[0])[:2]:
+        ax.plot(r, pdf, style, label=f"{name} {symbol}={value:.3f} mm (KS {ks:.3f})")
     ax.axvline(fits.q95_mm, color="k", ls="--", lw=1, label=f"95 %: {fits.q95_mm:.2f} mm")
     ax.set_xlabel("CoG error norm |e| (mm)")
     ax.set_ylabel("density (1/mm)")
     ax.set_title(title)
     ax.legend(fontsize=8)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.12, top=0.92)  # no tight_layout: one draw
     fig.savefig(path)
     plt.close(fig)
 
@@ -118,7 +117,7 @@ def rig_view(rig: Rig, cog_mm: np.ndarray, path: Path) -> None:
     ax.view_init(elev=22, azim=-58)
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title("plumb lines from the suspension points meet at the CoG", fontsize=10)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.0, right=1.0, bottom=0.02, top=0.94)
     fig.savefig(path)
     plt.close(fig)
 
@@ -138,7 +137,13 @@ def validation_plot(simulated_mm: np.ndarray, validation: Validation, path: Path
         color="C1",
         label=f"measured ({m.size} pairs)",
     )
+    labelled = set()
     for w in validation.windows:
+        label = (
+            "p̂ = k/n, 95 % interval holds F(ε)"
+            if w.consistent
+            else "p̂ = k/n, 95 % interval misses F(ε)"
+        )
         ax.errorbar(
             w.eps_mm,
             w.p_hat,
@@ -146,13 +151,15 @@ def validation_plot(simulated_mm: np.ndarray, validation: Validation, path: Path
             fmt="o",
             color="C3" if not w.consistent else "C2",
             capsize=4,
+            label=None if label in labelled else label,
         )
+        labelled.add(label)
     ax.set_xlim(0, top)
     ax.set_xlabel("error window ε (mm)")
     ax.set_ylabel("P(|e| < ε)")
     ax.set_title("p̂ = k/n with 95 % Clopper-Pearson intervals against F(ε)", fontsize=10)
     ax.legend(fontsize=8, loc="lower right")
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.09, right=0.98, bottom=0.13, top=0.92)
     fig.savefig(path)
     plt.close(fig)
 
@@ -161,11 +168,9 @@ def ellipse_plot(
     cog_mm: np.ndarray, cov_mm2: np.ndarray, truth_mm: np.ndarray | None, path: Path
 ) -> None:
     """The estimate with its 1-σ and 95 % uncertainty ellipses in the three body planes."""
-    from scipy import stats
-
     plt = _pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(10, 3.4), dpi=120)
-    k95 = float(np.sqrt(stats.chi2.ppf(0.95, df=3)))  # 95 % of a 3-D normal: the ellipsoid
+    k95 = K95_3D  # 95 % of a 3-D normal: the ellipsoid
     names = "xyz"
     t = np.linspace(0, 2 * np.pi, 200)
     for ax, (i, j) in zip(axes, [(0, 1), (0, 2), (1, 2)], strict=True):
@@ -183,9 +188,13 @@ def ellipse_plot(
         ax.set_aspect("equal", adjustable="datalim")
     axes[0].legend(fontsize=7)
     fig.suptitle("compensated CoG and its uncertainty (projections of the ellipsoid)", fontsize=10)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.17, top=0.86, wspace=0.38)
     fig.savefig(path)
     plt.close(fig)
+
+
+#: (marker, size) of each estimate on :func:`cog_ellipses`, in order.
+ESTIMATE_MARKERS = (("+", 11), ("o", 9), ("s", 13), ("D", 7))
 
 
 def cog_ellipses(
@@ -196,11 +205,9 @@ def cog_ellipses(
     ``estimates`` holds ``(label, cog_mm (3,), cov_mm2 (3, 3))``: e.g. the CAD, the
     measurement and the updated budget on one figure.
     """
-    from scipy import stats
-
     plt = _pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(10, 3.6), dpi=120)
-    k95 = float(np.sqrt(stats.chi2.ppf(0.95, df=3)))
+    k95 = K95_3D
     t = np.linspace(0, 2 * np.pi, 200)
     circle = np.stack([np.cos(t), np.sin(t)])
     for ax, (i, j) in zip(axes, [(0, 1), (0, 2), (1, 2)], strict=True):
@@ -209,16 +216,29 @@ def cog_ellipses(
             pts = vecs @ (np.sqrt(np.maximum(vals, 0))[:, None] * circle) * k95
             colour = f"C{n}"
             ax.plot(cog[i] + pts[0], cog[j] + pts[1], color=colour, lw=1.2)
-            ax.plot(cog[i], cog[j], "+", color=colour, ms=10, label=label)
+            # a shape of its own each, hollow: coincident points (a simulated truth that is
+            # the CAD) stay visible one over the other
+            marker, size = ESTIMATE_MARKERS[n % len(ESTIMATE_MARKERS)]
+            ax.plot(cog[i], cog[j], marker, color=colour, mfc="none", ms=size, mew=1.5, label=label)
         ax.set_xlabel(f"{'xyz'[i]} (mm)")
         ax.set_ylabel(f"{'xyz'[j]} (mm)")
-        ax.set_aspect("equal", adjustable="datalim")
+        ax.margins(0.12)  # each panel scaled to its ellipses: none squashed to a line
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", ncol=len(estimates), fontsize=8)
-    fig.suptitle(title or "CoG estimates with their 95 % ellipsoids (projections)", fontsize=10)
+    fig.suptitle(
+        title or "CoG estimates with their 95 % ellipsoids (projections; axes not to scale)",
+        fontsize=10,
+    )
     fig.subplots_adjust(left=0.07, right=0.98, bottom=0.25, top=0.88, wspace=0.35)
     fig.savefig(path)
     plt.close(fig)
+
+
+#: Longest side over shortest side of a model view drawn to scale; flatter views are stretched.
+VIEW_MAX_ASPECT = 4.0
+
+#: Most parts named in one view.
+VIEW_LABELS = 6
 
 
 def model_views(
@@ -229,8 +249,12 @@ def model_views(
     *,
     envelope_corners_mm: np.ndarray | None = None,
     title: str = "",
+    labels: Sequence[tuple[str, np.ndarray]] = (),
 ) -> None:
     """Three orthographic views of a model with its CoG, principal axes and CoG envelope.
+
+    A view whose sides differ by more than :data:`VIEW_MAX_ASPECT` (a flat board seen edge-on)
+    is stretched across to that ratio, and its title says by how much: a board is not a line.
 
     Parameters
     ----------
@@ -241,6 +265,9 @@ def model_views(
         Rows: unit principal axes (drawn from the CoG, ascending moment: C0, C1, C2).
     envelope_corners_mm : ndarray, shape (8, 3), optional
         Corners of the CoG envelope box, drawn as its projected outline.
+    labels : sequence of (name, point (3,) mm)
+        Parts to name at their CoG, heaviest first: each view names up to :data:`VIEW_LABELS`
+        of them, skipping one that would crowd a label already placed.
     """
     from matplotlib.collections import PolyCollection
 
@@ -276,8 +303,24 @@ def model_views(
         pad = 0.05 * extent
         ax.set_xlim(lo[i] - pad, hi[i] + pad)
         ax.set_ylim(lo[j] - pad, hi[j] + pad)
-        ax.set_aspect("equal", adjustable="box")
-        ax.set_title(f"{names[i]}-{names[j]} view", fontsize=9)
+        placed: list[tuple[float, float]] = []
+        for text, point in labels:  # heaviest first; skip one that would crowd a placed one
+            x, y = float(point[i]), float(point[j])
+            if len(placed) >= VIEW_LABELS or any(
+                abs(x - px) < 0.5 * extent and abs(y - py) < 0.06 * extent for px, py in placed
+            ):
+                continue
+            placed.append((x, y))
+            ax.annotate(text, (x, y), fontsize=6, color="#333", ha="center", va="bottom")
+        wide, tall = (hi[i] - lo[i]) + 2 * pad, (hi[j] - lo[j]) + 2 * pad
+        stretch = max(wide, tall) / max(min(wide, tall), 1e-9) / VIEW_MAX_ASPECT
+        if stretch > 1.0:
+            ax.set_aspect(1.0 / stretch if wide < tall else stretch, adjustable="box")
+            across = names[i] if wide < tall else names[j]
+            ax.set_title(f"{names[i]}-{names[j]} view ({across} ×{stretch:.2g})", fontsize=9)
+        else:
+            ax.set_aspect("equal", adjustable="box")
+            ax.set_title(f"{names[i]}-{names[j]} view", fontsize=9)
     handles = [
         plt.Line2D([], [], color="r", marker="+", ls="", ms=10, label="CoG"),
         *[plt.Line2D([], [], color=f"C{k}", label=f"principal axis {k + 1}") for k in range(3)],

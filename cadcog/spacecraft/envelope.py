@@ -1,5 +1,9 @@
 """The CubeSat CoG envelope: how far the CoG may sit from the geometric centre.
 
+PocketQubes (``1p``, ``2p``, ``3p``): the CoG within 1 cm of the geometric centre on every axis
+(PocketQube Standard Issue 1, 2018, PQ-Mass-04, as a secondary source quotes it; provisional
+until checked against the standard's text).
+
 CubeSat Design Specification Rev. 14.1 (Cal Poly, 2022), §3.2: the CoG within 2 cm of the
 geometric centre in X and Y for 1U-3U, and in Z (along the rails) within 2 / 3 / 4.5 / 7 cm for
 1U / 1.5U / 2U / 3U. The 6U and 12U rows (X 4.5 cm, Y 2 / 4.5 cm, Z 7 cm) have not been
@@ -31,12 +35,37 @@ CDS_COG_LIMITS_MM: dict[str, tuple[float, float, float]] = {
     "3U": (20.0, 20.0, 70.0),
     "6U": (45.0, 20.0, 70.0),
     "12U": (45.0, 45.0, 70.0),
+    # PocketQubes (50 mm units): the CoG within 10 mm of the geometric centre on every axis
+    "1p": (10.0, 10.0, 10.0),
+    "2p": (10.0, 10.0, 10.0),
+    "3p": (10.0, 10.0, 10.0),
 }
+
+#: The PocketQube form factors among :data:`CDS_COG_LIMITS_MM`.
+POCKETQUBE_FORM_FACTORS = ("1p", "2p", "3p")
 
 CDS_SOURCE = (
     "CubeSat Design Specification Rev. 14.1 (Cal Poly), CoG location; 6U/12U provisional; "
     "the dispenser ICD governs"
 )
+
+POCKETQUBE_SOURCE = (
+    "PocketQube Standard Issue 1 (Alba Orbital, TU Delft, GAUSS, 2018), PQ-Mass-04: CoG within "
+    "10 mm of the geometric centre; PROVISIONAL: taken from a secondary source, not checked "
+    "against the standard's text; the deployer's ICD governs"
+)
+
+
+def source_for(form_factor: str | None) -> str:
+    """Where a form factor's limits come from (a PocketQube's are provisional).
+
+    Examples
+    --------
+    >>> source_for("2p").split(",")[0], source_for("3U").split(" Rev.")[0]
+    ('PocketQube Standard Issue 1 (Alba Orbital', 'CubeSat Design Specification')
+    """
+    return POCKETQUBE_SOURCE if form_factor in POCKETQUBE_FORM_FACTORS else CDS_SOURCE
+
 
 #: Two-sided 95 % normal quantile, for the per-axis envelope check with uncertainty.
 Z95 = 1.959963984540054
@@ -114,7 +143,7 @@ def check_envelope(
     cov_mm2: npt.ArrayLike | None = None,
     axes: npt.ArrayLike | None = None,
     form_factor: str | None = None,
-    source: str = CDS_SOURCE,
+    source: str | None = None,
 ) -> EnvelopeCheck:
     """Check a CoG against an envelope around the geometric centre.
 
@@ -128,6 +157,9 @@ def check_envelope(
         CoG covariance in model axes.
     axes : array_like, shape (3, 3), optional
         Rows: the envelope's x, y, z axes in model coordinates (default: the model's).
+    form_factor : str, optional
+    source : str, optional
+        Where the limits come from (default: :func:`source_for` the form factor).
 
     Examples
     --------
@@ -153,5 +185,5 @@ def check_envelope(
         bool(np.all(margin >= 0)),
         at95,
         margin,
-        source,
+        source_for(form_factor) if source is None else source,
     )

@@ -25,8 +25,9 @@ Pure numpy: nothing here imports the CAD layer.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
@@ -79,6 +80,14 @@ class BudgetNode(JsonResult):
     predicted_mass_kg : float
         With growth allowances.
     children : tuple of BudgetNode
+    inertia_kg_mm2 : ndarray, shape (3, 3)
+        About the node's own CoG, model axes (tensor convention of :mod:`cadcog.mass.inertia`:
+        off-diagonal entries ``−∫ x·y dm``).
+    inertia_total_cog_kg_mm2 : ndarray, shape (3, 3)
+        The node's inertia about the *total's* CoG, model axes (its contribution to the total).
+    item_masses : tuple of (item, mass_kg, sigma_rel)
+        The node's mass in each uncertainty item (not in the JSON): lets identical siblings be
+        grouped with their exact rolled-up σ (:func:`budget_rows`).
     """
 
     path: str
@@ -91,6 +100,15 @@ class BudgetNode(JsonResult):
     sigma_complete: bool
     predicted_mass_kg: float
     children: tuple[BudgetNode, ...]
+    inertia_kg_mm2: FloatArray = field(default_factory=lambda: np.zeros((3, 3)))
+    inertia_total_cog_kg_mm2: FloatArray = field(default_factory=lambda: np.zeros((3, 3)))
+    item_masses: tuple[tuple[str, float, float], ...] = field(default=(), repr=False)
+
+    @property
+    def radii_of_gyration_mm(self) -> FloatArray:
+        """``k = √(I / m)`` about the node's own CoG, model axes x, y, z (mm), shape (3,)."""
+        d = np.clip(np.diagonal(self.inertia_kg_mm2), 0.0, None)
+        return np.asarray(np.sqrt(d / self.mass_kg)) if self.mass_kg > 0 else np.zeros(3)
 
     def walk(self, max_depth: int | None = None, depth: int = 0) -> list[tuple[int, BudgetNode]]:
         """The node and its descendants, depth first, with their depth."""
@@ -111,6 +129,9 @@ class BudgetNode(JsonResult):
             "mass_sigma_kg": self.mass_sigma_kg,
             "sigma_complete": self.sigma_complete,
             "predicted_mass_kg": self.predicted_mass_kg,
+            "inertia_kg_mm2": self.inertia_kg_mm2.tolist(),
+            "inertia_about_total_cog_kg_mm2": self.inertia_total_cog_kg_mm2.tolist(),
+            "radii_of_gyration_mm": self.radii_of_gyration_mm.tolist(),
             "children": [c.to_dict() for c in self.children],
         }
 
@@ -164,22 +185,39 @@ class MassBudget(JsonResult):
         }
 
 
-def _node_sigma(lines: Sequence[BudgetLine]) -> tuple[float | None, bool]:
+def _item_masses(lines: Sequence[BudgetLine]) -> tuple[tuple[str, float, float], ...]:
+    """(item, mass in these lines, σ_rel) for every item with an uncertainty."""
     per_item: dict[str, tuple[float, float]] = {}
-    complete = True
     for b in lines:
-        if b.sigma_rel is None:
-            complete = False
-            continue
-        mass, sigma = per_item.get(b.item, (0.0, b.sigma_rel))
-        per_item[b.item] = (mass + b.properties.mass_kg, sigma)
-    if not per_item:
+        if b.sigma_rel is not None:
+            mass, sigma = per_item.get(b.item, (0.0, b.sigma_rel))
+            per_item[b.item] = (mass + b.properties.mass_kg, sigma)
+    return tuple((k, m, s) for k, (m, s) in per_item.items())
+
+
+def _sigma_of(items: Sequence[tuple[str, float, float]]) -> float:
+    """1-σ mass of item parts: ``√Σ_I (σ_I m_I)²`` with ``m_I`` summed per item first."""
+    per_item: dict[str, tuple[float, float]] = {}
+    for key, mass, sigma in items:
+        m0, _ = per_item.get(key, (0.0, sigma))
+        per_item[key] = (m0 + mass, sigma)
+    return float(np.sqrt(sum((m * s) ** 2 for m, s in per_item.values())))
+
+
+def _node_sigma(lines: Sequence[BudgetLine]) -> tuple[float | None, bool]:
+    items = _item_masses(lines)
+    if not items:
         return None, False
-    return float(np.sqrt(sum((m * s) ** 2 for m, s in per_item.values()))), complete
+    return _sigma_of(items), all(b.sigma_rel is not None for b in lines)
 
 
 def _build(
-    lines: Sequence[BudgetLine], depth: int, path: str, name: str, total_kg: float
+    lines: Sequence[BudgetLine],
+    depth: int,
+    path: str,
+    name: str,
+    total_kg: float,
+    total_cog_mm: FloatArray,
 ) -> BudgetNode:
     here = combine(b.properties for b in lines)
     groups: dict[str, list[BudgetLine]] = {}
@@ -187,7 +225,9 @@ def _build(
         if len(b.nodes) > depth:
             groups.setdefault(b.nodes[depth], []).append(b)
     children = tuple(
-        _build(group, depth + 1, f"{path}/{child}" if path else child, child, total_kg)
+        _build(
+            group, depth + 1, f"{path}/{child}" if path else child, child, total_kg, total_cog_mm
+        )
         for child, group in groups.items()
     )
     sigma, complete = _node_sigma(lines)
@@ -203,6 +243,9 @@ def _build(
         complete,
         predicted,
         children,
+        here.inertia_kg_mm2,
+        here.inertia_about(total_cog_mm),
+        _item_masses(lines),
     )
 
 
@@ -231,7 +274,7 @@ def mass_budget(lines: Sequence[BudgetLine], name: str = "total") -> MassBudget:
     if not lines:
         raise ValueError("a mass budget needs at least one body")
     total = combine(b.properties for b in lines)
-    root = _build(lines, 0, "", name, total.mass_kg)
+    root = _build(lines, 0, "", name, total.mass_kg, total.cog_mm)
     if len(root.children) == 1 and root.children[0].n_bodies == root.n_bodies:
         root = root.children[0]  # one top assembly: it is the root
     cov = None
@@ -255,3 +298,171 @@ def mass_budget(lines: Sequence[BudgetLine], name: str = "total") -> MassBudget:
         for b in lines
     )
     return MassBudget(root, sigma, cov, covered / total.mass_kg, predicted, len(keys))
+
+
+# --- the budget as people read it: identical parts grouped, sorted, small ones collapsed -------
+#: Two sibling nodes are copies of one part when their base names (without an instance suffix
+#: ``[n]`` or a body suffix ``#n``), body counts and masses agree to this relative difference.
+IDENTICAL_MASS_RELATIVE = 1e-9
+
+_INSTANCE_SUFFIX = re.compile(r"(\[\d+\]|#\d+)+$")
+
+
+@dataclass(frozen=True)
+class BudgetRow:
+    """One row of a budget table: a node, a group of identical sibling nodes, or the sum of the
+    siblings below the collapse share.
+
+    Attributes
+    ----------
+    level : int
+        Depth below the root (0 for the root).
+    name : str
+        The node's name; for a group, the base name without its instance suffix ``[n]``; for a
+        collapsed row, ``"N others"``.
+    count : int
+        Identical copies grouped in the row (1 for a single node; the number of nodes folded into
+        a collapsed row).
+    unit_mass_kg : float or None
+        Mass of one copy (None for a collapsed row).
+    mass_kg : float
+    share : float
+        Of the total mass.
+    mass_sigma_kg : float or None
+        1 σ of the row's mass from the uncertainty items it holds.
+    cog_mm : ndarray, shape (3,)
+        The row's combined CoG.
+    inertia_kg_mm2 : ndarray, shape (3, 3)
+        The row's inertia about its own CoG, model axes (off-diagonal ``−∫ x·y dm``).
+    path : str
+        The (first) node's path; empty for a collapsed row.
+    n_bodies : int
+    collapsed : bool
+        The row stands for siblings each below the collapse share.
+    predicted_mass_kg : float
+        With growth allowances.
+    """
+
+    level: int
+    name: str
+    count: int
+    unit_mass_kg: float | None
+    mass_kg: float
+    share: float
+    mass_sigma_kg: float | None
+    cog_mm: FloatArray
+    inertia_kg_mm2: FloatArray
+    path: str
+    n_bodies: int
+    collapsed: bool = False
+    predicted_mass_kg: float = 0.0
+
+    @property
+    def label(self) -> str:
+        """``name``, ``name ×count`` for identical copies."""
+        return f"{self.name} ×{self.count}" if self.count > 1 and not self.collapsed else self.name
+
+    @property
+    def radii_of_gyration_mm(self) -> FloatArray:
+        """``√(I / m)`` about the row's CoG, model axes (mm), shape (3,)."""
+        d = np.clip(np.diagonal(self.inertia_kg_mm2), 0.0, None)
+        return np.asarray(np.sqrt(d / self.mass_kg)) if self.mass_kg > 0 else np.zeros(3)
+
+
+def _merged(nodes: Sequence[BudgetNode], level: int, name: str, collapsed: bool) -> BudgetRow:
+    props = combine(MassProperties(n.mass_kg, n.cog_mm, n.inertia_kg_mm2, 0.0) for n in nodes)
+    items = [t for n in nodes for t in n.item_masses]
+    sigma = _sigma_of(items) if items else None
+    first = nodes[0]
+    return BudgetRow(
+        level,
+        name,
+        len(nodes),
+        None if collapsed else first.mass_kg,
+        props.mass_kg,
+        sum(n.share for n in nodes),
+        sigma,
+        props.cog_mm,
+        props.inertia_kg_mm2,
+        "" if collapsed else first.path,
+        sum(n.n_bodies for n in nodes),
+        collapsed,
+        sum(n.predicted_mass_kg for n in nodes),
+    )
+
+
+def _same_part(a: BudgetNode, b: BudgetNode) -> bool:
+    return (
+        _INSTANCE_SUFFIX.sub("", a.name) == _INSTANCE_SUFFIX.sub("", b.name)
+        and a.n_bodies == b.n_bodies
+        and abs(a.mass_kg - b.mass_kg) <= IDENTICAL_MASS_RELATIVE * max(a.mass_kg, b.mass_kg)
+    )
+
+
+def budget_rows(
+    root: BudgetNode,
+    max_depth: int | None = None,
+    *,
+    collapse_below: float = 0.0,
+    group: bool = True,
+) -> list[BudgetRow]:
+    """The budget tree as table rows: copies grouped, heaviest first, small siblings collapsed.
+
+    Parameters
+    ----------
+    root : BudgetNode
+    max_depth : int, optional
+        Levels below the root shown (None: all).
+    collapse_below : float
+        Siblings each below this share of the total mass are summed into one ``N others`` row
+        (only when there are two or more of them); 0 shows every node.
+    group : bool
+        Fold identical sibling nodes (same base name without ``[n]``, same bodies and mass) into
+        one ``name ×count`` row whose children are the first copy's.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as L
+    >>> from cadcog.mass.properties import box_properties
+    >>> def body(name, x, m):
+    ...     return L(nodes=("sat", name), properties=box_properties([1, 1, 1], [x, 0, 0],
+    ...              mass_kg=m), sigma_rel=None, item=name, growth=0.0)
+    >>> lines = [body("screw[1]", 0, 0.001), body("pcb", 5, 0.5), body("screw[2]", 1, 0.001),
+    ...          body("nut", 2, 0.0005), body("washer", 3, 0.0002)]
+    >>> for r in budget_rows(mass_budget(lines).root, collapse_below=0.003):
+    ...     print(r.level, r.label, round(r.mass_kg, 4), r.cog_mm[0].round(3))
+    0 sat 0.5027 4.978
+    1 pcb 0.5 5.0
+    1 screw ×2 0.002 0.5
+    1 2 others 0.0007 2.286
+    """
+    rows: list[BudgetRow] = []
+
+    def visit(node: BudgetNode, level: int) -> None:
+        if max_depth is not None and level >= max_depth:
+            return
+        bunches: list[list[BudgetNode]] = []
+        for child in node.children:
+            for bunch in bunches if group else []:
+                if _same_part(bunch[0], child):
+                    bunch.append(child)
+                    break
+            else:
+                bunches.append([child])
+        bunches.sort(key=lambda b: -sum(n.mass_kg for n in b))
+        small = [b for b in bunches if sum(n.share for n in b) < collapse_below]
+        if len(small) < 2:
+            small = []
+        for bunch in bunches:
+            if any(bunch is s for s in small):
+                continue
+            base = _INSTANCE_SUFFIX.sub("", bunch[0].name) if len(bunch) > 1 else bunch[0].name
+            rows.append(_merged(bunch, level + 1, base, collapsed=False))
+            visit(bunch[0], level + 1)
+        if small:
+            folded = [n for b in small for n in b]
+            rows.append(_merged(folded, level + 1, f"{len(folded)} others", collapsed=True))
+
+    rows.append(_merged([root], 0, root.name, collapsed=False))
+    visit(root, 0)
+    return rows

@@ -31,10 +31,10 @@ from cadcog.mass.inertia import (
 )
 from cadcog.spacecraft.envelope import (
     CDS_COG_LIMITS_MM,
-    CDS_SOURCE,
     EnvelopeCheck,
     check_envelope,
     limits_for,
+    source_for,
 )
 from cadcog.spacecraft.mass_budget import MassBudget, mass_budget
 
@@ -140,6 +140,36 @@ class MassReport(JsonResult):
         return out
 
 
+def density_sources(bodies: Sequence[Any]) -> str:
+    """Where the densities came from, as the user gave them: ``--density-kg-m3 2700 ×12``...
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as B
+    >>> bodies = [B(density_source="materials rule '*' (uniform density)", density_kg_m3=2700.0)]
+    >>> density_sources(bodies * 3)
+    '--density-kg-m3 2700 ×3'
+    >>> density_sources([B(density_source="materials rule 'rail*' (m.toml)", density_kg_m3=1.0),
+    ...                  B(density_source="STEP material 'Al' (AL6061)", density_kg_m3=1.0)])
+    'materials file m.toml ×1, STEP materials ×1'
+    """
+    counts: dict[str, int] = {}
+    for b in bodies:
+        src = b.density_source
+        if src.endswith("(uniform density)"):
+            key = f"--density-kg-m3 {b.density_kg_m3:g}"
+        elif src.startswith("materials rule") and src.endswith(")") and "(" in src:
+            key = f"materials file {src[src.rindex('(') + 1 : -1]}"
+        elif src.startswith("STEP material"):
+            key = "STEP materials"
+        elif src.startswith("uniform"):
+            key = "one density scaled to --total-mass-kg"
+        else:
+            key = src.split(" (", 1)[0]
+        counts[key] = counts.get(key, 0) + 1
+    return ", ".join(f"{k} ×{n}" for k, n in counts.items())
+
+
 def parse_point(text: str) -> str | tuple[float, float, float]:
     """``cog``, ``origin``, ``centre`` or ``X,Y,Z`` (mm).
 
@@ -217,7 +247,7 @@ def build_mass_report(
         if form_factor not in CDS_COG_LIMITS_MM:
             known = ", ".join(CDS_COG_LIMITS_MM)
             raise ValueError(f"unknown form factor {form_factor!r}; known: {known}")
-        limits, source = limits_for(form_factor), CDS_SOURCE
+        limits, source = limits_for(form_factor), source_for(form_factor)
     if cog_limits_mm is not None or form_factor is not None:
         envelope = check_envelope(
             total.cog_mm,

@@ -13,6 +13,12 @@ campaign share its hangs and its ME error, as the pairs of one lab campaign do.
 Reproducibility: campaigns come in blocks of :data:`BLOCK_TRIALS`; block ``b`` draws from its own
 generator seeded by ``SeedSequence(seed, spawn_key=(b,))``. Results are therefore identical
 whatever the chunk size (blocks per vectorised batch) or the number of workers.
+
+One concept a module: the trial model (scenario, error draws, one hang, one estimate) is
+:mod:`cadcog.uncertainty.trials`, what a run keeps (histograms, streamed summaries)
+:mod:`cadcog.uncertainty.histogram`; this module streams trials over campaigns, blocks, tasks
+and workers (:func:`simulate`), and draws random suspension points (:func:`draw_points`). The
+names of the other two stay importable from here.
 """
 
 from __future__ import annotations
@@ -20,34 +26,49 @@ from __future__ import annotations
 import ctypes
 import multiprocessing
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
-from functools import cached_property
+from dataclasses import dataclass
 from itertools import combinations, pairwise
-from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.core.units import STANDARD_GRAVITY_M_S2
-from cadcog.method.errormodel import ErrorModel, wire_shape_factor
+from cadcog.method.errormodel import ErrorModel
 from cadcog.method.gls import (
     PREPARED_ROWS,
-    GLSBatch,
     LineErrors,
     PreparedLines,
     WireTerm,
-    cog_only,
     combine_lines,
-    plumb_gls,
     prepare_lines,
 )
 from cadcog.rig.geometry import FACES, face_normal, face_plane_mm, ideal_reading
 from cadcog.rig.parameters import Rig
 
+# the trial model and the results have their own modules; their names stay importable here
+from cadcog.uncertainty.histogram import NormHistogram, SimulationResult
+from cadcog.uncertainty.trials import (  # noqa: F401
+    EstimatorOptions,
+    Perturbations,
+    Scenario,
+    _measured_verticals,
+    _tangents,
+    compensated_errors,
+    draw_perturbations,
+    estimate_trials,
+    group_errors,
+    hang,
+    measured_verticals,
+    propagate,
+    simulate_block,
+)
+
 FloatArray = npt.NDArray[np.float64]
 
 #: Trials per independently seeded block.
 BLOCK_TRIALS = 4096
+
+#: The estimator of ``cadcog estimate`` (frozen: safe as a default).
+DEFAULT_OPTIONS = EstimatorOptions()
 
 _ALLOCATOR_TUNED = False
 
@@ -80,447 +101,6 @@ def tune_allocator() -> None:
         libc.mallopt(-1, 128 << 20)  # M_TRIM_THRESHOLD: 128 MiB
     except (OSError, AttributeError):  # pragma: no cover - not glibc
         pass
-
-
-@dataclass(frozen=True)
-class Scenario:
-    """The physical set-up: nominal suspension points and the true mass properties.
-
-    Attributes
-    ----------
-    ids : tuple of str
-    points_mm : ndarray, shape (n, 3)
-        Nominal suspension points (where the wire leaves the object).
-    normals : ndarray, shape (n, 3)
-        Outward unit normals (bolt axes).
-    pm_cog_mm : ndarray, shape (3,)
-        True CoG of the object (proof mass), from the CAD ground truth.
-    pm_mass_kg, me_mass_kg : float
-    me_cog_mm : ndarray, shape (3,)
-        CAD CoG of the measurement equipment.
-    """
-
-    ids: tuple[str, ...]
-    points_mm: FloatArray
-    normals: FloatArray
-    pm_cog_mm: FloatArray
-    pm_mass_kg: float
-    me_mass_kg: float
-    me_cog_mm: FloatArray
-
-    @property
-    def total_mass_kg(self) -> float:
-        return self.pm_mass_kg + self.me_mass_kg
-
-    @property
-    def assembly_cog_mm(self) -> FloatArray:
-        return np.asarray(
-            (self.pm_mass_kg * self.pm_cog_mm + self.me_mass_kg * self.me_cog_mm)
-            / self.total_mass_kg
-        )
-
-    @property
-    def weight_n(self) -> float:
-        return self.total_mass_kg * STANDARD_GRAVITY_M_S2
-
-    @cached_property
-    def tangents(self) -> tuple[FloatArray, FloatArray]:
-        """Two unit vectors spanning each point's face plane, each of shape (n, 3)."""
-        return _tangents(self.normals)
-
-    def with_points(
-        self, ids: Sequence[str], points_mm: npt.ArrayLike, normals: npt.ArrayLike
-    ) -> Scenario:
-        return Scenario(
-            tuple(ids),
-            np.asarray(points_mm, dtype=float),
-            np.asarray(normals, dtype=float),
-            self.pm_cog_mm,
-            self.pm_mass_kg,
-            self.me_mass_kg,
-            self.me_cog_mm,
-        )
-
-    @classmethod
-    def from_rig(cls, rig: Rig) -> Scenario:
-        """The rig's own suspension points; masses and CoGs from its CAD closed forms."""
-        pts = [rig.wire_exit_mm(p) for p in rig.suspension_points]
-        return cls(
-            tuple(p.id for p in rig.suspension_points),
-            np.array(pts),
-            np.array([p.normal for p in rig.suspension_points]),
-            rig.analytic_proof_mass.cog_mm,
-            rig.proof_mass.mass_kg,
-            rig.analytic_me.mass_kg,
-            rig.analytic_me.cog_mm,
-        )
-
-
-@dataclass(frozen=True)
-class EstimatorOptions:
-    """How the simulated user estimates: by default exactly as ``cadcog estimate`` does.
-
-    Attributes
-    ----------
-    weighted : bool
-        True: the generalised least squares of :func:`cadcog.method.gls.plumb_gls` with each line's
-        covariance from the error model. False: equal weights (eq. 8 for a pair), the paper's.
-    wire_correction : bool
-        Move each nominal point along its bolt axis by the wire offset the model expects.
-    self_calibrate : bool
-        Estimate the wire offset scale λ with the CoG (three or more hangs).
-    """
-
-    weighted: bool = True
-    wire_correction: bool = True
-    self_calibrate: bool = False
-
-    @classmethod
-    def paper(cls) -> EstimatorOptions:
-        """The paper's estimator: eq. 8 (equal weights), no wire correction."""
-        return cls(weighted=False, wire_correction=False)
-
-    def describe(self) -> dict[str, Any]:
-        return {
-            "estimator": "generalised least squares" if self.weighted else "equal weights (eq. 8)",
-            "wire_correction": self.wire_correction,
-            "wire_self_calibration": self.self_calibrate,
-        }
-
-
-def _tangents(normals: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Two unit vectors spanning each face plane; normals of shape (k, 3)."""
-    helper = np.where(np.abs(normals[:, [0]]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
-    t1 = np.cross(normals, helper)
-    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
-    return t1, np.cross(normals, t1)
-
-
-# The vectorised kernels below hold vectors as components first, shape (3, ...): each component
-# is then a contiguous array, which makes the element-wise maths several times faster than on
-# (..., 3) arrays.
-
-
-def _dot(a: FloatArray, b: FloatArray) -> FloatArray:
-    """Dot product of component-first arrays, shape (3, ...) → (...)."""
-    return np.asarray(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
-
-
-def _unit(v: FloatArray) -> FloatArray:
-    return np.asarray(v / np.sqrt(_dot(v, v)))
-
-
-def _measured_verticals(u_true: FloatArray, err_x: FloatArray, err_y: FloatArray) -> FloatArray:
-    """Readings of the true verticals plus errors (degrees), back through eq. 2.
-
-    ``u_true`` is component-first, shape (3, ...). ``sin(asin(u) + e)`` is evaluated as
-    ``u cos e + √(1 − u²) sin e`` with ``cos e = √(1 − sin² e)`` (|e| < 90°), which avoids the
-    arcsine and the cosine.
-    """
-    ex = np.sin(np.deg2rad(err_x))
-    ey = np.sin(np.deg2rad(err_y))
-    ux, uy = u_true[0], u_true[1]
-    sx = ux * np.sqrt(1.0 - ex * ex) + np.sqrt(np.maximum(1.0 - ux * ux, 0.0)) * ex
-    sy = uy * np.sqrt(1.0 - ey * ey) + np.sqrt(np.maximum(1.0 - uy * uy, 0.0)) * ey
-    r2 = sx * sx + sy * sy
-    over = r2 > 1.0
-    if np.any(over):  # the paper's normalisation, rare: only near the horizontal
-        scale = np.where(over, 1.0 / np.sqrt(np.where(over, r2, 1.0)), 1.0)
-        sx, sy = sx * scale, sy * scale
-        r2 = np.where(over, 1.0, r2)
-    sz = np.copysign(np.sqrt(np.maximum(1.0 - r2, 0.0)), u_true[2])
-    return np.stack([sx, sy, sz])
-
-
-@dataclass(frozen=True)
-class Perturbations:
-    """Random draws of one batch of n campaigns (trials) of k hangs each.
-
-    Attributes
-    ----------
-    me_mm : ndarray, shape (3, n)
-        ME CoG error (component-first, like every array here).
-    play_mm : ndarray, shape (2, k, n)
-        Suspension-point play along the two face tangents.
-    wire : ndarray, shape (k, n) or (1, n)
-        Paper wire model: the offset of each hang along its bolt axis (mm). Elastica: the
-        factor on λ, one per trial (the campaign's one wire).
-    reading_deg : ndarray, shape (2, k, n)
-        X and Y reading errors.
-    """
-
-    me_mm: FloatArray
-    play_mm: FloatArray
-    wire: FloatArray
-    reading_deg: FloatArray
-
-
-def draw_perturbations(
-    model: ErrorModel, rng: np.random.Generator, n: int, k: int
-) -> Perturbations:
-    """Draw every enabled error source for ``n`` trials of ``k`` suspensions (others are 0).
-
-    Draws are single precision (an error needs no more than 7 digits; it halves their cost).
-    What is computed from them is double precision, but for the sine of a reading error and its
-    cosine (:func:`_measured_verticals`), single precision like the error itself.
-    """
-    me = model.sample_me_errors(rng, n)
-    play = model.sample_play(rng, n, k)
-    wire = model.sample_wire(rng, n, k)
-    return Perturbations(me, play, wire, model.sample_reading_errors(rng, (2, k, n)))
-
-
-def hang(
-    scenario: Scenario, model: ErrorModel, group: Sequence[int], pert: Perturbations
-) -> FloatArray:
-    """True upward verticals when hanging from each point of ``group``: shape (3, k, n).
-
-    The object hangs from the *true* virtual suspension point (nominal point + play + wire
-    offset along the bolt axis) and its true assembly CoG (CAD + the ME's CoG error).
-    """
-    idx = np.asarray(group)
-    ratio = scenario.me_mass_kg / scenario.total_mass_kg
-    g_true = (scenario.assembly_cog_mm[:, None] + ratio * pert.me_mm)[:, None, :]  # (3, 1, n)
-    p = scenario.points_mm[idx].T[:, :, None]  # (3, k, 1)
-    nrm = scenario.normals[idx].T[:, :, None]
-    t1, t2 = (t[idx].T[:, :, None] for t in scenario.tangents)
-    q = p + pert.play_mm[0] * t1 + pert.play_mm[1] * t2  # (3, k, n)
-    if model.wire_model == "paper":
-        delta = pert.wire
-    elif "wire_offset" in model.sources:
-        lam = model.wire_length_mm(scenario.weight_n) * pert.wire
-        delta = lam * np.ones(q.shape[1:])
-        for _ in range(3):  # θ depends on the offset only weakly: a fixed point converges
-            u0 = _unit(q + delta * nrm - g_true)
-            delta = lam * wire_shape_factor(_dot(u0, nrm), "elastica")
-    else:
-        delta = np.zeros(q.shape[1:])
-    return _unit(q + delta * nrm - g_true)
-
-
-def estimate_trials(
-    scenario: Scenario,
-    model: ErrorModel,
-    group: Sequence[int],
-    pert: Perturbations,
-    options: EstimatorOptions = EstimatorOptions(),
-) -> GLSBatch:
-    """The user's estimate of the assembly CoG in every trial, from nominal points and readings.
-
-    Deterministic: the physics (:func:`hang`), the readings with their errors, and the same
-    estimator as ``cadcog estimate`` (:func:`cadcog.method.gls.plumb_gls`) on the nominal points.
-    """
-    idx = np.asarray(group)
-    p = scenario.points_mm[idx].T[:, :, None]  # (3, k, 1)
-    nrm = scenario.normals[idx].T[:, :, None]
-    u_true = hang(scenario, model, group, pert)
-    u = _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
-    wire = WireTerm.from_model(
-        model,
-        scenario.weight_n,
-        correct=options.wire_correction,
-        estimate=options.self_calibrate,
-    )
-    return plumb_gls(p, u, nrm, LineErrors.from_model(model), wire, weighted=options.weighted)
-
-
-def compensated_errors(scenario: Scenario, assembly_cog_mm: FloatArray) -> FloatArray:
-    """Errors (mm), shape (n, 3), of the ME-compensated CoG (eq. 10) of estimates (3, n)."""
-    r_pm = (
-        scenario.total_mass_kg * assembly_cog_mm.T - scenario.me_mass_kg * scenario.me_cog_mm
-    ) / (scenario.pm_mass_kg)
-    return np.asarray(r_pm - scenario.pm_cog_mm)
-
-
-def measured_verticals(
-    scenario: Scenario, model: ErrorModel, group: Sequence[int], pert: Perturbations
-) -> FloatArray:
-    """What the inclinometer reads hanging from each point of ``group``: unit verticals (3, k, n).
-
-    The physics (:func:`hang`) and the reading errors of ``pert`` back through eq. 2.
-    """
-    u_true = hang(scenario, model, group, pert)
-    return _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
-
-
-def group_errors(
-    scenario: Scenario,
-    model: ErrorModel,
-    group: Sequence[int],
-    u: FloatArray,
-    options: EstimatorOptions = EstimatorOptions(),
-) -> FloatArray:
-    """CoG errors (estimated − true, mm), shape (n, 3), of ``group``'s estimates from readings.
-
-    The estimator of ``cadcog estimate`` on the nominal points and the measured verticals ``u``
-    (3, k, n), through its CoG-only path :func:`cadcog.method.gls.cog_only`, then the ME
-    compensation with the ME's CAD CoG.
-    """
-    idx = np.asarray(group)
-    p = scenario.points_mm[idx].T[:, :, None]
-    nrm = scenario.normals[idx].T[:, :, None]
-    wire = WireTerm.from_model(
-        model, scenario.weight_n, correct=options.wire_correction, estimate=options.self_calibrate
-    )
-    cog = cog_only(p, u, nrm, LineErrors.from_model(model), wire, weighted=options.weighted)
-    return compensated_errors(scenario, cog)
-
-
-def propagate(
-    scenario: Scenario,
-    model: ErrorModel,
-    group: Sequence[int],
-    pert: Perturbations,
-    options: EstimatorOptions = EstimatorOptions(),
-) -> FloatArray:
-    """CoG errors (estimated − true, mm), shape (n, 3), for given perturbations.
-
-    Deterministic: :func:`measured_verticals` then :func:`group_errors` (what
-    :func:`estimate_trials` does, through the estimator's CoG-only path).
-    """
-    u = measured_verticals(scenario, model, group, pert)
-    return group_errors(scenario, model, group, u, options)
-
-
-def simulate_block(
-    scenario: Scenario,
-    model: ErrorModel,
-    group: Sequence[int],
-    n: int,
-    rng: np.random.Generator,
-    options: EstimatorOptions = EstimatorOptions(),
-) -> FloatArray:
-    """CoG errors of ``n`` random trials suspending from ``group``; shape (n, 3)."""
-    pert = draw_perturbations(model, rng, n, len(group))
-    return propagate(scenario, model, group, pert, options)
-
-
-class NormHistogram:
-    """Counts of error norms in log-spaced bins: quantiles in constant memory.
-
-    Bins are ``[LO·gʲ, LO·gʲ⁺¹)`` with ``g = 1 + REL_WIDTH``, from :data:`LO_MM` to
-    :data:`HI_MM`, plus an underflow and an overflow bin. A quantile interpolated inside its
-    bin is within ``REL_WIDTH`` (0.02 %) of the sample quantile, relative, whatever the number
-    of trials; counts are integers, so the result does not depend on the order the trials are
-    added in (chunks, workers).
-    """
-
-    REL_WIDTH = 2e-4
-    LO_MM = 1e-6
-    HI_MM = 1e6
-
-    def __init__(self, counts: npt.NDArray[np.int64] | None = None) -> None:
-        n = self.n_bins() + 2
-        self.counts = np.zeros(n, dtype=np.int64) if counts is None else counts
-
-    @classmethod
-    def n_bins(cls) -> int:
-        return int(np.ceil(np.log(cls.HI_MM / cls.LO_MM) / np.log1p(cls.REL_WIDTH)))
-
-    @classmethod
-    def edges_mm(cls) -> FloatArray:
-        """The finite bin edges (n_bins + 1)."""
-        return np.asarray(cls.LO_MM * np.exp(np.arange(cls.n_bins() + 1) * np.log1p(cls.REL_WIDTH)))
-
-    def add(self, norms_mm: FloatArray) -> None:
-        self.add_counts(self.count(norms_mm))
-
-    def add_counts(self, counts: npt.NDArray[np.int64]) -> None:
-        self.counts += counts
-
-    #: Norms binned per pass of :meth:`count` (its temporaries stay under ~3 MB).
-    COUNT_SLICE = 1 << 16
-
-    @classmethod
-    def count(cls, norms_mm: npt.ArrayLike) -> npt.NDArray[np.int64]:
-        """Bin counts of ``norms_mm`` (add them to several histograms at the cost of one)."""
-        x = np.asarray(norms_mm, dtype=float).ravel()
-        nb = cls.n_bins()
-        counts = np.zeros(nb + 2, dtype=np.int64)
-        for lo in range(0, x.size, cls.COUNT_SLICE):
-            part = x[lo : lo + cls.COUNT_SLICE]
-            with np.errstate(divide="ignore"):
-                j = np.floor(np.log(part * (1.0 / cls.LO_MM)) * (1.0 / np.log1p(cls.REL_WIDTH)))
-            idx = np.clip(np.nan_to_num(j, nan=nb, neginf=-1.0), -1, nb) + 1
-            counts += np.bincount(idx.astype(np.int64), minlength=nb + 2)
-        return counts
-
-    def merge(self, other: NormHistogram) -> None:
-        self.counts += other.counts
-
-    @property
-    def n(self) -> int:
-        return int(self.counts.sum())
-
-    def quantile(self, q: float) -> float:
-        """The ``q`` quantile (linear inside the bin holding it)."""
-        n = self.n
-        if n == 0:
-            raise ValueError("empty histogram")
-        target = q * n
-        cum = np.cumsum(self.counts)
-        j = int(np.searchsorted(cum, target, side="left"))
-        j = min(max(j, 1), self.counts.size - 2)  # under/overflow: clamp to the range
-        edges = self.edges_mm()
-        lo, hi = edges[j - 1], edges[j]
-        before = cum[j] - self.counts[j]
-        frac = (target - before) / self.counts[j] if self.counts[j] else 0.0
-        return float(lo + min(max(frac, 0.0), 1.0) * (hi - lo))
-
-    def cdf_at_edges(self) -> tuple[FloatArray, FloatArray]:
-        """Edges and the empirical CDF at them (fraction of norms below each edge)."""
-        cum = np.cumsum(self.counts)[:-1] / max(self.n, 1)
-        return self.edges_mm(), np.asarray(cum)
-
-    def fraction_below(self, eps_mm: float) -> float:
-        """Fraction of norms below ``eps_mm`` (to the bin: ``REL_WIDTH`` relative in ε)."""
-        edges, cdf = self.cdf_at_edges()
-        return float(np.interp(eps_mm, edges, cdf))
-
-
-@dataclass
-class SimulationResult:
-    """Streamed results: histograms of the error norms, per-axis and per-group summaries.
-
-    Attributes
-    ----------
-    histogram : NormHistogram
-        |e| of every trial.
-    screened_histogram : NormHistogram
-        |e| of the trials of the groups marked as screened in (well-conditioned).
-    n_trials : int
-    axis_sum_mm, axis_sumsq_mm2 : ndarray, shape (3,)
-        Sums of the error components and of their squares (group by group, in order).
-    norm_sumsq_mm2 : float
-        Σ |e|², for the moment fits.
-    groups : list of tuple of str
-    group_q50_mm, group_q95_mm, group_mean_mm : list of float
-        Per group, exact (from that group's own trials).
-    norms_mm : ndarray or None
-        Every norm, groups in order, if asked for (``keep_norms``).
-    """
-
-    histogram: NormHistogram
-    screened_histogram: NormHistogram
-    n_trials: int = 0
-    axis_sum_mm: FloatArray = field(default_factory=lambda: np.zeros(3))
-    axis_sumsq_mm2: FloatArray = field(default_factory=lambda: np.zeros(3))
-    norm_sumsq_mm2: float = 0.0
-    groups: list[tuple[str, ...]] = field(default_factory=list)
-    group_q50_mm: list[float] = field(default_factory=list)
-    group_q95_mm: list[float] = field(default_factory=list)
-    group_mean_mm: list[float] = field(default_factory=list)
-    norms_mm: FloatArray | None = None
-
-    @property
-    def axis_mean_mm(self) -> FloatArray:
-        return np.asarray(self.axis_sum_mm / self.n_trials)
-
-    @property
-    def axis_std_mm(self) -> FloatArray:
-        n = self.n_trials
-        var = (self.axis_sumsq_mm2 - self.axis_sum_mm**2 / n) / (n - 1)
-        return np.asarray(np.sqrt(np.maximum(var, 0.0)))
 
 
 @dataclass(frozen=True)
@@ -711,7 +291,7 @@ def simulate(
     groups: Sequence[Sequence[int]],
     trials_per_group: int,
     seed: int,
-    options: EstimatorOptions = EstimatorOptions(),
+    options: EstimatorOptions = DEFAULT_OPTIONS,
     *,
     screened: Sequence[bool] | None = None,
     keep_norms: bool = False,

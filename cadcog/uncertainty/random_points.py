@@ -202,8 +202,14 @@ def run_simulation(
     *,
     workers: int = 1,
     progress: Callable[[int], None] | None = None,
+    total: Callable[[int], None] | None = None,
 ) -> SimulationReport:
-    """Monte Carlo of ``rig`` under ``settings``; the error model defaults to the rig's."""
+    """Monte Carlo of ``rig`` under ``settings``; the error model defaults to the rig's.
+
+    ``progress`` is called with the trials finished after each batch; ``total``, once before
+    the first, with the number of trials to run (groups × trials per group: a progress bar's
+    total, known only once the groups are chosen).
+    """
     model = model or ErrorModel.from_rig(rig)
     ss = np.random.SeedSequence(settings.seed)
     points_seed, groups_seed, trials_seed = ss.generate_state(3)
@@ -223,6 +229,8 @@ def run_simulation(
                 "no group of points lets the wire offset scale be estimated (their bolt axes "
                 "are parallel or along their verticals): drop --self-calibrate-wire"
             )
+    if total is not None:
+        total(len(groups) * settings.trials_per_group)
     result = simulate(
         scenario,
         model,

@@ -21,12 +21,19 @@ import numpy as np
 from cadcog.core.fileio import staged_file
 from cadcog.core.units import rad_to_deg
 from cadcog.method.errormodel import ErrorModel
-from cadcog.method.readings import Suspension, suspension_from_samples
+from cadcog.method.readings import (
+    COUNT_COLUMNS,
+    Suspension,
+    format_face,
+    header_columns,
+    suspension_from_samples,
+)
 from cadcog.rig.inclinometer import InclinometerConfig
 from cadcog.rig.parameters import Rig
 from cadcog.uncertainty.montecarlo import Scenario, draw_perturbations, hang
 
-HEADER = "point_id,x_mm,y_mm,z_mm,inc_x_counts,inc_y_counts,top_face_up"
+#: The header of a virtual campaign: raw counts, as the bench records them.
+HEADER = ",".join(header_columns(COUNT_COLUMNS))
 
 
 @dataclass(frozen=True)
@@ -87,7 +94,7 @@ def write_campaign(path: str | Path, rows: list[CampaignRow], comment: str = "")
         x, y, z = r.position_mm
         lines.append(
             f"{r.point_id},{x:.3f},{y:.3f},{z:.3f},{r.counts_x},{r.counts_y},"
-            f"{str(r.top_face_up).lower()}"
+            f"{format_face(r.top_face_up)}"
         )
     with staged_file(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")

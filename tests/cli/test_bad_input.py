@@ -641,6 +641,27 @@ CASES = [
         {"r.csv": HEADER.rstrip("\n") + ",x_mm\n" + GOOD_ROWS.replace("true\n", "true,0\n")},
     ),
     Case(
+        "setup-init-missing-step",
+        ["setup", "init", "none.step"],
+        r"none\.step: file not found",
+    ),
+    Case(
+        "setup-init-out-not-toml",
+        ["setup", "init", "none.step", "--out", "s.txt"],
+        r"--out s\.txt: expected a file name ending in \.toml",
+    ),
+    Case(
+        "setup-init-refuses-to-overwrite",
+        ["setup", "init", "none.step", "--out", "s_setup.toml"],
+        r"s_setup\.toml: exists; --force replaces it",
+        {"s_setup.toml": "name = 'x'\n"},
+    ),
+    Case(
+        "massprops-collapse-out-of-range",
+        ["massprops", "none.step", "--collapse-below-percent", "100"],
+        r"--collapse-below-percent: expected a number from 0 to under 100, got 100",
+    ),
+    Case(
         "massprops-fifo-step",
         ["massprops", "pipe.step", "--density-kg-m3", "2700"],
         r"pipe\.step: is a FIFO \(named pipe\), expected a regular file",

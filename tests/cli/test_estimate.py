@@ -66,7 +66,7 @@ def test_table_output(tmp_path, capsys, paper_rig):
     csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
     assert main(["estimate", str(csv), "--rig", str(paper_rig.source)]) == 0
     out = capsys.readouterr().out
-    assert "object CoG (ME removed)" in out and "S1-S2" in out
+    assert "object CoG (ME removed)" in out and "S1 & S2" in out and " yes " in out
 
 
 def test_sign_flip_in_the_rig_file(tmp_path, capsys, paper_rig):

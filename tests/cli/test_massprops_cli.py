@@ -125,3 +125,80 @@ def test_units_option_on_a_metre_file_never_scales_twice(tmp_path, capsys):
     truth = combine(expected_boxes(nested_three_levels()))
     np.testing.assert_allclose(out["cog_mm"], truth.cog_mm, atol=1e-7)
     assert any("nothing scaled" in i for i in out["info"])
+
+
+def test_a_refusal_still_writes_the_json_and_the_csv_and_exits_2(tmp_path, capsys):
+    top = Assembly("top")
+    top.add(Part("outer", [((20.0, 20.0, 20.0), (0.0, 0.0, 0.0))], 2700.0))
+    top.add(Part("inner", [((5.0, 5.0, 5.0), (2.0, 2.0, 2.0))], 19300.0))
+    nested = write_step(top, tmp_path / "nested.step")
+    table = tmp_path / "budget.csv"
+    assert main(["massprops", str(nested), "--json", "--csv", str(table)]) == 2
+    captured = capsys.readouterr()
+    out = json.loads(captured.out)
+    assert out["refused"]["exit_status"] == 2 and "--resolve-overlaps" in out["refused"]["error"]
+    assert out["overlaps"]["n_pairs"] == 1 and out["overlaps"]["policy"] == "allow"
+    # counted as it is: both boxes whole (20³ and 5³ mm³), each at its own density
+    volumes = {b["path"].split("/")[-1]: b["volume_mm3"] for b in out["bodies"]}
+    assert volumes == pytest.approx({"outer": 8000.0, "inner": 125.0})
+    mass = sum(b["density_kg_m3"] * b["volume_mm3"] * 1e-9 for b in out["bodies"])
+    assert out["mass_kg"] == pytest.approx(mass, rel=1e-12)
+    assert captured.err.count("cadcog: error: ") == 1 and "report: " in captured.err
+    rows = table.read_text(encoding="utf-8").splitlines()
+    assert rows[0].startswith("kind,level,path,name,count") and len(rows) == 1 + 3 + 2
+
+
+def test_csv_rows_add_up_and_name_the_product_convention(model, tmp_path, capsys):
+    import csv
+
+    step, mats = model
+    table = tmp_path / "budget.csv"
+    args = ["massprops", str(step), "--materials", str(mats), "--csv", str(table), "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    with table.open(encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    bodies = [r for r in rows if r["kind"] == "body"]
+    assert len(bodies) == len(out["bodies"]) == 5
+    assert sum(float(r["mass_kg"]) for r in bodies) == pytest.approx(out["mass_kg"], rel=1e-12)
+    root = rows[0]
+    assert root["kind"] == "node" and float(root["mass_kg"]) == pytest.approx(out["mass_kg"])
+    products = out["inertia_kg_mm2"]["products"]["positive"]
+    assert float(root["Pyz_kg_mm2 (+∫yz dm)"]) == pytest.approx(products["yz"], rel=1e-9)
+    # a node's moments about the total's CoG add up to the total's moments
+    level1 = [r for r in rows if r["kind"] == "node" and r["level"] == "1"]
+    total_ixx = out["inertia_kg_mm2"]["tensor"][0][0]
+    each = sum(float(r["Ixx_total_cog_kg_mm2"]) for r in level1 for _ in range(int(r["count"])))
+    assert each == pytest.approx(total_ixx, rel=1e-9)
+    # radius of gyration k = √(I/m) about the row's own CoG
+    for r in bodies:
+        assert float(r["kx_mm"]) ** 2 * float(r["mass_kg"]) == pytest.approx(
+            float(r["Ixx_kg_mm2"]), rel=1e-9
+        )
+
+
+def test_text_groups_copies_names_the_convention_and_fits_small_masses(model, capsys):
+    step, _ = model
+    assert main(["massprops", str(step), "--density-kg-m3", "1000", "--depth", "3"]) == 0
+    out = capsys.readouterr().out
+    assert "bracket ×2" in out and "2 × 0.2" in out  # two brackets of 0.2 g each
+    assert "total 7.6 g" in out  # 7600 mm³ at 1000 kg/m³, not "0.00760 kg"
+    assert "Pxy = +∫xy dm" in out and "densities from --density-kg-m3 1000 ×5" in out
+    assert main(["massprops", str(step), "--density-kg-m3", "1000", "--products", "negative"]) == 0
+    assert "Ixy = −∫xy dm" in capsys.readouterr().out
+
+
+def test_the_views_name_the_heaviest_parts_two_levels_down(model):
+    from cadcog.cad.stepmass import model_mass_properties
+    from cadcog.cad.stepread import read_step
+    from cadcog.mass.materials import MaterialMap
+    from cadcog.reports.massprops_report import view_labels
+    from cadcog.spacecraft.mass_summary import build_mass_report
+
+    step, _ = model
+    result = model_mass_properties(read_step(step), MaterialMap.uniform(1000.0))
+    labels = view_labels(build_mass_report(result))
+    names = [name for name, _ in labels]
+    assert names[0] == "base" and "bracket ×2" in names  # base 7.2 g; the brackets grouped
+    masses = {r.path.rsplit("/", 1)[-1]: r.properties.mass_kg for r in result.bodies}
+    assert masses["base"] == max(masses.values())

@@ -81,3 +81,16 @@ def test_existing_outputs_survive_a_failed_build(tmp_path):
     rig = write_rig(tmp_path / "bad.toml", data)
     assert main(["parts", "build", str(rig), "--out", str(out)]) == 2
     assert _digest(out / STEP_FILE) == before
+
+
+def test_campaign_json_and_report_line(tmp_path, capsys):
+    """``campaign --json`` says what it wrote; the file it wrote is named on stderr."""
+    from cadcog.method.readings import read_readings
+
+    out = tmp_path / "c.csv"
+    assert main(["campaign", "--seed", "4", "--out", str(out), "--json"]) == 0
+    captured = capsys.readouterr()
+    data = json.loads(captured.out)
+    assert captured.err.strip() == f"report: {out}"
+    assert data["n_hangs"] == len(read_readings(out)) and data["seed"] == 4
+    assert data["n_samples"] == sum(1 for _ in out.open(encoding="utf-8")) - 2  # comment, header

@@ -24,8 +24,9 @@ SECTIONS = (
 def test_report_has_every_section_and_figure(tmp_path, capsys):
     out = tmp_path / "report"
     assert main(["report", "--out", str(out)]) == 0
-    printed = capsys.readouterr().out
-    assert f"report: {out / 'index.html'}" in printed
+    printed = capsys.readouterr()
+    assert f"report: {out / 'index.html'}" in printed.err  # files written: on stderr, always
+    assert "compensated CoG" in printed.out
     page = (out / "index.html").read_text(encoding="utf-8")
     for section in SECTIONS:
         assert f">{section}</h2>" in page, section

@@ -89,3 +89,26 @@ def test_frame_inertia_is_invariant_in_trace_and_eigenvalues(a, b, c, origin):
 def test_bad_frames_are_refused(axes, message):
     with pytest.raises(ValueError, match=message):
         Frame.parse(axes, [0, 0, 0])
+
+
+def test_axis_vectors_give_any_right_handed_frame():
+    """A box's inertia in axes turned 45° about z: the closed form of a rotated tensor."""
+    from cadcog.mass.inertia import Frame, inertia_in_frame
+    from cadcog.mass.properties import box_properties
+
+    box = box_properties([40.0, 20.0, 10.0], [0.0, 0.0, 0.0], mass_kg=1.2)
+    a, b = box.inertia_kg_mm2[0, 0], box.inertia_kg_mm2[1, 1]
+    j = inertia_in_frame(box, Frame.parse("1,1,0;-1,1,0", [0.0, 0.0, 0.0]))
+    assert j[0, 0] == pytest.approx((a + b) / 2) and j[1, 1] == pytest.approx((a + b) / 2)
+    # x' = (x + y)/√2, y' = (y − x)/√2: ∫x'y' dm = (∫y² − ∫x²)/2 = (Ixx − Iyy)/2, entry −that
+    assert j[0, 1] == pytest.approx((b - a) / 2) and b - a == pytest.approx(120.0)
+    # three vectors, one typed to four figures: squared up to the same frame
+    k = inertia_in_frame(box, Frame.parse("0.7071,0.7071,0;-0.7071,0.7071,0;0,0,2", [0, 0, 0]))
+    np.testing.assert_allclose(k, j, atol=1e-9)
+    for bad, text in [
+        ("1,0,0;1,1,0", "from perpendicular"),
+        ("1,0,0;0,1,0;0,0,-1", "left-handed"),
+        ("1,0,0;0,0,0", "expected two or three axis vectors"),
+    ]:
+        with pytest.raises(ValueError, match=text):
+            Frame.parse(bad, [0, 0, 0])

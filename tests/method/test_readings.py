@@ -114,3 +114,12 @@ def test_empty_and_missing_files(tmp_path):
         read_readings(tmp_path / "empty.csv")
     with pytest.raises(ReadingsError, match="file not found"):
         read_readings(tmp_path / "none.csv")
+
+
+def test_a_fifo_is_refused_without_waiting_for_a_writer(tmp_path):
+    import os
+
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)  # opening it for reading would block until a writer comes
+    with pytest.raises(ReadingsError, match=r"pipe\.csv: is a FIFO \(named pipe\), expected"):
+        read_readings(fifo)

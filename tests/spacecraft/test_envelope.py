@@ -32,3 +32,15 @@ def test_axes_map_the_model_onto_the_cds_frame():
     np.testing.assert_allclose(c.offset_mm, [5.0, 1.0, 60.0])
     assert c.within and c.within_at_95 is None
     assert "within the envelope" == c.verdict()
+
+
+def test_pocketqube_limits_are_ten_mm_and_say_they_are_provisional():
+    from cadcog.spacecraft.envelope import check_envelope, limits_for
+
+    assert limits_for("2p").tolist() == [10.0, 10.0, 10.0]
+    inside = check_envelope([9.0, -9.0, 9.9], [0, 0, 0], limits_for("2p"), form_factor="2p")
+    outside = check_envelope([0.0, 0.0, 10.1], [0, 0, 0], limits_for("3p"), form_factor="3p")
+    assert inside.within and not outside.within
+    assert "PROVISIONAL" in inside.source and "PocketQube Standard" in inside.source
+    cubesat = check_envelope([0, 0, 0], [0, 0, 0], limits_for("1U"), form_factor="1U")
+    assert "CubeSat Design Specification" in cubesat.source

@@ -41,3 +41,21 @@ def test_self_calibrated_simulation_leaves_them_out_and_stays_finite(paper_rig):
     d = report.to_dict()
     assert d["groups_left_out_wire_unidentifiable"] == report.unidentifiable_groups
     assert d["n_groups"] + report.unidentifiable_groups == 300  # MAX_GROUPS drawn
+
+
+def test_the_progress_total_is_announced_first_and_reached(paper_rig):
+    """``simulate``'s bar gets its total (groups × trials) before the first step, and the steps
+    add up to it: the groups left out as unidentifiable are not counted."""
+    settings = SimulationSettings(
+        points=25, trials_per_group=20, seed=1, group_size=3, self_calibrate=True
+    )
+    calls: list[tuple[str, int]] = []
+    report = run_simulation(
+        paper_rig,
+        settings,
+        progress=lambda n: calls.append(("step", n)),
+        total=lambda n: calls.append(("total", n)),
+    )
+    assert calls[0] == ("total", len(report.groups) * 20)
+    assert [k for k, _ in calls].count("total") == 1
+    assert sum(n for k, n in calls if k == "step") == calls[0][1] == report.result.n_trials
