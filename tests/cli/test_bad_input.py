@@ -488,6 +488,38 @@ CASES = [
         r"q\.toml: --update-baseline needs a \[baseline\] table",
         {"q.toml": REQUIREMENTS.split("[baseline]")[0]},
     ),
+    # --- inertia ---------------------------------------------------------------------------------
+    Case(
+        "inertia-swings-missing",
+        ["inertia", "s.csv", "--readings", "r.csv"],
+        r"s\.csv: file not found, expected a swing CSV file",
+        {"r.csv": HEADER + GOOD_ROWS},
+    ),
+    Case(
+        "inertia-swings-column",
+        ["inertia", "s.csv", "--readings", "r.csv"],
+        r"s\.csv, line 2: missing column\(s\) inc_y_deg",
+        {"r.csv": HEADER + GOOD_ROWS, "s.csv": "# swings\npoint_id,t_s,inc_x_deg\nS1,0,1\n"},
+    ),
+    Case(
+        "inertia-swing-time",
+        ["inertia", "s.csv", "--readings", "r.csv"],
+        r"s\.csv, line 3: column t_s: .* time must increase within a hang",
+        {
+            "r.csv": HEADER + GOOD_ROWS,
+            "s.csv": "point_id,t_s,inc_x_deg,inc_y_deg\nS1,1,1,2\nS1,1,1,2\n",
+        },
+    ),
+    Case(
+        "inertia-rig-wire-negative",
+        ["inertia", "s.csv", "--readings", "r.csv", "--rig", "g.toml"],
+        r"g\.toml: key 'swing\.wire_length_mm'",
+        {
+            "r.csv": HEADER + GOOD_ROWS,
+            "s.csv": "point_id,t_s,inc_x_deg,inc_y_deg\n",
+            "g.toml": rig_with("[error_model]", "[swing]\nwire_length_mm = -1.0\n\n[error_model]"),
+        },
+    ),
     # --- update ----------------------------------------------------------------------------------
     Case(
         "update-mass-zero",
