@@ -115,8 +115,10 @@ class InertiaResult(JsonResult):
     principal : PrincipalWithSigma
     cog_mm : ndarray, shape (3,)
         The object's CoG the tensor is about (compensated).
-    mass_kg, mass_sigma_kg : float
-        The object's mass used, and its 1 σ.
+    mass_kg : float
+        The object's mass used.
+    mass_sigma_kg : float
+        Its 1 σ.
     mass_source : str
     hangs : tuple of HangSwing
     chi2 : float
