@@ -26,10 +26,6 @@ tables (``docs/inertia_validation.md``). ``--placeholder`` replaces the estimato
 from __future__ import annotations
 
 import argparse
-import contextlib
-import io
-import json
-import re
 import sys
 import tempfile
 import time
@@ -43,6 +39,7 @@ from scipy import stats
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from tests.inertia import estimator_runs as er  # noqa: E402
 from tests.inertia import swing_files as sf  # noqa: E402
 
 CACHE = ROOT / "build" / "study_inertia"
@@ -185,92 +182,6 @@ def campaigns(row: Row) -> tuple[sf.Truth, list[list[sf.HangRecord]]]:
 
 
 # --- estimate -------------------------------------------------------------------------------
-def swing_table(cfg: sf.SwingConfig, sensor_mm: np.ndarray) -> str:
-    s = ", ".join(f"{v:.4f}" for v in sensor_mm)
-    return (
-        f"\n[swing]\nwire_length_mm = {cfg.wire_length_mm}\n"
-        f"wire_length_sigma_mm = {cfg.wire_length_sigma_mm}\nsensor_position_mm = [{s}]\n"
-    )
-
-
-def parameter_file(row: Row, truth: sf.Truth, directory: Path) -> Path:
-    """A copy of the rig or set-up file with the row's ``[swing]`` table (any existing one
-    replaced); relative paths in a set-up are made absolute."""
-    src = RIG if row.source == "rig" else SETUP
-    text = re.sub(r"(?ms)^\[swing\].*?(?=^\[|\Z)", "", src.read_text(encoding="utf-8"))
-    if row.source == "setup":
-        text = re.sub(
-            r'(?m)^(model|model_step|materials|rig)\s*=\s*"([^"]+)"',
-            lambda m: f'{m[1]} = "{(src.parent / m[2]).as_posix()}"',
-            text,
-        )
-    sensor = np.asarray(truth.body.sensor_mm, float)
-    # the [swing] table goes before the first array-of-tables header, to stay a top-level table
-    first = re.search(r"(?m)^\[", text)
-    pos = first.start() if first else len(text)
-    text = text[:pos] + swing_table(row.config, sensor).lstrip("\n") + "\n" + text[pos:]
-    out = directory / src.name
-    out.write_text(text, encoding="utf-8")
-    return out
-
-
-def run_estimator(swings: Path, readings: Path, params: Path, row: Row) -> dict[str, Any]:
-    from cadcog.cli._main import main
-
-    option = "--rig" if row.source == "rig" else "--setup"
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(io.StringIO()):
-        code = main(
-            ["inertia", str(swings), "--readings", str(readings), option, str(params), "--json"]
-        )
-    if code not in (0, None):
-        raise RuntimeError(f"cadcog inertia exited {code}")
-    result: dict[str, Any] = json.loads(buf.getvalue())
-    return result
-
-
-def placeholder(truth: sf.Truth, rng: np.random.Generator) -> dict[str, Any]:
-    """Stand-in estimator: the truth with a 1 % normal draw of each entry, reported σ 1 %."""
-    j = truth.object_inertia_kg_mm2
-    sd = 0.01 * np.trace(j) / 3
-    d = rng.normal(0, sd, 6)
-    est = j + np.array([[d[0], d[3], d[4]], [d[3], d[1], d[5]], [d[4], d[5], d[2]]])
-    w, v = np.linalg.eigh(est)
-    return {
-        "inertia_kg_mm2": est.tolist(),
-        "inertia_cov": (sd**2 * np.eye(6)).tolist(),
-        "principal_moments_kg_mm2": w.tolist(),
-        "principal_moments_sigma_kg_mm2": [sd] * 3,
-        "principal_axes": v.T.tolist(),
-    }
-
-
-def vec6(t: np.ndarray) -> np.ndarray:
-    return np.array([t[0, 0], t[1, 1], t[2, 2], t[0, 1], t[0, 2], t[1, 2]])
-
-
-def score(result: dict[str, Any], truth: sf.Truth) -> dict[str, Any]:
-    """Errors of one estimate against the truth (principal quantities sorted by moment)."""
-    true_t = truth.object_inertia_kg_mm2
-    tw, tv = np.linalg.eigh(true_t)
-    est_t = np.asarray(result["inertia_kg_mm2"], float)
-    cov = np.asarray(result["inertia_cov"], float)
-    d = vec6(est_t - true_t)
-    chi2 = float(d @ np.linalg.solve(cov, d))
-    w = np.asarray(result["principal_moments_kg_mm2"], float)
-    sw = np.asarray(result["principal_moments_sigma_kg_mm2"], float)
-    axes = np.asarray(result["principal_axes"], float)
-    order = np.argsort(w)
-    w, sw, axes = w[order], sw[order], axes[order]
-    ang = np.degrees(np.arccos(np.clip(np.abs(np.sum(axes * tv.T, axis=1)), 0, 1)))
-    return {
-        "rel": ((w - tw) / tw).tolist(),
-        "z": ((w - tw) / sw).tolist(),
-        "chi2": chi2,
-        "axis_deg": ang.tolist(),
-    }
-
-
 def estimate_row(row: Row, use_placeholder: bool, limit: int | None) -> list[dict[str, Any]]:
     truth, camps = campaigns(row)
     camps = camps[:limit] if limit else camps
@@ -278,21 +189,21 @@ def estimate_row(row: Row, use_placeholder: bool, limit: int | None) -> list[dic
     rng = np.random.default_rng(0)
     with tempfile.TemporaryDirectory() as tmp:
         d = Path(tmp)
-        params = parameter_file(row, truth, d)
+        src = RIG if row.source == "rig" else SETUP
+        params = er.parameter_file(src, row.source, row.config, truth, d)
         for camp in camps:
             sw, rd = d / "swings.csv", d / "readings.csv"
             sf.write_campaign(camp, sw, rd)
             try:
-                res = (
-                    placeholder(truth, rng)
-                    if use_placeholder
-                    else run_estimator(sw, rd, params, row)
-                )
+                if use_placeholder:
+                    res = er.placeholder(truth, rng)
+                else:
+                    res = er.run_estimator(sw, rd, params, row.source)
             except (RuntimeError, SystemExit, ValueError) as exc:
                 failures += 1
                 print(f"  {row.name}: estimator failed: {exc}", file=sys.stderr)
                 continue
-            scores.append(score(res, truth))
+            scores.append(er.score(res, truth))
     if failures:
         print(f"  {row.name}: {failures} campaigns failed", file=sys.stderr)
     return scores

@@ -53,7 +53,7 @@ class SwingConfig:
     clock_ppm: float = 0.0
     oversample: int = 16
     settled_samples: int = 15
-    dt_s: float | None = None  # RK4 step; None: min(2 ms, 0.1/ω_max)
+    dt_s: float | None = None  # RK4 step; None: min(4 ms, 0.15/ω_max)
 
 
 @dataclass(frozen=True)
@@ -260,7 +260,7 @@ def simulate_campaigns(
             t0s.append(start_s)
             start_s += cfg.duration_s + rng.uniform(120, 300)
     omega = max(st.highest_frequency_rad_s(b, ln) for b, ln in zip(bodies, lengths, strict=True))
-    dt = cfg.dt_s if cfg.dt_s is not None else min(2e-3, 0.1 / omega)
+    dt = cfg.dt_s if cfg.dt_s is not None else min(4e-3, 0.15 / omega)
     traj = st.integrate(
         st.make_batch(bodies, lengths, taus), np.array(y0).T, np.array(t_true), dt, 10.0
     )
