@@ -18,8 +18,10 @@ Two phases, so the slow simulation runs once:
     nice -n 5 .venv/bin/python benchmarks/study_inertia.py simulate [--seeds 200] [--rows ...]
     nice -n 5 .venv/bin/python benchmarks/study_inertia.py estimate [--rows ...]
 
-``simulate`` caches every row in ``build/study_inertia/ROW.npz``; ``estimate`` prints markdown
-tables (``docs/inertia_validation.md``). ``--placeholder`` replaces the estimator by a stand-in
+``modes`` prints the truth's small-oscillation frequencies of the rig's hangs (from the
+simulator's own linearisation). ``simulate`` caches every row in
+``build/study_inertia/ROW.npz``; ``estimate`` prints markdown tables
+(``docs/inertia_validation.md``). ``--placeholder`` replaces the estimator by a stand-in
 (the truth plus a 1 % draw, reported σ 1 %) to exercise the statistics before it exists.
 """
 
@@ -246,15 +248,31 @@ def table(rows: list[tuple[Row, list[dict[str, Any]]]]) -> str:
     return "\n".join(out) + "\n\n" + "\n".join(chi) + "\n"
 
 
+def modes_table() -> str:
+    """The truth's small-oscillation frequencies of every paper-rig hang at each wire length."""
+    truth = sf.rig_truth(RIG)
+    out = ["| L (mm) | hang | modes (Hz) |", "|---|---|---|"]
+    for length in (0.0, 100.0, 300.0, 1000.0):
+        for pid, exit_mm in truth.hangs:
+            b = truth.body
+            body = sf.st.HungBody(b.mass_kg, b.cog_mm, b.inertia_kg_mm2, exit_mm, b.sensor_mm)
+            f = sf.st.linear_modes_hz(body, length)
+            out.append(f"| {length:g} | {pid} | {', '.join(f'{v:.4f}' for v in f)} |")
+    return "\n".join(out)
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("phase", choices=("simulate", "estimate"))
+    ap.add_argument("phase", choices=("simulate", "estimate", "modes"))
     ap.add_argument("--rows", nargs="*", default=list(ROWS), choices=list(ROWS))
     ap.add_argument("--seeds", type=int, default=200)
     ap.add_argument("--batch", type=int, default=100, help="campaigns integrated together")
     ap.add_argument("--limit", type=int, default=None, help="estimate the first N campaigns")
     ap.add_argument("--placeholder", action="store_true")
     args = ap.parse_args(argv)
+    if args.phase == "modes":
+        print(modes_table())
+        return
     if args.phase == "simulate":
         for name in args.rows:
             print(f"{name}: {simulate(ROWS[name], args.seeds, args.batch)}", file=sys.stderr)

@@ -475,3 +475,24 @@ def inclinations_deg(force: FloatArray) -> tuple[FloatArray, FloatArray]:
         np.degrees(np.arcsin(np.clip(f[..., 0] / norm, -1, 1))),
         np.degrees(np.arcsin(np.clip(f[..., 1] / norm, -1, 1))),
     )
+
+
+def linear_modes_hz(
+    body: HungBody, wire_length_mm: float, decay_time_s: float = np.inf
+) -> FloatArray:
+    """Small-oscillation frequencies (Hz, ascending) of a hang, from a central-difference
+    Jacobian of this module's own nonlinear equations at rest: the eigenvalues ``±iω`` of the
+    13-state system (the constraint's Baumgarte modes are real, the yaw and the quaternion's
+    norm give zeros; neither is an oscillation). A diagnostic, not the estimator's model."""
+    y0 = initial_state(body, wire_length_mm, Release(*(np.zeros(3),) * 4))
+    batch = make_batch([body], wire_length_mm, decay_time_s)
+    jac = np.empty((13, 13))
+    for i in range(13):
+        h = np.zeros(13)
+        h[i] = 1e-7
+        jac[:, i] = (derivative((y0 + h)[:, None], batch) - derivative((y0 - h)[:, None], batch))[
+            :, 0
+        ] / 2e-7
+    ev = np.linalg.eigvals(jac)
+    osc = np.sort(ev.imag[ev.imag > 0.01])  # rad/s; the zero modes come out at ~1e-3
+    return np.asarray(osc / (2 * np.pi))

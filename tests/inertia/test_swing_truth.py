@@ -189,6 +189,10 @@ def test_small_swing_on_a_wire_has_the_double_pendulums_two_frequencies(wire_bat
         _, y = st.inclinations_deg(traj.force[hang])
         assert _period_s(WIRE_T, y) == pytest.approx(2 * np.pi / w, rel=2e-5)
     assert omega[1] / omega[0] > 3  # two well separated modes: the test tells them apart
+    # the simulator's own linearisation: these two (swing about x) and two about y
+    modes = st.linear_modes_hz(_planar_box(), WIRE_L_MM) * 2 * np.pi
+    assert len(modes) == 4
+    assert np.min(np.abs(modes[:, None] - omega), axis=0) == pytest.approx([0, 0], abs=1e-5)
 
 
 def test_settled_readings_are_the_static_plumb_line(wire_batch):
