@@ -3,8 +3,8 @@ double-suspension measurement with a dual-axis inclinometer.
 
 The main entry points are here (:mod:`cadcog.api`): :func:`mass_properties` of a STEP file,
 :func:`estimate` the CoG from readings, :func:`simulate` the method's error, :func:`validate` a
-campaign, :func:`plan` a spacecraft's test, :func:`update` its CAD from the test, :func:`check`
-requirements; :func:`load_rig` and
+campaign, :func:`plan` a spacecraft's test, :func:`update` its CAD from the test,
+:func:`inertia` its tensor from the swings, :func:`check` requirements; :func:`load_rig` and
 :func:`load_setup` read parameter files. Each returns the result object the command prints,
 with ``to_dict()`` and ``to_json()``.
 
@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from cadcog.api import (
         check,
         estimate,
+        inertia,
         load_rig,
         load_setup,
         mass_properties,
@@ -41,6 +42,7 @@ __all__ = [
     "__version__",
     "check",
     "estimate",
+    "inertia",
     "load_rig",
     "load_setup",
     "mass_properties",

@@ -26,6 +26,7 @@ LAYERS: dict[str, int] = {
     "validation": 5,
     "spacecraft": 6,
     "reports": 7,
+    "dynamics": 7,
     "bench": 8,
     "cli": 9,
     "api": 10,

@@ -22,6 +22,7 @@ from cadcog.cli import (
     campaign,
     check,
     estimate,
+    inertia,
     massprops,
     parts,
     plan,
@@ -90,6 +91,7 @@ def build_parser() -> OneLineParser:
     check.add_parser(sub)
     acquire.add_parser(sub)
     update.add_parser(sub)
+    inertia.add_parser(sub)
     return parser
 
 

@@ -8,6 +8,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import is_stream, refuse_overwriting_inputs
 from cadcog.method.errormodel import ErrorModel
@@ -42,7 +44,29 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("--points", help="with --setup: comma-separated candidate ids to hang from")
     p.add_argument("--out", type=Path, required=True, help="CSV file to write")
+    p.add_argument(
+        "--swings",
+        type=Path,
+        help="also write each hang's swing from release (a swing CSV for cadcog inertia), "
+        "from the linear model with the CAD's inertia",
+    )
     p.set_defaults(func=run)
+
+
+def _write_swings(args: argparse.Namespace, context: Any, rows: list[Any], config: Any) -> None:
+    """``--swings``: the campaign's hangs' swings (seeded from ``--seed``)."""
+    if args.swings is None:
+        return
+    from cadcog.dynamics.swingfile import write_swings
+    from cadcog.dynamics.virtual import virtual_swings
+    from cadcog.validation.campaign import campaign_suspensions
+
+    hangs = campaign_suspensions(rows, config)
+    write_swings(args.swings, virtual_swings(context, hangs, seed=args.seed))
+    print(
+        f"wrote the swings of {len(hangs)} hangs to {args.swings}",
+        file=sys.stderr if is_stream(args.out) else sys.stdout,
+    )
 
 
 def _model(args: argparse.Namespace, model: ErrorModel) -> ErrorModel:
@@ -60,6 +84,10 @@ def _model(args: argparse.Namespace, model: ErrorModel) -> ErrorModel:
 
 def run(args: argparse.Namespace) -> int:
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
+    if args.swings is not None:
+        refuse_overwriting_inputs(args.swings, {"--rig": args.rig, "--setup": args.setup})
+        if args.swings.resolve() == args.out.resolve():
+            raise CadcogError("--swings and --out name the same file")
     if args.seed < 0:
         raise CadcogError("--seed must be non-negative")
     if args.setup is not None:
@@ -78,6 +106,10 @@ def run(args: argparse.Namespace) -> int:
         f"wrote {len(rows)} samples of {len(rig.suspension_points)} hangs to {args.out}",
         file=sys.stderr if is_stream(args.out) else sys.stdout,
     )
+    if args.swings is not None:
+        from cadcog.dynamics.measure import context_for_rig
+
+        _write_swings(args, context_for_rig(rig), rows, rig.inclinometer)
     return 0
 
 
@@ -107,4 +139,10 @@ def run_setup(args: argparse.Namespace) -> int:
         f"wrote {len(rows)} samples of {len(ids)} hangs to {args.out}",
         file=sys.stderr if is_stream(args.out) else sys.stdout,
     )
+    if args.swings is not None:
+        from cadcog.dynamics.measure import context_for_setup
+
+        _write_swings(
+            args, context_for_setup(setup, np.zeros((6, 6))), rows, setup.rig.inclinometer
+        )
     return 0

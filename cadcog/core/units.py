@@ -17,6 +17,12 @@ MM3_PER_M3 = 1.0e9
 #: Square millimetres in one square metre.
 MM2_PER_M2 = 1.0e6
 
+#: Millimetres in one metre.
+MM_PER_M = 1.0e3
+
+#: kg·mm² in one kg·m² (inertia).
+KG_MM2_PER_KG_M2 = 1.0e6
+
 
 def density_kg_m3_to_kg_mm3(density_kg_m3: float) -> float:
     """Convert a density from kg/m³ to kg/mm³.

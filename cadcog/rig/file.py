@@ -30,6 +30,7 @@ from cadcog.rig.parameters import (
     ProofMass,
     Rig,
     SuspensionPoint,
+    SwingOptions,
 )
 
 #: Names used for files and JSON keys: letters, digits, underscore and hyphen.
@@ -113,6 +114,7 @@ def load_rig(path: str | Path) -> Rig:
 
     inclinometer = _inclinometer(root.table("inclinometer"))
     error_options = _error_options(root.table("error_model")) if root.has("error_model") else None
+    swing = swing_options(root.table("swing")) if root.has("swing") else SwingOptions()
     root.finish()
 
     _check_unique(point_tables, [p.id for p in points], "id")
@@ -132,6 +134,7 @@ def load_rig(path: str | Path) -> Rig:
         tuple(volumes),
         inclinometer,
         error_options or ErrorOptions(),
+        swing,
     )
     if not rig.proof_mass_volume_mm3 > 0.0:  # pragma: no cover - excluded by the hole checks
         raise pm_t.error("size_mm", "the holes remove the whole proof mass")
@@ -215,6 +218,28 @@ def _error_options(t: TableReader) -> ErrorOptions:
         raise t.error("wire_stiffness_rel_uncertainty", "expected a fraction below 1")
     t.finish()
     return options
+
+
+def swing_options(t: TableReader) -> SwingOptions:
+    """The ``[swing]`` table (every key optional; defaults :class:`SwingOptions`')."""
+    d = SwingOptions()
+    sensor = t.vector("sensor_position_mm") if t.has("sensor_position_mm") else None
+    out = SwingOptions(
+        wire_length_mm=t.number("wire_length_mm", nonnegative=True, default=d.wire_length_mm),
+        wire_length_sigma_mm=t.number(
+            "wire_length_sigma_mm", nonnegative=True, default=d.wire_length_sigma_mm
+        ),
+        sensor_position_mm=None if sensor is None else (sensor[0], sensor[1], sensor[2]),
+        sensor_position_sigma_mm=t.number(
+            "sensor_position_sigma_mm", nonnegative=True, default=d.sensor_position_sigma_mm
+        ),
+        frequency_model_rel=t.number(
+            "frequency_model_rel", nonnegative=True, default=d.frequency_model_rel
+        ),
+        me_inertia_rel=t.number("me_inertia_rel", nonnegative=True, default=d.me_inertia_rel),
+    )
+    t.finish()
+    return out
 
 
 def _name(t: TableReader, key: str) -> str:

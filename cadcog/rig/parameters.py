@@ -119,6 +119,37 @@ class ErrorOptions:
     wire_stiffness_rel_uncertainty: float = 0.5
 
 
+@dataclass(frozen=True)
+class SwingOptions:
+    """The ``[swing]`` table: what the inertia estimate needs besides the swings
+    (``docs/inertia.md``). Defaults are documented assumptions.
+
+    Attributes
+    ----------
+    wire_length_mm : float
+        Free wire from the fixed clamp to where it leaves the object (0: a pivot).
+    wire_length_sigma_mm : float
+        1 σ of that length (a tape measure's reading, the clamp's own play).
+    sensor_position_mm : tuple of 3 floats or None
+        The inclinometer's sensing point, object frame; None: the centre of the ME volume whose
+        name contains ``inclinometer``.
+    sensor_position_sigma_mm : float
+        1 σ per axis of that point.
+    frequency_model_rel : float
+        Relative 1 σ of every modelled frequency for what the linear model leaves out (air's
+        added inertia, the wire's mass and torsion): an assumption.
+    me_inertia_rel : float
+        Relative 1 σ of each ME volume's own inertia (a homogeneous box is an approximation).
+    """
+
+    wire_length_mm: float = 300.0
+    wire_length_sigma_mm: float = 2.0
+    sensor_position_mm: tuple[float, float, float] | None = None
+    sensor_position_sigma_mm: float = 5.0
+    frequency_model_rel: float = 5e-4
+    me_inertia_rel: float = 0.3
+
+
 def me_cog_sigma_mm(masses_kg: npt.ArrayLike, edges_mm: npt.ArrayLike) -> float:
     """Per-axis standard deviation of the ME CoG error: ``√(Σ (m_k/m_ME)² a_k² / 12)``.
 
@@ -160,6 +191,7 @@ class Rig:
     me_volumes: tuple[MEVolume, ...]
     inclinometer: InclinometerConfig
     error_options: ErrorOptions = field(default_factory=ErrorOptions)
+    swing: SwingOptions = field(default_factory=SwingOptions)
 
     @property
     def inclinometer_range_deg(self) -> float:

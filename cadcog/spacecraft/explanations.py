@@ -132,7 +132,7 @@ class Model:
         self,
         items: Sequence[Item],
         fixed: MassProperties | None,
-        meas: Measurement,
+        meas: Measurement | None,
         with_unmodelled: bool,
     ) -> None:
         self.n = len(items)
@@ -146,8 +146,10 @@ class Model:
             s0 = s0 + fixed.mass_kg * fixed.cog_mm
         self.s0 = np.asarray(s0, dtype=float)
         self.with_u = with_unmodelled
-        self.meas = meas
+        self._meas = meas
         self.size = 4 * self.n + (4 if with_unmodelled else 0)
+        if meas is None:  # the CAD alone (derived quantities only, no observation)
+            return
         share = meas.me_mass_kg / (meas.mass_kg + meas.me_mass_kg)
         # Covariance of y's errors: the weighing's, and the assembly CoG's plus the ME's CAD
         # uncertainty at its share of the weighed assembly (the same for every θ).
@@ -171,6 +173,13 @@ class Model:
         mass = self.m0 + float(self.m @ d) + mu
         moment = self.s0 + self.m @ (d[:, None] * self.c + (1.0 + d)[:, None] * s) + h
         return mass, np.asarray(moment)
+
+    @property
+    def meas(self) -> Measurement:
+        """The observation (a model of the CAD alone has none: it only derives)."""
+        if self._meas is None:
+            raise ValueError("this model has no measurement: it only derives properties")
+        return self._meas
 
     def predict(self, theta: FloatArray) -> FloatArray:
         mass, moment = self.mass_moment(theta)
@@ -460,3 +469,16 @@ def numeric_jacobian(f: Any, x: FloatArray, scale: FloatArray) -> FloatArray:
     out = np.zeros((values.shape[1], x.size))
     out[:, moving] = ((values[: moving.size] - values[moving.size :]) / (2 * steps[:, None])).T
     return out
+
+
+def cad_inertia_prior(items: Sequence[Item], fixed: MassProperties | None) -> FloatArray:
+    """Covariance of the CAD tensor's entries ``[xx, yy, zz, xy, xz, yz]`` about its CoG
+    (kg²·mm⁴) from the items' stated mass and CoG uncertainties, to first order."""
+    model = Model(items, fixed, None, False)
+    prior = parameter_prior_cov(items)
+    theta = np.zeros(model.size)
+    jac = numeric_jacobian(lambda t: model.derived(t, np.zeros(3)), theta, np.sqrt(np.diag(prior)))
+    # derived's inertia entries are the upper triangle: xx, xy, xz, yy, yz, zz.
+    order = [4, 7, 9, 5, 6, 8]
+    j = jac[order]
+    return np.asarray(j @ prior @ j.T)

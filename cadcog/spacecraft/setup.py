@@ -12,7 +12,7 @@ form factor.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -26,14 +26,14 @@ from cadcog.mass.properties import MassProperties
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
 from cadcog.method.readings import Suspension, id_problem
-from cadcog.rig.file import default_rig_path, load_rig
+from cadcog.rig.file import default_rig_path, load_rig, swing_options
 from cadcog.rig.geometry import (
     FACES,
     face_normal,
     face_normal_of_point,
 )
 from cadcog.rig.mounting import me_base_problem
-from cadcog.rig.parameters import MEVolume, Rig, me_cog_cov_mm2
+from cadcog.rig.parameters import MEVolume, Rig, SwingOptions, me_cog_cov_mm2
 from cadcog.spacecraft.compare import compare_with_cad
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
 from cadcog.spacecraft.items import (
@@ -73,6 +73,7 @@ class Setup:
     form_factor: str | None
     cog_limits_mm: FloatArray | None
     bodies: tuple[Any, ...]  # cadcog.cad.stepmass.BodyResult: mass, CoG, uncertainty item
+    swing: SwingOptions = field(default_factory=SwingOptions)  # [swing], else the rig's
 
     @property
     def geometric_center_mm(self) -> FloatArray:
@@ -332,6 +333,7 @@ def load_setup(path: str | Path) -> Setup:
             cands.append(Candidate(pid, pos, normal))
             t.finish()
     cand_t.finish()
+    swing = swing_options(root.table("swing")) if root.has("swing") else rig.swing
     root.finish()
     if len(cands) < 2:
         raise CadcogError(f"{p}: fewer than two candidate suspension points")
@@ -346,6 +348,7 @@ def load_setup(path: str | Path) -> Setup:
         form,
         limits,
         tuple(massprops.bodies),
+        swing,
     )
 
 

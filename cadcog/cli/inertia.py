@@ -1,0 +1,137 @@
+"""``cadcog inertia``: the object's inertia tensor from its hangs' swings."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from cadcog.core.errors import CadcogError
+from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
+
+
+def add_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "inertia",
+        help="inertia tensor from the swings of the same hangs",
+        description="Estimate the object's inertia tensor about its CoG from each hang's swing "
+        "(a swing file) and the settled readings of the same hangs, with its uncertainty and "
+        "the comparison with the CAD. See docs/inertia.md.",
+    )
+    p.add_argument("swings", type=Path, help="swing CSV (point_id,t_s,inc_x_deg,inc_y_deg)")
+    p.add_argument(
+        "--readings", type=Path, required=True, help="readings CSV of the same hangs (settled)"
+    )
+    p.add_argument("--rig", type=Path, help="rig file (the object is its proof mass)")
+    p.add_argument("--setup", type=Path, help="spacecraft set-up file")
+    p.add_argument(
+        "--weighed-mass-kg",
+        type=float,
+        help="the object's weighed mass without the ME (default: the CAD's or the rig's)",
+    )
+    p.add_argument(
+        "--mass-sigma-kg",
+        type=float,
+        default=DEFAULT_WEIGHING_SIGMA_KG,
+        help=f"1-σ of the weighing (default {DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
+    )
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from cadcog.dynamics.measure import inertia_from_files
+    from cadcog.rig.file import default_rig_path, load_rig
+
+    if args.rig is not None and args.setup is not None:
+        raise CadcogError("give either --rig or --setup, not both")
+    for name in ("weighed_mass_kg", "mass_sigma_kg"):
+        value = getattr(args, name)
+        if value is not None and not (np.isfinite(value) and value > 0):
+            raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
+    if args.setup is not None:
+        from cadcog.spacecraft.setup import load_setup
+
+        rig, setup = None, load_setup(args.setup)
+    else:
+        rig, setup = load_rig(args.rig or default_rig_path()), None
+    result = inertia_from_files(
+        args.swings,
+        args.readings,
+        rig=rig,
+        setup=setup,
+        weighed_mass_kg=args.weighed_mass_kg,
+        mass_sigma_kg=args.mass_sigma_kg,
+    )
+    if args.json:
+        print(result.to_json())
+    else:
+        print_inertia(result)
+    for w in result.warnings:
+        print(f"cadcog: warning: {w}", file=sys.stderr)
+    return 0
+
+
+def _g(v: float, sig: int = 5) -> str:
+    return f"{v:.{sig}g}"
+
+
+def print_inertia(result: Any) -> None:
+    """Readable report of an :class:`~cadcog.dynamics.result.InertiaResult`."""
+    ids = [h.point_id for h in result.hangs]
+    w = max(5, *(len(i) for i in ids))
+    print(f"{'hang':<{w}}  {'mode_hz':>9}  {'sigma_hz':>9}  {'model_hz':>9}  {'zeta':>6}  amp_deg")
+    for h in result.hangs:
+        for j in range(len(h.frequencies_hz)):
+            print(
+                f"{h.point_id if j == 0 else '':<{w}}  {h.frequencies_hz[j]:>9.5f}  "
+                f"{h.sigma_hz[j]:>9.2g}  {h.model_hz[j]:>9.5f}  {h.damping_ratios[j]:>6.4f}  "
+                f"{h.amplitudes_deg[j]:.2f}"
+            )
+    print(
+        f"\nfrequencies' consistency: χ² = {result.chi2:.2f} with {result.dof} dof "
+        f"(p = {result.consistency_p:.3f})"
+    )
+    t, s = result.inertia_kg_mm2, result.sigma_kg_mm2
+    print(
+        "\ninertia tensor about the object's CoG, model axes, kg·mm² "
+        "(off-diagonal = −∫xy dm), ± 1 σ:"
+    )
+    for i in range(3):
+        print("  " + "  ".join(f"{_g(t[i, j], 6):>10} ± {_g(s[i, j], 2):<6}" for j in range(3)))
+    pr = result.principal
+    print("\nprincipal moments (kg·mm², ± 1 σ, 95 % ≈ ± 2 σ) and axes (model frame, ± 1 σ):")
+    for k in range(3):
+        rel = pr.moments_sigma_kg_mm2[k] / pr.moments_kg_mm2[k] * 100
+        axis = ", ".join(f"{a:+.4f}" for a in pr.axes[k])
+        print(
+            f"  I{k + 1} = {_g(pr.moments_kg_mm2[k], 6):>9} ± "
+            f"{_g(pr.moments_sigma_kg_mm2[k], 2):<7} ({rel:.2f} %)   axis [{axis}] ± "
+            f"{pr.axes_sigma_deg[k]:.2g}°"
+        )
+    print(
+        f"about the CoG {np.round(result.cog_mm, 3).tolist()} mm; object mass "
+        f"{result.mass_kg:g} ± {result.mass_sigma_kg:.3g} kg ({result.mass_source})"
+    )
+    print("\nwhere the uncertainty comes from (share of the principal moments' variance):")
+    for name, share in result.budget:
+        if share >= 0.005:
+            print(f"  {share * 100:5.1f} %  {name}")
+    cad = result.cad
+    if cad is not None:
+        print("\nagainst the CAD's tensor (difference in σ of measurement and CAD combined):")
+        d = np.asarray(cad["difference_kg_mm2"])
+        z = np.asarray(cad["difference_sigma"])
+        for i in range(3):
+            print("  " + "  ".join(f"{_g(d[i, j], 3):>9} ({z[i, j]:+.1f} σ)" for j in range(3)))
+        print(
+            f"  joint χ² = {cad['chi2']:.2f} with {cad['dof']} dof (p = {cad['p']:.3f}): "
+            + (
+                "differs from the CAD beyond the uncertainties (5 % level)"
+                if cad["p"] < 0.05
+                else "consistent with the CAD"
+            )
+        )

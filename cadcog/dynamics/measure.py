@@ -1,0 +1,451 @@
+"""The object's inertia tensor from its hangs' swings: the chain ``cadcog inertia`` runs.
+
+1. The CoG from the same hangs' settled readings (``cadcog estimate``'s estimator): the hung
+   assembly's CoG and covariance, the object's mass (weighed, or the CAD's).
+2. Each swing's modes (:func:`cadcog.dynamics.modalfit.fit_swing`), started from the modes the
+   CAD's tensor predicts at that hang.
+3. The assembly's tensor that explains every frequency (:mod:`cadcog.dynamics.tensorfit`), the
+   ME removed from it, every input's uncertainty propagated.
+4. Principal moments and axes with their σ, the fit's χ², each input's share of the variance,
+   and the comparison with the CAD's tensor.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core.errors import ReadingsError
+from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.dynamics.hungbody import HangGeometry, hang_modes
+from cadcog.dynamics.modalfit import fit_swing
+from cadcog.dynamics.result import HangSwing, InertiaResult, principal_with_sigma
+from cadcog.dynamics.swingfile import Swing
+from cadcog.dynamics.tensorfit import (
+    ENTRIES,
+    Nuisances,
+    compensate,
+    direct_jacobian,
+    entries,
+    fit_tensor,
+    hang_geometry,
+    model_nuisance_jacobian,
+    nuisances,
+    reweighted,
+    swing_data,
+    tensor,
+    weighted_chi2,
+)
+from cadcog.mass.properties import MassProperties, box_properties, combine
+from cadcog.method.estimate import CogEstimate
+from cadcog.method.plumblines import chi2_sf
+from cadcog.method.readings import Suspension
+from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
+
+FloatArray = npt.NDArray[np.float64]
+
+#: The variance budget's groups: name, and the nuisance names' prefixes that belong to it.
+BUDGET_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("object mass", ("object mass",)),
+    ("CoG from the plumb lines", ("CoG ",)),
+    ("wire length", ("wire length",)),
+    ("wire hinge offset (bending stiffness)", ("wire hinge",)),
+    ("sensor position", ("sensor ",)),
+    ("wire exits (play, wire offset)", ("exit ",)),
+    ("ME CoGs", ("ME ",)),
+)
+
+
+@dataclass(frozen=True)
+class InertiaContext:
+    """Everything besides the data that the chain needs, from a rig or a set-up.
+
+    Attributes
+    ----------
+    object_cad : MassProperties
+        The object (without ME) as its CAD says.
+    cad_cov_kg2_mm4 : ndarray, shape (6, 6)
+        The CAD tensor's stated uncertainty (zeros for a rig's exact proof mass).
+    me_parts : tuple of MassProperties
+        Each ME volume (a homogeneous box).
+    me_cog_sigma_mm : tuple of float
+        Per-axis 1 σ of each volume's CoG (its uncertainty cube's edge / √12).
+    swing : SwingOptions
+    sensor_mm : ndarray, shape (3,)
+    exit_sigma_mm : float
+        Per-axis 1 σ of a wire exit (the point's play and the wire's offset).
+    bending_stiffness_n_mm2, bending_rel_sigma : float
+        The wire's EI and its relative 1 σ (the hinge offset is ``√(EI/T)``).
+    signs : (int, int)
+    """
+
+    object_cad: MassProperties
+    cad_cov_kg2_mm4: FloatArray
+    me_parts: tuple[MassProperties, ...]
+    me_cog_sigma_mm: tuple[float, ...]
+    swing: SwingOptions
+    sensor_mm: FloatArray
+    exit_sigma_mm: float
+    bending_stiffness_n_mm2: float
+    bending_rel_sigma: float
+    signs: tuple[int, int]
+
+
+def sensor_position_mm(
+    options: SwingOptions, volumes: Sequence[MEVolume], source: str
+) -> FloatArray:
+    """``[swing] sensor_position_mm``, else the centre of the ME volume named *inclinometer*."""
+    if options.sensor_position_mm is not None:
+        return np.asarray(options.sensor_position_mm, dtype=float)
+    named = [v for v in volumes if "inclinometer" in v.name.lower()]
+    if len(named) != 1:
+        raise ReadingsError(
+            f"{source}: [swing] sensor_position_mm is not given and "
+            f"{'no' if not named else 'more than one'} measurement-equipment volume has "
+            "'inclinometer' in its name: say where the inclinometer senses (mm, object frame)"
+        )
+    return np.asarray(named[0].center_mm, dtype=float)
+
+
+def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaContext:
+    """The paper rig (or another): the proof mass is the object, exact."""
+    opts = rig.error_options
+    sw = swing or rig.swing
+    return InertiaContext(
+        rig.analytic_proof_mass,
+        np.zeros((6, 6)),
+        tuple(rig.analytic_me_volume(v) for v in rig.me_volumes),
+        tuple(v.cog_uncertainty_cube_mm / np.sqrt(12.0) for v in rig.me_volumes),
+        sw,
+        sensor_position_mm(sw, rig.me_volumes, f"rig {rig.source}"),
+        float(np.sqrt((opts.play_mm**2 + opts.wire_offset_max_mm**2) / 12.0)),
+        opts.wire_bending_stiffness_n_mm2,
+        opts.wire_stiffness_rel_uncertainty,
+        (rig.inclinometer.sign_x, rig.inclinometer.sign_y),
+    )
+
+
+def context_for_setup(setup: Any, cad_cov_kg2_mm4: FloatArray) -> InertiaContext:
+    """A spacecraft set-up: its CAD with the stated uncertainty ``cad_cov_kg2_mm4``."""
+    rig = setup.rig
+    opts = rig.error_options
+    sw = setup.swing
+    return InertiaContext(
+        setup.mass,
+        np.asarray(cad_cov_kg2_mm4, dtype=float),
+        tuple(box_properties(v.size_mm, v.center_mm, mass_kg=v.mass_kg) for v in setup.me_volumes),
+        tuple(v.cog_uncertainty_cube_mm / np.sqrt(12.0) for v in setup.me_volumes),
+        sw,
+        sensor_position_mm(sw, setup.me_volumes, f"setup {setup.source}"),
+        float(np.sqrt((opts.play_mm**2 + opts.wire_offset_max_mm**2) / 12.0)),
+        opts.wire_bending_stiffness_n_mm2,
+        opts.wire_stiffness_rel_uncertainty,
+        (rig.inclinometer.sign_x, rig.inclinometer.sign_y),
+    )
+
+
+def _pair(
+    swings: Sequence[Swing], suspensions: Sequence[Suspension], source: str
+) -> list[tuple[Swing, Suspension]]:
+    by_id = {s.id: s for s in suspensions}
+    out = []
+    for sw in swings:
+        if sw.point_id not in by_id:
+            raise ReadingsError(
+                f"{source}, line {sw.line}: hang {sw.point_id!r} has a swing but no settled "
+                f"readings (the readings have {', '.join(sorted(by_id))})"
+            )
+        out.append((sw, by_id[sw.point_id]))
+    if len(out) < 3:
+        raise ReadingsError(
+            f"{source}: {len(out)} hang(s) with a swing; the whole tensor needs at least 3 "
+            "(six entries, two frequencies a hang)"
+        )
+    return out
+
+
+def compare_inertia(
+    measured: FloatArray, cov: FloatArray, cad: FloatArray, cad_cov: FloatArray
+) -> dict[str, Any]:
+    """The measured tensor against the CAD's: differences, their σ (both covariances), and one
+    joint χ² over the six entries."""
+    diff = entries(measured) - entries(cad)
+    total = np.asarray(cov) + np.asarray(cad_cov)
+    sig = np.sqrt(np.maximum(np.diag(total), 0.0))
+    chi2 = float(diff @ np.linalg.solve(total, diff))
+    return {
+        "cad_inertia_kg_mm2": np.asarray(cad).tolist(),
+        "cad_sigma_kg_mm2": tensor(np.sqrt(np.maximum(np.diag(cad_cov), 0.0))).tolist(),
+        "difference_kg_mm2": tensor(diff).tolist(),
+        "difference_sigma": tensor(diff / np.where(sig > 0, sig, np.inf)).tolist(),
+        "difference_relative": tensor(diff / np.abs(entries(cad)).max()).tolist(),
+        "chi2": chi2,
+        "dof": len(ENTRIES),
+        "p": chi2_sf(chi2, len(ENTRIES)),
+    }
+
+
+def _budget(
+    nuis: Nuisances, jac: FloatArray, cov_freq: FloatArray, p: FloatArray
+) -> tuple[tuple[str, float], ...]:
+    pr = principal_with_sigma(p, np.zeros((6, 6)))
+    grads = []
+    for v in pr.axes:
+        g = np.zeros(6)
+        for k in range(6):
+            e = np.zeros(6)
+            e[k] = 1.0
+            g[k] = v @ tensor(e) @ v
+        grads.append(g)
+    g_all = np.array(grads)
+
+    def share(c: FloatArray) -> float:
+        return float(np.trace(g_all @ c @ g_all.T))
+
+    parts = [("swing frequencies (fit, amplitude, model)", share(cov_freq))]
+    names = np.array(nuis.names)
+    for label, prefixes in BUDGET_GROUPS:
+        idx = [i for i, n in enumerate(names) if n.startswith(prefixes)]
+        if label == "ME CoGs":
+            own = [i for i in idx if names[i].endswith("own inertia")]
+            idx = [i for i in idx if i not in own]
+            c_own = jac[:, own] @ nuis.cov[np.ix_(own, own)] @ jac[:, own].T
+            parts.append(("ME own inertia", share(c_own)))
+        c = jac[:, idx] @ nuis.cov[np.ix_(idx, idx)] @ jac[:, idx].T
+        parts.append((label, share(c)))
+    total = sum(v for _, v in parts) or 1.0
+    return tuple(sorted(((n, v / total) for n, v in parts), key=lambda t: -t[1]))
+
+
+def measure_inertia(
+    swings: Sequence[Swing],
+    estimate: CogEstimate,
+    context: InertiaContext,
+    *,
+    object_mass_kg: float,
+    object_mass_sigma_kg: float,
+    mass_source: str,
+    source: str = "swings",
+) -> InertiaResult:
+    """The object's inertia tensor about its CoG from the swings of hangs already estimated.
+
+    Parameters
+    ----------
+    swings : sequence of Swing
+        At least three hangs, each with settled readings in ``estimate``.
+    estimate : CogEstimate
+        The CoG estimate of the same hangs (its assembly CoG and covariance are used).
+    context : InertiaContext
+    object_mass_kg, object_mass_sigma_kg : float
+        The object's mass used (the estimate's) and its 1 σ.
+    mass_source : str
+    source : str
+        The swing file's name, for messages.
+    """
+    pairs = _pair(swings, estimate.suspensions, source)
+    ctx = context
+    me_mass = sum(p.mass_kg for p in ctx.me_parts)
+    cad_assembly = combine([ctx.object_cad, *ctx.me_parts])
+    start = entries(cad_assembly.inertia_kg_mm2)
+    weight_n = (object_mass_kg + me_mass) * STANDARD_GRAVITY_M_S2
+    hinge = float(np.sqrt(ctx.bending_stiffness_n_mm2 / weight_n))
+    fits, records = [], []
+    for sw, s in pairs:
+        geo = HangGeometry(
+            np.asarray(s.position_mm, dtype=float),
+            ctx.sensor_mm,
+            ctx.swing.wire_length_mm,
+            hinge,
+            *ctx.signs,
+        )
+        predicted = hang_modes(
+            cad_assembly.inertia_kg_mm2, cad_assembly.mass_kg, cad_assembly.cog_mm, geo
+        )
+        fits.append(fit_swing(sw, predicted.frequencies_hz))
+        records.append(sw.duration_s)
+    data = swing_data(fits, records, ctx.swing.frequency_model_rel)
+    nuis = nuisances(
+        object_mass_kg=object_mass_kg,
+        object_mass_sigma_kg=object_mass_sigma_kg,
+        cog_mm=estimate.assembly_cog_mm,
+        cog_cov_mm2=estimate.joint.cov_mm2,
+        wire_length_mm=ctx.swing.wire_length_mm,
+        wire_length_sigma_mm=ctx.swing.wire_length_sigma_mm,
+        hinge_offset_mm=hinge,
+        hinge_offset_sigma_mm=0.5 * ctx.bending_rel_sigma * hinge,
+        sensor_mm=ctx.sensor_mm,
+        sensor_sigma_mm=ctx.swing.sensor_position_sigma_mm,
+        exits_mm=np.array([s.position_mm for _, s in pairs], dtype=float),
+        exit_sigma_mm=ctx.exit_sigma_mm,
+        me_parts=ctx.me_parts,
+        me_cog_sigma_mm=ctx.me_cog_sigma_mm,
+        me_inertia_rel=ctx.swing.me_inertia_rel,
+    )
+    geo0 = hang_geometry(nuis, nuis.values, me_mass, ctx.signs)
+    # Two steps: weighed by the frequencies' own covariance, then by that plus what the
+    # nuisances do to the modelled frequencies (efficient weights; the χ²'s reference).
+    p_first, _ = fit_tensor(data, geo0, start)
+    m_v = model_nuisance_jacobian(p_first, data, nuis, me_mass, ctx.signs)
+    data = reweighted(data, m_v, nuis.cov)
+    p_asm, gain = fit_tensor(data, geo0, p_first)
+    fit_chi2 = weighted_chi2(p_asm, data, geo0)
+    p_obj, cog_obj = compensate(p_asm, nuis, nuis.values, ctx.me_parts)
+    # The object's entries move with a nuisance through the fit (−A M) and through the
+    # compensation (∂/∂p of the compensation is the identity).
+    m_v = model_nuisance_jacobian(p_asm, data, nuis, me_mass, ctx.signs)
+    jac = -gain @ m_v + direct_jacobian(lambda v: compensate(p_asm, nuis, v, ctx.me_parts)[0], nuis)
+    cov_freq = gain @ data.cov_hz2 @ gain.T
+    cov = cov_freq + jac @ nuis.cov @ jac.T
+    cov = 0.5 * (cov + cov.T)
+    hangs = []
+    sig_all = data.per_hang(np.sqrt(np.diag(data.cov_hz2)))
+    freq_all = data.per_hang(data.frequencies_hz)
+    for (sw, _), fit, f, sig, h in zip(pairs, fits, freq_all, sig_all, geo0.hangs, strict=True):
+        model = hang_modes(tensor(p_asm), geo0.mass_kg, geo0.cog_mm, h).frequencies_hz
+        omega = 2 * np.pi * fit.frequencies_hz
+        hangs.append(
+            HangSwing(
+                sw.point_id,
+                f,
+                sig,
+                model[fit.mode_index],
+                fit.decay_per_s / np.sqrt(omega**2 + fit.decay_per_s**2),
+                fit.amplitudes_deg,
+                len(sw.t_s),
+                sw.duration_s,
+            )
+        )
+    n_freq = len(data.frequencies_hz)
+    chi2 = fit_chi2
+    result_t = tensor(p_obj)
+    warnings = []
+    dof = n_freq - 6
+    if dof > 0 and chi2_sf(chi2, dof) < 0.01:
+        warnings.append(
+            f"the frequencies do not agree with one rigid body on a wire (χ² {chi2:.1f} for "
+            f"{dof} dof, p = {chi2_sf(chi2, dof):.2g}): check the wire length, that nothing "
+            "touched the object, and each hang's residuals"
+        )
+    return InertiaResult(
+        result_t,
+        cov,
+        cov_freq,
+        principal_with_sigma(p_obj, cov),
+        cog_obj,
+        object_mass_kg,
+        object_mass_sigma_kg,
+        mass_source,
+        tuple(hangs),
+        chi2,
+        dof,
+        _budget(nuis, jac, cov_freq, p_obj),
+        compare_inertia(result_t, cov, ctx.object_cad.inertia_kg_mm2, ctx.cad_cov_kg2_mm4),
+        tuple(warnings),
+    )
+
+
+def inertia_for_rig(
+    rig: Rig,
+    swings: Sequence[Swing],
+    suspensions: Sequence[Suspension],
+    *,
+    weighed_mass_kg: float | None = None,
+    mass_sigma_kg: float = 0.001,
+    source: str = "swings",
+) -> InertiaResult:
+    """``cadcog inertia --rig``: the rig's object (its proof mass) from its swings."""
+    from cadcog.method.errormodel import ErrorModel
+    from cadcog.method.estimate import BodyBox, MEData, estimate_cog
+
+    me = MEData.from_rig(rig)
+    if weighed_mass_kg is not None:
+        me = me.weighed(weighed_mass_kg, mass_sigma_kg)
+    estimate = estimate_cog(
+        suspensions,
+        rig.inclinometer,
+        me,
+        model=ErrorModel.from_rig(rig),
+        body=BodyBox.of_rig(rig),
+    )
+    return measure_inertia(
+        swings,
+        estimate,
+        context_for_rig(rig),
+        object_mass_kg=me.object_mass_kg,
+        object_mass_sigma_kg=me.object_mass_sigma_kg,
+        mass_source=me.object_mass_source,
+        source=source,
+    )
+
+
+def inertia_for_setup(
+    setup: Any,
+    swings: Sequence[Swing],
+    suspensions: Sequence[Suspension],
+    *,
+    weighed_mass_kg: float | None = None,
+    mass_sigma_kg: float = 0.001,
+    source: str = "swings",
+) -> InertiaResult:
+    """``cadcog inertia --setup``: a spacecraft from its swings, against its CAD with the CAD's
+    stated uncertainty."""
+    from cadcog.spacecraft.explanations import cad_inertia_prior
+    from cadcog.spacecraft.items import items_from_bodies
+    from cadcog.spacecraft.setup import estimate_for_setup
+
+    estimate = estimate_for_setup(
+        setup, suspensions, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg
+    )
+    me = setup.me_data(weighed_mass_kg, mass_sigma_kg)
+    items, fixed = items_from_bodies(setup.bodies)
+    return measure_inertia(
+        swings,
+        estimate,
+        context_for_setup(setup, cad_inertia_prior(items, fixed)),
+        object_mass_kg=me.object_mass_kg,
+        object_mass_sigma_kg=me.object_mass_sigma_kg,
+        mass_source=me.object_mass_source,
+        source=source,
+    )
+
+
+def inertia_from_files(
+    swings_path: str | Path,
+    readings_path: str | Path,
+    *,
+    rig: Rig | None = None,
+    setup: Any = None,
+    weighed_mass_kg: float | None = None,
+    mass_sigma_kg: float = 0.001,
+) -> InertiaResult:
+    """Read a swing file and a readings CSV and run the chain for a rig or a set-up (what the
+    command and :func:`cadcog.inertia` share)."""
+    from cadcog.dynamics.swingfile import read_swings
+    from cadcog.method.readings import read_readings
+
+    if (rig is None) == (setup is None):
+        raise ValueError("give a rig or a set-up")
+    swings = read_swings(swings_path)
+    if setup is not None:
+        return inertia_for_setup(
+            setup,
+            swings,
+            read_readings(readings_path, setup.rig.inclinometer),
+            weighed_mass_kg=weighed_mass_kg,
+            mass_sigma_kg=mass_sigma_kg,
+            source=str(swings_path),
+        )
+    assert rig is not None  # checked above
+    return inertia_for_rig(
+        rig,
+        swings,
+        read_readings(readings_path, rig.inclinometer),
+        weighed_mass_kg=weighed_mass_kg,
+        mass_sigma_kg=mass_sigma_kg,
+        source=str(swings_path),
+    )

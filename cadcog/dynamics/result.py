@@ -1,0 +1,193 @@
+"""What ``cadcog inertia`` reports: the object's tensor, its principal moments and axes, each
+with its uncertainty, the fit's consistency and the comparison with the CAD."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core.results import JsonResult
+from cadcog.dynamics.tensorfit import ENTRIES, entries, tensor
+from cadcog.mass.inertia import TENSOR_CONVENTION, principal_axes
+from cadcog.method.plumblines import chi2_sf
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class PrincipalWithSigma:
+    """Principal moments and axes with their first-order uncertainty.
+
+    Attributes
+    ----------
+    moments_kg_mm2, moments_sigma_kg_mm2 : ndarray, shape (3,)
+        Ascending moments and their 1 σ.
+    axes : ndarray, shape (3, 3)
+        Row ``i``: the axis of moment ``i`` (model frame; sign rule of
+        :func:`cadcog.mass.inertia.principal_axes`).
+    axes_sigma_deg : ndarray, shape (3,)
+        1 σ of each axis's direction (degrees): the root of the summed variances of its
+        rotation towards the other two axes, ``(v_jᵀ δJ v_i)/(λ_i − λ_j)``.
+    """
+
+    moments_kg_mm2: FloatArray
+    moments_sigma_kg_mm2: FloatArray
+    axes: FloatArray
+    axes_sigma_deg: FloatArray
+
+
+def principal_with_sigma(p: FloatArray, cov: FloatArray) -> PrincipalWithSigma:
+    """First-order perturbation of the eigen-decomposition of ``tensor(p)``."""
+    pa = principal_axes(tensor(p))
+    lam, v = pa.moments_kg_mm2, pa.axes
+    n = len(ENTRIES)
+
+    def grad(a: FloatArray, b: FloatArray) -> FloatArray:
+        """∂(aᵀ J b)/∂p for the six entries."""
+        out = np.zeros(n)
+        for k in range(n):
+            e = np.zeros(n)
+            e[k] = 1.0
+            out[k] = a @ tensor(e) @ b
+        return out
+
+    sig_m = np.array(
+        [np.sqrt(max(float(grad(v[i], v[i]) @ cov @ grad(v[i], v[i])), 0.0)) for i in range(3)]
+    )
+    sig_a = np.zeros(3)
+    for i in range(3):
+        var = 0.0
+        for j in range(3):
+            if j == i:
+                continue
+            gap = lam[i] - lam[j]
+            g = grad(v[j], v[i]) / (gap if gap != 0 else np.finfo(float).tiny)
+            var += float(g @ cov @ g)
+        sig_a[i] = np.rad2deg(np.sqrt(max(var, 0.0)))
+    return PrincipalWithSigma(lam, sig_m, v, sig_a)
+
+
+@dataclass(frozen=True)
+class HangSwing:
+    """One hang's fitted modes against the model at the estimate.
+
+    Attributes
+    ----------
+    point_id : str
+    frequencies_hz, sigma_hz, model_hz : ndarray, shape (k,)
+        Measured (amplitude-corrected), its 1 σ, and the model's at the estimate.
+    damping_ratios : ndarray, shape (k,)
+    amplitudes_deg : ndarray, shape (k,)
+    samples : int
+    duration_s : float
+    """
+
+    point_id: str
+    frequencies_hz: FloatArray
+    sigma_hz: FloatArray
+    model_hz: FloatArray
+    damping_ratios: FloatArray
+    amplitudes_deg: FloatArray
+    samples: int
+    duration_s: float
+
+
+@dataclass(frozen=True, repr=False)
+class InertiaResult(JsonResult):
+    """Result of :func:`cadcog.dynamics.measure.measure_inertia`.
+
+    Attributes
+    ----------
+    inertia_kg_mm2 : ndarray, shape (3, 3)
+        The object's inertia tensor about its own CoG, model axes (tensor convention).
+    cov_kg2_mm4 : ndarray, shape (6, 6)
+        Covariance of its entries ``[xx, yy, zz, xy, xz, yz]``.
+    cov_frequencies_kg2_mm4 : ndarray, shape (6, 6)
+        The part of it from the swings' frequencies alone.
+    principal : PrincipalWithSigma
+    cog_mm : ndarray, shape (3,)
+        The object's CoG the tensor is about (compensated).
+    mass_kg, mass_sigma_kg : float
+        The object's mass used, and its 1 σ.
+    mass_source : str
+    hangs : tuple of HangSwing
+    chi2 : float
+        Weighted squared residuals of all frequencies at the estimate.
+    dof : int
+        Frequencies less six.
+    budget : tuple of (str, float)
+        Each input's share of the summed variance of the principal moments (largest first).
+    cad : dict or None
+        The CAD's tensor and the difference in σ (:func:`cadcog.dynamics.measure.compare_inertia`).
+    warnings : tuple of str
+    """
+
+    inertia_kg_mm2: FloatArray
+    cov_kg2_mm4: FloatArray
+    cov_frequencies_kg2_mm4: FloatArray
+    principal: PrincipalWithSigma
+    cog_mm: FloatArray
+    mass_kg: float
+    mass_sigma_kg: float
+    mass_source: str
+    hangs: tuple[HangSwing, ...]
+    chi2: float
+    dof: int
+    budget: tuple[tuple[str, float], ...]
+    cad: dict[str, Any] | None
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def sigma_kg_mm2(self) -> FloatArray:
+        """1 σ of each tensor entry, as a symmetric 3 × 3 array."""
+        return tensor(np.sqrt(np.maximum(np.diag(self.cov_kg2_mm4), 0.0)))
+
+    @property
+    def consistency_p(self) -> float:
+        """P(χ² ≥ observed) with ``dof`` degrees of freedom (1.0 when dof is 0)."""
+        return chi2_sf(self.chi2, self.dof) if self.dof > 0 else 1.0
+
+    def to_dict(self) -> dict[str, Any]:
+        pr = self.principal
+        return {
+            "inertia_kg_mm2": self.inertia_kg_mm2.tolist(),
+            "inertia_about": "the object's centre of gravity, model axes",
+            "inertia_convention": TENSOR_CONVENTION,
+            "inertia_sigma_kg_mm2": self.sigma_kg_mm2.tolist(),
+            "inertia_cov_entries": list(ENTRIES),
+            "inertia_cov": self.cov_kg2_mm4.tolist(),
+            "inertia_cov_frequencies_only": self.cov_frequencies_kg2_mm4.tolist(),
+            "principal_moments_kg_mm2": pr.moments_kg_mm2.tolist(),
+            "principal_moments_sigma_kg_mm2": pr.moments_sigma_kg_mm2.tolist(),
+            "principal_axes": pr.axes.tolist(),
+            "principal_axes_sigma_deg": pr.axes_sigma_deg.tolist(),
+            "cog_mm": self.cog_mm.tolist(),
+            "mass_kg": self.mass_kg,
+            "mass_sigma_kg": self.mass_sigma_kg,
+            "mass_source": self.mass_source,
+            "consistency": {"chi2": self.chi2, "dof": self.dof, "p": self.consistency_p},
+            "hangs": [
+                {
+                    "point_id": h.point_id,
+                    "frequencies_hz": h.frequencies_hz.tolist(),
+                    "sigma_hz": h.sigma_hz.tolist(),
+                    "model_hz": h.model_hz.tolist(),
+                    "damping_ratios": h.damping_ratios.tolist(),
+                    "amplitudes_deg": h.amplitudes_deg.tolist(),
+                    "samples": h.samples,
+                    "duration_s": h.duration_s,
+                }
+                for h in self.hangs
+            ],
+            "budget": [{"source": s, "share": f} for s, f in self.budget],
+            "cad": self.cad,
+            "warnings": list(self.warnings),
+        }
+
+
+def inertia_entries(result: InertiaResult) -> FloatArray:
+    """The six entries of the result's tensor (the covariance's order)."""
+    return entries(result.inertia_kg_mm2)

@@ -1,0 +1,384 @@
+"""The inertia tensor that explains every hang's swing frequencies, and its covariance.
+
+Unknowns: the six entries ``p = [Ixx, Iyy, Izz, Ixy, Ixz, Iyz]`` of the hung assembly's inertia
+tensor about its CoG (body axes; tensor convention, off-diagonal ``−∫xy dm``). Data: each hang's
+fitted frequencies (:mod:`cadcog.dynamics.modalfit`), corrected for the swing's amplitude (a
+pendulum slows as ``1 − A²/16``) and given a relative model error. The fit is weighted least
+squares on the frequencies (Gauss-Newton from the CAD's tensor), each hang's modes predicted by
+:func:`cadcog.dynamics.hungbody.hang_modes`.
+
+Everything else is an input with an uncertainty (the *nuisances*): the object's mass, the
+assembly's CoG from the plumb lines (with its covariance), each wire exit (the point's play and
+the wire's offset), the wire's length and its hinge offset, the sensor's position, each ME
+volume's CoG and own inertia. The object's tensor about its own CoG is the assembly's less the
+ME's and the parallel-axis terms (as eq. 10 removes the ME from the CoG). Its covariance is the
+frequency fit's plus every nuisance's, propagated through the whole chain (fit and compensation)
+by central differences.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core.errors import DegenerateGeometryError
+from cadcog.dynamics.hungbody import HangGeometry, hang_modes
+from cadcog.dynamics.modalfit import ModalFit
+from cadcog.mass.properties import MassProperties
+
+FloatArray = npt.NDArray[np.float64]
+
+#: Order of the six tensor entries in every vector and covariance of this package.
+ENTRIES = ("xx", "yy", "zz", "xy", "xz", "yz")
+
+#: Gauss-Newton stops when a step changes no entry by more than this fraction of the trace.
+CONVERGED_REL = 1e-10
+
+#: The most Gauss-Newton iterations.
+MAX_ITERATIONS = 50
+
+#: Below this reciprocal condition number of the normal matrix the hangs do not determine the
+#: tensor.
+MIN_RCOND = 1e-10
+
+
+def tensor(p: npt.ArrayLike) -> FloatArray:
+    """3 × 3 tensor from its six entries ``[xx, yy, zz, xy, xz, yz]``."""
+    xx, yy, zz, xy, xz, yz = np.asarray(p, dtype=float)
+    return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+
+
+def entries(t: npt.ArrayLike) -> FloatArray:
+    """The six entries ``[xx, yy, zz, xy, xz, yz]`` of a symmetric 3 × 3 tensor."""
+    a = np.asarray(t, dtype=float)
+    return np.array([a[0, 0], a[1, 1], a[2, 2], a[0, 1], a[0, 2], a[1, 2]])
+
+
+def parallel_axis(mass_kg: float, offset_mm: FloatArray) -> FloatArray:
+    """``m (|r|² I − r rᵀ)``: a point mass's inertia about a point ``r`` away (kg·mm²)."""
+    r = np.asarray(offset_mm, dtype=float)
+    return mass_kg * (float(r @ r) * np.eye(3) - np.outer(r, r))
+
+
+@dataclass(frozen=True)
+class Nuisances:
+    """Every uncertain input besides the frequencies, as one vector with its covariance.
+
+    Attributes
+    ----------
+    names : tuple of str
+        One name per entry of ``values`` (for the error budget).
+    values : ndarray, shape (n,)
+    cov : ndarray, shape (n, n)
+    n_hangs, n_me : int
+        Layout: object mass, assembly CoG (3), wire length, hinge offset, sensor (3), the exits
+        (3 per hang), then per ME volume its CoG (3) and own-inertia scale (1).
+    """
+
+    names: tuple[str, ...]
+    values: FloatArray
+    cov: FloatArray
+    n_hangs: int
+    n_me: int
+
+    def unpack(self, v: FloatArray) -> dict[str, object]:
+        k, e = self.n_hangs, self.n_me
+        i = 9
+        return {
+            "object_mass_kg": v[0],
+            "cog_mm": v[1:4],
+            "wire_length_mm": v[4],
+            "hinge_offset_mm": v[5],
+            "sensor_mm": v[6:9],
+            "exits_mm": v[i : i + 3 * k].reshape(k, 3),
+            "me_cog_mm": v[i + 3 * k : i + 3 * k + 3 * e].reshape(e, 3),
+            "me_scale": v[i + 3 * k + 3 * e : i + 3 * k + 4 * e],
+        }
+
+
+def nuisances(
+    *,
+    object_mass_kg: float,
+    object_mass_sigma_kg: float,
+    cog_mm: FloatArray,
+    cog_cov_mm2: FloatArray,
+    wire_length_mm: float,
+    wire_length_sigma_mm: float,
+    hinge_offset_mm: float,
+    hinge_offset_sigma_mm: float,
+    sensor_mm: FloatArray,
+    sensor_sigma_mm: float,
+    exits_mm: FloatArray,
+    exit_sigma_mm: float,
+    me_parts: Sequence[MassProperties],
+    me_cog_sigma_mm: Sequence[float],
+    me_inertia_rel: float,
+) -> Nuisances:
+    """Assemble the nuisance vector and its (block-diagonal) covariance."""
+    exits = np.asarray(exits_mm, dtype=float).reshape(-1, 3)
+    k, e = len(exits), len(me_parts)
+    values = np.concatenate(
+        [
+            [object_mass_kg],
+            np.asarray(cog_mm, dtype=float),
+            [wire_length_mm, hinge_offset_mm],
+            np.asarray(sensor_mm, dtype=float),
+            exits.ravel(),
+            np.array([p.cog_mm for p in me_parts]).reshape(-1),
+            np.ones(e),
+        ]
+    )
+    n = len(values)
+    cov = np.zeros((n, n))
+    cov[0, 0] = object_mass_sigma_kg**2
+    cov[1:4, 1:4] = np.asarray(cog_cov_mm2, dtype=float)
+    cov[4, 4] = wire_length_sigma_mm**2
+    cov[5, 5] = hinge_offset_sigma_mm**2
+    cov[6:9, 6:9] = sensor_sigma_mm**2 * np.eye(3)
+    i = 9
+    cov[i : i + 3 * k, i : i + 3 * k] = exit_sigma_mm**2 * np.eye(3 * k)
+    i += 3 * k
+    for j in range(e):
+        cov[i + 3 * j : i + 3 * j + 3, i + 3 * j : i + 3 * j + 3] = me_cog_sigma_mm[
+            j
+        ] ** 2 * np.eye(3)
+    i += 3 * e
+    cov[i : i + e, i : i + e] = me_inertia_rel**2 * np.eye(e)
+    names = (
+        ["object mass", "CoG x", "CoG y", "CoG z", "wire length", "wire hinge offset"]
+        + [f"sensor {a}" for a in "xyz"]
+        + [f"exit {h + 1} {a}" for h in range(k) for a in "xyz"]
+        + [f"ME {j + 1} CoG {a}" for j in range(e) for a in "xyz"]
+        + [f"ME {j + 1} own inertia" for j in range(e)]
+    )
+    return Nuisances(tuple(names), values, cov, k, e)
+
+
+@dataclass(frozen=True)
+class SwingData:
+    """The fitted swings' frequencies as one vector, their covariance and the weighting.
+
+    Attributes
+    ----------
+    fits : tuple of ModalFit
+    frequencies_hz : ndarray, shape (N,)
+        Every hang's fitted frequencies in turn, corrected for amplitude.
+    cov_hz2 : ndarray, shape (N, N)
+        Their covariance: the fits', the amplitude correction's and the model error's.
+    whitening : ndarray, shape (N, N)
+        ``W`` with ``Wᵀ W`` the inverse of the covariance the fit weighs by (``cov_hz2``, or
+        that plus what the nuisances do to the modelled frequencies: :func:`reweighted`).
+    """
+
+    fits: tuple[ModalFit, ...]
+    frequencies_hz: FloatArray
+    cov_hz2: FloatArray
+    whitening: FloatArray
+
+    def per_hang(self, values: FloatArray) -> list[FloatArray]:
+        """Split a vector over the frequencies into hangs."""
+        cuts = np.cumsum([len(f.frequencies_hz) for f in self.fits])[:-1]
+        return list(np.split(values, cuts))
+
+
+def amplitude_factor(fit: ModalFit, record_s: float) -> FloatArray:
+    """``⟨A²⟩/16`` per mode: the relative slowing of a pendulum at the record's mean squared
+    amplitude, weighted as least squares weighs it (by the signal's energy)."""
+    a0 = np.deg2rad(fit.amplitudes_deg)
+    s = np.maximum(fit.decay_per_s, 1e-9)
+    t = record_s
+    mean_a2 = a0**2 * (1 - np.exp(-4 * s * t)) / (1 - np.exp(-2 * s * t)) / 2.0
+    return np.asarray(mean_a2 / 16.0)
+
+
+def _whitening(cov: FloatArray) -> FloatArray:
+    return np.asarray(np.linalg.cholesky(np.linalg.inv(cov)).T)
+
+
+def swing_data(fits: Sequence[ModalFit], record_s: Sequence[float], model_rel: float) -> SwingData:
+    """Correct each fit for amplitude and weigh it by its own covariance.
+
+    The correction ``f₀ = f / (1 − ⟨A²⟩/16)`` uses the reading amplitude as the body's (an
+    approximation: the accelerometer sees a mode scaled); half of it is kept as its 1 σ, with the
+    relative ``model_rel`` of every frequency.
+    """
+    freqs, covs = [], []
+    for fit, rec in zip(fits, record_s, strict=True):
+        shift = np.minimum(amplitude_factor(fit, rec), 0.05)
+        f0 = fit.frequencies_hz / (1.0 - shift)
+        covs.append(
+            fit.frequency_cov_hz2 + np.diag((f0 * (0.5 * shift)) ** 2 + (f0 * model_rel) ** 2)
+        )
+        freqs.append(f0)
+    n = sum(len(f) for f in freqs)
+    cov = np.zeros((n, n))
+    at = 0
+    for c in covs:
+        cov[at : at + len(c), at : at + len(c)] = c
+        at += len(c)
+    return SwingData(tuple(fits), np.concatenate(freqs), cov, _whitening(cov))
+
+
+def reweighted(data: SwingData, model_jacobian: FloatArray, nuis_cov: FloatArray) -> SwingData:
+    """Weigh by the frequencies' covariance plus what the nuisances do to the model
+    (``M Σ_v Mᵀ``, ``M = ∂f_model/∂v``): the efficient weights, and the covariance the fit's χ²
+    is judged against."""
+    total = data.cov_hz2 + model_jacobian @ nuis_cov @ model_jacobian.T
+    return SwingData(
+        data.fits, data.frequencies_hz, data.cov_hz2, _whitening(0.5 * (total + total.T))
+    )
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """What the model needs per hang besides the tensor (one nuisance vector unpacked)."""
+
+    mass_kg: float
+    cog_mm: FloatArray
+    hangs: tuple[HangGeometry, ...]
+
+
+def hang_geometry(
+    nuis: Nuisances, v: FloatArray, me_mass_kg: float, signs: tuple[int, int]
+) -> Geometry:
+    u = nuis.unpack(v)
+    hangs = tuple(
+        HangGeometry(
+            np.asarray(e),
+            np.asarray(u["sensor_mm"]),
+            max(float(u["wire_length_mm"]), 0.0),  # type: ignore[arg-type]
+            max(float(u["hinge_offset_mm"]), 0.0),  # type: ignore[arg-type]
+            signs[0],
+            signs[1],
+        )
+        for e in u["exits_mm"]  # type: ignore[attr-defined]
+    )
+    return Geometry(float(u["object_mass_kg"]) + me_mass_kg, np.asarray(u["cog_mm"]), hangs)  # type: ignore[arg-type]
+
+
+def model_frequencies(p: FloatArray, data: SwingData, geo: Geometry) -> FloatArray:
+    """The model's frequencies of the fitted modes at tensor entries ``p``, shape (N,)."""
+    out = []
+    for fit, h in zip(data.fits, geo.hangs, strict=True):
+        model = hang_modes(tensor(p), geo.mass_kg, geo.cog_mm, h).frequencies_hz
+        out.append(model[fit.mode_index])
+    return np.concatenate(out)
+
+
+def _residuals(p: FloatArray, data: SwingData, geo: Geometry) -> FloatArray:
+    return np.asarray(data.whitening @ (data.frequencies_hz - model_frequencies(p, data, geo)))
+
+
+def _model_jacobian(p: FloatArray, data: SwingData, geo: Geometry, scale: float) -> FloatArray:
+    """``∂f_model/∂p`` by central differences, shape (N, 6)."""
+    h = 1e-6 * scale
+    cols = []
+    for j in range(6):
+        dp = np.zeros(6)
+        dp[j] = h
+        cols.append(
+            (model_frequencies(p + dp, data, geo) - model_frequencies(p - dp, data, geo)) / (2 * h)
+        )
+    return np.column_stack(cols)
+
+
+def fit_tensor(data: SwingData, geo: Geometry, start: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Gauss-Newton for the assembly's six entries, weighted by ``data.whitening``.
+
+    Returns
+    -------
+    p : ndarray, shape (6,)
+    gain : ndarray, shape (6, N)
+        ``A = (JᵀJ)⁻¹ Jᵀ W`` (``J = W ∂f_model/∂p``): how ``p`` moves with the frequencies, and
+        with the model's frequencies the other way; ``A Σ Aᵀ`` is its covariance for any
+        frequency covariance ``Σ``.
+    """
+    p = np.asarray(start, dtype=float).copy()
+    scale = float(np.trace(tensor(p)))
+    w = data.whitening
+    for _ in range(MAX_ITERATIONS):
+        r = _residuals(p, data, geo)
+        jac = w @ _model_jacobian(p, data, geo, scale)
+        step, *_ = np.linalg.lstsq(jac, r, rcond=None)
+        p = p + step
+        if np.max(np.abs(step)) < CONVERGED_REL * scale:
+            break
+    else:
+        raise DegenerateGeometryError(
+            f"the inertia fit did not converge in {MAX_ITERATIONS} iterations: the swings' "
+            "frequencies are far from any rigid body on this wire (check the wire length)"
+        )
+    jac = w @ _model_jacobian(p, data, geo, scale)
+    normal = jac.T @ jac
+    if jac.shape[0] < 6 or 1.0 / np.linalg.cond(normal) < MIN_RCOND:
+        raise DegenerateGeometryError(
+            "these hangs do not determine the whole inertia tensor: add hangs from points "
+            "whose plumb lines point in other directions (cadcog plan --for inertia)"
+        )
+    return p, np.asarray(np.linalg.solve(normal, jac.T @ w))
+
+
+def weighted_chi2(p: FloatArray, data: SwingData, geo: Geometry) -> float:
+    """Weighted squared residuals at ``p``."""
+    r = _residuals(p, data, geo)
+    return float(r @ r)
+
+
+def model_nuisance_jacobian(
+    p: FloatArray,
+    data: SwingData,
+    nuis: Nuisances,
+    me_mass_kg: float,
+    signs: tuple[int, int],
+) -> FloatArray:
+    """``M = ∂f_model/∂v`` at tensor ``p``: the modelled frequencies' change with each nuisance
+    (central differences, steps of 0.1 σ), shape (N, n)."""
+    sig = np.sqrt(np.diag(nuis.cov))
+    out = np.zeros((len(data.frequencies_hz), len(nuis.values)))
+    for i, s in enumerate(sig):
+        if s == 0.0:
+            continue
+        dv = np.zeros(len(nuis.values))
+        dv[i] = 0.1 * s
+        hi = model_frequencies(p, data, hang_geometry(nuis, nuis.values + dv, me_mass_kg, signs))
+        lo = model_frequencies(p, data, hang_geometry(nuis, nuis.values - dv, me_mass_kg, signs))
+        out[:, i] = (hi - lo) / (0.2 * s)
+    return out
+
+
+def compensate(
+    p_assembly: FloatArray,
+    nuis: Nuisances,
+    v: FloatArray,
+    me_parts: Sequence[MassProperties],
+) -> tuple[FloatArray, FloatArray]:
+    """The object's tensor entries about its own CoG, and that CoG (mm)."""
+    u = nuis.unpack(v)
+    m_o = float(u["object_mass_kg"])  # type: ignore[arg-type]
+    g_a = np.asarray(u["cog_mm"])
+    me_cogs = np.asarray(u["me_cog_mm"])
+    scales = np.asarray(u["me_scale"])
+    m_me = sum(p.mass_kg for p in me_parts)
+    c_me = sum(p.mass_kg * c for p, c in zip(me_parts, me_cogs, strict=True)) / m_me
+    g_o = ((m_o + m_me) * g_a - m_me * c_me) / m_o
+    t = tensor(p_assembly) - parallel_axis(m_o, g_o - g_a)
+    for part, c, s in zip(me_parts, me_cogs, scales, strict=True):
+        t = t - s * np.asarray(part.inertia_kg_mm2) - parallel_axis(part.mass_kg, c - g_a)
+    return entries(t), g_o
+
+
+def direct_jacobian(function: Callable[[FloatArray], FloatArray], nuis: Nuisances) -> FloatArray:
+    """Central-difference Jacobian of ``function`` w.r.t. the nuisances (steps of 0.1 σ)."""
+    sig = np.sqrt(np.diag(nuis.cov))
+    base = function(nuis.values)
+    jac = np.zeros((len(base), len(nuis.values)))
+    for i, s in enumerate(sig):
+        if s == 0.0:
+            continue
+        dv = np.zeros(len(nuis.values))
+        dv[i] = 0.1 * s
+        jac[:, i] = (function(nuis.values + dv) - function(nuis.values - dv)) / (0.2 * s)
+    return jac

@@ -1,0 +1,113 @@
+"""Virtual swings from the linear model: what ``cadcog campaign`` writes beside its readings.
+
+Each hang's swing is the superposition of the model's modes (:func:`hang_modes`) from a random
+release (each mode's amplitude uniform in ``amplitude_deg``, random phase), damped with ratio
+``damping_ratio``, seen with the hang's settled readings as offset, white noise per sample and
+sample-time jitter. This is the estimator's own model, for rehearsal and tests of the plumbing;
+the estimator is validated against an independent nonlinear simulation
+(``tests/inertia/``, ``docs/inertia_validation.md``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.dynamics.hungbody import HangGeometry, hang_modes
+from cadcog.dynamics.measure import InertiaContext
+from cadcog.dynamics.swingfile import Swing
+from cadcog.mass.properties import combine
+from cadcog.method.readings import Suspension
+
+FloatArray = npt.NDArray[np.float64]
+
+
+def virtual_swing(
+    point_id: str,
+    settled_deg: npt.ArrayLike,
+    inertia_cog_kg_mm2: npt.ArrayLike,
+    mass_kg: float,
+    cog_mm: npt.ArrayLike,
+    geometry: HangGeometry,
+    rng: np.random.Generator,
+    *,
+    duration_s: float = 60.0,
+    rate_hz: float = 50.0,
+    amplitude_deg: tuple[float, float] = (0.5, 3.0),
+    damping_ratio: float = 0.01,
+    noise_deg: float = 0.01,
+    jitter_s: float = 0.001,
+    start_s: float = 0.0,
+) -> Swing:
+    """One hang's swing from release (see the module docstring).
+
+    Parameters
+    ----------
+    settled_deg : array_like, shape (2,)
+        The readings the swing settles to (device signs applied).
+    rng : numpy.random.Generator
+    """
+    modes = hang_modes(inertia_cog_kg_mm2, mass_kg, cog_mm, geometry)
+    n = round(duration_s * rate_hz) + 1
+    t = start_s + np.arange(n) / rate_hz + rng.uniform(-jitter_s, jitter_s, n)
+    t.sort()
+    tau = t - t[0]
+    y = np.tile(np.asarray(settled_deg, dtype=float), (n, 1))
+    lo, hi = amplitude_deg
+    for f, shape in zip(modes.frequencies_hz, modes.reading_shapes_deg, strict=True):
+        w = 2.0 * np.pi * f
+        amp = rng.uniform(lo, hi) / max(float(np.max(np.abs(shape))), 1e-12)  # rad
+        phase = rng.uniform(0.0, 2.0 * np.pi)
+        wave = np.exp(-damping_ratio * w * tau) * np.cos(
+            w * np.sqrt(1 - damping_ratio**2) * tau + phase
+        )
+        y += amp * np.outer(wave, shape)
+    y += rng.normal(0.0, noise_deg, y.shape)
+    return Swing(point_id, t, y)
+
+
+def virtual_swings(
+    context: InertiaContext,
+    suspensions: Sequence[Suspension],
+    seed: int | np.random.Generator,
+    **options: Any,
+) -> list[Swing]:
+    """A swing for each of a virtual campaign's hangs, the CAD as the truth.
+
+    Each swing settles to its hang's mean readings; the hangs follow one another on the
+    device's clock (a minute of swing, then half a minute to re-hang). ``options`` go to
+    :func:`virtual_swing`.
+    """
+    rng = np.random.default_rng(seed)
+    truth = combine([context.object_cad, *context.me_parts])
+    hinge = float(
+        np.sqrt(context.bending_stiffness_n_mm2 / (truth.mass_kg * STANDARD_GRAVITY_M_S2))
+    )
+    out = []
+    start = 0.0
+    for s in suspensions:
+        geo = HangGeometry(
+            np.asarray(s.position_mm, dtype=float),
+            context.sensor_mm,
+            context.swing.wire_length_mm,
+            hinge,
+            *context.signs,
+        )
+        sw = virtual_swing(
+            s.id,
+            [s.inc_x_deg, s.inc_y_deg],
+            truth.inertia_kg_mm2,
+            truth.mass_kg,
+            truth.cog_mm,
+            geo,
+            rng,
+            start_s=start,
+            **options,
+        )
+        out.append(sw)
+        start = float(sw.t_s[-1]) + 30.0
+    return out
