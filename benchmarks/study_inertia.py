@@ -16,18 +16,21 @@ every rate with its Clopper-Pearson 95 % interval.
 Two phases, so the slow simulation runs once:
 
     nice -n 5 .venv/bin/python benchmarks/study_inertia.py simulate [--seeds 200] [--rows ...]
-    nice -n 5 .venv/bin/python benchmarks/study_inertia.py estimate [--rows ...]
+    nice -n 5 .venv/bin/python benchmarks/study_inertia.py estimate [--rows ...] [--limit N]
+    .venv/bin/python benchmarks/study_inertia.py report [--rows ...]
 
 ``modes`` prints the truth's small-oscillation frequencies of the rig's hangs (from the
 simulator's own linearisation). ``simulate`` caches every row in
-``build/study_inertia/ROW.npz``; ``estimate`` prints markdown tables
-(``docs/inertia_validation.md``). ``--placeholder`` replaces the estimator by a stand-in
+``build/study_inertia/ROW.npz``; ``estimate`` appends each campaign's score to
+``build/study_inertia/ROW.scores.jsonl`` (resumable); ``report`` prints the markdown tables of
+``docs/inertia_validation.md``. ``--placeholder`` replaces the estimator by a stand-in
 (the truth plus a 1 % draw, reported σ 1 %) to exercise the statistics before it exists.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import tempfile
 import time
@@ -65,12 +68,27 @@ class Row:
 
 
 BASE = sf.SwingConfig()
+EXACT = replace(BASE, hinge_errors=False)
 ROWS = {
     r.name: r
     for r in (
-        Row("rig6", "paper rig S1-S6, L = 300 mm, release ≤ 10°", "rig", RIG6, BASE),
+        Row("rig6h", "paper rig S1-S6, L = 300 mm, ≤ 10°", "rig", RIG6, BASE),
         Row(
-            "rig12",
+            "rig6h_small",
+            "paper rig S1-S6, L = 300 mm, ≤ 2°",
+            "rig",
+            RIG6,
+            replace(BASE, amplitude_deg=2.0),
+        ),
+        Row(
+            "cubesat_h",
+            "3U CubeSat, plan's 4 hangs, L = 300 mm, ≤ 10°",
+            "setup",
+            CUBESAT_PLAN,
+            BASE,
+        ),
+        Row(
+            "rig12h",
             "paper rig, 12 hangs (S1-S6 twice), L = 300 mm, ≤ 10°",
             "rig",
             RIG6 + RIG6,
@@ -78,39 +96,55 @@ ROWS = {
             tuple(f"{p}a" for p in RIG6) + tuple(f"{p}b" for p in RIG6),
         ),
         Row(
-            "rig6_small",
-            "paper rig S1-S6, L = 300 mm, release ≤ 2°",
-            "rig",
-            RIG6,
-            replace(BASE, amplitude_deg=2.0),
-        ),
-        Row(
-            "rig6_pivot",
+            "rig6h_pivot",
             "paper rig S1-S6, pivot (L = 0)",
             "rig",
             RIG6,
             replace(BASE, wire_length_mm=0.0, wire_length_sigma_mm=0.0),
         ),
         Row(
-            "rig6_L100",
+            "rig6h_L100",
             "paper rig S1-S6, L = 100 mm",
             "rig",
             RIG6,
             replace(BASE, wire_length_mm=100.0),
         ),
         Row(
-            "rig6_L1000",
+            "rig6h_L1000",
             "paper rig S1-S6, L = 1000 mm",
             "rig",
             RIG6,
             replace(BASE, wire_length_mm=1000.0),
         ),
+        # the same with the hinge exactly at the nominal wire exit (no play, no wire offset)
+        Row("rig6", "exact exit: paper rig S1-S6, L = 300 mm, ≤ 10°", "rig", RIG6, EXACT),
+        Row(
+            "rig6_small",
+            "exact exit: paper rig S1-S6, L = 300 mm, ≤ 2°",
+            "rig",
+            RIG6,
+            replace(EXACT, amplitude_deg=2.0),
+        ),
         Row(
             "cubesat_plan",
-            "3U CubeSat, plan's 4 hangs, L = 300 mm, ≤ 10°",
+            "exact exit: 3U CubeSat, plan's 4 hangs, L = 300 mm",
             "setup",
             CUBESAT_PLAN,
-            BASE,
+            EXACT,
+        ),
+        Row(
+            "rig6_pivot",
+            "exact exit: paper rig S1-S6, pivot (L = 0)",
+            "rig",
+            RIG6,
+            replace(EXACT, wire_length_mm=0.0, wire_length_sigma_mm=0.0),
+        ),
+        Row(
+            "rig6_L1000",
+            "exact exit: paper rig S1-S6, L = 1000 mm",
+            "rig",
+            RIG6,
+            replace(EXACT, wire_length_mm=1000.0),
         ),
     )
 }
@@ -150,7 +184,8 @@ def simulate(row: Row, seeds: int, batch: int) -> Path:
 def campaigns(row: Row) -> tuple[sf.Truth, list[list[sf.HangRecord]]]:
     """The cached campaigns of a row, as records."""
     truth = truth_of(row)
-    d = np.load(CACHE / f"{row.name}.npz")
+    with np.load(CACHE / f"{row.name}.npz") as z:
+        d = {k: z[k] for k in z.files}  # an NpzFile decompresses the array at every access
     ids = row.hang_ids or row.points
     out = []
     for c in range(d["x"].shape[0]):
@@ -184,31 +219,47 @@ def campaigns(row: Row) -> tuple[sf.Truth, list[list[sf.HangRecord]]]:
 
 
 # --- estimate -------------------------------------------------------------------------------
-def estimate_row(row: Row, use_placeholder: bool, limit: int | None) -> list[dict[str, Any]]:
+def scores_path(row: Row) -> Path:
+    return CACHE / f"{row.name}.scores.jsonl"
+
+
+def estimate_row(row: Row, use_placeholder: bool, limit: int | None) -> None:
+    """Estimate a row's cached campaigns, appending one JSON line per campaign (its score, or
+    the estimator's error) to ``build/study_inertia/ROW.scores.jsonl``; campaigns already
+    there are skipped, so an interrupted run resumes."""
     truth, camps = campaigns(row)
     camps = camps[:limit] if limit else camps
-    scores, failures = [], 0
+    out = scores_path(row)
+    done = {json.loads(x)["seed"] for x in out.read_text().splitlines()} if out.exists() else set()
     rng = np.random.default_rng(0)
-    with tempfile.TemporaryDirectory() as tmp:
+    with tempfile.TemporaryDirectory() as tmp, out.open("a", encoding="utf-8") as log:
         d = Path(tmp)
         src = RIG if row.source == "rig" else SETUP
         params = er.parameter_file(src, row.source, row.config, truth, d)
-        for camp in camps:
+        for seed, camp in enumerate(camps):
+            if seed in done:
+                continue
             sw, rd = d / "swings.csv", d / "readings.csv"
             sf.write_campaign(camp, sw, rd)
+            t0 = time.time()
             try:
                 if use_placeholder:
                     res = er.placeholder(truth, rng)
                 else:
                     res = er.run_estimator(sw, rd, params, row.source)
+                entry: dict[str, Any] = {"seed": seed, **er.score(res, truth)}
             except (RuntimeError, SystemExit, ValueError) as exc:
-                failures += 1
-                print(f"  {row.name}: estimator failed: {exc}", file=sys.stderr)
-                continue
-            scores.append(er.score(res, truth))
-    if failures:
-        print(f"  {row.name}: {failures} campaigns failed", file=sys.stderr)
-    return scores
+                entry = {"seed": seed, "error": str(exc) or type(exc).__name__}
+            entry["seconds"] = round(time.time() - t0, 1)
+            log.write(json.dumps(entry) + "\n")
+            log.flush()
+
+
+def load_scores(row: Row) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """A row's scored campaigns and its failed ones."""
+    p = scores_path(row)
+    entries = [json.loads(x) for x in p.read_text().splitlines()] if p.exists() else []
+    return [e for e in entries if "error" not in e], [e for e in entries if "error" in e]
 
 
 def rate(k: int, n: int) -> str:
@@ -218,9 +269,9 @@ def rate(k: int, n: int) -> str:
 
 def table(rows: list[tuple[Row, list[dict[str, Any]]]]) -> str:
     out = [
-        "| row | n | moment | bias | 95 % abs. error | in ±1.96 σ [CP 95 %] "
+        "| row | n | moment | bias | 95 % abs. error | error/σ: mean, sd | in ±1.96 σ [CP 95 %] "
         "| axis error 95 % | axis ≤ 2° |",
-        "|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     chi = [
         "| row | n | tensor χ² ≤ χ²₆(95 %) [CP 95 %] | median χ² (6 expected: 5.35) |",
@@ -236,9 +287,11 @@ def table(rows: list[tuple[Row, list[dict[str, Any]]]]) -> str:
         for i, name in enumerate(("I₁ (smallest)", "I₂", "I₃ (largest)")):
             cover = int(np.sum(np.abs(z[:, i]) <= 1.96))
             within = int(np.sum(ax[:, i] <= 2.0))
+            zsd = z[:, i].std(ddof=1) if n > 1 else 0.0
             out.append(
                 f"| {row.label} | {n} | {name} | {100 * rel[:, i].mean():+.2f} % | "
-                f"{100 * np.quantile(np.abs(rel[:, i]), 0.95):.2f} % | {rate(cover, n)} | "
+                f"{100 * np.quantile(np.abs(rel[:, i]), 0.95):.2f} % | "
+                f"{z[:, i].mean():+.2f}, {zsd:.2f} | {rate(cover, n)} | "
                 f"{np.quantile(ax[:, i], 0.95):.2f}° | {rate(within, n)} |"
             )
         c2 = np.array([s["chi2"] for s in sc])
@@ -263,7 +316,7 @@ def modes_table() -> str:
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("phase", choices=("simulate", "estimate", "modes"))
+    ap.add_argument("phase", choices=("simulate", "estimate", "report", "modes"))
     ap.add_argument("--rows", nargs="*", default=list(ROWS), choices=list(ROWS))
     ap.add_argument("--seeds", type=int, default=200)
     ap.add_argument("--batch", type=int, default=100, help="campaigns integrated together")
@@ -277,13 +330,21 @@ def main(argv: list[str] | None = None) -> None:
         for name in args.rows:
             print(f"{name}: {simulate(ROWS[name], args.seeds, args.batch)}", file=sys.stderr)
         return
-    results = []
+    if args.phase == "estimate":
+        for name in args.rows:
+            t0 = time.time()
+            estimate_row(ROWS[name], args.placeholder, args.limit)
+            print(f"  {name}: {time.time() - t0:.0f} s", file=sys.stderr)
+        return
+    results, failed = [], []
     for name in args.rows:
-        t0 = time.time()
-        results.append((ROWS[name], estimate_row(ROWS[name], args.placeholder, args.limit)))
-        print(f"  {name}: {time.time() - t0:.0f} s", file=sys.stderr)
-    print(time.strftime("%Y-%m-%d"), "placeholder estimator" if args.placeholder else "")
+        ok, bad = load_scores(ROWS[name])
+        results.append((ROWS[name], ok))
+        failed += [f"- {ROWS[name].label}, seed {e['seed']}: {e['error']}" for e in bad]
+    print(time.strftime("%Y-%m-%d"))
     print(table(results))
+    print("estimator failures:" if failed else "no estimator failure")
+    print("\n".join(failed))
 
 
 if __name__ == "__main__":

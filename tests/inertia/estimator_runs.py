@@ -60,12 +60,13 @@ def run_estimator(swings: Path, readings: Path, params: Path, kind: str) -> dict
     from cadcog.cli._main import main
 
     option = "--rig" if kind == "rig" else "--setup"
-    buf = io.StringIO()
+    buf, err = io.StringIO(), io.StringIO()
     argv = ["inertia", str(swings), "--readings", str(readings), option, str(params), "--json"]
-    with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(io.StringIO()):
+    with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(err):
         code = main(argv)
     if code not in (0, None):
-        raise RuntimeError(f"cadcog inertia exited {code}")
+        last = (err.getvalue().strip().splitlines() or [""])[-1]
+        raise RuntimeError(f"cadcog inertia exited {code}: {last}")
     result: dict[str, Any] = json.loads(buf.getvalue())
     return result
 

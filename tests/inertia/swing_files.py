@@ -11,7 +11,11 @@ hung body, each released, recorded and let settle:
   of ``U(0, 1)·amplitude·ω₁`` at another random azimuth (ω₁ = √(g/(L + d)), so both horizontal
   directions swing with random phases) and the body a yaw rate ``U(−1, 1)·yaw_rate_deg_s``;
 - **wire**: per hang the true free length is ``N(L, σ_L)`` (the estimator is told ``L ± σ_L``);
-  the amplitude decay time is ``U(decay_time_range_s)`` per hang;
+  the amplitude decay time is ``U(decay_time_range_s)`` per hang; with ``hinge_errors`` the
+  wire's hinge on the body is not the nominal exit but lies, per hang, uniformly in a
+  ``play_mm`` square in the face plane around it and ``U(0, wire_offset_max_mm)`` out along the
+  bolt axis (the rig's error model: bolt play, and the paper's wire model of the bending
+  stiffness as an outward hinge offset); the files give the nominal exit;
 - **sensor** (the rig's ``[inclinometer]`` and ``[error_model]``): the true angle
   ``asin(f_x/|f|)`` (:func:`swing_truth.inclinations_deg`), saturated at ±``range_deg``, plus a
   bias per hang and axis ``U(±accuracy_deg)``, plus white noise ``N(0, sensor_noise_deg)`` per
@@ -54,6 +58,7 @@ class SwingConfig:
     oversample: int = 16
     settled_samples: int = 15
     dt_s: float | None = None  # RK4 step; None: min(4 ms, 0.15/ω_max)
+    hinge_errors: bool = True  # the rig error model's play and wire offset move the hinge
 
 
 @dataclass(frozen=True)
@@ -92,6 +97,12 @@ class Truth:
     hangs : tuple of (str, ndarray (3,))
         Available hang points: id and wire exit (mm).
     sensor : Sensor
+    normals : tuple of ndarray (3,)
+        Each hang point's bolt axis (outward face normal), as ``hangs``.
+    play_mm, wire_offset_max_mm : float
+        The rig's error model: the wire's hinge lies uniformly in a ``play_mm`` square in the
+        face plane around the exit, and ``U(0, wire_offset_max_mm)`` out along the bolt axis
+        (the paper's wire model: its bending stiffness moves the effective hinge outwards).
     """
 
     body: st.HungBody
@@ -100,11 +111,20 @@ class Truth:
     object_inertia_kg_mm2: FloatArray
     hangs: tuple[tuple[str, FloatArray], ...]
     sensor: Sensor
+    normals: tuple[FloatArray, ...]
+    play_mm: float
+    wire_offset_max_mm: float
 
     def exit_of(self, point_id: str) -> FloatArray:
-        for pid, exit_mm in self.hangs:
+        return self.hangs[self._index(point_id)][1]
+
+    def normal_of(self, point_id: str) -> FloatArray:
+        return self.normals[self._index(point_id)]
+
+    def _index(self, point_id: str) -> int:
+        for i, (pid, _) in enumerate(self.hangs):
             if pid == point_id:
-                return exit_mm
+                return i
         raise KeyError(point_id)
 
 
@@ -124,10 +144,13 @@ def rig_truth(rig_path: str | Path, sensor_mm: npt.ArrayLike | None = None) -> T
     sensor = _inclinometer_centre(rig.me_volumes) if sensor_mm is None else sensor_mm
     body = st.HungBody(asm.mass_kg, asm.cog_mm, asm.inertia_kg_mm2, asm.cog_mm, np.asarray(sensor))
     hangs = tuple((p.id, np.asarray(rig.wire_exit_mm(p), float)) for p in rig.suspension_points)
-    noise = rig.error_options.sensor_noise_deg
+    e = rig.error_options
+    normals = tuple(np.asarray(p.normal, float) for p in rig.suspension_points)
+    sensor_ = Sensor(rig.inclinometer, e.sensor_noise_deg)
     return Truth(
-        body, pm.mass_kg, pm.cog_mm, pm.inertia_kg_mm2, hangs, Sensor(rig.inclinometer, noise)
-    )
+        body, pm.mass_kg, pm.cog_mm, pm.inertia_kg_mm2, hangs, sensor_, normals, e.play_mm,
+        e.wire_offset_max_mm,
+    )  # fmt: skip
 
 
 def setup_truth(setup_path: str | Path, sensor_mm: npt.ArrayLike | None = None) -> Truth:
@@ -141,15 +164,13 @@ def setup_truth(setup_path: str | Path, sensor_mm: npt.ArrayLike | None = None) 
     sensor = _inclinometer_centre(s.me_volumes) if sensor_mm is None else sensor_mm
     body = st.HungBody(asm.mass_kg, asm.cog_mm, asm.inertia_kg_mm2, asm.cog_mm, np.asarray(sensor))
     hangs = tuple((c.id, np.asarray(c.position_mm, float)) for c in s.candidates)
-    noise = s.rig.error_options.sensor_noise_deg
+    e = s.rig.error_options
+    normals = tuple(np.asarray(c.normal, float) for c in s.candidates)
+    sensor_ = Sensor(s.rig.inclinometer, e.sensor_noise_deg)
     return Truth(
-        body,
-        s.mass.mass_kg,
-        s.mass.cog_mm,
-        s.mass.inertia_kg_mm2,
-        hangs,
-        Sensor(s.rig.inclinometer, noise),
-    )
+        body, s.mass.mass_kg, s.mass.cog_mm, s.mass.inertia_kg_mm2, hangs, sensor_, normals,
+        e.play_mm, e.wire_offset_max_mm,
+    )  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -239,13 +260,18 @@ def simulate_campaigns(
     for rng in rngs:
         start_s = rng.uniform(5, 60)
         for pid in point_ids:
+            hinge = truth.exit_of(pid)
+            if cfg.hinge_errors:
+                n = truth.normal_of(pid)
+                t1 = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
+                t1 /= np.linalg.norm(t1)
+                t2 = np.cross(n, t1)
+                a, b = rng.uniform(-0.5, 0.5, 2) * truth.play_mm
+                hinge = hinge + a * t1 + b * t2 + rng.uniform(0, truth.wire_offset_max_mm) * n
             body = st.HungBody(
-                truth.body.mass_kg,
-                truth.body.cog_mm,
-                truth.body.inertia_kg_mm2,
-                truth.exit_of(pid),
+                truth.body.mass_kg, truth.body.cog_mm, truth.body.inertia_kg_mm2, hinge,
                 truth.body.sensor_mm,
-            )
+            )  # fmt: skip
             length = (
                 0.0
                 if cfg.wire_length_mm == 0

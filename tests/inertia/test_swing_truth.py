@@ -225,7 +225,7 @@ def test_files_carry_the_documented_columns_timing_and_settled_readings(tmp_path
     from cadcog.method.readings import read_readings
 
     truth = sf.rig_truth(RIG)
-    cfg = sf.SwingConfig(duration_s=1.0, jitter_ms=3.0)
+    cfg = sf.SwingConfig(duration_s=1.0, jitter_ms=3.0, hinge_errors=False)
     (campaign,) = sf.simulate_campaigns(truth, ["S1", "S5"], cfg, [np.random.default_rng(4)])
     swings, readings = tmp_path / "swings.csv", tmp_path / "readings.csv"
     sf.write_campaign(campaign, swings, readings)
