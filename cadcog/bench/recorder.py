@@ -10,7 +10,7 @@ readings file, so an interrupted hang leaves no trace.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
@@ -121,6 +121,10 @@ class HangData:
         Swing amplitude when it settled.
     range_problem : str or None
         Saturation or out-of-range readings: the hang is unusable.
+    swing_t_s : ndarray, shape (m,)
+        Device times of every sample from the start of the hang until it settled.
+    swing_deg : ndarray, shape (m, 2)
+        Those samples' readings (degrees): the swing file's rows (``cadcog inertia``).
     """
 
     t_s: FloatArray
@@ -130,6 +134,8 @@ class HangData:
     swing: SwingRecord
     amplitude_deg: float
     range_problem: str | None
+    swing_t_s: FloatArray = field(default_factory=lambda: np.zeros(0))
+    swing_deg: FloatArray = field(default_factory=lambda: np.zeros((0, 2)))
 
     @property
     def mean_deg(self) -> tuple[float, float]:
@@ -340,4 +346,6 @@ class Recorder:
             swing,
             float(amplitude),
             units.range_problem(values),
+            np.asarray(swing_t, dtype=float),
+            sw,
         )

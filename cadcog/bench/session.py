@@ -24,6 +24,7 @@ import numpy as np
 
 from cadcog.bench.readingsfile import ReadingsFile, block_text, parse_block, suspension_of
 from cadcog.bench.recorder import HangData, Recorder
+from cadcog.bench.swinglog import SwingLog, default_swing_path
 from cadcog.bench.target import (
     BenchTarget,
     PlannedHang,
@@ -147,6 +148,8 @@ class SessionResult(JsonResult):
     repaired_lines: int = 0
     estimate: CogEstimate | None = None
     link: str = ""
+    inertia: Any = None  # cadcog.dynamics.result.InertiaResult, from 3 or more swings
+    inertia_note: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -157,6 +160,11 @@ class SessionResult(JsonResult):
             "hangs": [h.to_dict() for h in self.hangs],
             "link": self.link,
             "estimate": None if self.estimate is None else estimate_summary(self.estimate),
+            "inertia": (
+                self.inertia.to_dict()
+                if self.inertia is not None
+                else {"not_estimated": self.inertia_note}
+            ),
         }
 
 
@@ -182,8 +190,13 @@ def run_session(
     operator: Operator,
     say: Callable[[str], None] = print,
     preamble: tuple[str, ...] = (),
+    swings_out: str | Path | None = None,
+    inertia_target: BenchTarget | None = None,
 ) -> SessionResult:
-    """Run the guided test run; append each good hang to ``out``; return what happened.
+    """Run the guided test run; append each good hang to ``out`` (and its swing from release
+    to settle to ``swings_out``, default beside ``out``: ``cadcog inertia``'s input); return
+    what happened, with the inertia tensor from the swings when three hangs or more have one
+    (``inertia_target``: what the swings are modelled with, default ``target``).
 
     Raises
     ------
@@ -194,6 +207,7 @@ def run_session(
     units = recorder.open()
     say(f"device: {units.header.describe()} on {recorder.link.name}")
     rfile, blocks, repaired = ReadingsFile.open(out, units, preamble)
+    swings = SwingLog.open(default_swing_path(out) if swings_out is None else swings_out)
     result = SessionResult(Path(out), units.header.describe(), repaired_lines=repaired)
     planned = {h.id: h for h in target.hangs}
     suspensions: list[Suspension] = []
@@ -267,6 +281,7 @@ def run_session(
             else:
                 report = report_with(report, attempt, "recorded")
             rfile.append(text)
+            swings.append(h.id, data.swing_t_s, data.swing_deg)
             suspensions.append(new)
             result.hangs.append(report)
             say(f"  {h.id}: recorded {report.samples} samples in {out}")
@@ -275,7 +290,26 @@ def run_session(
     if len(suspensions) >= 2:
         final = read_readings(out, target.inclinometer)
         result.estimate = estimate_hangs(target, final)
+        result.inertia, result.inertia_note = _inertia(inertia_target or target, swings, final)
     return result
+
+
+def _inertia(
+    target: BenchTarget, swings: SwingLog, suspensions: list[Suspension]
+) -> tuple[Any, str]:
+    """The tensor from the recorded swings, or why there is none."""
+    from cadcog.dynamics.measure import inertia_for_rig, inertia_for_setup
+    from cadcog.dynamics.swingfile import read_swings
+
+    if len(swings.done) < 3:
+        return None, f"{len(swings.done)} hang(s) with a swing: the tensor needs 3 or more"
+    try:
+        recorded = read_swings(swings.path)
+        if target.setup is None:
+            return inertia_for_rig(target.rig, recorded, suspensions), ""
+        return inertia_for_setup(target.setup, recorded, suspensions), ""
+    except CadcogError as exc:
+        return None, str(exc)
 
 
 def report_with(report: HangReport, attempt: int, outcome: str | None = None) -> HangReport:

@@ -422,3 +422,19 @@ class PtyDevice:
                 os.close(fd)
             except OSError:
                 pass
+
+
+def as_simulated(target: BenchTarget) -> BenchTarget:
+    """``target`` as the simulated device hangs it: from a fixed pivot (no wire length, no
+    bending stiffness), which is what ``cadcog inertia`` must be told to model its swings."""
+    rig = target.rig
+    pivot = replace(rig.swing, wire_length_mm=0.0, wire_length_sigma_mm=0.0)
+    stiff = replace(rig.error_options, wire_bending_stiffness_n_mm2=0.0)
+    if target.setup is None:
+        return replace(target, rig=replace(rig, swing=pivot, error_options=stiff))
+    setup = target.setup
+    setup_swing = replace(setup.swing, wire_length_mm=0.0, wire_length_sigma_mm=0.0)
+    return replace(
+        target,
+        setup=replace(setup, swing=setup_swing, rig=replace(setup.rig, error_options=stiff)),
+    )

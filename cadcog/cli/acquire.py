@@ -31,6 +31,12 @@ def add_parser(sub: Any) -> None:
         "same command again to resume an interrupted run. See docs/bench.md.",
     )
     p.add_argument("--out", type=Path, required=True, help="readings CSV to create or resume")
+    p.add_argument(
+        "--swings",
+        type=Path,
+        help="swing CSV to create or resume: each hang's samples from release to settle, for "
+        "cadcog inertia (default: beside --out, NAME.swings.csv)",
+    )
     p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
     p.add_argument("--setup", type=Path, help="spacecraft set-up file instead of a rig")
     p.add_argument(
@@ -182,6 +188,13 @@ class _Live:
         print(text, flush=True)
 
 
+def default_or(swings: Path | None, out: Path) -> Path:
+    """The swing file the run wrote: ``--swings``, else beside ``--out``."""
+    from cadcog.bench.swinglog import default_swing_path
+
+    return default_swing_path(out) if swings is None else swings
+
+
 def run(args: argparse.Namespace) -> int:
     from cadcog.bench.link import SerialLink
     from cadcog.bench.recorder import Recorder
@@ -197,6 +210,10 @@ def run(args: argparse.Namespace) -> int:
 
     _check_numbers(args)
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
+    if args.swings is not None:
+        refuse_overwriting_inputs(
+            args.swings, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
+        )
     if args.report is not None and args.report.exists() and not args.report.is_dir():
         raise CadcogError(f"--report {args.report}: exists and is not a directory")
     target = _target(args)
@@ -215,8 +232,11 @@ def run(args: argparse.Namespace) -> int:
     operator: Operator
     interactive = not args.non_interactive and sys.stdin.isatty()
     device = None
+    inertia_target = None
     if args.simulate:
-        from cadcog.bench.simulator import PtyDevice, SimulatedDevice
+        from cadcog.bench.simulator import PtyDevice, SimulatedDevice, as_simulated
+
+        inertia_target = as_simulated(target)  # the simulated object swings about a pivot
 
         device = SimulatedDevice(target, _spec(args), _faults(args), seed=args.seed)
         pty = PtyDevice(device, args.time_scale).__enter__()
@@ -241,7 +261,9 @@ def run(args: argparse.Namespace) -> int:
                 args.timeout_s,
                 progress=None if args.json else live,
             )
-            result = run_session(target, recorder, args.out, operator, say, preamble)
+            result = run_session(
+                target, recorder, args.out, operator, say, preamble, args.swings, inertia_target
+            )
         finally:
             link.close()
     except (KeyboardInterrupt, SessionQuit) as exc:
@@ -315,6 +337,13 @@ def _finish(args: argparse.Namespace, target: Any, result: Any, device: Any) -> 
                     + ", ".join(f"{v:+.3f}" for v in e)
                     + f"] mm, Mahalanobis distance {truth['mahalanobis']:.2f}"
                 )
+            if result.inertia is not None:
+                from cadcog.cli.inertia import print_inertia
+
+                print(f"\ninertia from the swings in {default_or(args.swings, args.out)}:\n")
+                print_inertia(result.inertia)
+            else:
+                print(f"\nno inertia from the swings: {result.inertia_note}")
     if page is not None:
         print(f"report: {page}", file=sys.stderr)
     elif args.report is not None:

@@ -109,8 +109,8 @@ def print_inertia(result: Any) -> None:
         axis = ", ".join(f"{a:+.4f}" for a in pr.axes[k])
         print(
             f"  I{k + 1} = {_g(pr.moments_kg_mm2[k], 6):>9} ± "
-            f"{_g(pr.moments_sigma_kg_mm2[k], 2):<7} ({rel:.2f} %)   axis [{axis}] ± "
-            f"{pr.axes_sigma_deg[k]:.2g}°"
+            f"{_g(pr.moments_sigma_kg_mm2[k], 2):<7} ({rel:.2f} %)   axis [{axis}] "
+            + (f"± {pr.axes_sigma_deg[k]:.2g}°" if pr.axes_sigma_deg[k] < 90 else "undetermined")
         )
     print(
         f"about the CoG {np.round(result.cog_mm, 3).tolist()} mm; object mass "

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import dumps_json
 
 
 def add_parser(sub: Any) -> None:
@@ -22,6 +23,22 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--trials", type=int, default=10_000, help="Monte Carlo trials per finalist set")
     p.add_argument("--max-set", type=int, default=4, help="largest set of hangs to consider")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument(
+        "--for",
+        dest="goal",
+        choices=("cog", "inertia", "both"),
+        default="cog",
+        help="what the hangs should determine best: the CoG (default), the inertia tensor from "
+        "their swings (cadcog inertia), or both (the CoG's set, grown for the inertia)",
+    )
+    p.add_argument(
+        "--max-inertia-set", type=int, default=8, help="largest set of hangs for the inertia"
+    )
+    p.add_argument(
+        "--no-weighing",
+        action="store_true",
+        help="plan the inertia with the CAD's mass uncertainty instead of a 1 g weighing",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
@@ -32,10 +49,29 @@ def run(args: argparse.Namespace) -> int:
 
     if args.trials < 2 or args.max_set < 2 or args.seed < 0:
         raise CadcogError("--trials ≥ 2, --max-set ≥ 2, --seed ≥ 0")
+    if args.max_inertia_set < 3:
+        raise CadcogError(
+            "--max-inertia-set must be at least 3 (six entries, two frequencies a hang)"
+        )
     setup = load_setup(args.setup)
     plan = plan_test(setup, trials=args.trials, max_set=args.max_set, seed=args.seed)
+    inertia = None
+    if args.goal != "cog":
+        from cadcog.dynamics.hangplan import plan_inertia_for_setup
+
+        inertia = plan_inertia_for_setup(
+            setup,
+            plan,
+            weighed=not args.no_weighing,
+            max_set=args.max_inertia_set,
+            both=args.goal == "both",
+        )
     if args.json:
-        print(plan.to_json())
+        data = plan.to_dict()
+        if inertia is not None:
+            data["inertia"] = inertia.to_dict()
+            data["goal"] = args.goal
+        print(dumps_json(data).rstrip("\n"))
         return 0
     m = setup.mass
     cog = ", ".join(f"{c:.3f}" for c in m.cog_mm)
@@ -68,7 +104,25 @@ def run(args: argparse.Namespace) -> int:
         print("\nno usable pair: add candidates or move the ME")
         return 0
     print(
-        f"\nrecommended: hang from {', '.join(plan.recommended['points'])} "
+        f"\nrecommended{' for the CoG' if inertia is not None else ''}: hang from "
+        f"{', '.join(plan.recommended['points'])} "
         f"(predicted 95 % error {plan.recommended['q95_mm']:.3f} mm)"
     )
+    if inertia is not None:
+        _print_inertia_plan(inertia, args.goal)
     return 0
+
+
+def _print_inertia_plan(inertia: Any, goal: str) -> None:
+    mass = "a 1 g weighing" if inertia.weighed else "the CAD's mass uncertainty"
+    grown = " (the CoG's set, grown)" if goal == "both" else ""
+    print(f"\ninertia from the swings{grown}: 1 σ of the principal moments, with {mass}:")
+    for s in inertia.best_sets:
+        rel = ", ".join(f"{100 * r:.2f}" for r in s["moments_sigma_rel"])
+        axes = ", ".join(f"{a:.2g}" if a < 90 else "undetermined" for a in s["axes_sigma_deg"])
+        print(f"  {len(s['points'])} hangs: {', '.join(s['points'])}: [{rel}] %, axes ± [{axes}]°")
+    r = inertia.recommended
+    print(
+        f"recommended for the inertia: hang from {', '.join(r['points'])} (worst moment "
+        f"± {100 * r['worst_moment_sigma_rel']:.2f} % at 1 σ)"
+    )

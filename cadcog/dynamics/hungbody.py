@@ -100,13 +100,20 @@ class HangModes:
     pivot_distance_mm: float
 
 
+def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``a × b`` of two 3-vectors (``np.cross`` costs 20 µs of argument handling a call)."""
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
+
+
 def hang_frame(vertical: FloatArray) -> FloatArray:
     """Columns ``e1, e2, u``: a right-handed frame with ``u`` the given unit vertical."""
     u = np.asarray(vertical, dtype=float)
     helper = np.array([1.0, 0, 0]) if abs(u[0]) < 0.9 else np.array([0, 1.0, 0])
-    e1 = np.cross(helper, u)
+    e1 = _cross(helper, u)
     e1 /= np.linalg.norm(e1)
-    e2 = np.cross(u, e1)
+    e2 = _cross(u, e1)
     return np.stack([e1, e2, u], axis=1)
 
 
@@ -115,6 +122,8 @@ def hang_modes(
     mass_kg: float,
     cog_mm: npt.ArrayLike,
     geometry: HangGeometry,
+    *,
+    with_shapes: bool = True,
 ) -> HangModes:
     """Pendulum modes of a body hung as ``geometry`` says.
 
@@ -127,6 +136,9 @@ def hang_modes(
     cog_mm : array_like, shape (3,)
         CoG of everything that hangs, body frame.
     geometry : HangGeometry
+    with_shapes : bool
+        Compute the reading shapes too (the frequencies alone are what the tensor fit needs;
+        without them ``reading_shapes_deg`` is all NaN).
 
     Returns
     -------
@@ -190,17 +202,14 @@ def hang_modes(
     order = np.argsort(omega2)
     omega2 = omega2[order]
     shapes_q = shapes_q[:, order]
-    readings = np.empty((n - 1, 2))
-    for j in range(n - 1):
+    readings = np.full((n - 1, 2), np.nan)
+    for j in range(n - 1 if with_shapes else 0):
         q = shapes_q[:, j]
         theta = np.array([q[nb], q[nb + 1], follow @ q])
         beta = np.array([q[0], q[1], 0.0]) if on_wire else np.zeros(3)
         scale = np.max(np.abs(theta[:2])) or 1.0
         zhat = np.array([0.0, 0.0, 1.0])
-        df = (
-            -np.cross(theta, zhat)
-            + omega2[j] * (wire * np.cross(beta, zhat) - np.cross(theta, s)) / g
-        )
+        df = -_cross(theta, zhat) + omega2[j] * (wire * _cross(beta, zhat) - _cross(theta, s)) / g
         df_body = basis[:, :2] @ df[:2]
         cos_x = np.sqrt(max(1.0 - u[0] ** 2, 1e-12))
         cos_y = np.sqrt(max(1.0 - u[1] ** 2, 1e-12))

@@ -35,6 +35,10 @@ UNRESOLVED_BINS = 3.0
 #: The periodogram peak for a predicted mode is searched within this relative band.
 SEARCH_BAND = 0.15
 
+#: Within the band, a peak is a candidate when its power is at least this share of the band's
+#: strongest; the nearest candidate to the prediction is taken.
+STRONG_PEAK = 0.1
+
 
 @dataclass(frozen=True)
 class ModalFit:
@@ -144,13 +148,25 @@ def _starts(
             groups[-1].append(int(i))
         else:
             groups.append([int(i)])
+    # Local maxima of the periodogram; each group takes the nearest strong one not yet taken
+    # (a strong neighbouring mode inside the search band must not be taken twice).
+    is_peak = np.r_[False, (power[1:-1] > power[:-2]) & (power[1:-1] >= power[2:]), False]
+    peaks = np.flatnonzero(is_peak)
+    taken: set[int] = set()
     for group in groups:
         centre = float(np.mean(starts[group]))
-        band = (freqs > centre * (1 - SEARCH_BAND)) & (freqs < centre * (1 + SEARCH_BAND))
-        if not band.any():
+        near = [
+            int(i)
+            for i in peaks
+            if abs(freqs[i] - centre) < SEARCH_BAND * centre and int(i) not in taken
+        ]
+        if not near:
             continue
-        peak = float(freqs[band][np.argmax(power[band])])
-        starts[group] = starts[group] - centre + peak
+        strongest = max(power[i] for i in near)
+        strong = [i for i in near if power[i] >= STRONG_PEAK * strongest]
+        best = min(strong, key=lambda i: abs(freqs[i] - centre))
+        taken.add(best)
+        starts[group] = starts[group] - centre + float(freqs[best])
     return starts, groups
 
 
@@ -297,6 +313,12 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
                 f"hang {swing.point_id}: no swing mode stands out of the noise "
                 f"(amplitudes {np.round(amp, 4).tolist()}°); was the object released swinging?"
             )
+    # Keep the labels in ascending frequency, as the model's modes are (a fit may cross two).
+    order = np.argsort(x_c, kind="stable")
+    if np.any(order != np.arange(ng)) and all(len(g) == 1 for g in groups):
+        labels = list(groups)
+        for i, j in enumerate(order):
+            groups[int(j)] = labels[i]
     single = [j for j, g in enumerate(groups) if len(g) == 1]
     if not single:
         raise DegenerateGeometryError(

@@ -16,6 +16,9 @@ from cadcog.method.plumblines import chi2_sf
 
 FloatArray = npt.NDArray[np.float64]
 
+#: An axis's 1 σ is reported at most this (degrees): the axis is then undetermined.
+AXIS_UNDETERMINED_DEG = 90.0
+
 
 @dataclass(frozen=True)
 class PrincipalWithSigma:
@@ -30,7 +33,9 @@ class PrincipalWithSigma:
         :func:`cadcog.mass.inertia.principal_axes`).
     axes_sigma_deg : ndarray, shape (3,)
         1 σ of each axis's direction (degrees): the root of the summed variances of its
-        rotation towards the other two axes, ``(v_jᵀ δJ v_i)/(λ_i − λ_j)``.
+        rotation towards the other two axes, ``(v_jᵀ δJ v_i)/(λ_i − λ_j)``; at most
+        :data:`AXIS_UNDETERMINED_DEG` (beyond, the first order means nothing: the axis is
+        undetermined).
     """
 
     moments_kg_mm2: FloatArray
@@ -66,7 +71,7 @@ def principal_with_sigma(p: FloatArray, cov: FloatArray) -> PrincipalWithSigma:
             gap = lam[i] - lam[j]
             g = grad(v[j], v[i]) / (gap if gap != 0 else np.finfo(float).tiny)
             var += float(g @ cov @ g)
-        sig_a[i] = np.rad2deg(np.sqrt(max(var, 0.0)))
+        sig_a[i] = min(float(np.rad2deg(np.sqrt(max(var, 0.0)))), AXIS_UNDETERMINED_DEG)
     return PrincipalWithSigma(lam, sig_m, v, sig_a)
 
 

@@ -4,8 +4,8 @@ Unknowns: the six entries ``p = [Ixx, Iyy, Izz, Ixy, Ixz, Iyz]`` of the hung ass
 tensor about its CoG (body axes; tensor convention, off-diagonal ``−∫xy dm``). Data: each hang's
 fitted frequencies (:mod:`cadcog.dynamics.modalfit`), corrected for the swing's amplitude (a
 pendulum slows as ``1 − A²/16``) and given a relative model error. The fit is weighted least
-squares on the frequencies (Gauss-Newton from the CAD's tensor), each hang's modes predicted by
-:func:`cadcog.dynamics.hungbody.hang_modes`.
+squares on the frequencies (Levenberg-Marquardt from the CAD's tensor), each hang's modes
+predicted by :func:`cadcog.dynamics.hungbody.hang_modes`.
 
 Everything else is an input with an uncertainty (the *nuisances*): the object's mass, the
 assembly's CoG from the plumb lines (with its covariance), each wire exit (the point's play and
@@ -34,15 +34,13 @@ FloatArray = npt.NDArray[np.float64]
 #: Order of the six tensor entries in every vector and covariance of this package.
 ENTRIES = ("xx", "yy", "zz", "xy", "xz", "yz")
 
-#: Gauss-Newton stops when a step changes no entry by more than this fraction of the trace.
+#: The fit stops when a step changes the entries by less than this fraction of their size.
 CONVERGED_REL = 1e-10
 
-#: The most Gauss-Newton iterations.
-MAX_ITERATIONS = 50
 
-#: Below this reciprocal condition number of the normal matrix the hangs do not determine the
-#: tensor.
-MIN_RCOND = 1e-10
+#: The hangs do not determine the tensor when some combination of its entries has a 1-σ
+#: uncertainty (from the frequencies alone) larger than this share of the mean moment.
+MAX_FREE_SHARE = 0.3
 
 
 def tensor(p: npt.ArrayLike) -> FloatArray:
@@ -263,7 +261,7 @@ def model_frequencies(p: FloatArray, data: SwingData, geo: Geometry) -> FloatArr
     """The model's frequencies of the fitted modes at tensor entries ``p``, shape (N,)."""
     out = []
     for fit, h in zip(data.fits, geo.hangs, strict=True):
-        model = hang_modes(tensor(p), geo.mass_kg, geo.cog_mm, h).frequencies_hz
+        model = hang_modes(tensor(p), geo.mass_kg, geo.cog_mm, h, with_shapes=False).frequencies_hz
         out.append(model[fit.mode_index])
     return np.concatenate(out)
 
@@ -286,7 +284,7 @@ def _model_jacobian(p: FloatArray, data: SwingData, geo: Geometry, scale: float)
 
 
 def fit_tensor(data: SwingData, geo: Geometry, start: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Gauss-Newton for the assembly's six entries, weighted by ``data.whitening``.
+    """Weighted least squares (Levenberg-Marquardt) for the assembly's six entries.
 
     Returns
     -------
@@ -295,30 +293,62 @@ def fit_tensor(data: SwingData, geo: Geometry, start: FloatArray) -> tuple[Float
         ``A = (JᵀJ)⁻¹ Jᵀ W`` (``J = W ∂f_model/∂p``): how ``p`` moves with the frequencies, and
         with the model's frequencies the other way; ``A Σ Aᵀ`` is its covariance for any
         frequency covariance ``Σ``.
+
+    Raises
+    ------
+    DegenerateGeometryError
+        When the frequencies leave a combination of the entries (nearly) free, or the best fit
+        is no rigid body's tensor.
     """
-    p = np.asarray(start, dtype=float).copy()
-    scale = float(np.trace(tensor(p)))
+    from scipy.optimize import least_squares
+
+    p0 = np.asarray(start, dtype=float).copy()
+    scale = float(np.trace(tensor(p0)))
     w = data.whitening
-    for _ in range(MAX_ITERATIONS):
-        r = _residuals(p, data, geo)
-        jac = w @ _model_jacobian(p, data, geo, scale)
-        step, *_ = np.linalg.lstsq(jac, r, rcond=None)
-        p = p + step
-        if np.max(np.abs(step)) < CONVERGED_REL * scale:
-            break
-    else:
+    _check_determined(w @ _model_jacobian(p0, data, geo, scale), p0)
+
+    def fun(p: FloatArray) -> FloatArray:
+        if not is_physical(p):  # outside the rigid bodies: a wall the step cannot cross
+            return np.full(len(data.frequencies_hz), 1e6)
+        return -_residuals(p, data, geo)
+
+    def jac(p: FloatArray) -> FloatArray:
+        return w @ _model_jacobian(p, data, geo, scale)
+
+    sol = least_squares(fun, p0, jac=jac, method="lm", xtol=CONVERGED_REL, ftol=1e-14)
+    p = sol.x
+    if not is_physical(p) or not sol.success:
         raise DegenerateGeometryError(
-            f"the inertia fit did not converge in {MAX_ITERATIONS} iterations: the swings' "
-            "frequencies are far from any rigid body on this wire (check the wire length)"
+            "the swings' frequencies fit no rigid body's tensor: these hangs determine the "
+            "tensor too poorly (add hangs whose plumb lines point in other directions), or the "
+            "wire length is wrong"
         )
-    jac = w @ _model_jacobian(p, data, geo, scale)
-    normal = jac.T @ jac
-    if jac.shape[0] < 6 or 1.0 / np.linalg.cond(normal) < MIN_RCOND:
+    j = w @ _model_jacobian(p, data, geo, scale)
+    _check_determined(j, p)
+    return p, np.asarray(np.linalg.solve(j.T @ j, j.T @ w))
+
+
+def is_physical(p: FloatArray) -> bool:
+    """Whether entries ``p`` are a rigid body's tensor: positive principal moments that satisfy
+    the triangle inequality (``I₁ + I₂ ≥ I₃``)."""
+    if not np.all(np.isfinite(p)):
+        return False
+    m = np.linalg.eigvalsh(tensor(p))
+    return bool(m[0] > 0 and m[0] + m[1] >= m[2])
+
+
+def _check_determined(jac: FloatArray, p: FloatArray) -> None:
+    """Refuse frequencies that leave a combination of the six entries (nearly) free."""
+    mean_moment = float(np.trace(tensor(p))) / 3.0
+    if jac.shape[0] >= 6:
+        sv = np.linalg.svd(jac, compute_uv=False)
+        free = 1.0 / sv[-1] if sv[-1] > 0 else np.inf
+    if jac.shape[0] < 6 or not free < MAX_FREE_SHARE * mean_moment:
         raise DegenerateGeometryError(
-            "these hangs do not determine the whole inertia tensor: add hangs from points "
-            "whose plumb lines point in other directions (cadcog plan --for inertia)"
+            f"these hangs do not determine the whole inertia tensor ({jac.shape[0]} usable "
+            "frequencies for six entries, or plumb lines too alike): add hangs from points "
+            "whose plumb lines point in other directions"
         )
-    return p, np.asarray(np.linalg.solve(normal, jac.T @ w))
 
 
 def weighted_chi2(p: FloatArray, data: SwingData, geo: Geometry) -> float:
@@ -335,17 +365,29 @@ def model_nuisance_jacobian(
     signs: tuple[int, int],
 ) -> FloatArray:
     """``M = ∂f_model/∂v`` at tensor ``p``: the modelled frequencies' change with each nuisance
-    (central differences, steps of 0.1 σ), shape (N, n)."""
+    (central differences, steps of 0.1 σ), shape (N, n). A hang's exit moves only its own
+    frequencies; the ME's CoGs and own inertia do not enter the swing model (only the
+    compensation)."""
     sig = np.sqrt(np.diag(nuis.cov))
     out = np.zeros((len(data.frequencies_hz), len(nuis.values)))
-    for i, s in enumerate(sig):
-        if s == 0.0:
+    cuts = np.concatenate([[0], np.cumsum([len(f.frequencies_hz) for f in data.fits])])
+    t = tensor(p)
+    for i, (name, s) in enumerate(zip(nuis.names, sig, strict=True)):
+        if s == 0.0 or name.startswith("ME "):
             continue
+        hangs = range(nuis.n_hangs)
+        if name.startswith("exit "):
+            hangs = range(int(name.split()[1]) - 1, int(name.split()[1]))
         dv = np.zeros(len(nuis.values))
         dv[i] = 0.1 * s
-        hi = model_frequencies(p, data, hang_geometry(nuis, nuis.values + dv, me_mass_kg, signs))
-        lo = model_frequencies(p, data, hang_geometry(nuis, nuis.values - dv, me_mass_kg, signs))
-        out[:, i] = (hi - lo) / (0.2 * s)
+        hi = hang_geometry(nuis, nuis.values + dv, me_mass_kg, signs)
+        lo = hang_geometry(nuis, nuis.values - dv, me_mass_kg, signs)
+        for h in hangs:
+            idx = data.fits[h].mode_index
+            up = hang_modes(t, hi.mass_kg, hi.cog_mm, hi.hangs[h], with_shapes=False)
+            down = hang_modes(t, lo.mass_kg, lo.cog_mm, lo.hangs[h], with_shapes=False)
+            diff = up.frequencies_hz[idx] - down.frequencies_hz[idx]
+            out[cuts[h] : cuts[h + 1], i] = diff / (0.2 * s)
     return out
 
 

@@ -113,6 +113,11 @@ def test_interrupted_run_resumes_without_losing_or_duplicating(paper_target, tmp
         h.id for h in paper_target.hangs
     ]
     assert any("resuming" in t for t in lines)
+    # The swing file beside it holds each recorded hang once, in order.
+    from cadcog.dynamics.swingfile import read_swings
+
+    swings = read_swings(tmp_path / "readings.swings.csv")
+    assert [s.point_id for s in swings] == [h.id for h in paper_target.hangs]
 
 
 def test_a_half_written_hang_is_set_aside_on_resume(paper_target, tmp_path):
@@ -214,3 +219,33 @@ def test_an_operator_at_a_terminal_skips_stops_and_decides_on_redos(paper_target
     assert any("redo S3?" in p for p in prompts)
     text = out.read_text()
     assert "# hang S1 begin" in text and "# hang S3 begin" in text and "S2," not in text
+
+
+def test_each_recorded_hang_keeps_its_swing_and_the_swings_give_the_inertia(
+    paper_target, paper_rig, tmp_path
+):
+    # The simulated device swings as bench/pendulum.py's rigid body about a fixed pivot (its
+    # verticals rotated exactly, not superposed): the inertia chain, told the wire is a pivot
+    # without bending stiffness, finds the proof mass's tensor within its uncertainty.
+    from dataclasses import replace
+
+    from cadcog.dynamics.measure import inertia_for_rig
+    from cadcog.dynamics.swingfile import read_swings
+    from cadcog.dynamics.tensorfit import entries
+
+    device = SimulatedDevice(
+        paper_target, DeviceSpec(kind="digital", rate_hz=50.0), SimulatorSettings(0.01), seed=11
+    )
+    out = tmp_path / "readings.csv"
+    _run(paper_target, out, device)
+    swings = read_swings(tmp_path / "readings.swings.csv")
+    assert [s.point_id for s in swings] == [h.id for h in paper_target.hangs]
+    assert all(s.duration_s > 10.0 for s in swings)
+    pivot = replace(
+        paper_rig,
+        swing=replace(paper_rig.swing, wire_length_mm=0.0, wire_length_sigma_mm=0.0),
+        error_options=replace(paper_rig.error_options, wire_bending_stiffness_n_mm2=0.0),
+    )
+    r = inertia_for_rig(pivot, swings, read_readings(out, paper_target.inclinometer))
+    d = entries(r.inertia_kg_mm2) - entries(paper_rig.analytic_proof_mass.inertia_kg_mm2)
+    assert float(d @ np.linalg.solve(r.cov_kg2_mm4, d)) < 22.5  # χ²(6) at 99.9 %

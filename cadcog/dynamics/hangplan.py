@@ -1,0 +1,319 @@
+"""Which hangs determine the inertia tensor best: ``cadcog plan --for inertia`` (or ``both``).
+
+For a set of hangs the prediction is the estimator's linearised covariance at the CAD
+(:mod:`cadcog.dynamics.tensorfit`): each hang's usable modes (those its record can resolve) with
+the relative model error ``frequency_model_rel`` as their σ (the fit's own σ is one to two orders
+smaller); each hang's exit uncertainty in its own block; the wire length, hinge offset, sensor
+position, object mass and CoG shared by every hang. Generalised least squares with that
+covariance ``C`` gives ``Cov p = (Jᵀ C⁻¹ J)⁻¹``; the ME's removal adds its own terms (ME CoGs and
+own inertia, the mass and CoG through the parallel-axis terms), taken as independent of the rest
+(a planning approximation). Sets are grown greedily from the best triple: the figure of merit is
+the largest relative 1 σ of the three principal moments.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from itertools import combinations
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core.errors import DegenerateGeometryError
+from cadcog.core.results import JsonResult
+from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.dynamics.hungbody import HangGeometry, hang_modes
+from cadcog.dynamics.measure import InertiaContext
+from cadcog.dynamics.modalfit import UNRESOLVED_BINS
+from cadcog.dynamics.result import principal_with_sigma
+from cadcog.dynamics.tensorfit import compensate, direct_jacobian, entries, nuisances, tensor
+from cadcog.mass.properties import combine
+
+FloatArray = npt.NDArray[np.float64]
+
+#: Record length the prediction assumes (s): what decides which close modes are resolved.
+PLAN_RECORD_S = 60.0
+
+#: At most this many triples are screened exhaustively before growing.
+MAX_TRIPLES = 20_000
+
+#: The best triples of the screening that are judged on their principal moments.
+SCREENED = 50
+
+
+@dataclass(frozen=True)
+class _HangInfo:
+    jac: FloatArray  # (k, 6) ∂f/∂p
+    local_cov: FloatArray  # (k, k) frequencies' and own exit's
+    shared: FloatArray  # (k, s) ∂f/∂(shared nuisances)
+
+
+@dataclass(frozen=True, repr=False)
+class InertiaPlan(JsonResult):
+    """The best set of each size for the inertia tensor, and the recommendation.
+
+    Attributes
+    ----------
+    best_sets : tuple of dict
+        ``points`` (ids), ``moments_sigma_rel`` (1 σ of each principal moment, relative,
+        ascending moments), ``axes_sigma_deg`` and ``worst_moment_sigma_rel``.
+    recommended : dict or None
+        The smallest set within 10 % of the best figure, or None when no set determines the
+        tensor.
+    weighed : bool
+        Whether the prediction assumes a weighing (1 g), or the CAD's mass uncertainty.
+    """
+
+    best_sets: tuple[dict[str, Any], ...]
+    recommended: dict[str, Any] | None
+    weighed: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "best_sets": list(self.best_sets),
+            "recommended": self.recommended,
+            "weighed": self.weighed,
+            "assumptions": {
+                "record_s": PLAN_RECORD_S,
+                "merit": "largest relative 1-σ of the principal moments",
+            },
+        }
+
+
+def _shared_cov(
+    context: InertiaContext, mass_sigma_kg: float, cog_cov_mm2: FloatArray
+) -> FloatArray:
+    sw = context.swing
+    cov = np.zeros((9, 9))
+    cov[0, 0] = mass_sigma_kg**2
+    cov[1:4, 1:4] = cog_cov_mm2
+    cov[4, 4] = sw.wire_length_sigma_mm**2
+    cov[6:9, 6:9] = sw.sensor_position_sigma_mm**2 * np.eye(3)
+    return cov
+
+
+def plan_inertia(
+    context: InertiaContext,
+    candidates: Sequence[tuple[str, FloatArray]],
+    *,
+    cog_cov_mm2: FloatArray,
+    mass_sigma_kg: float,
+    weighed: bool,
+    max_set: int = 8,
+    start: Sequence[str] = (),
+) -> InertiaPlan:
+    """Screen sets of candidate hangs for the inertia tensor (module docstring).
+
+    Parameters
+    ----------
+    context : InertiaContext
+    candidates : sequence of (id, exit_mm)
+        The usable suspension points.
+    cog_cov_mm2 : ndarray, shape (3, 3)
+        The assembly CoG's covariance the plumb lines will give (a planning figure).
+    mass_sigma_kg : float
+        1 σ of the object's mass (a weighing's, or the CAD's).
+    weighed : bool
+    max_set : int
+    start : sequence of str
+        Grow from these ids (the CoG's set, for a plan for both) instead of the best triple.
+    """
+    ctx = context
+    truth = combine([ctx.object_cad, *ctx.me_parts])
+    p0 = entries(truth.inertia_kg_mm2)
+    weight_n = truth.mass_kg * STANDARD_GRAVITY_M_S2
+    hinge = float(np.sqrt(ctx.bending_stiffness_n_mm2 / weight_n))
+    hinge_sigma = 0.5 * ctx.bending_rel_sigma * hinge
+    scale = float(np.trace(truth.inertia_kg_mm2))
+    shared_cov = _shared_cov(ctx, mass_sigma_kg, cog_cov_mm2)
+    shared_cov[5, 5] = hinge_sigma**2
+
+    def freqs(p: FloatArray, v: FloatArray, exit_mm: FloatArray) -> FloatArray:
+        geo = HangGeometry(exit_mm, v[6:9], max(v[4], 0.0), max(v[5], 0.0), *ctx.signs)
+        return hang_modes(tensor(p), v[0] + sum(x.mass_kg for x in ctx.me_parts), v[1:4], geo,
+                          with_shapes=False).frequencies_hz  # fmt: skip
+
+    v0 = np.concatenate(
+        [[ctx.object_cad.mass_kg], truth.cog_mm, [ctx.swing.wire_length_mm, hinge], ctx.sensor_mm]
+    )
+    infos: list[_HangInfo | None] = []
+    for _, exit_mm in candidates:
+        f0 = freqs(p0, v0, exit_mm)
+        gaps = np.diff(f0)
+        close = np.zeros(len(f0), dtype=bool)
+        close[:-1] |= gaps < UNRESOLVED_BINS / PLAN_RECORD_S
+        close[1:] |= gaps < UNRESOLVED_BINS / PLAN_RECORD_S
+        keep = ~close
+        if not keep.any():
+            infos.append(None)
+            continue
+        jac = np.zeros((int(keep.sum()), 6))
+        for j in range(6):
+            dp = np.zeros(6)
+            dp[j] = 1e-6 * scale
+            jac[:, j] = (freqs(p0 + dp, v0, exit_mm) - freqs(p0 - dp, v0, exit_mm))[keep] / (
+                2e-6 * scale
+            )
+        shared = np.zeros((int(keep.sum()), 9))
+        sig = np.sqrt(np.diag(shared_cov))
+        for i in range(9):
+            if sig[i] == 0:
+                continue
+            dv = np.zeros(9)
+            dv[i] = 0.1 * sig[i]
+            shared[:, i] = (freqs(p0, v0 + dv, exit_mm) - freqs(p0, v0 - dv, exit_mm))[keep] / (
+                0.2 * sig[i]
+            )
+        d_exit = np.zeros((int(keep.sum()), 3))
+        for a in range(3):
+            de = np.zeros(3)
+            de[a] = 0.1 * ctx.exit_sigma_mm
+            d_exit[:, a] = (freqs(p0, v0, exit_mm + de) - freqs(p0, v0, exit_mm - de))[keep] / (
+                0.2 * ctx.exit_sigma_mm
+            )
+        f_keep = f0[keep]
+        local = np.diag((f_keep * ctx.swing.frequency_model_rel) ** 2) + ctx.exit_sigma_mm**2 * (
+            d_exit @ d_exit.T
+        )
+        infos.append(_HangInfo(jac, local, shared))
+    # The ME's removal: its terms do not depend on the set.
+    nuis = nuisances(
+        object_mass_kg=ctx.object_cad.mass_kg,
+        object_mass_sigma_kg=mass_sigma_kg,
+        cog_mm=truth.cog_mm,
+        cog_cov_mm2=cog_cov_mm2,
+        wire_length_mm=ctx.swing.wire_length_mm,
+        wire_length_sigma_mm=0.0,
+        hinge_offset_mm=hinge,
+        hinge_offset_sigma_mm=0.0,
+        sensor_mm=ctx.sensor_mm,
+        sensor_sigma_mm=0.0,
+        exits_mm=np.zeros((0, 3)),
+        exit_sigma_mm=0.0,
+        me_parts=ctx.me_parts,
+        me_cog_sigma_mm=ctx.me_cog_sigma_mm,
+        me_inertia_rel=ctx.swing.me_inertia_rel,
+    )
+    jc = direct_jacobian(lambda v: compensate(p0, nuis, v, ctx.me_parts)[0], nuis)
+    comp_cov = jc @ nuis.cov @ jc.T
+    p_obj = compensate(p0, nuis, nuis.values, ctx.me_parts)[0]
+
+    def screen(group: Sequence[int]) -> float:
+        """A cheap figure for screening: the largest relative σ of the diagonal entries."""
+        out = _cov(group)
+        if out is None:
+            return np.inf
+        return float(np.max(np.sqrt(np.diag(out)[:3]) / p_obj[:3]))
+
+    def _cov(group: Sequence[int]) -> FloatArray | None:
+        hs = [infos[i] for i in group]
+        if any(h is None for h in hs):
+            return None
+        hh = [h for h in hs if h is not None]
+        jac = np.vstack([h.jac for h in hh])
+        if jac.shape[0] < 6:
+            return None
+        n = jac.shape[0]
+        c = np.zeros((n, n))
+        at = 0
+        for h in hh:
+            k = len(h.local_cov)
+            c[at : at + k, at : at + k] = h.local_cov
+            at += k
+        m = np.vstack([h.shared for h in hh])
+        c += m @ shared_cov @ m.T
+        try:
+            cov = np.linalg.inv(jac.T @ np.linalg.solve(c, jac))
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(cov)) or np.min(np.linalg.eigvalsh(cov)) < 0:
+            return None
+        return np.asarray(cov + comp_cov)
+
+    def evaluate(group: Sequence[int]) -> tuple[float, Any] | None:
+        cov = _cov(group)
+        if cov is None:
+            return None
+        pr = principal_with_sigma(p_obj, cov)
+        rel = pr.moments_sigma_kg_mm2 / pr.moments_kg_mm2
+        if np.max(rel) > 0.3:
+            return None
+        return float(np.max(rel)), pr
+
+    ids = [c[0] for c in candidates]
+    n = len(candidates)
+    best_sets: list[dict[str, Any]] = []
+    current: list[int] | None = None
+    first = 3
+    if start:
+        current = [ids.index(i) for i in start]
+        first = len(current) + 1
+        r = evaluate(current)
+        if r is not None:
+            best_sets.append(_entry([ids[i] for i in current], *r))
+    for size in range(first, min(max_set, n) + 1):
+        pool: list[tuple[int, ...]]
+        if size == 3 and not start:
+            pool = list(combinations(range(n), 3))
+            if len(pool) > MAX_TRIPLES:
+                pool = pool[:: len(pool) // MAX_TRIPLES + 1]
+            # Screen on the diagonal entries, then judge the best on the principal moments.
+            figures = np.array([screen(g) for g in pool])
+            pool = [pool[i] for i in np.argsort(figures)[:SCREENED]]
+        elif current is None:
+            break
+        else:
+            pool = [tuple(sorted([*current, j])) for j in range(n) if j not in current]
+        scored = [(r, g) for g in pool if (r := evaluate(g)) is not None]
+        if not scored:
+            continue
+        (merit, pr), group = min(scored, key=lambda t: t[0][0])
+        current = list(group)
+        best_sets.append(_entry([ids[i] for i in group], merit, pr))
+    if not best_sets:
+        raise DegenerateGeometryError(
+            "no set of these candidates determines the inertia tensor (each hang gives two "
+            "usable frequencies at most: three hangs whose plumb lines point in different "
+            "directions are the least)"
+        )
+    best = min(s["worst_moment_sigma_rel"] for s in best_sets)
+    recommended = next(s for s in best_sets if s["worst_moment_sigma_rel"] <= 1.1 * best)
+    return InertiaPlan(tuple(best_sets), recommended, weighed)
+
+
+def _entry(points: list[str], merit: float, pr: Any) -> dict[str, Any]:
+    return {
+        "points": points,
+        "worst_moment_sigma_rel": merit,
+        "moments_sigma_rel": (pr.moments_sigma_kg_mm2 / pr.moments_kg_mm2).tolist(),
+        "moments_kg_mm2": pr.moments_kg_mm2.tolist(),
+        "axes_sigma_deg": pr.axes_sigma_deg.tolist(),
+    }
+
+
+def plan_inertia_for_setup(
+    setup: Any, cog_plan: Any, *, weighed: bool = True, max_set: int = 8, both: bool = False
+) -> InertiaPlan:
+    """``cadcog plan --for inertia|both``: the set-up's usable candidates (from the CoG plan's
+    checks), the CoG covariance of the CoG plan's recommended set (isotropic, from its 95 %
+    error), a weighing of 1 g or the CAD's mass uncertainty."""
+    from cadcog.dynamics.measure import context_for_setup
+    from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
+
+    usable = {c.id for c in cog_plan.checks if c.usable}
+    cands = [(c.id, np.asarray(c.position_mm, float)) for c in setup.candidates if c.id in usable]
+    q95 = cog_plan.recommended["q95_mm"] if cog_plan.recommended is not None else 1.0
+    cog_cov = (q95 / 2.8) ** 2 * np.eye(3)  # the 95 % radius of an isotropic 3-D normal ≈ 2.8 σ
+    sigma = DEFAULT_WEIGHING_SIGMA_KG if weighed else setup.cad_prior().mass_sigma_kg
+    start = cog_plan.recommended["points"] if both and cog_plan.recommended else ()
+    return plan_inertia(
+        context_for_setup(setup, np.zeros((6, 6))),
+        cands,
+        cog_cov_mm2=cog_cov,
+        mass_sigma_kg=sigma,
+        weighed=weighed,
+        max_set=max_set,
+        start=start,
+    )

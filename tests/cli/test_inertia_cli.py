@@ -1,0 +1,80 @@
+"""``cadcog inertia`` and ``campaign --swings`` in-process: the JSON contract, the text, the API
+giving the command's JSON, and refusals with exit 2 and one line."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+import cadcog
+from cadcog.cli import main
+
+
+@pytest.fixture(scope="module")
+def campaign(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("inertia")
+    readings, swings = folder / "c.csv", folder / "s.csv"
+    assert main(["campaign", "--seed", "2", "--out", str(readings), "--swings", str(swings)]) == 0
+    return readings, swings
+
+
+def test_json_contract_and_the_api_agree(campaign, capsys):
+    readings, swings = campaign
+    capsys.readouterr()
+    assert main(["inertia", str(swings), "--readings", str(readings), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    keys = {
+        "inertia_kg_mm2", "inertia_cov", "inertia_cov_entries", "inertia_convention",
+        "principal_moments_kg_mm2", "principal_moments_sigma_kg_mm2", "principal_axes",
+        "principal_axes_sigma_deg", "consistency", "hangs", "budget", "cad",
+    }  # fmt: skip
+    assert keys <= set(out)
+    assert out["inertia_cov_entries"] == ["xx", "yy", "zz", "xy", "xz", "yz"]
+    assert "−∫ x·y dm" in out["inertia_convention"]
+    api = cadcog.inertia(swings, readings)
+    assert json.loads(api.to_json()) == out
+    # The swings were drawn from the CAD: it lies within the stated uncertainty.
+    truth = cadcog.load_rig().analytic_proof_mass.inertia_kg_mm2
+    sigma = np.array(out["inertia_sigma_kg_mm2"])
+    assert np.all(np.abs(np.array(out["inertia_kg_mm2"]) - truth) < 4 * sigma)
+    assert len(out["hangs"]) == 6 and out["cad"]["dof"] == 6
+
+
+def test_text_names_the_convention_and_the_budget(campaign, capsys):
+    readings, swings = campaign
+    capsys.readouterr()
+    assert main(["inertia", str(swings), "--readings", str(readings)]) == 0
+    text = capsys.readouterr().out
+    assert "(off-diagonal = −∫xy dm)" in text
+    assert "principal moments" in text and "where the uncertainty comes from" in text
+    assert "against the CAD's tensor" in text
+
+
+@pytest.mark.parametrize(
+    ("edit", "match"),
+    [
+        (lambda s: s.replace("point_id,t_s", "point,t_s"), r"s\.csv, line 1: missing column"),
+        (lambda s: s.replace("S2,", "S9,", 1), r"hang 'S9' has 1 samples"),
+    ],
+)
+def test_bad_swing_files_exit_2_naming_file_and_line(campaign, tmp_path, capsys, edit, match):
+    readings, swings = campaign
+    bad = tmp_path / "s.csv"
+    bad.write_text(edit(swings.read_text()))
+    assert main(["inertia", str(bad), "--readings", str(readings)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1
+    assert re.search(match, err), err
+
+
+def test_options_are_checked(campaign, capsys):
+    readings, swings = campaign
+    assert (
+        main(["inertia", str(swings), "--readings", str(readings), "--weighed-mass-kg", "-1"]) == 2
+    )
+    assert "--weighed-mass-kg -1.0: expected at least 0" in capsys.readouterr().err
+    assert main(["campaign", "--out", str(readings), "--swings", str(readings)]) == 2
+    assert "same file" in capsys.readouterr().err
