@@ -267,17 +267,18 @@ def rate(k: int, n: int) -> str:
     return f"{k / n:.1%} [{lo:.1%}, {hi:.1%}]"
 
 
-def table(rows: list[tuple[Row, list[dict[str, Any]]]]) -> str:
+def table(rows: list[tuple[Row, list[dict[str, Any]], int]]) -> str:
     out = [
         "| row | n | moment | bias | 95 % abs. error | error/σ: mean, sd | in ±1.96 σ [CP 95 %] "
         "| axis error 95 % | axis ≤ 2° |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
     chi = [
-        "| row | n | tensor χ² ≤ χ²₆(95 %) [CP 95 %] | median χ² (6 expected: 5.35) |",
-        "|---|---|---|---|",
+        "| row | n | tensor χ² ≤ χ²₆(95 %) [CP 95 %] | median χ² (6 expected: 5.35) "
+        "| campaigns refused [CP 95 %] |",
+        "|---|---|---|---|---|",
     ]
-    for row, sc in rows:
+    for row, sc, refused in rows:
         n = len(sc)
         if n == 0:
             continue
@@ -296,7 +297,8 @@ def table(rows: list[tuple[Row, list[dict[str, Any]]]]) -> str:
             )
         c2 = np.array([s["chi2"] for s in sc])
         chi.append(
-            f"| {row.label} | {n} | {rate(int(np.sum(c2 <= CHI2_6_95)), n)} | {np.median(c2):.2f} |"
+            f"| {row.label} | {n} | {rate(int(np.sum(c2 <= CHI2_6_95)), n)} | {np.median(c2):.2f} "
+            f"| {refused}/{n + refused} = {rate(refused, n + refused)} |"
         )
     return "\n".join(out) + "\n\n" + "\n".join(chi) + "\n"
 
@@ -339,7 +341,7 @@ def main(argv: list[str] | None = None) -> None:
     results, failed = [], []
     for name in args.rows:
         ok, bad = load_scores(ROWS[name])
-        results.append((ROWS[name], ok))
+        results.append((ROWS[name], ok, len(bad)))
         failed += [f"- {ROWS[name].label}, seed {e['seed']}: {e['error']}" for e in bad]
     print(time.strftime("%Y-%m-%d"))
     print(table(results))
