@@ -54,6 +54,8 @@ RIG6 = ("S1", "S2", "S3", "S4", "S5", "S6")
 #: `cadcog plan parts/cubesat_3u_setup.toml` (default seed) recommends these four hangs (for
 #: the CoG; 2026-11-23).
 CUBESAT_PLAN = ("+x_-30_-30", "-x_30_-30", "+y_30_-30", "-y_-30_-30")
+#: `cadcog plan parts/cubesat_3u_setup.toml --for inertia` (default seed; 2026-11-23, main 7ca6abd).
+CUBESAT_INERTIA_PLAN = ("+x_-30_90", "+x_30_-150", "-x_-30_-150", "+y_30_-150", "-y_30_-90")
 CHI2_6_95 = float(stats.chi2.ppf(0.95, 6))
 
 
@@ -85,6 +87,13 @@ ROWS = {
             "3U CubeSat, plan's 4 hangs, L = 300 mm, ≤ 10°",
             "setup",
             CUBESAT_PLAN,
+            BASE,
+        ),
+        Row(
+            "cubesat_ih",
+            "3U CubeSat, plan --for inertia's 5 hangs, L = 300 mm, ≤ 10°",
+            "setup",
+            CUBESAT_INERTIA_PLAN,
             BASE,
         ),
         Row(
@@ -219,8 +228,8 @@ def campaigns(row: Row) -> tuple[sf.Truth, list[list[sf.HangRecord]]]:
 
 
 # --- estimate -------------------------------------------------------------------------------
-def scores_path(row: Row) -> Path:
-    return CACHE / f"{row.name}.scores.jsonl"
+def scores_path(row: Row, tag: str = "scores") -> Path:
+    return CACHE / f"{row.name}.{tag}.jsonl"
 
 
 def estimate_row(row: Row, use_placeholder: bool, limit: int | None) -> None:
@@ -255,9 +264,9 @@ def estimate_row(row: Row, use_placeholder: bool, limit: int | None) -> None:
             log.flush()
 
 
-def load_scores(row: Row) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
-    """A row's scored campaigns and its failed ones."""
-    p = scores_path(row)
+def load_scores(row: Row, tag: str) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """A row's scored campaigns and its failed ones (``ROW.TAG.jsonl``)."""
+    p = scores_path(row, tag)
     entries = [json.loads(x) for x in p.read_text().splitlines()] if p.exists() else []
     return [e for e in entries if "error" not in e], [e for e in entries if "error" in e]
 
@@ -324,6 +333,7 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--batch", type=int, default=100, help="campaigns integrated together")
     ap.add_argument("--limit", type=int, default=None, help="estimate the first N campaigns")
     ap.add_argument("--placeholder", action="store_true")
+    ap.add_argument("--tag", default="scores", help="report ROW.TAG.jsonl (an older run kept)")
     args = ap.parse_args(argv)
     if args.phase == "modes":
         print(modes_table())
@@ -340,7 +350,7 @@ def main(argv: list[str] | None = None) -> None:
         return
     results, failed = [], []
     for name in args.rows:
-        ok, bad = load_scores(ROWS[name])
+        ok, bad = load_scores(ROWS[name], args.tag)
         results.append((ROWS[name], ok, len(bad)))
         failed += [f"- {ROWS[name].label}, seed {e['seed']}: {e['error']}" for e in bad]
     print(time.strftime("%Y-%m-%d"))
