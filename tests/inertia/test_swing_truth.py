@@ -156,6 +156,21 @@ def test_small_pivot_swing_is_the_compound_pendulum(pivot_batch):
     assert np.ptp(y) / 2 == pytest.approx(0.3 * k2 / (k2 + 40.0**2), rel=1e-3)
 
 
+def test_linear_modes_on_a_pivot_are_the_closed_form_of_an_asymmetric_body():
+    """Small rotations φ (lab) of a body on a pivot: ``I_P φ̈ = −m g d diag(1, 1, 0) φ``; the
+    yaw has no stiffness, so the two tilt frequencies are ``√(m g d · eig([I_P⁻¹]_hh))``."""
+    body = _general_body()
+    up = body.plumb_up
+    rest = st.rotation_taking(up, [0.0, 0.0, 1.0])
+    r = (np.asarray(body.cog_mm) - body.wire_exit_mm) * 1e-3
+    i_p = body.inertia_kg_mm2 * 1e-6 + body.mass_kg * (r @ r * np.eye(3) - np.outer(r, r))
+    inv = np.linalg.inv(rest @ i_p @ rest.T)[:2, :2]
+    w2 = np.linalg.eigvalsh(body.mass_kg * G * np.linalg.norm(r) * inv)
+    expected = np.sqrt(w2) / (2 * np.pi)
+    assert abs(expected[1] / expected[0] - 1) > 0.05  # the full tensor splits the two modes
+    assert st.linear_modes_hz(body, 0.0) == pytest.approx(expected, rel=1e-7)
+
+
 def test_large_amplitude_period_grows_as_theta_squared_over_16(wire_batch, pivot_batch):
     _, _, traj = wire_batch
     small = _period_s(WIRE_T, st.inclinations_deg(traj.force[2])[1])
