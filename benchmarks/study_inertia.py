@@ -1,0 +1,363 @@
+"""Bias and coverage of ``cadcog inertia`` against an independent nonlinear swing (issue 20).
+
+The truth is :mod:`tests.inertia.swing_truth` (full nonlinear rigid body on a massless
+inextensible wire, large amplitude, damping, accelerometer-type inclinometer, bias, noise, the
+rig's ADC with 16× oversampling, sample jitter; see :mod:`tests.inertia.swing_files`). Each
+campaign is written as a swing file and a readings CSV and estimated by the command's own entry
+point (``cadcog.cli._main.main`` in-process, ``--json``) with a copy of the rig or set-up file
+carrying the row's ``[swing]`` table; the object's inertia about its own CoG from cadcog's CAD
+is the target.
+
+Per row: each principal moment's relative bias and 95 % error, and its 95 % interval
+(± 1.96 σ) coverage; the whole tensor's χ² (6 entries, the reported 6 × 6 covariance, 6 dof)
+coverage at 95 %; the principal axes' angle errors (95th percentile and the share within 2°);
+every rate with its Clopper-Pearson 95 % interval.
+
+Two phases, so the slow simulation runs once:
+
+    nice -n 5 .venv/bin/python benchmarks/study_inertia.py simulate [--seeds 200] [--rows ...]
+    nice -n 5 .venv/bin/python benchmarks/study_inertia.py estimate [--rows ...] [--limit N]
+    .venv/bin/python benchmarks/study_inertia.py report [--rows ...]
+
+``modes`` prints the truth's small-oscillation frequencies of the rig's hangs (from the
+simulator's own linearisation). ``simulate`` caches every row in
+``build/study_inertia/ROW.npz``; ``estimate`` appends each campaign's score to
+``build/study_inertia/ROW.scores.jsonl`` (resumable); ``report`` prints the markdown tables of
+``docs/inertia_validation.md``. ``--placeholder`` replaces the estimator by a stand-in
+(the truth plus a 1 % draw, reported σ 1 %) to exercise the statistics before it exists.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from tests.inertia import estimator_runs as er  # noqa: E402
+from tests.inertia import swing_files as sf  # noqa: E402
+
+CACHE = ROOT / "build" / "study_inertia"
+RIG = ROOT / "parts" / "paper_rig.toml"
+SETUP = ROOT / "parts" / "cubesat_3u_setup.toml"
+RIG6 = ("S1", "S2", "S3", "S4", "S5", "S6")
+#: `cadcog plan parts/cubesat_3u_setup.toml` (default seed) recommends these four hangs (for
+#: the CoG; 2026-11-23).
+CUBESAT_PLAN = ("+x_-30_-30", "-x_30_-30", "+y_30_-30", "-y_-30_-30")
+#: `cadcog plan parts/cubesat_3u_setup.toml --for inertia` (default seed; 2026-11-23, main 7ca6abd).
+CUBESAT_INERTIA_PLAN = ("+x_-30_90", "+x_30_-150", "-x_-30_-150", "+y_30_-150", "-y_30_-90")
+CHI2_6_95 = float(stats.chi2.ppf(0.95, 6))
+
+
+@dataclass(frozen=True)
+class Row:
+    name: str
+    label: str
+    source: str  # "rig" or "setup"
+    points: tuple[str, ...]
+    config: sf.SwingConfig
+    hang_ids: tuple[str, ...] | None = None
+
+
+BASE = sf.SwingConfig()
+EXACT = replace(BASE, hinge_errors=False)
+ROWS = {
+    r.name: r
+    for r in (
+        Row("rig6h", "paper rig S1-S6, L = 300 mm, ≤ 10°", "rig", RIG6, BASE),
+        Row(
+            "rig6h_small",
+            "paper rig S1-S6, L = 300 mm, ≤ 2°",
+            "rig",
+            RIG6,
+            replace(BASE, amplitude_deg=2.0),
+        ),
+        Row(
+            "cubesat_h",
+            "3U CubeSat, plan's 4 hangs, L = 300 mm, ≤ 10°",
+            "setup",
+            CUBESAT_PLAN,
+            BASE,
+        ),
+        Row(
+            "cubesat_ih",
+            "3U CubeSat, plan --for inertia's 5 hangs, L = 300 mm, ≤ 10°",
+            "setup",
+            CUBESAT_INERTIA_PLAN,
+            BASE,
+        ),
+        Row(
+            "rig12h",
+            "paper rig, 12 hangs (S1-S6 twice), L = 300 mm, ≤ 10°",
+            "rig",
+            RIG6 + RIG6,
+            BASE,
+            tuple(f"{p}a" for p in RIG6) + tuple(f"{p}b" for p in RIG6),
+        ),
+        Row(
+            "rig6h_pivot",
+            "paper rig S1-S6, pivot (L = 0)",
+            "rig",
+            RIG6,
+            replace(BASE, wire_length_mm=0.0, wire_length_sigma_mm=0.0),
+        ),
+        Row(
+            "rig6h_L100",
+            "paper rig S1-S6, L = 100 mm",
+            "rig",
+            RIG6,
+            replace(BASE, wire_length_mm=100.0),
+        ),
+        Row(
+            "rig6h_L1000",
+            "paper rig S1-S6, L = 1000 mm",
+            "rig",
+            RIG6,
+            replace(BASE, wire_length_mm=1000.0),
+        ),
+        # the same with the hinge exactly at the nominal wire exit (no play, no wire offset)
+        Row("rig6", "exact exit: paper rig S1-S6, L = 300 mm, ≤ 10°", "rig", RIG6, EXACT),
+        Row(
+            "rig6_small",
+            "exact exit: paper rig S1-S6, L = 300 mm, ≤ 2°",
+            "rig",
+            RIG6,
+            replace(EXACT, amplitude_deg=2.0),
+        ),
+        Row(
+            "cubesat_plan",
+            "exact exit: 3U CubeSat, plan's 4 hangs, L = 300 mm",
+            "setup",
+            CUBESAT_PLAN,
+            EXACT,
+        ),
+        Row(
+            "rig6_pivot",
+            "exact exit: paper rig S1-S6, pivot (L = 0)",
+            "rig",
+            RIG6,
+            replace(EXACT, wire_length_mm=0.0, wire_length_sigma_mm=0.0),
+        ),
+        Row(
+            "rig6_L1000",
+            "exact exit: paper rig S1-S6, L = 1000 mm",
+            "rig",
+            RIG6,
+            replace(EXACT, wire_length_mm=1000.0),
+        ),
+    )
+}
+
+
+def truth_of(row: Row) -> sf.Truth:
+    return sf.rig_truth(RIG) if row.source == "rig" else sf.setup_truth(SETUP)
+
+
+# --- simulate -------------------------------------------------------------------------------
+def simulate(row: Row, seeds: int, batch: int) -> Path:
+    """Simulate ``seeds`` campaigns of a row (seed s uses ``default_rng([20, s])``) and cache
+    the recorded files' content (not the noise-free diagnostics)."""
+    truth = truth_of(row)
+    arrays: dict[str, list[Any]] = {k: [] for k in ("t_ms", "x", "y", "sx", "sy", "L", "tau")}
+    t0 = time.time()
+    for lo in range(0, seeds, batch):
+        rngs = [np.random.default_rng([20, s]) for s in range(lo, min(seeds, lo + batch))]
+        for camp in sf.simulate_campaigns(truth, row.points, row.config, rngs, row.hang_ids):
+            arrays["t_ms"].append([h.t_ms for h in camp])
+            arrays["x"].append([h.inc_x_deg for h in camp])
+            arrays["y"].append([h.inc_y_deg for h in camp])
+            arrays["sx"].append([h.settled_x_deg for h in camp])
+            arrays["sy"].append([h.settled_y_deg for h in camp])
+            arrays["L"].append([h.true_wire_length_mm for h in camp])
+            arrays["tau"].append([h.decay_time_s for h in camp])
+        print(
+            f"  {row.name}: {min(seeds, lo + batch)}/{seeds} ({time.time() - t0:.0f} s)",
+            file=sys.stderr,
+        )
+    CACHE.mkdir(parents=True, exist_ok=True)
+    path = CACHE / f"{row.name}.npz"
+    np.savez_compressed(path, **{k: np.asarray(v) for k, v in arrays.items()})
+    return path
+
+
+def campaigns(row: Row) -> tuple[sf.Truth, list[list[sf.HangRecord]]]:
+    """The cached campaigns of a row, as records."""
+    truth = truth_of(row)
+    with np.load(CACHE / f"{row.name}.npz") as z:
+        d = {k: z[k] for k in z.files}  # an NpzFile decompresses the array at every access
+    ids = row.hang_ids or row.points
+    out = []
+    for c in range(d["x"].shape[0]):
+        camp = []
+        for h, (pid, hid) in enumerate(zip(row.points, ids, strict=True)):
+            u = sf.st.HungBody(
+                truth.body.mass_kg,
+                truth.body.cog_mm,
+                truth.body.inertia_kg_mm2,
+                truth.exit_of(pid),
+                truth.body.sensor_mm,
+            ).plumb_up
+            camp.append(
+                sf.HangRecord(
+                    hid,
+                    truth.exit_of(pid),
+                    bool(u[2] > 0),
+                    d["t_ms"][c, h],
+                    d["x"][c, h],
+                    d["y"][c, h],
+                    d["sx"][c, h],
+                    d["sy"][c, h],
+                    float(d["L"][c, h]),
+                    float(d["tau"][c, h]),
+                    np.empty(0),
+                    np.empty(0),
+                )
+            )
+        out.append(camp)
+    return truth, out
+
+
+# --- estimate -------------------------------------------------------------------------------
+def scores_path(row: Row, tag: str = "scores") -> Path:
+    return CACHE / f"{row.name}.{tag}.jsonl"
+
+
+def estimate_row(row: Row, use_placeholder: bool, limit: int | None) -> None:
+    """Estimate a row's cached campaigns, appending one JSON line per campaign (its score, or
+    the estimator's error) to ``build/study_inertia/ROW.scores.jsonl``; campaigns already
+    there are skipped, so an interrupted run resumes."""
+    truth, camps = campaigns(row)
+    camps = camps[:limit] if limit else camps
+    out = scores_path(row)
+    done = {json.loads(x)["seed"] for x in out.read_text().splitlines()} if out.exists() else set()
+    rng = np.random.default_rng(0)
+    with tempfile.TemporaryDirectory() as tmp, out.open("a", encoding="utf-8") as log:
+        d = Path(tmp)
+        src = RIG if row.source == "rig" else SETUP
+        params = er.parameter_file(src, row.source, row.config, truth, d)
+        for seed, camp in enumerate(camps):
+            if seed in done:
+                continue
+            sw, rd = d / "swings.csv", d / "readings.csv"
+            sf.write_campaign(camp, sw, rd)
+            t0 = time.time()
+            try:
+                if use_placeholder:
+                    res = er.placeholder(truth, rng)
+                else:
+                    res = er.run_estimator(sw, rd, params, row.source)
+                entry: dict[str, Any] = {"seed": seed, **er.score(res, truth)}
+            except (RuntimeError, SystemExit, ValueError) as exc:
+                entry = {"seed": seed, "error": str(exc) or type(exc).__name__}
+            entry["seconds"] = round(time.time() - t0, 1)
+            log.write(json.dumps(entry) + "\n")
+            log.flush()
+
+
+def load_scores(row: Row, tag: str) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """A row's scored campaigns and its failed ones (``ROW.TAG.jsonl``)."""
+    p = scores_path(row, tag)
+    entries = [json.loads(x) for x in p.read_text().splitlines()] if p.exists() else []
+    return [e for e in entries if "error" not in e], [e for e in entries if "error" in e]
+
+
+def rate(k: int, n: int) -> str:
+    lo, hi = stats.binomtest(k, n).proportion_ci(0.95)  # Clopper-Pearson
+    return f"{k / n:.1%} [{lo:.1%}, {hi:.1%}]"
+
+
+def table(rows: list[tuple[Row, list[dict[str, Any]], int]]) -> str:
+    out = [
+        "| row | n | moment | bias | 95 % abs. error | error/σ: mean, sd | in ±1.96 σ [CP 95 %] "
+        "| axis error 95 % | axis ≤ 2° |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    chi = [
+        "| row | n | tensor χ² ≤ χ²₆(95 %) [CP 95 %] | median χ² (6 expected: 5.35) "
+        "| campaigns refused [CP 95 %] |",
+        "|---|---|---|---|---|",
+    ]
+    for row, sc, refused in rows:
+        n = len(sc)
+        if n == 0:
+            continue
+        rel = np.array([s["rel"] for s in sc])
+        z = np.array([s["z"] for s in sc])
+        ax = np.array([s["axis_deg"] for s in sc])
+        for i, name in enumerate(("I₁ (smallest)", "I₂", "I₃ (largest)")):
+            cover = int(np.sum(np.abs(z[:, i]) <= 1.96))
+            within = int(np.sum(ax[:, i] <= 2.0))
+            zsd = z[:, i].std(ddof=1) if n > 1 else 0.0
+            out.append(
+                f"| {row.label} | {n} | {name} | {100 * rel[:, i].mean():+.2f} % | "
+                f"{100 * np.quantile(np.abs(rel[:, i]), 0.95):.2f} % | "
+                f"{z[:, i].mean():+.2f}, {zsd:.2f} | {rate(cover, n)} | "
+                f"{np.quantile(ax[:, i], 0.95):.2f}° | {rate(within, n)} |"
+            )
+        c2 = np.array([s["chi2"] for s in sc])
+        chi.append(
+            f"| {row.label} | {n} | {rate(int(np.sum(c2 <= CHI2_6_95)), n)} | {np.median(c2):.2f} "
+            f"| {refused}/{n + refused} = {rate(refused, n + refused)} |"
+        )
+    return "\n".join(out) + "\n\n" + "\n".join(chi) + "\n"
+
+
+def modes_table() -> str:
+    """The truth's small-oscillation frequencies of every paper-rig hang at each wire length."""
+    truth = sf.rig_truth(RIG)
+    out = ["| L (mm) | hang | modes (Hz) |", "|---|---|---|"]
+    for length in (0.0, 100.0, 300.0, 1000.0):
+        for pid, exit_mm in truth.hangs:
+            b = truth.body
+            body = sf.st.HungBody(b.mass_kg, b.cog_mm, b.inertia_kg_mm2, exit_mm, b.sensor_mm)
+            f = sf.st.linear_modes_hz(body, length)
+            out.append(f"| {length:g} | {pid} | {', '.join(f'{v:.4f}' for v in f)} |")
+    return "\n".join(out)
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("phase", choices=("simulate", "estimate", "report", "modes"))
+    ap.add_argument("--rows", nargs="*", default=list(ROWS), choices=list(ROWS))
+    ap.add_argument("--seeds", type=int, default=200)
+    ap.add_argument("--batch", type=int, default=100, help="campaigns integrated together")
+    ap.add_argument("--limit", type=int, default=None, help="estimate the first N campaigns")
+    ap.add_argument("--placeholder", action="store_true")
+    ap.add_argument("--tag", default="scores", help="report ROW.TAG.jsonl (an older run kept)")
+    args = ap.parse_args(argv)
+    if args.phase == "modes":
+        print(modes_table())
+        return
+    if args.phase == "simulate":
+        for name in args.rows:
+            print(f"{name}: {simulate(ROWS[name], args.seeds, args.batch)}", file=sys.stderr)
+        return
+    if args.phase == "estimate":
+        for name in args.rows:
+            t0 = time.time()
+            estimate_row(ROWS[name], args.placeholder, args.limit)
+            print(f"  {name}: {time.time() - t0:.0f} s", file=sys.stderr)
+        return
+    results, failed = [], []
+    for name in args.rows:
+        ok, bad = load_scores(ROWS[name], args.tag)
+        results.append((ROWS[name], ok, len(bad)))
+        failed += [f"- {ROWS[name].label}, seed {e['seed']}: {e['error']}" for e in bad]
+    print(time.strftime("%Y-%m-%d"))
+    print(table(results))
+    print("estimator failures:" if failed else "no estimator failure")
+    print("\n".join(failed))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,356 @@
+"""Simulated swing campaigns (the truth of ``swing_truth``) and the files the estimator reads.
+
+Inputs come through cadcog's own readers only (a rig file's closed-form mass properties, a
+set-up's CAD mass properties and placed measurement equipment, the inclinometer's ADC model);
+the physics is :mod:`tests.inertia.swing_truth`'s. One *campaign* is a set of hangs of one
+hung body, each released, recorded and let settle:
+
+- **release** (lab frame): the rest pose rotated about the clamp by a horizontal angle
+  ``U(0.5, 1)·amplitude_deg`` at a random azimuth, the body tilted further about its wire exit by
+  ``U(0, 0.2)·amplitude_deg`` (the second, fast mode), the wire given a horizontal angular rate
+  of ``U(0, 1)·amplitude·ω₁`` at another random azimuth (ω₁ = √(g/(L + d)), so both horizontal
+  directions swing with random phases) and the body a yaw rate ``U(−1, 1)·yaw_rate_deg_s``;
+- **wire**: per hang the true free length is ``N(L, σ_L)`` (the estimator is told ``L ± σ_L``);
+  the amplitude decay time is ``U(decay_time_range_s)`` per hang; with ``hinge_errors`` the
+  wire's hinge on the body is not the nominal exit but lies, per hang, uniformly in a
+  ``play_mm`` square in the face plane around it and ``U(0, wire_offset_max_mm)`` out along the
+  bolt axis (the rig's error model: bolt play, and the paper's wire model of the bending
+  stiffness as an outward hinge offset); the files give the nominal exit;
+- **sensor** (the rig's ``[inclinometer]`` and ``[error_model]``): the true angle
+  ``asin(f_x/|f|)`` (:func:`swing_truth.inclinations_deg`), saturated at ±``range_deg``, plus a
+  bias per hang and axis ``U(±accuracy_deg)``, plus white noise ``N(0, sensor_noise_deg)`` per
+  ADC conversion, quantised by the rig's ADC (``SensorModel``: bin = ⌊counts + ½⌋, clipped to
+  the ADC's range), ``oversample`` conversions averaged per sample, then the device's signs;
+- **timing**: sample *k* is taken at ``k/rate + U(±jitter_ms)`` after release, and stamped with
+  the device clock in whole milliseconds (``⌊(t₀ + t)(1 + clock_ppm·10⁻⁶)·1000⌋``, t₀ the hang's
+  start on that clock, hangs 2-5 minutes apart);
+- **settled readings** (the readings CSV): ``settled_samples`` samples of the rest pose with the
+  same bias, noise and ADC (what ``cadcog estimate`` and ``cadcog inertia`` expect).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import numpy.typing as npt
+
+from tests.inertia import swing_truth as st
+
+FloatArray = npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class SwingConfig:
+    """Parameters of a simulated campaign (defaults documented in the module docstring)."""
+
+    wire_length_mm: float = 300.0
+    wire_length_sigma_mm: float = 2.0
+    amplitude_deg: float = 10.0
+    yaw_rate_deg_s: float = 5.0
+    decay_time_range_s: tuple[float, float] = (5.0, 30.0)
+    duration_s: float = 60.0
+    sample_rate_hz: float = 50.0
+    jitter_ms: float = 3.0
+    clock_ppm: float = 0.0
+    oversample: int = 16
+    settled_samples: int = 15
+    dt_s: float | None = None  # RK4 step; None: min(4 ms, 0.15/ω_max)
+    hinge_errors: bool = True  # the rig error model's play and wire offset move the hinge
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """The inclinometer as the rig file defines it (cadcog's ``InclinometerConfig``), with the
+    error model's per-conversion noise."""
+
+    config: object  # cadcog.rig.inclinometer.InclinometerConfig
+    noise_deg: float
+
+    def read(
+        self, true_deg: FloatArray, bias_deg: FloatArray, oversample: int, rng: np.random.Generator
+    ) -> FloatArray:
+        """Device readings (degrees, device signs) of true angles ``(..., )`` with per-hang bias
+        broadcast against them."""
+        cfg = self.config
+        sensor = cfg.sensor  # type: ignore[attr-defined]
+        x = np.clip(true_deg, -cfg.range_deg, cfg.range_deg) + bias_deg  # type: ignore[attr-defined]
+        conv = x[..., None] + rng.normal(0.0, self.noise_deg, (*x.shape, oversample))
+        counts = np.clip(np.floor(sensor.deg_to_counts(conv) + 0.5), 0, sensor.max_counts)
+        return np.asarray(sensor.counts_to_deg(counts.mean(axis=-1)))
+
+
+@dataclass(frozen=True)
+class Truth:
+    """What hangs, and what the estimator must recover.
+
+    Attributes
+    ----------
+    body : swing_truth.HungBody
+        Object + measurement equipment (``wire_exit_mm`` unused: per hang).
+    object_mass_kg : float
+    object_cog_mm : ndarray, shape (3,)
+    object_inertia_kg_mm2 : ndarray, shape (3, 3)
+        The object's inertia about its own CoG, model axes: the target.
+    hangs : tuple of (str, ndarray (3,))
+        Available hang points: id and wire exit (mm).
+    sensor : Sensor
+    normals : tuple of ndarray (3,)
+        Each hang point's bolt axis (outward face normal), as ``hangs``.
+    play_mm, wire_offset_max_mm : float
+        The rig's error model: the wire's hinge lies uniformly in a ``play_mm`` square in the
+        face plane around the exit, and ``U(0, wire_offset_max_mm)`` out along the bolt axis
+        (the paper's wire model: its bending stiffness moves the effective hinge outwards).
+    """
+
+    body: st.HungBody
+    object_mass_kg: float
+    object_cog_mm: FloatArray
+    object_inertia_kg_mm2: FloatArray
+    hangs: tuple[tuple[str, FloatArray], ...]
+    sensor: Sensor
+    normals: tuple[FloatArray, ...]
+    play_mm: float
+    wire_offset_max_mm: float
+
+    def exit_of(self, point_id: str) -> FloatArray:
+        return self.hangs[self._index(point_id)][1]
+
+    def normal_of(self, point_id: str) -> FloatArray:
+        return self.normals[self._index(point_id)]
+
+    def _index(self, point_id: str) -> int:
+        for i, (pid, _) in enumerate(self.hangs):
+            if pid == point_id:
+                return i
+        raise KeyError(point_id)
+
+
+def _inclinometer_centre(volumes: Sequence[object]) -> FloatArray:
+    for v in volumes:
+        if "inclinometer" in v.name:  # type: ignore[attr-defined]
+            return np.asarray(v.center_mm, float)  # type: ignore[attr-defined]
+    raise ValueError("no measurement-equipment volume has 'inclinometer' in its name")
+
+
+def rig_truth(rig_path: str | Path, sensor_mm: npt.ArrayLike | None = None) -> Truth:
+    """The paper-style rig as cadcog's closed-form CAD says: proof mass (the object) + ME."""
+    from cadcog.rig.file import load_rig
+
+    rig = load_rig(rig_path)
+    asm, pm = rig.analytic_assembly, rig.analytic_proof_mass
+    sensor = _inclinometer_centre(rig.me_volumes) if sensor_mm is None else sensor_mm
+    body = st.HungBody(asm.mass_kg, asm.cog_mm, asm.inertia_kg_mm2, asm.cog_mm, np.asarray(sensor))
+    hangs = tuple((p.id, np.asarray(rig.wire_exit_mm(p), float)) for p in rig.suspension_points)
+    e = rig.error_options
+    normals = tuple(np.asarray(p.normal, float) for p in rig.suspension_points)
+    sensor_ = Sensor(rig.inclinometer, e.sensor_noise_deg)
+    return Truth(
+        body, pm.mass_kg, pm.cog_mm, pm.inertia_kg_mm2, hangs, sensor_, normals, e.play_mm,
+        e.wire_offset_max_mm,
+    )  # fmt: skip
+
+
+def setup_truth(setup_path: str | Path, sensor_mm: npt.ArrayLike | None = None) -> Truth:
+    """A spacecraft set-up as its CAD says: the spacecraft (the object) + the placed ME boxes."""
+    from cadcog.mass.properties import box_properties, combine
+    from cadcog.spacecraft.setup import load_setup
+
+    s = load_setup(setup_path)
+    me = combine(box_properties(v.size_mm, v.center_mm, mass_kg=v.mass_kg) for v in s.me_volumes)
+    asm = combine([s.mass, me])
+    sensor = _inclinometer_centre(s.me_volumes) if sensor_mm is None else sensor_mm
+    body = st.HungBody(asm.mass_kg, asm.cog_mm, asm.inertia_kg_mm2, asm.cog_mm, np.asarray(sensor))
+    hangs = tuple((c.id, np.asarray(c.position_mm, float)) for c in s.candidates)
+    e = s.rig.error_options
+    normals = tuple(np.asarray(c.normal, float) for c in s.candidates)
+    sensor_ = Sensor(s.rig.inclinometer, e.sensor_noise_deg)
+    return Truth(
+        body, s.mass.mass_kg, s.mass.cog_mm, s.mass.inertia_kg_mm2, hangs, sensor_, normals,
+        e.play_mm, e.wire_offset_max_mm,
+    )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class HangRecord:
+    """One simulated hang as recorded.
+
+    Attributes
+    ----------
+    point_id : str
+    wire_exit_mm : ndarray, shape (3,)
+    top_face_up : bool
+    t_ms : ndarray of int, shape (k,)
+        Device timestamps (ms).
+    inc_x_deg, inc_y_deg : ndarray, shape (k,)
+        Swing readings (device degrees).
+    settled_x_deg, settled_y_deg : ndarray, shape (s,)
+        Settled readings.
+    true_wire_length_mm, decay_time_s : float
+    true_x_deg, true_y_deg : ndarray, shape (k,)
+        Noise-free angles at the true sampling instants (diagnostics).
+    """
+
+    point_id: str
+    wire_exit_mm: FloatArray
+    top_face_up: bool
+    t_ms: npt.NDArray[np.int64]
+    inc_x_deg: FloatArray
+    inc_y_deg: FloatArray
+    settled_x_deg: FloatArray
+    settled_y_deg: FloatArray
+    true_wire_length_mm: float
+    decay_time_s: float
+    true_x_deg: FloatArray = field(repr=False)
+    true_y_deg: FloatArray = field(repr=False)
+
+
+def _release(
+    body: st.HungBody, length_mm: float, cfg: SwingConfig, rng: np.random.Generator
+) -> st.Release:
+    amp = np.radians(cfg.amplitude_deg)
+    d_m = float(np.linalg.norm(np.subtract(body.wire_exit_mm, body.cog_mm))) * 1e-3
+    w1 = np.sqrt(st.GRAVITY_M_S2 / (length_mm * 1e-3 + d_m))
+
+    def horizontal(magnitude: float) -> FloatArray:
+        a = rng.uniform(0, 2 * np.pi)
+        return np.array([np.cos(a), np.sin(a), 0.0]) * magnitude
+
+    wire_rate = horizontal(rng.uniform(0, 1) * amp * w1)
+    yaw = np.radians(cfg.yaw_rate_deg_s) * rng.uniform(-1, 1)
+    return st.Release(
+        horizontal(rng.uniform(0.5, 1) * amp),
+        horizontal(rng.uniform(0, 0.2) * amp),
+        wire_rate,
+        wire_rate + np.array([0.0, 0.0, yaw]),
+        float(rng.uniform(0, 2 * np.pi)),
+    )
+
+
+def simulate_campaigns(
+    truth: Truth,
+    point_ids: Sequence[str],
+    cfg: SwingConfig,
+    rngs: Sequence[np.random.Generator],
+    hang_ids: Sequence[str] | None = None,
+) -> list[list[HangRecord]]:
+    """Simulate one campaign per generator, all hangs of all campaigns in one batch.
+
+    Parameters
+    ----------
+    truth : Truth
+    point_ids : sequence of str
+        The points hung, in order (a point may repeat: a re-hang).
+    cfg : SwingConfig
+    rngs : sequence of numpy.random.Generator
+        One per campaign (its every draw comes from it).
+    hang_ids : sequence of str, optional
+        The ``point_id`` each hang gets in the files (default ``point_ids``; give distinct ids
+        to re-hangs of one point).
+
+    Returns
+    -------
+    list (per campaign) of list (per hang) of HangRecord
+    """
+    ids = list(point_ids if hang_ids is None else hang_ids)
+    n_s = round(cfg.duration_s * cfg.sample_rate_hz)
+    bodies, lengths, taus, y0, t_true, t0s = [], [], [], [], [], []
+    for rng in rngs:
+        start_s = rng.uniform(5, 60)
+        for pid in point_ids:
+            hinge = truth.exit_of(pid)
+            if cfg.hinge_errors:
+                n = truth.normal_of(pid)
+                t1 = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
+                t1 /= np.linalg.norm(t1)
+                t2 = np.cross(n, t1)
+                a, b = rng.uniform(-0.5, 0.5, 2) * truth.play_mm
+                hinge = hinge + a * t1 + b * t2 + rng.uniform(0, truth.wire_offset_max_mm) * n
+            body = st.HungBody(
+                truth.body.mass_kg, truth.body.cog_mm, truth.body.inertia_kg_mm2, hinge,
+                truth.body.sensor_mm,
+            )  # fmt: skip
+            length = (
+                0.0
+                if cfg.wire_length_mm == 0
+                else max(rng.normal(cfg.wire_length_mm, cfg.wire_length_sigma_mm), 1.0)
+            )
+            bodies.append(body)
+            lengths.append(length)
+            taus.append(rng.uniform(*cfg.decay_time_range_s))
+            y0.append(st.initial_state(body, length, _release(body, length, cfg, rng)))
+            k = np.arange(1, n_s + 1) / cfg.sample_rate_hz
+            t_true.append(np.maximum(k + rng.uniform(-1, 1, n_s) * cfg.jitter_ms * 1e-3, 0.0))
+            t0s.append(start_s)
+            start_s += cfg.duration_s + rng.uniform(120, 300)
+    omega = max(st.highest_frequency_rad_s(b, ln) for b, ln in zip(bodies, lengths, strict=True))
+    dt = cfg.dt_s if cfg.dt_s is not None else min(4e-3, 0.15 / omega)
+    traj = st.integrate(
+        st.make_batch(bodies, lengths, taus), np.array(y0).T, np.array(t_true), dt, 10.0
+    )
+    true_x, true_y = st.inclinations_deg(traj.force)
+    out: list[list[HangRecord]] = []
+    h = 0
+    for rng in rngs:
+        campaign = []
+        for pid, hid in zip(point_ids, ids, strict=True):
+            body = bodies[h]
+            u = body.plumb_up
+            rest_x, rest_y = np.degrees(np.arcsin(u[0])), np.degrees(np.arcsin(u[1]))
+            acc = truth.sensor.config.accuracy_deg  # type: ignore[attr-defined]
+            bias = rng.uniform(-acc, acc, 2)
+            sens = truth.sensor
+            sx = truth.sensor.config.sign_x  # type: ignore[attr-defined]
+            sy = truth.sensor.config.sign_y  # type: ignore[attr-defined]
+            clock = (t0s[h] + t_true[h]) * (1 + cfg.clock_ppm * 1e-6)
+            n_set = cfg.settled_samples
+            campaign.append(
+                HangRecord(
+                    hid,
+                    truth.exit_of(pid),
+                    bool(u[2] > 0),
+                    np.floor(clock * 1000).astype(np.int64),
+                    sx * sens.read(true_x[h], bias[0], cfg.oversample, rng),
+                    sy * sens.read(true_y[h], bias[1], cfg.oversample, rng),
+                    sx * sens.read(np.full(n_set, rest_x), bias[0], cfg.oversample, rng),
+                    sy * sens.read(np.full(n_set, rest_y), bias[1], cfg.oversample, rng),
+                    float(lengths[h]),
+                    float(taus[h]),
+                    true_x[h],
+                    true_y[h],
+                )
+            )
+            h += 1
+        out.append(campaign)
+    return out
+
+
+def swing_text(campaign: Sequence[HangRecord]) -> str:
+    """The swing file: ``point_id,t_s,inc_x_deg,inc_y_deg``, each hang's rows contiguous."""
+    lines = [
+        "# simulated swing (tests/inertia/swing_truth.py): device clock in s, device degrees",
+        "point_id,t_s,inc_x_deg,inc_y_deg",
+    ]
+    for h in campaign:
+        for t, x, y in zip(h.t_ms, h.inc_x_deg, h.inc_y_deg, strict=True):
+            lines.append(f"{h.point_id},{t / 1000:.3f},{x:.5f},{y:.5f}")
+    return "\n".join(lines) + "\n"
+
+
+def readings_text(campaign: Sequence[HangRecord]) -> str:
+    """The readings CSV of the same hangs (``docs/estimate.md``), settled samples, degrees."""
+    lines = ["point_id,x_mm,y_mm,z_mm,inc_x_deg,inc_y_deg,top_face_up"]
+    for h in campaign:
+        x, y, z = (f"{c:.4f}" for c in h.wire_exit_mm)
+        face = "true" if h.top_face_up else "false"
+        for a, b in zip(h.settled_x_deg, h.settled_y_deg, strict=True):
+            lines.append(f"{h.point_id},{x},{y},{z},{a:.5f},{b:.5f},{face}")
+    return "\n".join(lines) + "\n"
+
+
+def write_campaign(campaign: Sequence[HangRecord], swings: Path, readings: Path) -> None:
+    """Write a campaign's swing file and readings CSV."""
+    swings.write_text(swing_text(campaign), encoding="utf-8")
+    readings.write_text(readings_text(campaign), encoding="utf-8")
