@@ -3,7 +3,7 @@
 For a set of hangs the prediction is the estimator's linearised covariance at the CAD
 (:mod:`cadcog.dynamics.tensorfit`): each hang's usable modes (those its record can resolve) with
 the relative model error ``frequency_model_rel`` as their σ (the fit's own σ is one to two orders
-smaller); each hang's exit uncertainty in its own block; the wire length, hinge offset, sensor
+smaller); each hang's pivot uncertainty in its own block; the wire length, top hinge, sensor
 position, object mass and CoG shared by every hang. Generalised least squares with that
 covariance ``C`` gives ``Cov p = (Jᵀ C⁻¹ J)⁻¹``; the ME's removal adds its own terms (ME CoGs and
 own inertia, the mass and CoG through the parallel-axis terms), taken as independent of the rest
@@ -124,11 +124,12 @@ def plan_inertia(
     truth = combine([ctx.object_cad, *ctx.me_parts])
     p0 = entries(truth.inertia_kg_mm2)
     weight_n = truth.mass_kg * STANDARD_GRAVITY_M_S2
-    hinge = float(np.sqrt(ctx.bending_stiffness_n_mm2 / weight_n))
-    hinge_sigma = 0.5 * ctx.bending_rel_sigma * hinge
+    hinge, hinge_sigma = ctx.top_hinge_mm(weight_n)
     scale = float(np.trace(truth.inertia_kg_mm2))
     shared_cov = _shared_cov(ctx, mass_sigma_kg, cog_cov_mm2)
     shared_cov[5, 5] = hinge_sigma**2
+    positions = np.array([c[1] for c in candidates], dtype=float).reshape(-1, 3)
+    pivots, pivot_covs = ctx.pivots(positions, truth.cog_mm, weight_n)
 
     def freqs(p: FloatArray, v: FloatArray, exit_mm: FloatArray) -> FloatArray:
         geo = HangGeometry(exit_mm, v[6:9], max(v[4], 0.0), max(v[5], 0.0), *ctx.signs)
@@ -139,7 +140,7 @@ def plan_inertia(
         [[ctx.object_cad.mass_kg], truth.cog_mm, [ctx.swing.wire_length_mm, hinge], ctx.sensor_mm]
     )
     infos: list[_HangInfo | None] = []
-    for _, exit_mm in candidates:
+    for exit_mm, exit_cov in zip(pivots, pivot_covs, strict=True):
         f0 = freqs(p0, v0, exit_mm)
         gaps = np.diff(f0)
         close = np.zeros(len(f0), dtype=bool)
@@ -169,13 +170,11 @@ def plan_inertia(
         d_exit = np.zeros((int(keep.sum()), 3))
         for a in range(3):
             de = np.zeros(3)
-            de[a] = 0.1 * ctx.exit_sigma_mm
-            d_exit[:, a] = (freqs(p0, v0, exit_mm + de) - freqs(p0, v0, exit_mm - de))[keep] / (
-                0.2 * ctx.exit_sigma_mm
-            )
+            de[a] = 0.05
+            d_exit[:, a] = (freqs(p0, v0, exit_mm + de) - freqs(p0, v0, exit_mm - de))[keep] / 0.1
         f_keep = f0[keep]
-        local = np.diag((f_keep * ctx.swing.frequency_model_rel) ** 2) + ctx.exit_sigma_mm**2 * (
-            d_exit @ d_exit.T
+        local = (
+            np.diag((f_keep * ctx.swing.frequency_model_rel) ** 2) + d_exit @ exit_cov @ d_exit.T
         )
         infos.append(_HangInfo(jac, local, shared))
     # The ME's removal: its terms do not depend on the set.
@@ -186,12 +185,12 @@ def plan_inertia(
         cog_cov_mm2=cog_cov_mm2,
         wire_length_mm=ctx.swing.wire_length_mm,
         wire_length_sigma_mm=0.0,
-        hinge_offset_mm=hinge,
-        hinge_offset_sigma_mm=0.0,
+        top_hinge_mm=hinge,
+        top_hinge_sigma_mm=0.0,
         sensor_mm=ctx.sensor_mm,
         sensor_sigma_mm=0.0,
         exits_mm=np.zeros((0, 3)),
-        exit_sigma_mm=0.0,
+        exit_cov_mm2=np.zeros((0, 3, 3)),
         me_parts=ctx.me_parts,
         me_cog_sigma_mm=ctx.me_cog_sigma_mm,
         me_inertia_rel=ctx.swing.me_inertia_rel,

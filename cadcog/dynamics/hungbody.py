@@ -1,13 +1,14 @@
 """Small swings of a rigid body hung by a wire: the linear model the inertia estimate inverts.
 
-The model (``docs/method.md`` §9): a massless inextensible wire of length ``L`` from a fixed clamp
-to the wire exit ``P`` on the body, a spherical joint at each end; the body (mass ``m``, CoG
-``G``, inertia ``I_G`` about ``G``) hangs with ``G`` on the plumb line below ``P``, at distance
-``d``. The wire's bending stiffness makes each clamped end act as a hinge ``λ = √(EI/T)`` inside
-the wire (the elastica's boundary layer, ``T = m g``): the body's pivot is ``λ`` above ``P`` and
-the free length ``L − 2λ``. In the hang frame (``e1, e2`` horizontal, ``u`` up, all in body
-components) the coordinates are the wire's tilt ``β`` (2) and the body's small rotation ``θ``
-(3). Kinetic and potential energies to second order:
+The model (``docs/method.md`` §9): a massless inextensible wire of free length ``L`` from a fixed
+clamp to the body's pivot ``P``, a spherical joint at each end; the body (mass ``m``, CoG ``G``,
+inertia ``I_G`` about ``G``) hangs with ``G`` on the plumb line below ``P``, at distance ``d``.
+``P`` is the virtual suspension point of the static estimate (the wire exit moved along the bolt
+axis by the wire's offset: the far-field wire turns about it); the wire's bending stiffness makes
+the top clamp act as a hinge ``λ = √(EI/T)`` inside the wire (the elastica's boundary layer,
+``T = m g``): the free length is ``L − λ``. In the hang frame (``e1, e2`` horizontal, ``u`` up,
+all in body components) the coordinates are the wire's tilt ``β`` (2) and the body's small
+rotation ``θ`` (3). Kinetic and potential energies to second order:
 
 ``T = ½ m |L β̇ + d θ̇_h|² + ½ θ̇ᵀ I_G θ̇``,  ``V = ½ m g (L |β|² + d |θ_h|²)``.
 
@@ -51,13 +52,15 @@ class HangGeometry:
     Attributes
     ----------
     exit_mm : ndarray, shape (3,)
-        Where the wire leaves the body.
+        The body's pivot: where the wire leaves it, moved along the bolt axis by the wire's
+        offset (the static estimate's virtual suspension point).
     sensor_mm : ndarray, shape (3,)
         The inclinometer's sensing point.
     wire_length_mm : float
         Free wire from the fixed clamp to ``exit_mm`` (0: a pivot at the exit).
-    hinge_offset_mm : float
-        ``λ``: the wire's effective hinge lies this far inside the wire from each clamped end.
+    top_hinge_mm : float
+        ``λ``: the top clamp's effective hinge lies this far down the wire (the free length is
+        ``wire_length_mm − λ``).
     sign_x, sign_y : int
         The device's axis signs (``[inclinometer]``).
     """
@@ -65,12 +68,12 @@ class HangGeometry:
     exit_mm: FloatArray
     sensor_mm: FloatArray
     wire_length_mm: float
-    hinge_offset_mm: float = 0.0
+    top_hinge_mm: float = 0.0
     sign_x: int = 1
     sign_y: int = 1
 
     def __post_init__(self) -> None:
-        for name in ("wire_length_mm", "hinge_offset_mm"):
+        for name in ("wire_length_mm", "top_hinge_mm"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value >= 0.0):
                 raise ValueError(f"{name} must be finite and ≥ 0, got {value}")
@@ -157,16 +160,15 @@ def hang_modes(
         raise ValueError(f"mass_kg must be positive, got {mass_kg}")
     g = STANDARD_GRAVITY_M_S2
     cog = np.asarray(cog_mm, dtype=float)
-    lam = geometry.hinge_offset_mm
-    r0 = np.asarray(geometry.exit_mm, dtype=float) - cog
+    pivot = np.asarray(geometry.exit_mm, dtype=float)
+    r0 = pivot - cog
     d0 = float(np.linalg.norm(r0))
     if d0 == 0.0:
         raise ValueError("the wire exit is at the CoG: the body does not swing back")
     u = r0 / d0
-    pivot = cog + (d0 + lam) * u
     basis = hang_frame(u)
-    d = (d0 + lam) / MM_PER_M
-    wire = max(geometry.wire_length_mm - 2.0 * lam, 0.0) / MM_PER_M
+    d = d0 / MM_PER_M
+    wire = max(geometry.wire_length_mm - geometry.top_hinge_mm, 0.0) / MM_PER_M
     s = basis.T @ (np.asarray(geometry.sensor_mm, dtype=float) - pivot) / MM_PER_M
     i_g = basis.T @ np.asarray(inertia_cog_kg_mm2, dtype=float) @ basis / KG_MM2_PER_KG_M2
     m = float(mass_kg)
@@ -218,4 +220,4 @@ def hang_modes(
             / scale
         )
     freqs = np.sqrt(omega2) / (2.0 * np.pi)
-    return HangModes(freqs, readings, u, (d0 + lam))
+    return HangModes(freqs, readings, u, d0)

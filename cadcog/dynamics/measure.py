@@ -42,9 +42,11 @@ from cadcog.dynamics.tensorfit import (
     weighted_chi2,
 )
 from cadcog.mass.properties import MassProperties, box_properties, combine
-from cadcog.method.estimate import CogEstimate
+from cadcog.method.errormodel import ErrorModel, wire_shape_factor
+from cadcog.method.estimate import BodyBox, CogEstimate
 from cadcog.method.plumblines import chi2_sf
 from cadcog.method.readings import Suspension
+from cadcog.rig.geometry import face_normal_of_point
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
 
 FloatArray = npt.NDArray[np.float64]
@@ -54,9 +56,9 @@ BUDGET_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("object mass", ("object mass",)),
     ("CoG from the plumb lines", ("CoG ",)),
     ("wire length", ("wire length",)),
-    ("wire hinge offset (bending stiffness)", ("wire hinge",)),
+    ("the top clamp's hinge (bending stiffness)", ("wire top",)),
     ("sensor position", ("sensor ",)),
-    ("wire exits (play, wire offset)", ("exit ",)),
+    ("pivots (play, wire offset)", ("exit ",)),
     ("ME CoGs", ("ME ",)),
 )
 
@@ -77,10 +79,12 @@ class InertiaContext:
         Per-axis 1 σ of each volume's CoG (its uncertainty cube's edge / √12).
     swing : SwingOptions
     sensor_mm : ndarray, shape (3,)
-    exit_sigma_mm : float
-        Per-axis 1 σ of a wire exit (the point's play and the wire's offset).
+    body : BodyBox
+        The box the suspension points sit on: each bolt's axis.
+    error_model : ErrorModel
+        The static estimate's: the points' play, the wire's offset along the bolt axis.
     bending_stiffness_n_mm2, bending_rel_sigma : float
-        The wire's EI and its relative 1 σ (the hinge offset is ``√(EI/T)``).
+        The wire's EI and its relative 1 σ (the top clamp's hinge is ``√(EI/T)``).
     signs : (int, int)
     """
 
@@ -90,10 +94,42 @@ class InertiaContext:
     me_cog_sigma_mm: tuple[float, ...]
     swing: SwingOptions
     sensor_mm: FloatArray
-    exit_sigma_mm: float
+    body: BodyBox
+    error_model: ErrorModel
     bending_stiffness_n_mm2: float
     bending_rel_sigma: float
     signs: tuple[int, int]
+
+    def top_hinge_mm(self, weight_n: float) -> tuple[float, float]:
+        """The top clamp's hinge ``λ = √(EI/T)`` and its 1 σ (EI's relative σ halved)."""
+        lam = float(np.sqrt(self.bending_stiffness_n_mm2 / weight_n))
+        return lam, 0.5 * self.bending_rel_sigma * lam
+
+    def pivots(
+        self, positions_mm: FloatArray, cog_mm: FloatArray, weight_n: float
+    ) -> tuple[FloatArray, FloatArray]:
+        """Each hang's pivot and its covariance, shapes (k, 3) and (k, 3, 3).
+
+        The pivot is the static estimate's virtual suspension point: the wire exit moved along
+        the bolt axis ``n`` by the wire's expected offset (the far-field wire turns about it);
+        its covariance is the point's play in the face plane and the offset's spread along
+        ``n`` (the elastica's shared scale taken per hang: a planning approximation).
+        """
+        model = self.error_model
+        prior = model.wire_prior(weight_n)
+        lo, hi = self.body.lo_mm, self.body.hi_mm
+        pos = np.asarray(positions_mm, dtype=float).reshape(-1, 3)
+        pivots = np.empty_like(pos)
+        covs = np.empty((len(pos), 3, 3))
+        for i, p in enumerate(pos):
+            n = face_normal_of_point(p, lo, hi)
+            u = p - np.asarray(cog_mm, dtype=float)
+            u = u / np.linalg.norm(u)
+            f = float(wire_shape_factor(np.array([n @ u]), model.wire_model)[0])
+            pivots[i] = p + prior.scale_mm * f * n
+            var_n = prior.scatter_var_mm2 + prior.scale_var_mm2 * f * f
+            covs[i] = model.play_var_mm2 * (np.eye(3) - np.outer(n, n)) + var_n * np.outer(n, n)
+        return pivots, covs
 
 
 def sensor_position_mm(
@@ -114,6 +150,8 @@ def sensor_position_mm(
 
 def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaContext:
     """The paper rig (or another): the proof mass is the object, exact."""
+    from cadcog.method.estimate import BodyBox
+
     opts = rig.error_options
     sw = swing or rig.swing
     return InertiaContext(
@@ -123,7 +161,8 @@ def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaConte
         tuple(v.cog_uncertainty_cube_mm / np.sqrt(12.0) for v in rig.me_volumes),
         sw,
         sensor_position_mm(sw, rig.me_volumes, f"rig {rig.source}"),
-        float(np.sqrt((opts.play_mm**2 + opts.wire_offset_max_mm**2) / 12.0)),
+        BodyBox.of_rig(rig),
+        ErrorModel.from_rig(rig),
         opts.wire_bending_stiffness_n_mm2,
         opts.wire_stiffness_rel_uncertainty,
         (rig.inclinometer.sign_x, rig.inclinometer.sign_y),
@@ -142,7 +181,8 @@ def context_for_setup(setup: Any, cad_cov_kg2_mm4: FloatArray) -> InertiaContext
         tuple(v.cog_uncertainty_cube_mm / np.sqrt(12.0) for v in setup.me_volumes),
         sw,
         sensor_position_mm(sw, setup.me_volumes, f"setup {setup.source}"),
-        float(np.sqrt((opts.play_mm**2 + opts.wire_offset_max_mm**2) / 12.0)),
+        setup.body(),
+        setup.error_model(),
         opts.wire_bending_stiffness_n_mm2,
         opts.wire_stiffness_rel_uncertainty,
         (rig.inclinometer.sign_x, rig.inclinometer.sign_y),
@@ -253,16 +293,12 @@ def measure_inertia(
     cad_assembly = combine([ctx.object_cad, *ctx.me_parts])
     start = entries(cad_assembly.inertia_kg_mm2)
     weight_n = (object_mass_kg + me_mass) * STANDARD_GRAVITY_M_S2
-    hinge = float(np.sqrt(ctx.bending_stiffness_n_mm2 / weight_n))
+    top, top_sigma = ctx.top_hinge_mm(weight_n)
+    positions = np.array([s.position_mm for _, s in pairs], dtype=float)
+    pivots, pivot_covs = ctx.pivots(positions, estimate.assembly_cog_mm, weight_n)
     fits, records = [], []
-    for sw, s in pairs:
-        geo = HangGeometry(
-            np.asarray(s.position_mm, dtype=float),
-            ctx.sensor_mm,
-            ctx.swing.wire_length_mm,
-            hinge,
-            *ctx.signs,
-        )
+    for (sw, _), pivot in zip(pairs, pivots, strict=True):
+        geo = HangGeometry(pivot, ctx.sensor_mm, ctx.swing.wire_length_mm, top, *ctx.signs)
         predicted = hang_modes(
             cad_assembly.inertia_kg_mm2, cad_assembly.mass_kg, cad_assembly.cog_mm, geo
         )
@@ -276,12 +312,12 @@ def measure_inertia(
         cog_cov_mm2=estimate.joint.cov_mm2,
         wire_length_mm=ctx.swing.wire_length_mm,
         wire_length_sigma_mm=ctx.swing.wire_length_sigma_mm,
-        hinge_offset_mm=hinge,
-        hinge_offset_sigma_mm=0.5 * ctx.bending_rel_sigma * hinge,
+        top_hinge_mm=top,
+        top_hinge_sigma_mm=top_sigma,
         sensor_mm=ctx.sensor_mm,
         sensor_sigma_mm=ctx.swing.sensor_position_sigma_mm,
-        exits_mm=np.array([s.position_mm for _, s in pairs], dtype=float),
-        exit_sigma_mm=ctx.exit_sigma_mm,
+        exits_mm=pivots,
+        exit_cov_mm2=pivot_covs,
         me_parts=ctx.me_parts,
         me_cog_sigma_mm=ctx.me_cog_sigma_mm,
         me_inertia_rel=ctx.swing.me_inertia_rel,
@@ -359,8 +395,7 @@ def inertia_for_rig(
     source: str = "swings",
 ) -> InertiaResult:
     """``cadcog inertia --rig``: the rig's object (its proof mass) from its swings."""
-    from cadcog.method.errormodel import ErrorModel
-    from cadcog.method.estimate import BodyBox, MEData, estimate_cog
+    from cadcog.method.estimate import MEData, estimate_cog
 
     me = MEData.from_rig(rig)
     if weighed_mass_kg is not None:

@@ -9,7 +9,7 @@ predicted by :func:`cadcog.dynamics.hungbody.hang_modes`.
 
 Everything else is an input with an uncertainty (the *nuisances*): the object's mass, the
 assembly's CoG from the plumb lines (with its covariance), each wire exit (the point's play and
-the wire's offset), the wire's length and its hinge offset, the sensor's position, each ME
+the wire's offset), the wire's length and its top hinge, the sensor's position, each ME
 volume's CoG and own inertia. The object's tensor about its own CoG is the assembly's less the
 ME's and the parallel-axis terms (as eq. 10 removes the ME from the CoG). Its covariance is the
 frequency fit's plus every nuisance's, propagated through the whole chain (fit and compensation)
@@ -72,8 +72,8 @@ class Nuisances:
     values : ndarray, shape (n,)
     cov : ndarray, shape (n, n)
     n_hangs, n_me : int
-        Layout: object mass, assembly CoG (3), wire length, hinge offset, sensor (3), the exits
-        (3 per hang), then per ME volume its CoG (3) and own-inertia scale (1).
+        Layout: object mass, assembly CoG (3), wire length, the top clamp's hinge, sensor (3),
+        the pivots (3 per hang), then per ME volume its CoG (3) and own-inertia scale (1).
     """
 
     names: tuple[str, ...]
@@ -89,7 +89,7 @@ class Nuisances:
             "object_mass_kg": v[0],
             "cog_mm": v[1:4],
             "wire_length_mm": v[4],
-            "hinge_offset_mm": v[5],
+            "top_hinge_mm": v[5],
             "sensor_mm": v[6:9],
             "exits_mm": v[i : i + 3 * k].reshape(k, 3),
             "me_cog_mm": v[i + 3 * k : i + 3 * k + 3 * e].reshape(e, 3),
@@ -105,24 +105,25 @@ def nuisances(
     cog_cov_mm2: FloatArray,
     wire_length_mm: float,
     wire_length_sigma_mm: float,
-    hinge_offset_mm: float,
-    hinge_offset_sigma_mm: float,
+    top_hinge_mm: float,
+    top_hinge_sigma_mm: float,
     sensor_mm: FloatArray,
     sensor_sigma_mm: float,
     exits_mm: FloatArray,
-    exit_sigma_mm: float,
+    exit_cov_mm2: FloatArray,
     me_parts: Sequence[MassProperties],
     me_cog_sigma_mm: Sequence[float],
     me_inertia_rel: float,
 ) -> Nuisances:
-    """Assemble the nuisance vector and its (block-diagonal) covariance."""
+    """Assemble the nuisance vector and its (block-diagonal) covariance; ``exit_cov_mm2`` is
+    each pivot's 3 × 3 covariance, shape (k, 3, 3)."""
     exits = np.asarray(exits_mm, dtype=float).reshape(-1, 3)
     k, e = len(exits), len(me_parts)
     values = np.concatenate(
         [
             [object_mass_kg],
             np.asarray(cog_mm, dtype=float),
-            [wire_length_mm, hinge_offset_mm],
+            [wire_length_mm, top_hinge_mm],
             np.asarray(sensor_mm, dtype=float),
             exits.ravel(),
             np.array([p.cog_mm for p in me_parts]).reshape(-1),
@@ -134,10 +135,12 @@ def nuisances(
     cov[0, 0] = object_mass_sigma_kg**2
     cov[1:4, 1:4] = np.asarray(cog_cov_mm2, dtype=float)
     cov[4, 4] = wire_length_sigma_mm**2
-    cov[5, 5] = hinge_offset_sigma_mm**2
+    cov[5, 5] = top_hinge_sigma_mm**2
     cov[6:9, 6:9] = sensor_sigma_mm**2 * np.eye(3)
     i = 9
-    cov[i : i + 3 * k, i : i + 3 * k] = exit_sigma_mm**2 * np.eye(3 * k)
+    exit_cov = np.asarray(exit_cov_mm2, dtype=float).reshape(k, 3, 3)
+    for h in range(k):
+        cov[i + 3 * h : i + 3 * h + 3, i + 3 * h : i + 3 * h + 3] = exit_cov[h]
     i += 3 * k
     for j in range(e):
         cov[i + 3 * j : i + 3 * j + 3, i + 3 * j : i + 3 * j + 3] = me_cog_sigma_mm[
@@ -146,7 +149,7 @@ def nuisances(
     i += 3 * e
     cov[i : i + e, i : i + e] = me_inertia_rel**2 * np.eye(e)
     names = (
-        ["object mass", "CoG x", "CoG y", "CoG z", "wire length", "wire hinge offset"]
+        ["object mass", "CoG x", "CoG y", "CoG z", "wire length", "wire top hinge"]
         + [f"sensor {a}" for a in "xyz"]
         + [f"exit {h + 1} {a}" for h in range(k) for a in "xyz"]
         + [f"ME {j + 1} CoG {a}" for j in range(e) for a in "xyz"]
@@ -248,7 +251,7 @@ def hang_geometry(
             np.asarray(e),
             np.asarray(u["sensor_mm"]),
             max(float(u["wire_length_mm"]), 0.0),  # type: ignore[arg-type]
-            max(float(u["hinge_offset_mm"]), 0.0),  # type: ignore[arg-type]
+            max(float(u["top_hinge_mm"]), 0.0),  # type: ignore[arg-type]
             signs[0],
             signs[1],
         )

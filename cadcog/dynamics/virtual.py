@@ -78,24 +78,22 @@ def virtual_swings(
 ) -> list[Swing]:
     """A swing for each of a virtual campaign's hangs, the CAD as the truth.
 
-    Each swing settles to its hang's mean readings; the hangs follow one another on the
+    Each hang swings about its expected pivot (the wire exit moved by the wire's expected
+    offset) and settles to its hang's mean readings; the hangs follow one another on the
     device's clock (a minute of swing, then half a minute to re-hang). ``options`` go to
     :func:`virtual_swing`.
     """
     rng = np.random.default_rng(seed)
     truth = combine([context.object_cad, *context.me_parts])
-    hinge = float(
-        np.sqrt(context.bending_stiffness_n_mm2 / (truth.mass_kg * STANDARD_GRAVITY_M_S2))
-    )
+    weight_n = truth.mass_kg * STANDARD_GRAVITY_M_S2
+    top, _ = context.top_hinge_mm(weight_n)
+    positions = np.array([s.position_mm for s in suspensions], dtype=float)
+    pivots, _ = context.pivots(positions, truth.cog_mm, weight_n)
     out = []
     start = 0.0
-    for s in suspensions:
+    for s, pivot in zip(suspensions, pivots, strict=True):
         geo = HangGeometry(
-            np.asarray(s.position_mm, dtype=float),
-            context.sensor_mm,
-            context.swing.wire_length_mm,
-            hinge,
-            *context.signs,
+            pivot, context.sensor_mm, context.swing.wire_length_mm, top, *context.signs
         )
         sw = virtual_swing(
             s.id,

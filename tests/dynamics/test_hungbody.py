@@ -47,14 +47,14 @@ def test_planar_double_pendulum_closed_form(wire_mm, d_mm, i_kg_mm2, mass):
     np.testing.assert_allclose(modes.frequencies_hz, expected, rtol=1e-9)
 
 
-def test_hinge_offset_lengthens_the_arm_and_shortens_the_wire():
+def test_the_top_hinge_shortens_the_wire():
     inertia = np.diag([3e4, 3e4, 1e4])
-    g1 = HangGeometry(np.array([0, 0, 60.0]), np.zeros(3), 300.0, hinge_offset_mm=2.0)
-    g2 = HangGeometry(np.array([0, 0, 62.0]), np.zeros(3), 296.0)
+    g1 = HangGeometry(np.array([0, 0, 60.0]), np.zeros(3), 300.0, top_hinge_mm=2.0)
+    g2 = HangGeometry(np.array([0, 0, 60.0]), np.zeros(3), 298.0)
     a = hang_modes(inertia, 5.0, [0, 0, 0], g1)
     b = hang_modes(inertia, 5.0, [0, 0, 0], g2)
     np.testing.assert_allclose(a.frequencies_hz, b.frequencies_hz, rtol=1e-12)
-    assert a.pivot_distance_mm == pytest.approx(62.0)
+    assert a.pivot_distance_mm == pytest.approx(60.0)
 
 
 def test_an_accelerometer_on_a_simple_pendulums_bob_sees_nothing():

@@ -34,20 +34,22 @@ def _campaign(seed: int, truth_object: MassProperties, ids=None):
     readings, swings from the truth."""
     rng = np.random.default_rng(seed)
     truth = combine([truth_object, *CTX.me_parts])
-    hinge = np.sqrt(CTX.bending_stiffness_n_mm2 / (truth.mass_kg * 9.80665))
+    weight = truth.mass_kg * 9.80665
+    top, _ = CTX.top_hinge_mm(weight)
     sus, swings = [], []
-    for i, p in enumerate(RIG.suspension_points):
-        if ids is not None and p.id not in ids:
-            continue
-        nominal = RIG.wire_exit_mm(p)
-        actual = nominal + rng.normal(0, CTX.exit_sigma_mm, 3)
+    points = [p for p in RIG.suspension_points if ids is None or p.id in ids]
+    nominal = np.array([RIG.wire_exit_mm(p) for p in points])
+    pivots, covs = CTX.pivots(nominal, truth.cog_mm, weight)
+    for i, p in enumerate(points):
+        # The true pivot: drawn about the expected one with the stated covariance.
+        actual = rng.multivariate_normal(pivots[i], covs[i])
         r = ideal_reading(actual, truth.cog_mm)
         sus.append(
             Suspension(
-                p.id, tuple(nominal), r.top_face_up, 10, r.inc_x_deg, r.inc_y_deg, 0.01, 0.01, i
+                p.id, tuple(nominal[i]), r.top_face_up, 10, r.inc_x_deg, r.inc_y_deg, 0.01, 0.01, i
             )
         )
-        geo = HangGeometry(actual, CTX.sensor_mm, CTX.swing.wire_length_mm, hinge)
+        geo = HangGeometry(actual, CTX.sensor_mm, CTX.swing.wire_length_mm, top)
         swings.append(
             virtual_swing(
                 p.id, [r.inc_x_deg, r.inc_y_deg], truth.inertia_kg_mm2, truth.mass_kg,
@@ -95,7 +97,7 @@ def test_the_cad_itself_is_consistent_and_the_fit_passes():
     pr = r.principal
     assert pr.moments_sigma_kg_mm2[0] / pr.moments_kg_mm2[0] < 0.015
     assert pr.axes_sigma_deg[0] < 1.0 and pr.axes_sigma_deg[1] > 5.0
-    assert r.budget[0][0].startswith("wire exits")
+    assert r.budget[0][0].startswith("pivots")
 
 
 def test_too_few_hangs_are_refused():
