@@ -119,6 +119,7 @@ def render_html(
             f"Mahalanobis distance {truth['mahalanobis']:.2f}.</p>"
         )
     warnings = "".join(f"<li>{esc(w)}</li>" for w in est.warnings) or "<li>none</li>"
+    inertia = _inertia_section(result)
     kind = "spacecraft set-up" if target.setup is not None else "rig"
     return f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8">
@@ -158,7 +159,42 @@ Redone and refused attempts are in the readings file as comments only.</p>
 {comparison}
 {img_tag(figure, "compensated CoG with its 95 % ellipsoid")}
 
+{inertia}
 <h2>Estimator warnings</h2>
 <ul>{warnings}</ul>
 </body></html>
 """
+
+
+def _inertia_section(result: SessionResult) -> str:
+    """The inertia tensor from the swings (``cadcog inertia``), or why there is none."""
+    esc = html.escape
+    r = result.inertia
+    if r is None:
+        return f"<h2>Inertia from the swings</h2>\n<p>Not estimated: {esc(result.inertia_note)}</p>"
+    pr = r.principal
+    rel = 100 * pr.moments_sigma_kg_mm2 / pr.moments_kg_mm2
+    rows = [
+        [
+            f"I{k + 1}",
+            num(pr.moments_kg_mm2[k], 1),
+            f"{pr.moments_sigma_kg_mm2[k]:.3g} ({rel[k]:.2f} %)",
+            ", ".join(f"{a:+.4f}" for a in pr.axes[k]),
+            f"{pr.axes_sigma_deg[k]:.2g}" if pr.axes_sigma_deg[k] < 90 else "undetermined",
+        ]
+        for k in range(3)
+    ]
+    cad = r.cad
+    versus = (
+        ""
+        if cad is None
+        else f"<p>Against the CAD's tensor: joint χ² {cad['chi2']:.2f} with {cad['dof']} dof "
+        f"(p = {cad['p']:.3f}).</p>"
+    )
+    return (
+        "<h2>Inertia from the swings</h2>\n"
+        + table(["", "moment (kg·mm²)", "1 σ", "axis (model frame)", "axis 1 σ (°)"], rows)
+        + f"\n<p>About the object's CoG, the ME removed; the swings' fit χ² {r.chi2:.2f} with "
+        f"{r.dof} dof (p = {r.consistency_p:.3f}). Details: <code>cadcog inertia</code>.</p>"
+        + versus
+    )

@@ -137,6 +137,12 @@ def test_a_spacecraft_set_up_dry_run_compares_with_its_cad(tmp_path, capsys):
     page = (report / "index.html").read_text()
     assert all(f'<td class="l">{i}</td>' in page for i in points.split(","))
     assert "Measured − CAD" in page and "3U CoG envelope" in page
+    # Four hangs with swings: the record gives the tensor (or says why not) on the page and in
+    # the JSON, and the swing file sits beside the readings.
+    assert "Inertia from the swings" in page
+    inertia = data["inertia"]
+    assert "principal_moments_kg_mm2" in inertia or inertia["not_estimated"]
+    assert (tmp_path / "sat.swings.csv").is_file()
     assert data["cad"]["mahalanobis"] < np.sqrt(stats.chi2.ppf(0.999, 3))
     assert data["simulated_truth"]["mahalanobis"] < np.sqrt(stats.chi2.ppf(0.999, 3))
     assert main(["estimate", str(out), "--setup", str(setup), "--json"]) == 0
