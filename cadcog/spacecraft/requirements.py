@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core import numformat as nf
 from cadcog.core.errors import CadcogError, ParameterFileError
 from cadcog.core.paramfile import TableReader
 from cadcog.core.results import JsonResult
@@ -224,7 +225,8 @@ def find_node(root: BudgetNode, spec: str) -> BudgetNode:
 
 
 def _kg(x: float) -> str:
-    return f"{x:.4f} kg"
+    """A mass for the result lines: significant figures, g below 1 kg (:mod:`.numformat`)."""
+    return nf.mass(x, 5)
 
 
 def evaluate(
@@ -369,11 +371,12 @@ def _inertia_results(req: Requirements, report: MassReport) -> list[RequirementR
         out.append(
             RequirementResult(
                 "inertia.products",
-                f"products of inertia {where}",
+                f"largest |Pxy| {where}",
                 f"{worst_p:.3f} kg·mm²",
                 f"≤ {req.max_product_kg_mm2:g} kg·mm²",
                 worst_p <= req.max_product_kg_mm2,
-                ", ".join(f"P{k} {v:+.3f}" for k, v in p.items()),
+                ", ".join(f"P{k} {v:+.3f}" for k, v in p.items())
+                + " kg·mm² (Pxy = +∫xy dm; the limit is on the magnitude, sign-free)",
             )
         )
     values = {
