@@ -169,7 +169,7 @@ def mass_properties(
     total_mass_kg: float | None = None,
     units: str | None = None,
     exclude: str | Sequence[str] = (),
-    overlaps: Literal["check", "allow", "resolve"] = "check",
+    overlaps: Literal["check", "allow", "resolve", "skip"] = "check",
     strict: bool = False,
     about: str | Sequence[float] = "cog",
     axes: str = "+x,+y,+z",
@@ -197,9 +197,10 @@ def mass_properties(
         The file's true length unit when its declared one is wrong (never scales twice).
     exclude : str or sequence of str
         Glob patterns or paths of bodies or assemblies to leave out (before every check).
-    overlaps : {'check', 'allow', 'resolve'}
-        Refuse overlapping solids, count them as they are, or cut each common volume out of
-        the less dense solid.
+    overlaps : {'check', 'allow', 'resolve', 'skip'}
+        Refuse overlapping solids, count them as they are, cut each common volume out of
+        the less dense solid, or skip the overlap search altogether (``--skip-overlaps``: for
+        a model you know has none).
     strict : bool
         Every note (surfaces left out, overlaps counted, units) becomes an error.
     about : str or sequence of 3 floats
@@ -236,7 +237,7 @@ def mass_properties(
     from cadcog.spacecraft.mass_summary import build_mass_report
 
     f = "mass_properties"
-    check_choice(f, "overlaps", overlaps, ("check", "allow", "resolve"))
+    check_choice(f, "overlaps", overlaps, ("check", "allow", "resolve", "skip"))
     check_text(f, "axes", axes, "'+y,-x,+z'")
     if materials is not None and density_kg_m3 is not None:
         raise CadcogError(f"{f}: give either materials or density_kg_m3, not both")
