@@ -112,6 +112,13 @@ ROWS = {
             replace(BASE, wire_length_mm=0.0, wire_length_sigma_mm=0.0),
         ),
         Row(
+            "rig6h_pivot_small",
+            "paper rig S1-S6, pivot (L = 0), ≤ 2°",
+            "rig",
+            RIG6,
+            replace(BASE, wire_length_mm=0.0, wire_length_sigma_mm=0.0, amplitude_deg=2.0),
+        ),
+        Row(
             "rig6h_L100",
             "paper rig S1-S6, L = 100 mm",
             "rig",
