@@ -147,6 +147,7 @@ def plan_inertia(
         close[:-1] |= gaps < UNRESOLVED_BINS / PLAN_RECORD_S
         close[1:] |= gaps < UNRESOLVED_BINS / PLAN_RECORD_S
         keep = ~close
+        keep[: len(f0) - 2] = False  # the body modes only (as the estimator uses them)
         if not keep.any():
             infos.append(None)
             continue

@@ -13,17 +13,17 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.core.errors import ReadingsError
+from cadcog.core.errors import DegenerateGeometryError, ReadingsError
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
-from cadcog.dynamics.modalfit import fit_swing
+from cadcog.dynamics.modalfit import ModalFit, fit_swing
 from cadcog.dynamics.result import HangSwing, InertiaResult, principal_with_sigma
 from cadcog.dynamics.swingfile import Swing
 from cadcog.dynamics.tensorfit import (
@@ -262,6 +262,29 @@ def _budget(
     return tuple(sorted(((n, v / total) for n, v in parts), key=lambda t: -t[1]))
 
 
+def body_modes(fit: ModalFit, n_modes: int, point_id: str) -> ModalFit:
+    """The fit's body modes only: the two fastest of a hang (its only two on a pivot). On a
+    wire the two slow modes are the wire's own pendulum, set by its length far more than by the
+    inertia, and close enough together to be mis-fitted; they are fitted (the signal has them)
+    but not used."""
+    keep = fit.mode_index >= n_modes - 2
+    if not keep.any():
+        raise DegenerateGeometryError(
+            f"hang {point_id}: neither body mode of the swing stands out (only the wire's own "
+            "pendulum was seen): release the object with a twist of a few degrees about its "
+            "wire exit"
+        )
+    idx = np.flatnonzero(keep)
+    return replace(
+        fit,
+        mode_index=fit.mode_index[idx],
+        frequencies_hz=fit.frequencies_hz[idx],
+        frequency_cov_hz2=fit.frequency_cov_hz2[np.ix_(idx, idx)],
+        decay_per_s=fit.decay_per_s[idx],
+        amplitudes_deg=fit.amplitudes_deg[idx],
+    )
+
+
 def measure_inertia(
     swings: Sequence[Swing],
     estimate: CogEstimate,
@@ -302,7 +325,8 @@ def measure_inertia(
         predicted = hang_modes(
             cad_assembly.inertia_kg_mm2, cad_assembly.mass_kg, cad_assembly.cog_mm, geo
         )
-        fits.append(fit_swing(sw, predicted.frequencies_hz))
+        n_modes = len(predicted.frequencies_hz)
+        fits.append(body_modes(fit_swing(sw, predicted.frequencies_hz), n_modes, sw.point_id))
         records.append(sw.duration_s)
     data = swing_data(fits, records, ctx.swing.frequency_model_rel)
     nuis = nuisances(

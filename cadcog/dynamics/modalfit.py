@@ -29,6 +29,16 @@ FloatArray = npt.NDArray[np.float64]
 #: A fitted mode is kept when its amplitude exceeds this many of its standard errors.
 VISIBLE_AMPLITUDE_SIGMA = 5.0
 
+#: The fit starts where the readings' swing amplitude has fallen below this (degrees): a
+#: pendulum's frequency drifts with its amplitude, and a large swing is not linear.
+MAX_FIT_AMPLITUDE_DEG = 3.0
+
+#: The window of that amplitude (s).
+AMPLITUDE_WINDOW_S = 2.0
+
+#: The fit keeps at least this share of the record (the last part) whatever the amplitude.
+MIN_FIT_SHARE = 0.5
+
 #: Predicted modes closer than this many frequency bins (1/record length) start as one peak.
 UNRESOLVED_BINS = 3.0
 
@@ -203,6 +213,21 @@ def _lag1(resid: FloatArray) -> float:
     return float(np.clip(np.mean(rho) if rho else 0.0, 0.0, 0.95))
 
 
+def _small_swing_start(swing: Swing) -> int:
+    """Index of the first sample from which the swing stays small enough for the linear model:
+    the readings' swing amplitude (``√2 ×`` the larger axis's standard deviation over
+    :data:`AMPLITUDE_WINDOW_S`) below :data:`MAX_FIT_AMPLITUDE_DEG`, keeping at least
+    :data:`MIN_FIT_SHARE` of the record."""
+    t, y = swing.t_s, swing.inc_deg
+    window = max(int(AMPLITUDE_WINDOW_S * swing.rate_hz), 4)
+    latest = int(len(t) * (1.0 - MIN_FIT_SHARE))
+    for i in range(0, max(latest, 1), max(window // 4, 1)):
+        block = y[i : i + window]
+        if np.sqrt(2.0) * float(np.max(block.std(axis=0))) < MAX_FIT_AMPLITUDE_DEG:
+            return i
+    return latest
+
+
 def _objective(
     t: FloatArray, y: FloatArray, w: FloatArray, member: FloatArray, base: FloatArray
 ) -> tuple[Any, Any]:
@@ -247,8 +272,9 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
     """
     from scipy.optimize import least_squares
 
-    t = swing.t_s - swing.t_s[0]
-    y = swing.inc_deg
+    start = _small_swing_start(swing)
+    t = swing.t_s[start:] - swing.t_s[start]
+    y = swing.inc_deg[start:]
     predicted = np.sort(np.asarray(predicted_hz, dtype=float))
     start_all, groups = _starts(t, y, predicted)
     nyquist = 0.5 * swing.rate_hz
@@ -284,10 +310,10 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
             w = 1.0 / np.maximum(noise, 1e-12)
         full = _jacobian(t, f0, s0, coef, w)
         reduced = np.hstack([full[:, :k] @ member, full[:, k:]])
-        cov = np.linalg.pinv(reduced.T @ reduced)
+        white = np.linalg.pinv(reduced.T @ reduced)
         rho = _lag1(resid)
         inflation = (1.0 + rho) / (1.0 - rho)
-        cov = cov * inflation
+        cov = white * inflation
         nlin = 1 + 2 * k
         off = ng + k  # first linear coefficient in the reduced parameters
         amp = np.zeros(ng)
@@ -303,7 +329,9 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
             )
             amp[j] = float(np.linalg.norm(vec))
             grad = vec / max(amp[j], 1e-300)
-            amp_se[j] = float(np.sqrt(max(grad @ cov[np.ix_(idx, idx)] @ grad, 0.0)))
+            # Visible against the noise (white): residual structure a linear model leaves
+            # (a large swing's harmonics) inflates the frequencies' σ, not this test.
+            amp_se[j] = float(np.sqrt(max(grad @ white[np.ix_(idx, idx)] @ grad, 0.0)))
         visible = amp > VISIBLE_AMPLITUDE_SIGMA * amp_se
         if visible.all():
             break
