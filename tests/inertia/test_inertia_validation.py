@@ -1,25 +1,20 @@
 """``cadcog inertia`` against the independent nonlinear swing: a fast coverage sanity check.
 
-Twenty campaigns of the paper rig (S1-S6, 300 mm wire, release ≤ 10°, 60 s swings, the study's
-defaults), written as the swing file and readings CSV and estimated by the command. The bands
-are wide (the study, ``benchmarks/study_inertia.py``, measures the
-rates over 200 campaigns per row: ``docs/inertia_validation.md``) but each can fail:
+Four campaigns of the paper rig (S1-S6, 300 mm wire, release ≤ 10°, 60 s swings, the study's
+defaults; ``CADCOG_INERTIA_VALIDATION=N`` for N), written as the swing file and readings CSV and
+estimated by the command. The bands are wide (the study, ``benchmarks/study_inertia.py``,
+measures the rates over many campaigns per row: ``docs/inertia_validation.md``) but each can
+fail:
 
-- each principal moment inside its ±1.96 σ interval in all but at most 6 of the campaigns
-  estimated (for a calibrated 95 % interval, P(≥ 7 of 20 outside) = 3·10⁻⁵), and the tensor's
-  χ² (6 dof, the reported covariance) under its 95 % quantile as often;
+- each principal moment inside its ±1.96 σ interval in all but at most ``k`` campaigns, ``k``
+  the largest count a calibrated 95 % interval exceeds with probability over 10⁻³ (2 of 4,
+  5 of 20), and the tensor's χ² (6 dof, the reported covariance) under its 95 % quantile as
+  often;
 - each moment's mean relative error within 4 standard errors of zero, or under 0.5 % (an
   estimator blind to the accelerometer's apparent vertical, or to the wire, is biased by
   several %);
-- no σ absurdly large: every principal moment's reported σ under 10 % of the moment.
-
-- at most 2 of the 20 campaigns refused by the estimator.
-
-Opt-in (``CADCOG_INERTIA_VALIDATION=1``): with the first cut of ``cadcog inertia`` one campaign
-costs ~10 s of CPU to estimate (and ~1 s to simulate), ~4 min for the twenty, which the suite's
-budget cannot take; the command also refuses swings shorter than ~60 s ("no swing mode stands
-out of the noise"), so shorter campaigns cannot stand in. Skipped too while this cadcog has no
-``inertia`` command.
+- no σ absurdly large: every principal moment's reported σ under 10 % of the moment;
+- at most a quarter of the campaigns refused by the estimator.
 """
 
 from __future__ import annotations
@@ -35,7 +30,15 @@ from tests.inertia import swing_files as sf
 
 ROOT = Path(__file__).resolve().parents[2]
 RIG = ROOT / "parts" / "paper_rig.toml"
-CAMPAIGNS = 20
+CAMPAIGNS = int(os.environ.get("CADCOG_INERTIA_VALIDATION", "4"))
+
+
+def allowed_outside(n: int, p: float = 0.05, level: float = 1e-3) -> int:
+    """The most campaigns outside a calibrated interval of coverage ``1 − p`` that still pass:
+    P(more than that) < ``level``."""
+    from scipy import stats
+
+    return int(stats.binom.isf(level, n, p))
 CHI2_6_95 = 12.5916  # scipy.stats.chi2.ppf(0.95, 6)
 CONFIG = sf.SwingConfig(dt_s=4e-3)
 
@@ -44,8 +47,6 @@ CONFIG = sf.SwingConfig(dt_s=4e-3)
 def scores(tmp_path_factory):
     if not er.estimator_available():
         pytest.skip("cadcog has no inertia command yet (issue 20)")
-    if os.environ.get("CADCOG_INERTIA_VALIDATION") != "1":
-        pytest.skip("~4 min with the first-cut estimator: set CADCOG_INERTIA_VALIDATION=1")
     truth = sf.rig_truth(RIG)
     rngs = [np.random.default_rng([2020, s]) for s in range(CAMPAIGNS)]
     points = [p for p, _ in truth.hangs]
@@ -63,7 +64,7 @@ def scores(tmp_path_factory):
         out.append(er.score(res, truth))
         w = np.asarray(res["principal_moments_kg_mm2"], float)
         sigmas.append(np.asarray(res["principal_moments_sigma_kg_mm2"], float) / w)
-    assert len(refused) <= 2, refused
+    assert len(refused) <= CAMPAIGNS // 4, refused
     return out, np.array(sigmas)
 
 
@@ -71,9 +72,10 @@ def test_principal_moments_and_tensor_cover_at_a_sane_rate(scores):
     sc, _ = scores
     z = np.array([s["z"] for s in sc])
     inside = np.sum(np.abs(z) <= 1.96, axis=0)
-    assert np.all(inside >= len(sc) - 6), inside
+    k = allowed_outside(len(sc))
+    assert np.all(inside >= len(sc) - k), inside
     chi2 = np.array([s["chi2"] for s in sc])
-    assert np.sum(chi2 <= CHI2_6_95) >= len(sc) - 6, np.sort(chi2)
+    assert np.sum(chi2 <= CHI2_6_95) >= len(sc) - k, np.sort(chi2)
 
 
 def test_principal_moments_are_unbiased_and_their_sigmas_sane(scores):
