@@ -26,7 +26,7 @@ import numpy.typing as npt
 
 from cadcog.core.errors import ReadingsError, quote
 from cadcog.core.fileio import not_a_regular_file, note_input, staged_file
-from cadcog.method.readings import _lines, id_problem
+from cadcog.method.readings import _lines, data_rows, id_problem
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -98,17 +98,7 @@ def read_swings(path: str | Path) -> list[Swing]:
     blocks: dict[str, tuple[int, list[float], list[float], list[float]]] = {}
     current: str | None = None
     with f:
-        rows = csv.reader(_lines(f, p))
-        while True:
-            try:
-                fields = next(rows)
-            except StopIteration:
-                break
-            except csv.Error as exc:
-                raise fail(rows.line_num, f"not CSV ({exc})") from None
-            line = rows.line_num
-            if not fields or not "".join(fields).strip() or fields[0].lstrip().startswith("#"):
-                continue
+        for line, fields in data_rows(csv.reader(_lines(f, p)), fail):
             if header is None:
                 header = [c.strip() for c in fields]
                 missing = [c for c in COLUMNS if c not in header]

@@ -235,6 +235,22 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
     return [_average(pid, g) for pid, g in groups.items()]
 
 
+def data_rows(rows: Any, fail: Any) -> Iterator[tuple[int, list[str]]]:
+    """``(line, fields)`` of a ``csv.reader``'s rows, blank lines and ``#`` lines skipped; a
+    row the CSV reader refuses raises ``fail(line, message)``."""
+    fields_iter = iter(rows)
+    while True:
+        try:
+            fields = next(fields_iter)
+        except StopIteration:
+            return
+        except csv.Error as exc:
+            raise fail(rows.line_num, f"not CSV ({exc})") from None
+        if not fields or not "".join(fields).strip() or fields[0].lstrip().startswith("#"):
+            continue
+        yield rows.line_num, fields
+
+
 def _read_groups(
     rows: Any, p: Path, cfg: InclinometerConfig
 ) -> tuple[list[str] | None, dict[str, _Group]]:
@@ -249,17 +265,7 @@ def _read_groups(
     counts = False
     col: dict[str, int] = {}
     angle_cols = DEG_COLUMNS
-    fields_iter = iter(rows)
-    while True:
-        try:
-            fields = next(fields_iter)
-        except StopIteration:
-            break
-        except csv.Error as exc:
-            raise fail(rows.line_num, f"not CSV ({exc})") from None
-        line = rows.line_num
-        if not fields or not "".join(fields).strip() or fields[0].lstrip().startswith("#"):
-            continue
+    for line, fields in data_rows(rows, fail):
         if header is None:
             header = [f.strip() for f in fields]
             twice = next((c for i, c in enumerate(header) if c and c in header[:i]), None)
