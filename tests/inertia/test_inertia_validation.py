@@ -39,6 +39,8 @@ def allowed_outside(n: int, p: float = 0.05, level: float = 1e-3) -> int:
     from scipy import stats
 
     return int(stats.binom.isf(level, n, p))
+
+
 CHI2_6_95 = 12.5916  # scipy.stats.chi2.ppf(0.95, 6)
 CONFIG = sf.SwingConfig(dt_s=4e-3)
 
