@@ -24,7 +24,12 @@ from cadcog.core.errors import DegenerateGeometryError, ReadingsError
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
 from cadcog.dynamics.modalfit import ModalFit, fit_swing
-from cadcog.dynamics.result import HangSwing, InertiaResult, principal_with_sigma
+from cadcog.dynamics.result import (
+    HangSwing,
+    InertiaResult,
+    bilinear_gradient,
+    principal_with_sigma,
+)
 from cadcog.dynamics.swingfile import Swing
 from cadcog.dynamics.tensorfit import (
     ENTRIES,
@@ -234,15 +239,7 @@ def _budget(
     nuis: Nuisances, jac: FloatArray, cov_freq: FloatArray, p: FloatArray
 ) -> tuple[tuple[str, float], ...]:
     pr = principal_with_sigma(p, np.zeros((6, 6)))
-    grads = []
-    for v in pr.axes:
-        g = np.zeros(6)
-        for k in range(6):
-            e = np.zeros(6)
-            e[k] = 1.0
-            g[k] = v @ tensor(e) @ v
-        grads.append(g)
-    g_all = np.array(grads)
+    g_all = np.array([bilinear_gradient(v, v) for v in pr.axes])
 
     def share(c: FloatArray) -> float:
         return float(np.trace(g_all @ c @ g_all.T))

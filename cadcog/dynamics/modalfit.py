@@ -105,30 +105,39 @@ def _solve(
     return coef, resid
 
 
+def _model_derivatives(
+    t: FloatArray, f: FloatArray, s: FloatArray, coef: FloatArray
+) -> tuple[FloatArray, list[FloatArray]]:
+    """The basis at ``(f, σ)`` and, per channel, the model's derivative w.r.t. ``(f, σ)`` at the
+    linear coefficients ``coef``: shapes (n, 1 + 2k) and 2 × (n, 2k)."""
+    k = len(f)
+    env = np.exp(-np.outer(t, s))
+    ph = 2.0 * np.pi * np.outer(t, f)
+    cos, sin = np.cos(ph), np.sin(ph)
+    basis = np.hstack([np.ones((len(t), 1)), env * cos, env * sin])
+    out = []
+    for c in range(2):
+        a = coef[1 : 1 + k, c]
+        b = coef[1 + k :, c]
+        out.append(
+            np.hstack(
+                [
+                    2.0 * np.pi * t[:, None] * env * (-a * sin + b * cos),
+                    -t[:, None] * env * (a * cos + b * sin),
+                ]
+            )
+        )
+    return basis, out
+
+
 def _projected_jacobian(
     t: FloatArray, y: FloatArray, w: FloatArray, f: FloatArray, s: FloatArray
 ) -> FloatArray:
     """Kaufman's variable-projection Jacobian of the weighted residuals w.r.t. (f, σ): the
     derivative of the model at the current linear coefficients, projected off the basis."""
-    k = len(f)
     b = _basis(t, f, s)
-    coef = _lstsq(b, y)
-    env = np.exp(-np.outer(t, s))
-    ph = 2.0 * np.pi * np.outer(t, f)
-    cos, sin = np.cos(ph), np.sin(ph)
-    cols = []
-    for c in range(2):
-        a = coef[1 : 1 + k, c]
-        bb = coef[1 + k :, c]
-        d = np.hstack(
-            [
-                2.0 * np.pi * t[:, None] * env * (-a * sin + bb * cos),
-                -t[:, None] * env * (a * cos + bb * sin),
-            ]
-        )
-        d = d - b @ _lstsq(b, d)
-        cols.append(-w[c] * d)
-    return np.vstack(cols)
+    _, derivs = _model_derivatives(t, f, s, _lstsq(b, y))
+    return np.vstack([-w[c] * (d - b @ _lstsq(b, d)) for c, d in enumerate(derivs)])
 
 
 def _periodogram(t: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -184,21 +193,13 @@ def _jacobian(
     t: FloatArray, f: FloatArray, s: FloatArray, coef: FloatArray, w: FloatArray
 ) -> FloatArray:
     """Jacobian of the weighted residuals of both channels w.r.t. (f, σ, linear coefficients)."""
-    k = len(f)
-    env = np.exp(-np.outer(t, s))
-    ph = 2.0 * np.pi * np.outer(t, f)
-    cos, sin = np.cos(ph), np.sin(ph)
-    basis = np.hstack([np.ones((len(t), 1)), env * cos, env * sin])
-    blocks = []
+    basis, derivs = _model_derivatives(t, f, s, coef)
     nlin = basis.shape[1]
-    for c in range(2):
-        a = coef[1 : 1 + k, c]
-        b = coef[1 + k :, c]
-        d_f = 2.0 * np.pi * t[:, None] * env * (-a * sin + b * cos)
-        d_s = -t[:, None] * env * (a * cos + b * sin)
+    blocks = []
+    for c, d in enumerate(derivs):
         lin = np.zeros((len(t), 2 * nlin))
         lin[:, c * nlin : (c + 1) * nlin] = basis
-        blocks.append(w[c] * np.hstack([d_f, d_s, lin]))
+        blocks.append(w[c] * np.hstack([d, lin]))
     return np.vstack(blocks)
 
 

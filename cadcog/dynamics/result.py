@@ -44,21 +44,16 @@ class PrincipalWithSigma:
     axes_sigma_deg: FloatArray
 
 
+def bilinear_gradient(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``∂(aᵀ J b)/∂p``: the gradient of a bilinear form of the tensor in its six entries."""
+    return np.array([a @ tensor(e) @ b for e in np.eye(len(ENTRIES))])
+
+
 def principal_with_sigma(p: FloatArray, cov: FloatArray) -> PrincipalWithSigma:
     """First-order perturbation of the eigen-decomposition of ``tensor(p)``."""
     pa = principal_axes(tensor(p))
     lam, v = pa.moments_kg_mm2, pa.axes
-    n = len(ENTRIES)
-
-    def grad(a: FloatArray, b: FloatArray) -> FloatArray:
-        """∂(aᵀ J b)/∂p for the six entries."""
-        out = np.zeros(n)
-        for k in range(n):
-            e = np.zeros(n)
-            e[k] = 1.0
-            out[k] = a @ tensor(e) @ b
-        return out
-
+    grad = bilinear_gradient
     sig_m = np.array(
         [np.sqrt(max(float(grad(v[i], v[i]) @ cov @ grad(v[i], v[i])), 0.0)) for i in range(3)]
     )
