@@ -331,8 +331,7 @@ def estimate(
     >>> bool((error_mm**2).sum() ** 0.5 < 3.0), est.cov_mm2.shape
     (True, (3, 3))
     """
-    from cadcog.method.errormodel import ErrorModel
-    from cadcog.method.estimate import BodyBox, MEData, estimate_cog
+    from cadcog.method.estimate import estimate_cog, estimate_for_rig
     from cadcog.method.readings import read_readings
     from cadcog.spacecraft.setup import estimate_for_setup
 
@@ -368,15 +367,11 @@ def estimate(
                 self_calibrate=self_calibrate_wire,
             )
         r = _rig(f, rig)
-        me = MEData.from_rig(r)
-        if weighed_mass_kg is not None:
-            me = me.weighed(weighed_mass_kg, mass_sigma_kg)
-        return estimate_cog(
+        return estimate_for_rig(
+            r,
             read_readings(path, r.inclinometer),
-            r.inclinometer,
-            me,
-            model=ErrorModel.from_rig(r),
-            body=BodyBox.of_rig(r),
+            weighed_mass_kg=weighed_mass_kg,
+            mass_sigma_kg=mass_sigma_kg,
             wire_correction=wire_correction,
             self_calibrate=self_calibrate_wire,
         )

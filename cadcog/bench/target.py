@@ -16,7 +16,7 @@ import numpy as np
 
 from cadcog.mass.properties import MassProperties, box_properties, combine
 from cadcog.method.errormodel import ErrorModel
-from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
+from cadcog.method.estimate import CogEstimate, MEData, estimate_for_rig
 from cadcog.method.readings import Suspension
 from cadcog.rig.geometry import FloatArray, ideal_reading
 from cadcog.rig.inclinometer import InclinometerConfig
@@ -157,14 +157,7 @@ def estimate_hangs(target: BenchTarget, suspensions: Sequence[Suspension]) -> Co
     (``--rig RIG`` or ``--setup SETUP``: the error model's line covariances, the expected wire
     offset corrected)."""
     if target.setup is None:
-        rig = target.rig
-        return estimate_cog(
-            suspensions,
-            rig.inclinometer,
-            MEData.from_rig(rig),
-            model=ErrorModel.from_rig(rig),
-            body=BodyBox.of_rig(rig),
-        )
+        return estimate_for_rig(target.rig, suspensions)
     from cadcog.spacecraft.setup import estimate_for_setup
 
     return estimate_for_setup(target.setup, suspensions)

@@ -416,25 +416,20 @@ def inertia_for_rig(
     source: str = "swings",
 ) -> InertiaResult:
     """``cadcog inertia --rig``: the rig's object (its proof mass) from its swings."""
-    from cadcog.method.estimate import MEData, estimate_cog
+    from cadcog.method.estimate import estimate_for_rig
 
-    me = MEData.from_rig(rig)
-    if weighed_mass_kg is not None:
-        me = me.weighed(weighed_mass_kg, mass_sigma_kg)
-    estimate = estimate_cog(
-        suspensions,
-        rig.inclinometer,
-        me,
-        model=ErrorModel.from_rig(rig),
-        body=BodyBox.of_rig(rig),
+    estimate = estimate_for_rig(
+        rig, suspensions, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg
     )
+    comp = estimate.compensation
+    assert comp is not None  # a rig always gives its measurement equipment
     return measure_inertia(
         swings,
         estimate,
         context_for_rig(rig),
-        object_mass_kg=me.object_mass_kg,
-        object_mass_sigma_kg=me.object_mass_sigma_kg,
-        mass_source=me.object_mass_source,
+        object_mass_kg=comp.object_mass_kg,
+        object_mass_sigma_kg=comp.object_mass_sigma_kg,
+        mass_source=comp.object_mass_source,
         source=source,
     )
 

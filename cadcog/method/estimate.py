@@ -431,3 +431,29 @@ def _wire_scale(batch: gls.GLSBatch, wire: gls.WireTerm, warnings: list[str]) ->
         return WireScale(float(batch.scale_mm[0]), sigma, True, wire.scale_mm)
     sigma = float(np.sqrt(max(float(batch.scale_var_mm2[0]), 0.0)))
     return WireScale(float(batch.scale_mm[0]), sigma, False, wire.scale_mm)
+
+
+def estimate_for_rig(
+    rig: Rig,
+    suspensions: Sequence[Suspension],
+    *,
+    weighed_mass_kg: float | None = None,
+    mass_sigma_kg: float = 0.001,
+    wire_correction: bool = True,
+    self_calibrate: bool = False,
+) -> CogEstimate:
+    """The rig's compensated CoG, as ``cadcog estimate --rig`` computes it: its inclinometer,
+    error model, bolt axes and measurement equipment, the object's weighed mass
+    (± ``mass_sigma_kg``) when given, else the rig's."""
+    me = MEData.from_rig(rig)
+    if weighed_mass_kg is not None:
+        me = me.weighed(weighed_mass_kg, mass_sigma_kg)
+    return estimate_cog(
+        suspensions,
+        rig.inclinometer,
+        me,
+        model=ErrorModel.from_rig(rig),
+        body=BodyBox.of_rig(rig),
+        wire_correction=wire_correction,
+        self_calibrate=self_calibrate,
+    )
