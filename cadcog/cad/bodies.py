@@ -15,7 +15,7 @@ from OCP.TopAbs import TopAbs_SHELL
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS, TopoDS_Shape
 
-from cadcog.cad.occt import placed, rigid_transform, surface_properties, volume_properties
+from cadcog.cad.occt import placed, surface_properties, volume_properties
 from cadcog.cad.overlaps import bounding_boxes
 from cadcog.cad.stepread import StepBody
 from cadcog.core.parallel import fork_map
@@ -94,6 +94,10 @@ def _check_product(body: StepBody) -> _ProductCheck:
     return _ProductCheck(props, closed, lo[0], hi[0])
 
 
+#: The eight corners of a box, as (hi?) flags per axis.
+_CORNERS = np.array(list(np.ndindex(2, 2, 2)), dtype=bool)
+
+
 def _global_box(
     check: _ProductCheck, body: StepBody, rigid: tuple[np.ndarray, np.ndarray] | None
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -101,13 +105,10 @@ def _global_box(
     (any multiple of 90°); other rotations are boxed afresh, since a moved box is looser."""
     if rigid is not None:
         r, t = rigid
-        if np.all(np.isclose(np.abs(r), np.round(np.abs(r)), atol=1e-12)):
-            corners = np.array(
-                [
-                    [(check.box_lo, check.box_hi)[k][i] for i, k in enumerate(bits)]
-                    for bits in np.ndindex(2, 2, 2)
-                ]
-            )
+        a = np.abs(r)
+        whole = np.round(a)
+        if np.all(np.abs(a - whole) <= 1e-12 + 1e-5 * whole):  # np.isclose(a, whole, atol=1e-12)
+            corners = np.where(_CORNERS, check.box_hi, check.box_lo)
             moved = corners @ r.T + t
             return moved.min(axis=0), moved.max(axis=0)
     lo, hi = bounding_boxes([body.shape])
@@ -136,7 +137,7 @@ def integrate(
     out: list[Body] = []
     for body in kept:
         check = checks[body.product_key]
-        rigid = rigid_transform(body.placement)
+        rigid = body.rigid
         if rigid is not None:
             placed_props = placed(check.props, *rigid)
         elif body.kind == "solid":

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import numpy.typing as npt
@@ -184,6 +185,11 @@ class Placed:
     box_lo: FloatArray
     box_hi: FloatArray
 
+    @cached_property
+    def rigid(self) -> tuple[FloatArray, FloatArray] | None:
+        """Rotation and translation of :attr:`placement`, None if not rigid (computed once)."""
+        return rigid_transform(self.placement)
+
 
 def relative_key(
     a: Placed, b: Placed, a_rigid: bool | None = None
@@ -191,7 +197,7 @@ def relative_key(
     """Identifies the configuration of ``b`` seen from ``a``'s frame (None if not rigid);
     ``a_rigid``: whether ``a``'s placement is rigid, when the caller knows."""
     if a_rigid is None:
-        a_rigid = rigid_transform(a.placement) is not None
+        a_rigid = a.rigid is not None
     if not a_rigid:
         return None
     rel = a.placement.Inverted().Multiplied(b.placement)
@@ -247,7 +253,7 @@ def find_overlaps(
     pair_job: list[tuple[int, bool]] = []  # (job index, computed in the first solid's frame)
     rigid_of: dict[int, tuple[FloatArray, FloatArray] | None] = {}
     for i in {i for i, _ in pairs}:
-        rigid_of[i] = rigid_transform(solids[i].placement)
+        rigid_of[i] = solids[i].rigid
     for i, j in pairs:
         a, b = solids[i], solids[j]
         key = relative_key(a, b, rigid_of[i] is not None)

@@ -30,6 +30,7 @@ import unicodedata
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -51,6 +52,7 @@ from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
 from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc, XCAFDoc_DocumentTool, XCAFDoc_Material, XCAFDoc_ShapeTool
 
+from cadcog.cad.occt import FloatArray, rigid_transform
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import not_a_regular_file, note_input
 from cadcog.core.heartbeat import heartbeat
@@ -147,10 +149,16 @@ class StepBody:
     made_from_shell: bool = False
     root: str = ""  # the common top assembly's name, when every body sits under one
 
-    @property
+    @cached_property
     def path(self) -> str:
         """Unique path name, e.g. ``sat/board/R12``."""
         return "/".join(n.name for n in self.nodes)
+
+    @cached_property
+    def rigid(self) -> tuple[FloatArray, FloatArray] | None:
+        """Rotation and translation (mm, file unit) of :attr:`placement`; None if it is not
+        rigid (:func:`cadcog.cad.occt.rigid_transform`, computed once)."""
+        return rigid_transform(self.placement)
 
     @property
     def name(self) -> str:

@@ -19,7 +19,6 @@ from OCP.TopExp import TopExp_Explorer
 from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS, TopoDS_Shape
 
-from cadcog.cad.occt import rigid_transform
 from cadcog.cad.overlaps import bounding_boxes
 from cadcog.cad.stepread import StepBody
 
@@ -88,7 +87,7 @@ def body_meshes(bodies: Sequence[StepBody], scale: float = 1.0) -> list[BodyMesh
     cache: dict[str, tuple[FloatArray, npt.NDArray[np.int64]]] = {}
     out = []
     for body in bodies:
-        rigid = rigid_transform(body.placement)
+        rigid = body.rigid
         if rigid is None:
             v, t = shape_mesh(body.shape)
         else:

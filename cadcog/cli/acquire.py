@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 from typing import Any
@@ -11,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import refuse_overwriting_inputs, round_floats
+from cadcog.core.fileio import dumps_json, refuse_overwriting_inputs, round_floats
 from cadcog.rig.file import default_rig_path, load_rig
 
 FAULTS = ("none", "slip", "never-settle", "stall", "foreign")
@@ -320,7 +319,7 @@ def _finish(args: argparse.Namespace, target: Any, result: Any, device: Any) -> 
 
         page = write_run_report(result, target, round_floats(data), args.report)
     if args.json:
-        print(json.dumps(round_floats(data), indent=2, ensure_ascii=False))
+        print(dumps_json(data), end="")
     else:
         print(f"\nlink: {result.link}")
         if est is None:

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 from typing import Any
 
-from cadcog.core.fileio import round_floats
+from cadcog.core.fileio import dumps_json
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.uncertainty.error_budget import error_budget
@@ -31,7 +30,7 @@ def run(args: argparse.Namespace) -> int:
     rig = load_rig(args.rig or default_rig_path())
     budget = error_budget(Scenario.from_rig(rig), ErrorModel.from_rig(rig))
     if args.json:
-        print(json.dumps(round_floats(budget.to_dict()), indent=2, ensure_ascii=False))
+        print(dumps_json(budget.to_dict()), end="")
         return 0
     a, b = budget.pair
     print(

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -13,7 +12,7 @@ import numpy as np
 
 from cadcog.cli.massprops_text import print_report
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import round_floats
+from cadcog.core.fileio import dumps_json
 from cadcog.core.units import UNIT_CHOICES
 from cadcog.mass.inertia import PRODUCT_CONVENTIONS
 from cadcog.mass.materials import LIBRARY, MaterialMap, load_materials
@@ -281,7 +280,7 @@ def emit(args: argparse.Namespace, result: ModelMassProperties, model: StepModel
 
         print(f"report: {write_budget_csv(report, args.csv)}", file=sys.stderr)
     if args.json:
-        print(json.dumps(round_floats(report.to_dict()), indent=2, ensure_ascii=False))
+        print(dumps_json(report.to_dict()), end="")
     else:
         print_report(report, args.depth, args.products, args.collapse_below_percent / 100.0)
 
@@ -323,4 +322,4 @@ def emit_refusal(
         print(f"report: {write_budget_csv(report, args.csv)}", file=sys.stderr)
     if args.json:
         data = {"refused": refused, **(report.to_dict() if report is not None else {})}
-        print(json.dumps(round_floats(data), indent=2, ensure_ascii=False))
+        print(dumps_json(data), end="")

@@ -153,8 +153,16 @@ def combine(parts: Iterable[MassProperties]) -> MassProperties:
     mass_kg = sum(p.mass_kg for p in items)
     if not mass_kg > 0.0:
         raise ValueError(f"combined mass must be positive, got {mass_kg} kg")
-    cog_mm = np.sum([p.mass_kg * p.cog_mm for p in items], axis=0) / mass_kg
-    inertia = np.sum([p.inertia_about(cog_mm) for p in items], axis=0)
+    # Vectorised over the parts, with each part's arithmetic and the summation order (part by
+    # part) of :meth:`MassProperties.inertia_about` summed in a loop: the same bits.
+    masses = np.array([p.mass_kg for p in items])
+    cogs = np.array([p.cog_mm for p in items])
+    cog_mm = np.sum(masses[:, None] * cogs, axis=0) / mass_kg
+    d = cog_mm - cogs
+    shift = (d * d).sum(axis=1)[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :]
+    inertia = np.sum(
+        np.array([p.inertia_kg_mm2 for p in items]) + masses[:, None, None] * shift, axis=0
+    )
     volume_mm3 = sum(p.volume_mm3 for p in items)
     return MassProperties(mass_kg, cog_mm, inertia, volume_mm3)
 
