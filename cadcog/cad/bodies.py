@@ -15,7 +15,7 @@ from OCP.TopAbs import TopAbs_SHELL
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS, TopoDS_Shape
 
-from cadcog.cad.occt import placed, surface_properties, volume_properties
+from cadcog.cad.occt import face_area_mm2, placed, surface_properties, volume_properties
 from cadcog.cad.overlaps import bounding_boxes
 from cadcog.cad.stepread import StepBody
 from cadcog.core.parallel import fork_map
@@ -65,6 +65,7 @@ class Body:
     density_kg_m3: float | None = None
     areal_density_kg_m2: float | None = None
     removed_mm3: float = 0.0
+    surface_area_mm2: float | None = None  # mm² (after unit scaling); None: not asked for
 
     @property
     def density_kg_mm3(self) -> float:
@@ -81,17 +82,24 @@ class _ProductCheck:
     closed: bool
     box_lo: np.ndarray
     box_hi: np.ndarray
+    face_area: float | None = None  # the file's unit squared; None: not asked for
 
 
-def _check_product(body: StepBody) -> _ProductCheck:
+def _check_product(body: StepBody, areas: bool = False) -> _ProductCheck:
     shape = body.local_shape
     if body.kind == "solid":
         props = volume_properties(shape)
         closed = _closed(shape)
+        area = face_area_mm2(shape) if areas else None
     else:
         props, closed = surface_properties(shape), True
+        area = props.mass_kg if areas else None  # unit areal density: the mass is the area
     lo, hi = bounding_boxes([shape])
-    return _ProductCheck(props, closed, lo[0], hi[0])
+    return _ProductCheck(props, closed, lo[0], hi[0], area)
+
+
+def _check_product_with_area(body: StepBody) -> _ProductCheck:
+    return _check_product(body, areas=True)
 
 
 #: The eight corners of a box, as (hi?) flags per axis.
@@ -116,9 +124,14 @@ def _global_box(
 
 
 def integrate(
-    kept: Sequence[StepBody], scale: float, progress: ProgressFactory | None, workers: int
+    kept: Sequence[StepBody],
+    scale: float,
+    progress: ProgressFactory | None,
+    workers: int,
+    areas: bool = False,
 ) -> tuple[list[Body], dict[str, Any]]:
-    """Unit-density properties of every body (shared between instances), and the audit."""
+    """Unit-density properties of every body (shared between instances), and the audit;
+    ``areas``: each body's face area too (:func:`cadcog.cad.occt.face_area_mm2`)."""
     firsts: dict[str, StepBody] = {}
     for body in kept:
         firsts.setdefault(body.product_key, body)
@@ -126,7 +139,12 @@ def integrate(
     checks = dict(
         zip(
             firsts,
-            fork_map(_check_product, list(firsts.values()), workers=workers, progress=tick),
+            fork_map(
+                _check_product_with_area if areas else _check_product,
+                list(firsts.values()),
+                workers=workers,
+                progress=tick,
+            ),
             strict=True,
         )
     )
@@ -153,7 +171,18 @@ def integrate(
             if body.made_from_shell:
                 made_solid.append(body.path)
         lo, hi = _global_box(check, body, rigid)
-        out.append(Body(body, props, box_lo=lo, box_hi=hi))
+        area = check.face_area
+        if area is not None and rigid is None:  # a scaled or sheared placement changes it
+            area = face_area_mm2(body.shape)
+        out.append(
+            Body(
+                body,
+                props,
+                box_lo=lo,
+                box_hi=hi,
+                surface_area_mm2=None if area is None else area * scale**2,
+            )
+        )
     if open_solids:
         problems.append(
             f"solids whose shells are not closed: {', '.join(open_solids[:10])}"

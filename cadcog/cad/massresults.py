@@ -57,6 +57,10 @@ class BodyResult(JsonResult):
     cog_sigma_mm : (float, float, float) or None
         1-σ uncertainty of its item's CoG per axis (mm) from the materials file's
         ``[cog_uncertainty]``; None: the default of :mod:`cadcog.spacecraft.items`.
+    surface_area_mm2 : float or None
+        Area of the body's faces (mm²): a solid's whole boundary, as modelled (before any
+        overlap resolution; faces it shares with a neighbour counted in both); a surface body's
+        ``area_mm2``. None unless asked for (``massprops --surface-area``).
     """
 
     path: str
@@ -74,6 +78,7 @@ class BodyResult(JsonResult):
     growth: float = 0.0
     growth_label: str = ""
     cog_sigma_mm: tuple[float, float, float] | None = None
+    surface_area_mm2: float | None = None
 
     @property
     def name(self) -> str:
@@ -93,6 +98,8 @@ class BodyResult(JsonResult):
         else:
             out["areal_density_kg_m2"] = self.areal_density_kg_m2
             out["area_mm2"] = self.area_mm2
+        if self.surface_area_mm2 is not None:
+            out["surface_area_mm2"] = self.surface_area_mm2
         out["mass_kg"] = p.mass_kg
         out["cog_mm"] = p.cog_mm.tolist()
         if self.removed_mm3:

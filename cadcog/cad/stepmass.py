@@ -131,6 +131,7 @@ def model_mass_properties(
     strict: bool = False,
     progress: ProgressFactory | None = None,
     workers: int = 1,
+    surface_areas: bool = False,
 ) -> ModelMassProperties:
     """Exact, density-weighted mass properties of the bodies of a STEP model.
 
@@ -156,6 +157,9 @@ def model_mass_properties(
     progress : ProgressFactory, optional
     workers : int
         Processes for the integrations and overlap booleans (results do not depend on it).
+    surface_areas : bool
+        Also each body's face area (``BodyResult.surface_area_mm2``, for insulation and
+        coatings); it costs about half an integration more per distinct product.
 
     Raises
     ------
@@ -188,7 +192,7 @@ def model_mass_properties(
         shown = " ".join(f"--exclude {p!r}" for p in exclude)
         raise AllExcludedError(f"{shown}: excludes every body of {src}")
 
-    bodies, audit_bits = integrate(kept, scale, progress, workers)
+    bodies, audit_bits = integrate(kept, scale, progress, workers, surface_areas)
     problems = audit_bits.pop("problems")
     if problems:
         raise CadcogError(f"{src}: {'; '.join(problems)}")
@@ -260,6 +264,7 @@ def model_mass_properties(
                 0.0 if growth is None else growth.value,
                 "" if growth is None else growth.label,
                 None if materials is None else materials.cog_uncertainty(item_candidates(b.step)),
+                b.surface_area_mm2,
             )
         )
     left_out = tuple((b.step.path, b.props.mass_kg) for b in bodies if b.density_kg_mm3 == 0.0)

@@ -97,6 +97,12 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("--strict", action="store_true", help="turn every note into an error (for CI)")
     p.add_argument(
+        "--surface-area",
+        action="store_true",
+        help="also each body's face area and each assembly's sum (for insulation blankets and "
+        "coatings): a column in the budget, surface_area_mm2 in the JSON and the CSV",
+    )
+    p.add_argument(
         "--about",
         type=_point,
         default="cog",
@@ -234,6 +240,7 @@ def run(args: argparse.Namespace) -> int:
             strict=strict,
             progress=_progress(),
             workers=args.workers or available_workers(),
+            surface_areas=args.surface_area,
         )
 
     try:

@@ -32,10 +32,13 @@ def _count(n: int, one: str, many: str = "") -> str:
 def budget_table(
     report: MassReport, depth: int, collapse_below: float = 0.0, indent: int = 0
 ) -> str:
-    """The budget as a text table: ``node``, ``n × unit``, mass, share, ±, CoG (mm)."""
+    """The budget as a text table: ``node``, ``n × unit``, mass, share, ±, (with MGA), (face
+    area, when computed), CoG (mm)."""
     b = report.budget
     rows = budget_rows(b.root, depth, collapse_below=collapse_below)
     unit = nf.mass_unit([b.root.mass_kg])
+    known = b.root.surface_area_mm2
+    area = None if known is None else nf.area_unit([known])
     body = []
     for r in rows:
         name = "  " * r.level + r.label
@@ -50,11 +53,15 @@ def budget_table(
         row = [name, each, nf.in_unit(r.mass_kg, unit), nf.share(r.share), sigma]
         if b.growth_kg:
             row.append(nf.in_unit(r.predicted_mass_kg, unit))
+        if area is not None:
+            row.append("" if r.surface_area_mm2 is None else nf.in_unit(r.surface_area_mm2, area))
         body.append([*row, nf.vector(r.cog_mm, 2)])
     u = unit[0]
     headers = ["mass budget", f"n × each ({u})", f"mass ({u})", "share", f"± 1σ ({u})"]
     if b.growth_kg:
         headers.append(f"with MGA ({u})")
+    if area is not None:
+        headers.append(f"area ({area[0]})")
     headers.append("CoG (mm)")
     if not any(row[1] for row in body):  # no copies grouped: no "n × each" column
         headers.pop(1)

@@ -44,6 +44,9 @@ KILOGRAM = ("kg", 1.0)
 #: (unit label, factor from kg·mm²) for moments and products of inertia.
 G_MM2 = ("g·mm²", 1e3)
 KG_MM2 = ("kg·mm²", 1.0)
+#: (unit label, factor from mm²) for areas.
+MM2 = ("mm²", 1.0)
+M2 = ("m²", 1e-6)
 
 
 def sig(value: float, digits: int = SIG_FIGS) -> str:
@@ -122,6 +125,18 @@ def inertia_unit(values_kg_mm2: Iterable[float]) -> tuple[str, float]:
     """
     largest = max((abs(float(v)) for v in values_kg_mm2), default=0.0)
     return G_MM2 if largest < 1.0 else KG_MM2
+
+
+def area_unit(values_mm2: Iterable[float]) -> tuple[str, float]:
+    """(label, factor from mm²): mm² when every area is below 0.1 m², else m².
+
+    Examples
+    --------
+    >>> area_unit([250.0, 9e4]), area_unit([250.0, 3.2e5])
+    (('mm²', 1.0), ('m²', 1e-06))
+    """
+    largest = max((abs(float(v)) for v in values_mm2), default=0.0)
+    return MM2 if largest < 1e5 else M2
 
 
 def in_unit(value: float, unit: tuple[str, float], digits: int = SIG_FIGS) -> str:

@@ -8,7 +8,9 @@ axes; the products are ``Pxy = +∫ x·y dm`` (the tensor's off-diagonal entry i
 header says so); ``Ixx_total_cog_kg_mm2``... are the row's moments about the *total's* CoG
 (its contribution to the total's moments). Bodies carry their material, density source and
 density; nodes leave those cells empty. A node row's ``count`` is the number of identical copies
-it stands for and ``unit_mass_kg`` the mass of one.
+it stands for and ``unit_mass_kg`` the mass of one. ``area_mm2`` is a surface body's area (the
+one its areal density multiplies); ``surface_area_mm2``, with ``--surface-area``, every body's
+face area and each node's sum (empty without it).
 
 Examples
 --------
@@ -62,6 +64,7 @@ HEADER = (
     "density_kg_m3",
     "volume_mm3",
     "area_mm2",
+    "surface_area_mm2",
 )
 
 
@@ -110,6 +113,7 @@ def csv_rows(report: MassReport) -> list[list[str]]:
                 "",
                 "",
                 "",
+                _f(r.surface_area_mm2),
             ]
         )
     m_total = total.mass_kg
@@ -137,6 +141,7 @@ def csv_rows(report: MassReport) -> list[list[str]]:
                 _f(info.get("density_kg_m3")),
                 _f(p.volume_mm3) if b.kind == "solid" else "",
                 _f(info.get("area_mm2")) if b.kind == "surface" else "",
+                _f(b.surface_area_mm2),
             ]
         )
     return rows

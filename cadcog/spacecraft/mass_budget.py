@@ -41,7 +41,11 @@ FloatArray = npt.NDArray[np.float64]
 
 
 class BudgetLine(Protocol):
-    """What the budget needs of a body (``cadcog.cad.stepmass.BodyResult`` has it)."""
+    """What the budget needs of a body (``cadcog.cad.stepmass.BodyResult`` has it).
+
+    A line may also have ``surface_area_mm2`` (float or None): the area of its faces, summed
+    per node when every line below the node has one (:func:`_area_of`).
+    """
 
     @property
     def nodes(self) -> tuple[str, ...]: ...
@@ -88,6 +92,9 @@ class BudgetNode(JsonResult):
     item_masses : tuple of (item, mass_kg, sigma_rel)
         The node's mass in each uncertainty item (not in the JSON): lets identical siblings be
         grouped with their exact rolled-up σ (:func:`budget_rows`).
+    surface_area_mm2 : float or None
+        Sum of its bodies' face areas (mm²; shared faces counted once per body), when every body
+        has one (``massprops --surface-area``); else None, and not in the JSON.
     """
 
     path: str
@@ -103,6 +110,7 @@ class BudgetNode(JsonResult):
     inertia_kg_mm2: FloatArray = field(default_factory=lambda: np.zeros((3, 3)))
     inertia_total_cog_kg_mm2: FloatArray = field(default_factory=lambda: np.zeros((3, 3)))
     item_masses: tuple[tuple[str, float, float], ...] = field(default=(), repr=False)
+    surface_area_mm2: float | None = None
 
     @property
     def radii_of_gyration_mm(self) -> FloatArray:
@@ -119,7 +127,7 @@ class BudgetNode(JsonResult):
         return out
 
     def to_dict(self) -> dict[str, Any]:
-        return {
+        out = {
             "path": self.path,
             "name": self.name,
             "mass_kg": self.mass_kg,
@@ -132,8 +140,11 @@ class BudgetNode(JsonResult):
             "inertia_kg_mm2": self.inertia_kg_mm2.tolist(),
             "inertia_about_total_cog_kg_mm2": self.inertia_total_cog_kg_mm2.tolist(),
             "radii_of_gyration_mm": self.radii_of_gyration_mm.tolist(),
-            "children": [c.to_dict() for c in self.children],
         }
+        if self.surface_area_mm2 is not None:
+            out["surface_area_mm2"] = self.surface_area_mm2
+        out["children"] = [c.to_dict() for c in self.children]
+        return out
 
 
 @dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
@@ -204,6 +215,11 @@ def _sigma_of(items: Sequence[tuple[str, float, float]]) -> float:
     return float(np.sqrt(sum((m * s) ** 2 for m, s in per_item.values())))
 
 
+def _area_of(areas: Sequence[float | None]) -> float | None:
+    """The sum of face areas (mm²), or None when any is unknown."""
+    return None if any(a is None for a in areas) else float(sum(areas))  # type: ignore[arg-type]
+
+
 def _node_sigma(lines: Sequence[BudgetLine]) -> tuple[float | None, bool]:
     items = _item_masses(lines)
     if not items:
@@ -246,6 +262,7 @@ def _build(
         here.inertia_kg_mm2,
         here.inertia_about(total_cog_mm),
         _item_masses(lines),
+        _area_of([getattr(b, "surface_area_mm2", None) for b in lines]),
     )
 
 
@@ -341,6 +358,8 @@ class BudgetRow:
         The row stands for siblings each below the collapse share.
     predicted_mass_kg : float
         With growth allowances.
+    surface_area_mm2 : float or None
+        Sum of the face areas of its bodies (mm²), when known.
     """
 
     level: int
@@ -356,6 +375,7 @@ class BudgetRow:
     n_bodies: int
     collapsed: bool = False
     predicted_mass_kg: float = 0.0
+    surface_area_mm2: float | None = None
 
     @property
     def label(self) -> str:
@@ -388,6 +408,7 @@ def _merged(nodes: Sequence[BudgetNode], level: int, name: str, collapsed: bool)
         sum(n.n_bodies for n in nodes),
         collapsed,
         sum(n.predicted_mass_kg for n in nodes),
+        _area_of([n.surface_area_mm2 for n in nodes]),
     )
 
 

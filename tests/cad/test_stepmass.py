@@ -405,6 +405,36 @@ def test_trimesh_of_an_occt_mesh_agrees(tmp_path):
     r = model_mass_properties(read_step(path), UNIFORM)
     assert mesh.volume == pytest.approx(r.total.volume_mm3, rel=1e-6)
     np.testing.assert_allclose(mesh.center_mass, r.total.cog_mm, atol=1e-4)
+    # every face of every solid is in the mesh (planar: triangulated exactly)
+    areas = model_mass_properties(read_step(path), UNIFORM, surface_areas=True)
+    assert mesh.area == pytest.approx(sum(b.surface_area_mm2 for b in areas.bodies), rel=1e-9)
+
+
+# --- surface areas ------------------------------------------------------------------------------
+def test_surface_areas_match_closed_forms_and_follow_instances_and_units(tmp_path):
+    top = Assembly("top")
+    block = Part("block", [((10.0, 20.0, 30.0), (0.0, 0.0, 0.0))])
+    top.add(block, instance="a")
+    top.add(block, Place((50.0, 0.0, 0.0), (1.0, 1.0, 0.0), 33.0), instance="b")  # rotated copy
+    top.add(Part("rod", [], shapes=[cylinder(3.0, 10.0)]), Place((0.0, 60.0, 0.0)))
+    top.add(Part("mli_sheet", [], shapes=[square_face(20.0, 40.0)]))
+    mats = _materials(tmp_path, '[materials]\n"*" = 1000.0\n[surfaces]\n"mli*" = 0.5\n')
+    want = {"block": 2 * (200 + 300 + 600), "rod": 2 * np.pi * 9 + 2 * np.pi * 3 * 10}
+    want["mli_sheet"] = 400.0
+    for metres in (False, True):  # a file in metres: areas scale by 1000² to mm²
+        model = _model(tmp_path, top, name=f"areas{metres}", metres=metres)
+        r = model_mass_properties(model, mats, surface_areas=True)
+        got = {b.path: b.surface_area_mm2 for b in r.bodies}
+        assert len(got) == 4
+        for path, area in got.items():
+            name = {"a": "block", "b": "block"}.get(path.split("/")[1], path.split("/")[1])
+            assert area == pytest.approx(want[name], rel=1e-9), path
+        sheet = next(b for b in r.bodies if b.kind == "surface")
+        assert sheet.surface_area_mm2 == pytest.approx(sheet.to_dict()["area_mm2"], rel=1e-12)
+    plain = model_mass_properties(model, mats)  # not asked for: absent, the JSON unchanged
+    assert all(b.surface_area_mm2 is None for b in plain.bodies)
+    assert all("surface_area_mm2" not in b.to_dict() for b in plain.bodies)
+    assert plain.total.to_dict() == r.total.to_dict()
 
 
 # --- uncertainty and growth items ---------------------------------------------------------------

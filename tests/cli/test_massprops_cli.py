@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from cadcog.cli import main
+from cadcog.core.numformat import sig
 from cadcog.mass.properties import combine
 from tests.cad.stepfixtures import (
     Assembly,
@@ -202,3 +203,41 @@ def test_the_views_name_the_heaviest_parts_two_levels_down(model):
     assert names[0] == "base" and "bracket ×2" in names  # base 7.2 g; the brackets grouped
     masses = {r.path.rsplit("/", 1)[-1]: r.properties.mass_kg for r in result.bodies}
     assert masses["base"] == max(masses.values())
+
+
+def test_surface_area_adds_a_column_and_keys_that_add_up_to_the_closed_form(
+    model, tmp_path, capsys
+):
+    import csv
+
+    step, mats = model
+    table = tmp_path / "budget.csv"
+    base = ["massprops", str(step), "--materials", str(mats)]
+    assert main([*base, "--surface-area", "--csv", str(table), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    # the boxes of the fixture: 2 (ab + bc + ca) each (faces shared by touching boxes twice)
+    sizes = [size for _, size in _box_sizes(nested_three_levels())]
+    want = sum(2 * (a * b + b * c + c * a) for a, b, c in sizes)
+    assert sum(b["surface_area_mm2"] for b in out["bodies"]) == pytest.approx(want, rel=1e-9)
+    assert out["budget"]["tree"]["surface_area_mm2"] == pytest.approx(want, rel=1e-9)
+    with table.open(encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    assert float(rows[0]["surface_area_mm2"]) == pytest.approx(want, rel=1e-9)
+    assert main([*base, "--surface-area"]) == 0
+    text = capsys.readouterr().out
+    assert "area (mm²)" in text and sig(want) in text
+    assert main([*base, "--json"]) == 0  # not asked for: not computed, not in the JSON
+    plain = json.loads(capsys.readouterr().out)
+    assert "surface_area_mm2" not in plain["budget"]["tree"]
+    assert all("surface_area_mm2" not in b for b in plain["bodies"])
+
+
+def _box_sizes(root):
+    """(path, size) of every box of a fixture assembly, whatever its placement."""
+    out = []
+    for child, _, _ in root.components:
+        if hasattr(child, "components"):
+            out.extend(_box_sizes(child))
+        else:
+            out.extend((child.name, size) for size, _ in child.boxes)
+    return out
