@@ -2,6 +2,6 @@
 
 import sys
 
-from cadcog.cli import main
+from cadcog.cli import console_main
 
-sys.exit(main())
+sys.exit(console_main())

@@ -7,7 +7,7 @@ for it, then simulates the best few; ``cadcog plan`` prints its :class:`Plan`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from itertools import combinations
+from itertools import chain, combinations
 from math import comb
 from typing import Any
 
@@ -110,6 +110,18 @@ def _linearised_q95(cov: FloatArray, z: FloatArray) -> FloatArray:
     return np.asarray(np.quantile(r, 0.95, axis=1))
 
 
+def _combinations(n: int, k: int) -> npt.NDArray[np.int64]:
+    """Every ``k``-subset of ``range(n)`` in :func:`itertools.combinations` order, (C(n, k), k).
+
+    Examples
+    --------
+    >>> _combinations(4, 3).tolist()
+    [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]
+    """
+    flat = chain.from_iterable(combinations(range(n), k))
+    return np.fromiter(flat, dtype=np.int64, count=comb(n, k) * k).reshape(-1, k)
+
+
 def plan_test(
     setup: Setup,
     *,
@@ -171,22 +183,16 @@ def plan_test(
     )
     ratio = scenario.me_mass_kg / scenario.pm_mass_kg
 
+    terms = gls.LineTerms.of_lines(p_all, n_all, shape_all[:, None], weights)  # per candidate
+
     def predicted(groups: npt.NDArray[np.int64]) -> FloatArray:
         """Compensated linearised covariances (m, 3, 3) of sets (m, k)."""
-        g_t = groups.T  # (k, m)
-        cov = gls.solve_lines(
-            p_all[:, g_t, 0],
-            u_all[:, g_t, 0],
-            n_all[:, g_t, 0],
-            shape_all[g_t],
-            weights[:, g_t, 0],
-            wire,
-        )[1]
+        cov = terms.take(groups.T).solve(wire)[1]  # the lines' terms (k, m), summed over k
         return np.asarray(
             (1 + ratio) ** 2 * gls.sym_to_full(cov) + ratio**2 * model.me_sigma_mm**2 * np.eye(3)
         )
 
-    pair_idx = np.array(list(combinations(range(n), 2)))
+    pair_idx = _combinations(n, 2)
     pair_idx = pair_idx[conditioning(pair_idx) >= min_angle_deg]
     if not len(pair_idx):
         return Plan(tuple(checks), (), (), None, model, trials, *_masses(setup))
@@ -210,7 +216,7 @@ def plan_test(
             groups, lin = pair_idx, pair_q95
         else:
             if comb(n, k) <= PLAN_MAX_SETS:
-                groups = np.array(list(combinations(range(n), k)))
+                groups = _combinations(n, k)
             else:  # grow the best set of the previous size by one point
                 groups = np.array(
                     [sorted((*current.tolist(), j)) for j in range(n) if j not in current]

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from cadcog import __version__
@@ -147,3 +149,15 @@ def test_the_commands_load_without_scipy_or_cad() -> None:
         "assert not heavy, heavy\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_the_console_command_runs_blas_single_threaded_unless_the_user_says(monkeypatch):
+    import cadcog.cli as cli
+
+    monkeypatch.setattr(cli, "main", lambda argv=None: 0)
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "4")
+    for name in ("MKL_NUM_THREADS", "OMP_NUM_THREADS"):
+        monkeypatch.delenv(name, raising=False)
+    assert cli.console_main() == 0
+    assert os.environ["OPENBLAS_NUM_THREADS"] == "4"  # the user's value wins
+    assert os.environ["MKL_NUM_THREADS"] == os.environ["OMP_NUM_THREADS"] == "1"
