@@ -227,6 +227,34 @@ def _node_sigma(lines: Sequence[BudgetLine]) -> tuple[float | None, bool]:
     return _sigma_of(items), all(b.sigma_rel is not None for b in lines)
 
 
+_Alone = dict[int, tuple[MassProperties, FloatArray]]
+
+
+def _alone(lines: Sequence[BudgetLine], total_cog_mm: FloatArray) -> _Alone:
+    """Each line as a node of its own, for all lines at once: ``combine([line])`` and its
+    inertia about the total's CoG (``inertia_about``), by the same element-wise operations, so
+    the same bits (most nodes of a large model are single bodies). Keyed by ``id(line)``; empty
+    when a line has no positive mass (``combine`` then says why)."""
+    m = np.array([b.properties.mass_kg for b in lines])
+    if not np.all(m > 0.0):
+        return {}
+    c = np.array([b.properties.cog_mm for b in lines])
+    cog = (m[:, None] * c) / m[:, None]
+    eye = np.eye(3)
+
+    def moved(inertia: FloatArray, d: FloatArray) -> FloatArray:
+        return inertia + m[:, None, None] * (
+            (d * d).sum(axis=1)[:, None, None] * eye - d[:, :, None] * d[:, None, :]
+        )
+
+    own = moved(np.array([b.properties.inertia_kg_mm2 for b in lines]), cog - c)
+    about = moved(own, total_cog_mm - cog)
+    return {
+        id(b): (MassProperties(m[k], cog[k], own[k], b.properties.volume_mm3 + 0.0), about[k])
+        for k, b in enumerate(lines)
+    }
+
+
 def _build(
     lines: Sequence[BudgetLine],
     depth: int,
@@ -234,15 +262,26 @@ def _build(
     name: str,
     total_kg: float,
     total_cog_mm: FloatArray,
+    alone: _Alone,
 ) -> BudgetNode:
-    here = combine(b.properties for b in lines)
+    if len(lines) == 1 and id(lines[0]) in alone:
+        here, about = alone[id(lines[0])]
+    else:
+        here = combine(b.properties for b in lines)
+        about = here.inertia_about(total_cog_mm)
     groups: dict[str, list[BudgetLine]] = {}
     for b in lines:
         if len(b.nodes) > depth:
             groups.setdefault(b.nodes[depth], []).append(b)
     children = tuple(
         _build(
-            group, depth + 1, f"{path}/{child}" if path else child, child, total_kg, total_cog_mm
+            group,
+            depth + 1,
+            f"{path}/{child}" if path else child,
+            child,
+            total_kg,
+            total_cog_mm,
+            alone,
         )
         for child, group in groups.items()
     )
@@ -260,7 +299,7 @@ def _build(
         predicted,
         children,
         here.inertia_kg_mm2,
-        here.inertia_about(total_cog_mm),
+        about,
         _item_masses(lines),
         _area_of([getattr(b, "surface_area_mm2", None) for b in lines]),
     )
@@ -291,7 +330,7 @@ def mass_budget(lines: Sequence[BudgetLine], name: str = "total") -> MassBudget:
     if not lines:
         raise ValueError("a mass budget needs at least one body")
     total = combine(b.properties for b in lines)
-    root = _build(lines, 0, "", name, total.mass_kg, total.cog_mm)
+    root = _build(lines, 0, "", name, total.mass_kg, total.cog_mm, _alone(lines, total.cog_mm))
     if len(root.children) == 1 and root.children[0].n_bodies == root.n_bodies:
         root = root.children[0]  # one top assembly: it is the root
     cov = None

@@ -6,6 +6,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from cadcog.mass.properties import MassProperties, box_properties, combine
 from cadcog.spacecraft.mass_budget import mass_budget
@@ -138,3 +140,39 @@ def test_bodies_without_uncertainty_are_counted_in_the_coverage():
 def test_an_empty_budget_is_refused():
     with pytest.raises(ValueError, match="at least one body"):
         mass_budget([])
+
+
+@given(
+    st.lists(
+        st.tuples(
+            st.lists(st.sampled_from("abc"), min_size=1, max_size=3),
+            st.floats(1e-4, 10.0),
+            st.lists(st.floats(-500.0, 500.0), min_size=3, max_size=3),
+        ),
+        min_size=1,
+        max_size=10,
+    )
+)
+def test_every_node_is_the_combination_of_its_bodies_to_the_bit(bodies):
+    # The budget computes single-body nodes for all bodies at once (speed): every node must
+    # still be combine() of the bodies below it, and its inertia about the total's CoG
+    # inertia_about() of that, to the last bit (the JSON must not change).
+    lines = [
+        Line(("sat", *path, f"body{k}"), box_properties([1, 2, 3], cog, mass_kg=mass))
+        for k, (path, mass, cog) in enumerate(bodies)
+    ]
+    budget = mass_budget(lines)
+    total = combine(b.properties for b in lines)
+    for _, node in budget.root.walk():
+        below = [
+            b
+            for b in lines
+            if "/".join(b.nodes).startswith(node.path + "/") or ("/".join(b.nodes) == node.path)
+        ]
+        if node is budget.root and node.path in ("", "sat"):
+            below = lines
+        want = combine(b.properties for b in below)
+        assert node.mass_kg == want.mass_kg
+        assert np.array_equal(node.cog_mm, want.cog_mm)
+        assert np.array_equal(node.inertia_kg_mm2, want.inertia_kg_mm2)
+        assert np.array_equal(node.inertia_total_cog_kg_mm2, want.inertia_about(total.cog_mm))
