@@ -99,8 +99,8 @@ def _positive(name: str, value: float | None, *, zero: bool = False) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.method.readings import read_readings
-    from cadcog.spacecraft.setup import load_setup, update_for_setup
+    from cadcog.dynamics.update_files import update_from_files
+    from cadcog.spacecraft.setup import load_setup
 
     _positive("weighed_mass_kg", args.weighed_mass_kg)
     _positive("mass_sigma_kg", args.mass_sigma_kg)
@@ -117,29 +117,14 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise CadcogError(f"--unmodelled-region-mm: {exc}") from None
     setup = load_setup(args.setup)
-    suspensions = read_readings(args.readings, setup.rig.inclinometer)
-    inertia = None
-    if args.swings is not None:
-        from cadcog.dynamics.measure import inertia_observation
-
-        inertia = inertia_observation(
-            setup,
-            args.swings,
-            suspensions,
-            weighed_mass_kg=args.weighed_mass_kg,
-            mass_sigma_kg=args.mass_sigma_kg,
-        )
-    try:
-        result, estimate = update_for_setup(
-            setup,
-            suspensions,
-            args.weighed_mass_kg,
-            mass_sigma_kg=args.mass_sigma_kg,
-            unmodelled=unmodelled,
-            inertia=inertia,
-        )
-    except ValueError as exc:
-        raise CadcogError(f"{args.readings}: {exc}") from None
+    result, estimate = update_from_files(
+        setup,
+        args.readings,
+        args.weighed_mass_kg,
+        mass_sigma_kg=args.mass_sigma_kg,
+        unmodelled=unmodelled,
+        swings=args.swings,
+    )
     if args.report is not None:
         from cadcog.reports.update_report import write_update_report
 
