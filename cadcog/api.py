@@ -28,7 +28,7 @@ import numbers
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from cadcog.core.arguments import check_choice, check_text
 from cadcog.core.errors import CadcogError
@@ -509,36 +509,22 @@ def simulate(
     >>> 0.0 < r.fits.q50_mm < 5.0
     True
     """
-    from cadcog.method.errormodel import ErrorModel
-    from cadcog.uncertainty.random_points import SimulationSettings, run_simulation
+    from cadcog.uncertainty.simulate_rig import simulate_rig
 
     f = "simulate"
-    _numbers(
-        f,
-        points=points,
-        trials=trials,
-        seed=seed,
-        group_size=group_size,
-        min_angle_deg=min_angle_deg,
-        workers=workers,
-    )
+    numbers: dict[str, Any] = {  # checked here, then passed on as they are
+        "points": points,
+        "trials": trials,
+        "seed": seed,
+        "group_size": group_size,
+        "min_angle_deg": min_angle_deg,
+        "workers": workers,
+    }
+    _numbers(f, **numbers)
     if points == 1:
         raise _fail(f, "points", points, "give 0 (the rig's own points) or at least 2")
-    r = _rig(f, rig)
-    model = ErrorModel.from_rig(r)
-    if paper:
-        model = model.paper()
-    settings = SimulationSettings(
-        points,
-        trials,
-        seed,
-        group_size,
-        min_angle_deg,
-        weighted=not paper,
-        wire_correction=wire_correction and not paper,
-    )
     try:
-        return run_simulation(r, settings, model, workers=workers)
+        return simulate_rig(_rig(f, rig), **numbers, wire_correction=wire_correction, paper=paper)
     except CadcogError:
         raise
     except ValueError as exc:
@@ -579,8 +565,8 @@ def validate(
     CampaignValidation
         The per-window table, the campaign verdict (``.consistent``) and its null distribution.
     """
-    from cadcog.method.readings import read_readings
-    from cadcog.validation.verification import DEFAULT_WINDOWS_MM, validate_campaign
+    from cadcog.validation.validate_readings import validate_readings
+    from cadcog.validation.verification import DEFAULT_WINDOWS_MM
 
     f = "validate"
     path = _path(f, "readings", readings)
@@ -593,25 +579,14 @@ def validate(
         _numbers(f, windows_mm=list(windows_mm))
         if not windows_mm or min(windows_mm) <= 0:
             raise _fail(f, "windows_mm", windows_mm, "expected positive windows (mm)")
-    r = _rig(f, rig)
-    suspensions = read_readings(path, r.inclinometer)
-    if len(suspensions) < 3:
-        raise CadcogError(
-            f"{path}: validation needs 3 or more suspension points, got {len(suspensions)}"
-        )
-    try:
-        return validate_campaign(
-            r,
-            suspensions,
-            DEFAULT_WINDOWS_MM if windows_mm is None else tuple(windows_mm),
-            n_campaigns=campaigns,
-            seed=seed,
-            level=level,
-        )
-    except CadcogError:
-        raise
-    except ValueError as exc:
-        raise _as_user_error(f, path, exc) from None
+    return validate_readings(
+        _rig(f, rig),
+        path,
+        DEFAULT_WINDOWS_MM if windows_mm is None else windows_mm,
+        campaigns=campaigns,
+        seed=seed,
+        level=level,
+    )
 
 
 def update(
@@ -655,8 +630,7 @@ def update(
         their probabilities, each item's change, the unmodelled mass, and the revised mass,
         CoG and inertia with their covariance (``docs/spacecraft.md``).
     """
-    from cadcog.method.readings import read_readings
-    from cadcog.spacecraft.setup import update_for_setup
+    from cadcog.dynamics.update_files import update_from_files
     from cadcog.spacecraft.update import unmodelled_from_region
 
     f = "update"
@@ -682,33 +656,15 @@ def update(
         prior = unmodelled_from_region(region, float(unmodelled_mass_kg), unmodelled_sigma_kg)
     except ValueError as exc:
         raise _fail(f, "unmodelled_region_mm", unmodelled_region_mm, str(exc)) from None
-    s = _setup(f, setup)
     swings_path = None if swings is None else _path(f, "swings", swings)
-    try:
-        suspensions = read_readings(path, s.rig.inclinometer)
-        inertia = None
-        if swings_path is not None:
-            from cadcog.dynamics.measure import inertia_observation
-
-            inertia = inertia_observation(
-                s,
-                swings_path,
-                suspensions,
-                weighed_mass_kg=float(weighed_mass_kg),
-                mass_sigma_kg=float(mass_sigma_kg),
-            )
-        result, _ = update_for_setup(
-            s,
-            suspensions,
-            float(weighed_mass_kg),
-            mass_sigma_kg=float(mass_sigma_kg),
-            unmodelled=prior,
-            inertia=inertia,
-        )
-    except CadcogError:
-        raise
-    except ValueError as exc:
-        raise _as_user_error(f, path, exc) from None
+    result, _ = update_from_files(
+        _setup(f, setup),
+        path,
+        float(weighed_mass_kg),
+        mass_sigma_kg=float(mass_sigma_kg),
+        unmodelled=prior,
+        swings=swings_path,
+    )
     return result
 
 

@@ -141,6 +141,103 @@ def test_simulate_is_what_the_command_prints(capsys) -> None:
     assert mine.fits.n == 300 * len(mine.groups)
 
 
+def test_validate_options_are_the_command_s(campaign_csv, capsys) -> None:
+    """Another rig file, windows and level: the same object as the command's JSON, and the
+    options reached the result (not only the defaults agree)."""
+    rig = cadcog.load_rig()
+    mine = cadcog.validate(
+        campaign_csv, rig.source, windows_mm=[1.0, 2.5], campaigns=30, seed=1, level=0.1
+    )
+    assert mine.to_json() == _cli_json(
+        capsys, "validate", str(campaign_csv), "--rig", str(rig.source), "--windows", "1,2.5",
+        "--campaigns", "30", "--seed", "1", "--level", "0.1",
+    )  # fmt: skip
+    assert [w.eps_mm for w in mine.validation.windows] == [1.0, 2.5]
+    assert mine.verdict.level == 0.1 and mine.null.n_campaigns == 30
+
+
+SIMULATE_CASES = [
+    ({"points": 0, "paper": True}, "--points 0 --paper"),
+    (
+        {"points": 6, "group_size": 3, "min_angle_deg": 20.0, "wire_correction": False},
+        "--points 6 --group-size 3 --min-angle-deg 20 --no-wire-correction",
+    ),
+]
+
+
+@pytest.mark.parametrize(("keywords", "options"), SIMULATE_CASES)
+def test_simulate_options_are_the_command_s(keywords, options, capsys) -> None:
+    mine = cadcog.simulate(trials=60, seed=2, **keywords)
+    argv = ["simulate", "--trials-per-pair", "60", "--seed", "2", *options.split()]
+    assert mine.to_json() == _cli_json(capsys, *argv)
+    paper = keywords.get("paper", False)
+    assert mine.settings.weighted is not paper  # the options reached the settings
+    assert mine.settings.wire_correction is (not paper and keywords.get("wire_correction", True))
+
+
+def test_the_command_s_own_simulate_options_reach_the_one_composition(capsys) -> None:
+    """The options only the command has (the error model's overrides, the self-calibrated
+    wire) go through the same function the API calls, and change the model it reports."""
+    from cadcog.uncertainty.simulate_rig import simulate_rig
+
+    mine = simulate_rig(
+        cadcog.load_rig(), points=5, trials=30, seed=4, group_size=3, min_angle_deg=0.0,
+        wire_correction=True, paper=False, workers=1, self_calibrate_wire=True, samples=3,
+        inclinometer_model="paper-averaged", wire_model="elastica",
+    )  # fmt: skip
+    assert mine.to_json() == _cli_json(
+        capsys, "simulate", "--points", "5", "--trials-per-pair", "30", "--seed", "4",
+        "--group-size", "3", "--self-calibrate-wire", "--samples", "3",
+        "--inclinometer-model", "paper-averaged", "--wire-model", "elastica",
+    )  # fmt: skip
+    assert (mine.model.samples, mine.model.inclinometer_model, mine.model.wire_model) == (
+        3, "paper-averaged", "elastica",
+    )  # fmt: skip
+    assert mine.settings.self_calibrate
+
+
+def test_update_with_swings_is_what_the_command_prints(tmp_path, capsys) -> None:
+    setup = "parts/cubesat_3u_setup.toml"
+    csv, swings = tmp_path / "r.csv", tmp_path / "swings.csv"
+    points = "--points=+x_-30_-30,-x_30_-30,+y_30_-30,-y_-30_-30"
+    argv = ["campaign", "--setup", setup, points, "--out", str(csv), "--swings", str(swings)]
+    assert main(argv) == 0
+    capsys.readouterr()
+    mine = cadcog.update(csv, setup, 2.6, mass_sigma_kg=0.002, swings=swings)
+    theirs = _cli_json(
+        capsys, "update", str(csv), "--setup", setup, "--weighed-mass-kg", "2.6",
+        "--mass-sigma-kg", "0.002", "--swings", str(swings),
+    )  # fmt: skip
+    assert mine.to_json() == theirs
+    assert mine.dof == 10  # the tensor's six entries observed with the mass and the CoG
+
+
+@pytest.mark.parametrize(
+    ("command", "composition", "steps"),
+    [
+        ("simulate", "simulate_rig", ("run_simulation", "SimulationSettings", "ErrorModel")),
+        ("validate", "validate_readings", ("validate_campaign", "read_readings")),
+        ("update", "update_from_files", ("update_for_setup", "inertia_observation")),
+    ],
+)
+def test_the_command_and_the_api_call_one_composition(command, composition, steps) -> None:
+    """Each command and its API function call the one function below them, and neither
+    composes its steps itself (the API and the CLI cannot drift apart again)."""
+    import ast
+    from pathlib import Path
+
+    package = Path(cadcog.__file__).parent
+    cli = ast.parse((package / "cli" / f"{command}.py").read_text(encoding="utf-8"))
+    tree = ast.parse((package / "api.py").read_text(encoding="utf-8"))
+    api_function = next(
+        n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == command
+    )
+    for node in (cli, api_function):
+        names = {n.id for n in ast.walk(node) if isinstance(n, ast.Name)}
+        assert composition in names
+        assert not names & set(steps), names & set(steps)
+
+
 def test_a_bad_file_raises_the_error_the_command_prints(tmp_path) -> None:
     from cadcog.core.errors import CadcogError
 

@@ -6,16 +6,15 @@ import argparse
 import json
 import sys
 from collections.abc import Callable
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs, round_floats, staged_file
-from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
-from cadcog.uncertainty.random_points import SimulationReport, SimulationSettings, run_simulation
+from cadcog.uncertainty.random_points import SimulationReport
+from cadcog.uncertainty.simulate_rig import simulate_rig
 
 
 def add_parser(sub: Any) -> None:
@@ -105,40 +104,30 @@ def run(args: argparse.Namespace) -> int:
         raise CadcogError("--points 1: give 0 (the rig's own points) or at least 2")
     if args.paper and args.self_calibrate_wire:
         raise CadcogError("--paper and --self-calibrate-wire exclude each other")
-    model = ErrorModel.from_rig(rig)
-    if args.paper:
-        model = model.paper()
-    if args.samples is not None:
-        if args.samples < 1:
-            raise CadcogError("--samples must be at least 1")
-        model = replace(model, samples=args.samples)
-    if args.inclinometer_model is not None:
-        model = replace(model, inclinometer_model=args.inclinometer_model)
-    if args.wire_model is not None:
-        model = replace(model, wire_model=args.wire_model)
+    if args.samples is not None and args.samples < 1:
+        raise CadcogError("--samples must be at least 1")
     if args.self_calibrate_wire and (args.group_size < 3 or not args.wire_correction):
         raise CadcogError("--self-calibrate-wire needs --group-size 3 or more and the correction")
-    settings = SimulationSettings(
-        args.points,
-        args.trials,
-        args.seed,
-        args.group_size,
-        args.min_angle_deg,
-        weighted=not args.paper,
-        wire_correction=args.wire_correction and not args.paper,
-        self_calibrate=args.self_calibrate_wire,
-    )
     bar = None
     if sys.stderr.isatty():
         from tqdm import tqdm
 
         bar = tqdm(total=None, unit="trial", unit_scale=True, file=sys.stderr, leave=False)
     try:
-        report = run_simulation(
+        report = simulate_rig(
             rig,
-            settings,
-            model,
+            points=args.points,
+            trials=args.trials,
+            seed=args.seed,
+            group_size=args.group_size,
+            min_angle_deg=args.min_angle_deg,
+            wire_correction=args.wire_correction,
+            paper=args.paper,
             workers=args.workers,
+            self_calibrate_wire=args.self_calibrate_wire,
+            samples=args.samples,
+            inclinometer_model=args.inclinometer_model,
+            wire_model=args.wire_model,
             progress=bar.update if bar is not None else None,
             total=_set_total(bar) if bar is not None else None,
         )

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from cadcog.cli._table import text_table
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import dumps_json
 from cadcog.spacecraft.update import INCONSISTENT_NOTE, REJECTED_NOTE, unmodelled_from_region
@@ -98,8 +99,8 @@ def _positive(name: str, value: float | None, *, zero: bool = False) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.method.readings import read_readings
-    from cadcog.spacecraft.setup import load_setup, update_for_setup
+    from cadcog.dynamics.update_files import update_from_files
+    from cadcog.spacecraft.setup import load_setup
 
     _positive("weighed_mass_kg", args.weighed_mass_kg)
     _positive("mass_sigma_kg", args.mass_sigma_kg)
@@ -116,29 +117,14 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as exc:
         raise CadcogError(f"--unmodelled-region-mm: {exc}") from None
     setup = load_setup(args.setup)
-    suspensions = read_readings(args.readings, setup.rig.inclinometer)
-    inertia = None
-    if args.swings is not None:
-        from cadcog.dynamics.measure import inertia_observation
-
-        inertia = inertia_observation(
-            setup,
-            args.swings,
-            suspensions,
-            weighed_mass_kg=args.weighed_mass_kg,
-            mass_sigma_kg=args.mass_sigma_kg,
-        )
-    try:
-        result, estimate = update_for_setup(
-            setup,
-            suspensions,
-            args.weighed_mass_kg,
-            mass_sigma_kg=args.mass_sigma_kg,
-            unmodelled=unmodelled,
-            inertia=inertia,
-        )
-    except ValueError as exc:
-        raise CadcogError(f"{args.readings}: {exc}") from None
+    result, estimate = update_from_files(
+        setup,
+        args.readings,
+        args.weighed_mass_kg,
+        mass_sigma_kg=args.mass_sigma_kg,
+        unmodelled=unmodelled,
+        swings=args.swings,
+    )
     if args.report is not None:
         from cadcog.reports.update_report import write_update_report
 
@@ -153,36 +139,16 @@ def run(args: argparse.Namespace) -> int:
     return 0 if result.consistent else EXIT_GAP
 
 
-def _pm(value: float, sigma: float, digits: int) -> str:
-    return f"{round(float(value), digits) + 0.0:.{digits}f} ± {float(sigma):.{digits}f}"
-
-
 def print_update(r: UpdateResult) -> None:
-    """Readable report of an :class:`~cadcog.spacecraft.update.UpdateResult`."""
+    """Readable report of an :class:`~cadcog.spacecraft.update.UpdateResult`: masses and
+    inertias to significant figures in a unit that fits, the products' convention named."""
+    from cadcog.cli.massprops_text import PRODUCT_LABELS
+    from cadcog.spacecraft import update_text as ut
+
     for line in r.verdict_lines():
         print(line)
-    rows = [
-        (
-            "mass_kg",
-            _pm(r.cad.mass_kg, r.cad_mass_sigma_kg, 4),
-            _pm(r.measured_mass_kg, r.measured_mass_sigma_kg, 4) + " (weighed)",
-            _pm(r.posterior.mass_kg, r.posterior_mass_sigma_kg, 4),
-        )
-    ]
-    for k, axis in enumerate("xyz"):
-        rows.append(
-            (
-                f"cog_{axis}_mm",
-                _pm(r.cad.cog_mm[k], np.sqrt(r.cad_cog_cov_mm2[k, k]), 2),
-                _pm(r.measured_cog_mm[k], np.sqrt(r.measured_cog_cov_mm2[k, k]), 2),
-                _pm(r.posterior.cog_mm[k], np.sqrt(r.posterior_cog_cov_mm2[k, k]), 2),
-            )
-        )
-    header = ("(± 1 σ)", "CAD", "measured", "updated")
-    widths = [max(len(row[i]) for row in [header, *rows]) + 3 for i in range(3)]
     print()
-    for row in [header, *rows]:
-        print("".join(f"{c:<{w}}" for c, w in zip(row, widths, strict=False)) + row[3])
+    print(text_table(["(± 1 σ)", "CAD", "measured", "updated"], ut.mass_cog_rows(r), "llll"))
     print("\nwhat explains the gap (posterior probability; prior in brackets):")
     shown = r.explanations[:6]
     width = max((len(e.label) for e in shown), default=0)
@@ -191,27 +157,21 @@ def print_update(r: UpdateResult) -> None:
             f"  {e.label:<{width}}  {e.probability:6.1%}  ({e.prior_probability:.2g})  "
             f"{e.description}"
         )
-    ranked = r.ranked_items()[:8]
     print("\nitems (mass change and CoG shift, ± 1 σ; P: probability it is the one off):")
-    width = max((len(c.key) for c in ranked), default=0)
-    for c in ranked:
-        shift = ", ".join(
-            f"{v:+.1f}±{e:.1f}" for v, e in zip(c.cog_shift_mm, c.cog_shift_sigma_mm, strict=True)
-        )
-        print(
-            f"  {c.key:<{width}}  P {c.probability:5.1%}  {c.delta_rel:+7.1%} ± "
-            f"{c.delta_sigma_rel:.1%} ({c.delta_kg * 1e3:+.1f} g)  CoG [{shift}] mm"
-        )
+    headers, rows = ut.item_table(r.ranked_items()[:8])
+    print(text_table(headers, rows, "lrrrrl", 2))
     if r.unmodelled_mass_kg is not None:
-        print(f"\nunmodelled mass: {r.unmodelled_summary()}")
+        print(f"\nunmodelled mass: {ut.unmodelled_summary(r)}")
     if r.model_rejected:
         print(f"\n{REJECTED_NOTE}")
     elif not r.consistent:
         print(f"\n{INCONSISTENT_NOTE}")
-    j, s = r.posterior.inertia_kg_mm2, r.posterior_inertia_sigma_kg_mm2
+    unit = ut.inertia_unit(r)
+    print(f"\nupdated inertia about the CoG, model axes ({unit[0]}, ± 1 σ):")
+    print("  " + "  ".join(ut.moment_cells(r)))
+    products = ut.product_cells(r, "positive")
     print(
-        "\nupdated inertia about the CoG, model axes (kg·mm², ± 1 σ; "
-        "tensor convention: off-diagonal entries are −∫ x·y dm):"
+        "  "
+        + "  ".join(f"P{k} {p}" for k, p in zip(ut.PRODUCT_INDEX, products, strict=True))
+        + f"  ({PRODUCT_LABELS['positive']})"
     )
-    for i in range(3):
-        print("  " + "  ".join(f"{j[i, k]:11.2f} ± {s[i, k]:7.2f}" for k in range(3)))

@@ -9,9 +9,9 @@ from typing import Any
 
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import round_floats
-from cadcog.method.readings import read_readings
 from cadcog.rig.file import default_rig_path, load_rig
-from cadcog.validation.verification import DEFAULT_WINDOWS_MM, CampaignValidation, validate_campaign
+from cadcog.validation.validate_readings import validate_readings
+from cadcog.validation.verification import DEFAULT_WINDOWS_MM, CampaignValidation
 
 
 def _windows(text: str) -> tuple[float, ...]:
@@ -62,25 +62,16 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    rig = load_rig(args.rig or default_rig_path())
-    suspensions = read_readings(args.campaign, rig.inclinometer)
-    if len(suspensions) < 3:
-        raise CadcogError(
-            f"{args.campaign}: validation needs 3 or more suspension points, got {len(suspensions)}"
-        )
     if args.campaigns < 20 or args.seed < 0 or not 0 < args.level < 1:
         raise CadcogError("--campaigns must be ≥ 20, --seed ≥ 0 and --level in (0, 1)")
-    try:
-        result = validate_campaign(
-            rig,
-            suspensions,
-            args.windows,
-            n_campaigns=args.campaigns,
-            seed=args.seed,
-            level=args.level,
-        )
-    except ValueError as exc:
-        raise CadcogError(f"{args.campaign}: {exc}") from None
+    result = validate_readings(
+        load_rig(args.rig or default_rig_path()),
+        args.campaign,
+        args.windows,
+        campaigns=args.campaigns,
+        seed=args.seed,
+        level=args.level,
+    )
     if args.json:
         print(json.dumps(round_floats(result.to_dict()), indent=2, ensure_ascii=False))
     else:

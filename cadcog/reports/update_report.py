@@ -14,11 +14,11 @@ import html
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from cadcog.core.fileio import dumps_json, staged_output_dir
 from cadcog.core.version import __version__
-from cadcog.reports.html import CSS, img_tag, num, table
+from cadcog.mass.inertia import PRODUCT_CONVENTIONS, TENSOR_CONVENTION
+from cadcog.reports.html import CSS, img_tag, table
+from cadcog.spacecraft import update_text as ut
 from cadcog.spacecraft.update import INCONSISTENT_NOTE, REJECTED_NOTE, UpdateResult
 
 if TYPE_CHECKING:
@@ -58,8 +58,10 @@ def write_update_report(
     return out / REPORT_FILE
 
 
-def _sd(cov: np.ndarray) -> np.ndarray:
-    return np.sqrt(np.maximum(np.diag(cov), 0.0))
+def _cell(text: str) -> str:
+    """A numeric cell that never breaks inside a number and its σ (a vector may break
+    between its components)."""
+    return ", ".join(f'<span class="v">{html.escape(p)}</span>' for p in text.split(", "))
 
 
 def render_html(
@@ -68,44 +70,10 @@ def render_html(
     esc = html.escape
     verdict_cls = "bad" if r.model_rejected or not r.consistent else "ok"
     verdict = "<br>".join(esc(line) for line in r.verdict_lines())
-    cad_sd, meas_sd, post_sd = (
-        _sd(r.cad_cog_cov_mm2),
-        _sd(r.measured_cog_cov_mm2),
-        _sd(r.posterior_cog_cov_mm2),
-    )
-    rows = [
-        [
-            "mass (kg)",
-            f"{r.cad.mass_kg:.4f} ± {r.cad_mass_sigma_kg:.4f}",
-            f"{r.measured_mass_kg:.4f} ± {r.measured_mass_sigma_kg:.4f} (weighed)",
-            f"{r.posterior.mass_kg:.4f} ± {r.posterior_mass_sigma_kg:.4f}",
-        ]
-    ]
-    for k in range(3):
-        rows.append(
-            [
-                f"CoG {'xyz'[k]} (mm)",
-                f"{num(r.cad.cog_mm[k], 2)} ± {cad_sd[k]:.2f}",
-                f"{num(r.measured_cog_mm[k], 2)} ± {meas_sd[k]:.2f}",
-                f"{num(r.posterior.cog_mm[k], 2)} ± {post_sd[k]:.2f}",
-            ]
-        )
+    rows = [[esc(row[0]), *map(_cell, row[1:])] for row in ut.mass_cog_rows(r)]
     ranked = r.ranked_items()
-    item_rows = [
-        [
-            esc(c.key),
-            f"{c.cad_mass_kg * 1e3:.1f}",
-            f"{c.probability:.1%}",
-            f"{c.prior_sigma_rel:.1%}",
-            f"{c.delta_rel:+.1%} ± {c.delta_sigma_rel:.1%}",
-            f"{c.delta_kg * 1e3:+.1f}",
-            ", ".join(
-                f"{v:+.1f} ± {e:.1f}"
-                for v, e in zip(c.cog_shift_mm, c.cog_shift_sigma_mm, strict=True)
-            ),
-        ]
-        for c in ranked[:PAGE_ITEMS]
-    ]
+    item_header, item_cells = ut.item_table(ranked[:PAGE_ITEMS], prior=True)
+    item_rows = [[esc(row[0]), *map(_cell, row[1:])] for row in item_cells]
     more = (
         f"<p class='sub'>{len(ranked) - PAGE_ITEMS} more items in <code>update.json</code>.</p>"
         if len(ranked) > PAGE_ITEMS
@@ -113,7 +81,7 @@ def render_html(
     )
     unmodelled = "<p>No unmodelled mass allowed (<code>--unmodelled-region-mm</code>).</p>"
     if r.unmodelled_mass_kg is not None:
-        unmodelled = f"<p class='big'>{esc(r.unmodelled_summary())}</p>"
+        unmodelled = f"<p class='big'>{esc(ut.unmodelled_summary(r))}</p>"
     caveat = ""
     if r.model_rejected:
         caveat = f"<p class='note bad'>{esc(REJECTED_NOTE)}</p>"
@@ -127,10 +95,11 @@ def render_html(
     if len(r.explanations) > len(explanation_rows):
         rest = len(r.explanations) - len(explanation_rows)
         explanation_rows.append(["", "", "", f"{rest} less probable explanations in update.json"])
-    j, s = r.posterior.inertia_kg_mm2, r.posterior_inertia_sigma_kg_mm2
-    inertia_rows = [
-        ["xyz"[i], *[f"{num(j[i, k], 2)} ± {s[i, k]:.2f}" for k in range(3)]] for i in range(3)
+    product_rows = [
+        [esc(PRODUCT_CONVENTIONS[c]), *map(_cell, ut.product_cells(r, c))]
+        for c in ("positive", "negative")
     ]
+    tensor_rows = [[row[0], *map(_cell, row[1:])] for row in ut.tensor_rows(r)]
     warnings = "".join(f"<li>{esc(w)}</li>" for w in estimate.warnings) or "<li>none</li>"
     return f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8">
@@ -158,20 +127,7 @@ explains the measurement, weighed by its prior; rates over many simulated tests 
 docs/spacecraft.md.</p>
 
 <h2>Items</h2>
-{
-        table(
-            [
-                "item",
-                "CAD mass (g)",
-                "P(the one off)",
-                "prior σ",
-                "change",
-                "change (g)",
-                "CoG shift (mm)",
-            ],
-            item_rows,
-        )
-    }
+{table(item_header, item_rows)}
 {more}
 <p class="note">A CoG and a mass give four numbers, so many items cannot all be told apart:
 an item whose change is small against its ± is not resolved by this measurement.</p>
@@ -179,8 +135,10 @@ an item whose change is small against its ± is not resolved by this measurement
 <h2>Unmodelled mass</h2>
 {unmodelled}
 
-<h2>Updated inertia about the CoG (kg·mm², model axes; off-diagonal entries are −∫ x·y dm)</h2>
-{table(["", "x", "y", "z"], inertia_rows)}
+<h2>Updated inertia about the CoG</h2>
+<p>Model axes ({ut.inertia_unit(r)[0]}), ± 1 σ. Tensor: {esc(TENSOR_CONVENTION)}.</p>
+{table(["tensor", "x", "y", "z"], tensor_rows)}
+{table(["products of inertia", "xy", "xz", "yz"], product_rows)}
 
 <h2>Estimator warnings</h2>
 <ul>{warnings}</ul>

@@ -291,31 +291,6 @@ class UpdateResult(JsonResult):
             lines.append("no explanation fits: the updated CoG and mass are the measurement's")
         return lines
 
-    def unmodelled_summary(self) -> str:
-        """``"147.7 ± 19.4 g at [14.5 ± 9.1, …] mm"``: the unmodelled mass and where it is
-        (1 σ); empty without an unmodelled mass."""
-        if self.unmodelled_mass_kg is None:
-            return ""
-        sigma_g = (self.unmodelled_mass_sigma_kg or 0.0) * 1e3
-        text = f"{self.unmodelled_mass_kg * 1e3:.1f} ± {sigma_g:.1f} g"
-        if self.unmodelled_probability < 0.999:
-            text = f"if there is one (P = {self.unmodelled_probability:.1%}): " + text
-        if self.unmodelled_cog_mm is not None and self.unmodelled_cog_cov_mm2 is not None:
-            sd = np.sqrt(np.maximum(np.diag(self.unmodelled_cog_cov_mm2), 0.0))
-            text += (
-                " at ["
-                + ", ".join(
-                    f"{round(float(c), 1) + 0.0:.1f} ± {e:.1f}"
-                    for c, e in zip(self.unmodelled_cog_mm, sd, strict=True)
-                )
-                + "] mm"
-            )
-        else:
-            text += " (not resolved from zero: its position is not estimated)"
-        if self.unmodelled_negative:
-            text += "; the data wanted it negative: held at 0"
-        return text
-
     def ranked_items(self) -> list[ItemChange]:
         """Items by the probability of being the one that changed, then by |pull|."""
         return sorted(self.items, key=lambda c: (-c.probability, -abs(c.pull)))

@@ -196,3 +196,42 @@ def test_a_region_outside_the_spacecraft_is_refused(tmp_path, capsys):
     assert main([*argv, region, "--unmodelled-sigma-kg", "0.1"]) == 2
     err = capsys.readouterr().err
     assert "does not meet the model's bounding box" in err and "\n" not in err.rstrip("\n")
+
+
+EXAMPLE = Path(__file__).resolve().parents[2] / "docs" / "examples" / "cubesat_3u_readings.csv"
+
+
+def test_the_text_and_the_page_give_the_json_s_numbers_readably(tmp_path, capsys):
+    """On the example test: the text and the page show the JSON's mass, item changes and
+    inertia to significant figures, the products named in their convention (Pxy = +∫xy dm,
+    the negative of the tensor's entry), where fixed decimals printed ``+0.0 g``."""
+    argv = ["update", str(EXAMPLE), "--setup", str(SETUP), "--weighed-mass-kg", "2.6"]
+    assert main([*argv, "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert main([*argv, "--report", str(tmp_path / "page")]) == 0
+    text = capsys.readouterr().out
+    lines = text.splitlines()
+    # weighed to 1 g: 2.6000 ± 0.0010 kg (it was 2.6000 ± 0.0010 with no unit, "mass_kg")
+    assert any(s.startswith("mass (kg) ") and "2.6000 ± 0.0010 (weighed)" in s for s in lines)
+    # a change of milligrams in a 20 g board printed as "+0.0 g": now its figures
+    board = next(c for c in d["items"] if c["item"].endswith("radio_board"))
+    assert abs(board["delta_kg"]) < 5e-5
+    items = text.split("\nitems (", 1)[1].splitlines()
+    row = next(s for s in items if s.lstrip().startswith(board["item"] + " "))
+    change_g = row.split()[6]  # item, P, CAD mass, change % ("a ± b": 3 tokens), change g
+    assert float(change_g) == pytest.approx(board["delta_kg"] * 1e3, rel=1e-3)
+    assert float(change_g) != 0.0
+    # the products: Pyz = −J[1][2] (kg·mm² here: the moments are thousands)
+    j = np.array(d["posterior"]["inertia_kg_mm2"])
+    products = next(s for s in lines if s.startswith("  Pxy "))
+    assert "Pxy = +∫xy dm; the tensor's entry is −Pxy" in products
+    pyz = float(products.split("Pyz ", 1)[1].split(" ± ")[0])
+    assert pyz == pytest.approx(-j[1, 2], rel=1e-3) and abs(j[1, 2]) > 100
+    assert "updated inertia about the CoG, model axes (kg·mm², ± 1 σ):" in text
+    # the page: the tensor with its convention, then both product conventions, same numbers
+    page = (tmp_path / "page" / "index.html").read_text(encoding="utf-8")
+    assert "off-diagonal entries are −∫ x·y dm" in page
+    assert "Pxy = +∫ x·y dm" in page and "Ixy = −∫ x·y dm" in page
+    pyz_cell = products.split("Pyz ", 1)[1].split("  ")[0]  # "value ± σ", never broken
+    assert f'<td class=""><span class="v">{pyz_cell}</span></td>' in page
+    assert "mass (kg)" in page and "2.6000 ± 0.0010 (weighed)" in page

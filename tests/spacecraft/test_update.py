@@ -11,6 +11,7 @@ from scipy import stats
 from cadcog.mass.properties import MassProperties, box_properties, combine
 from cadcog.spacecraft.items import Item
 from cadcog.spacecraft.update import Measurement, UnmodelledPrior, recompensate, update_budget
+from cadcog.spacecraft.update_text import unmodelled_summary
 
 ME_MASS = 0.176
 ME_COG = np.array([0.0, 0.0, 190.0])
@@ -209,7 +210,7 @@ def test_an_unmodelled_mass_the_data_want_negative_is_held_at_zero():
     prior = UnmodelledPrior(np.array([-30.0, -30, -20]), np.array([40.0, 30, 20]), 0.0, 0.1)
     r = update_budget(items, FIXED, _measure(truth, np.eye(3) * 0.01, 0.001), unmodelled=prior)
     assert r.unmodelled_mass_kg is not None and r.unmodelled_mass_kg >= 0.0
-    assert r.unmodelled_negative and "negative" in r.unmodelled_summary()
+    assert r.unmodelled_negative and "negative" in unmodelled_summary(r)
 
 
 def test_recompensation_uses_the_weighed_mass():

@@ -1,0 +1,97 @@
+"""The one composition behind ``cadcog update`` and ``cadcog.update``, from their files.
+
+:func:`update_from_files` reads the readings CSV with the set-up's inclinometer, the swing CSV
+when one is given (its tensor observed with the mass and the CoG, :mod:`cadcog.dynamics.measure`)
+and runs :func:`cadcog.spacecraft.setup.update_for_setup`. It sits here, above
+:mod:`cadcog.spacecraft`, because the swings need the dynamics layer. The command
+(:mod:`cadcog.cli.update`) and the API (:func:`cadcog.api.update`) each check their own
+arguments, in their own words, then call it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from cadcog.core.errors import CadcogError
+from cadcog.method.readings import read_readings
+from cadcog.spacecraft.setup import Setup, update_for_setup
+
+if TYPE_CHECKING:
+    from cadcog.method.estimate import CogEstimate
+    from cadcog.spacecraft.update import UnmodelledPrior, UpdateResult
+
+
+def update_from_files(
+    setup: Setup,
+    readings: Path,
+    weighed_mass_kg: float,
+    *,
+    mass_sigma_kg: float,
+    unmodelled: UnmodelledPrior | None,
+    swings: Path | None,
+) -> tuple[UpdateResult, CogEstimate]:
+    """What the test's files and the weighing say about the CAD, from checked arguments.
+
+    Parameters
+    ----------
+    setup : Setup
+    readings : Path
+        Readings CSV of the suspension test.
+    weighed_mass_kg : float
+        The spacecraft's weighed mass without the measurement equipment (kg, > 0).
+    mass_sigma_kg : float
+        1 σ of the weighing (kg, > 0).
+    unmodelled : UnmodelledPrior, optional
+        The user's region for an unmodelled mass, with its prior.
+    swings : Path, optional
+        The same hangs' swing CSV: its inertia tensor is observed too.
+
+    Returns
+    -------
+    (UpdateResult, CogEstimate)
+        The update (``to_dict()`` is ``cadcog update --json``) and the estimate it started
+        from (its warnings, the report's figure).
+
+    Raises
+    ------
+    CadcogError
+        A file the update cannot use (a ValueError from reading it or from the update),
+        named in the message: the swing CSV for its own errors, else the readings CSV.
+    """
+    with _naming(readings):
+        suspensions = read_readings(readings, setup.rig.inclinometer)
+    inertia = None
+    if swings is not None:
+        from cadcog.dynamics.measure import inertia_observation
+
+        with _naming(swings):
+            inertia = inertia_observation(
+                setup,
+                swings,
+                suspensions,
+                weighed_mass_kg=float(weighed_mass_kg),
+                mass_sigma_kg=float(mass_sigma_kg),
+            )
+    with _naming(readings):
+        return update_for_setup(
+            setup,
+            suspensions,
+            float(weighed_mass_kg),
+            mass_sigma_kg=float(mass_sigma_kg),
+            unmodelled=unmodelled,
+            inertia=inertia,
+        )
+
+
+@contextmanager
+def _naming(path: Path) -> Iterator[None]:
+    """A ValueError about the data as the one-line error naming ``path``."""
+    try:
+        yield
+    except CadcogError:
+        raise
+    except ValueError as exc:
+        raise CadcogError(f"{path}: {exc}") from None
