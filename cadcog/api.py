@@ -176,6 +176,7 @@ def mass_properties(
     form_factor: str | None = None,
     cog_limits_mm: Sequence[float] | None = None,
     workers: int | None = None,
+    surface_area: bool = False,
 ) -> MassReport:
     """Mass properties of a STEP file, solid by solid, with a mass budget (``cadcog massprops``).
 
@@ -214,6 +215,9 @@ def mass_properties(
         A custom CoG envelope (half-widths, mm).
     workers : int, optional
         Processes for integration and overlap checks (default: the CPUs available).
+    surface_area : bool
+        Also every body's face area and each budget node's sum (``--surface-area``:
+        ``surface_area_mm2``; for insulation blankets and coatings).
 
     Returns
     -------
@@ -267,6 +271,7 @@ def mass_properties(
         overlaps=overlaps,
         strict=strict,
         workers=workers or available_workers(),
+        surface_areas=bool(surface_area),
     )
     try:
         return build_mass_report(

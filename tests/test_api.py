@@ -64,7 +64,13 @@ SAME_DEFAULTS = {
     },
     "validate": {"campaigns": "campaigns", "seed": "seed", "level": "level"},
     "plan": {"trials": "trials", "max_set": "max_set", "seed": "seed"},
-    "mass_properties": {"axes": "axes", "about": "about", "strict": "strict", "exclude": "exclude"},
+    "mass_properties": {
+        "axes": "axes",
+        "about": "about",
+        "strict": "strict",
+        "exclude": "exclude",
+        "surface_area": "surface_area",
+    },
     "estimate": {"self_calibrate_wire": "self_calibrate_wire", "mass_sigma_kg": "mass_sigma_kg"},
     "update": {"mass_sigma_kg": "mass_sigma_kg", "unmodelled_mass_kg": "unmodelled_mass_kg"},
 }
@@ -361,6 +367,8 @@ def test_one_exclusion_pattern_is_one_pattern(tmp_path) -> None:
     assert whole.result.total.mass_kg == pytest.approx(1.1e-3, rel=1e-9)  # 1000 + 100 mm³
     assert kept.result.total.mass_kg == pytest.approx(1.0e-3, rel=1e-9)
     assert kept.result.total.cog_mm == pytest.approx([5.0, 5.0, 5.0], abs=1e-9)  # corner at 0
+    areas = cadcog.mass_properties(step, density_kg_m3=1000.0, surface_area=True, workers=1)
+    assert areas.budget.root.surface_area_mm2 == pytest.approx(600.0 + 240.0, rel=1e-9)
 
 
 def test_large_results_print_in_one_short_line(campaign_csv) -> None:

@@ -5,10 +5,10 @@ needs one more rule, so that rounding never hides what the measurement resolves 
 spacecraft weighed to 1 g is ``2.6000 ± 0.0010 kg``, not ``2.6 ± 0.001``):
 
 - σ is written to :data:`SIGMA_FIGS` significant figures;
-- the value to :data:`~cadcog.core.numformat.SIG_FIGS` significant figures, or to the decimal of
-  σ's last figure when that is finer (then with trailing zeros, which say so);
-- a value's integer digits are never rounded away (``24388 ± 170``), round-off far below σ
-  shows as zeros at σ's resolution, and ``-0`` never shows.
+- the value to the decimal of σ's last figure (the GUM's rule, JCGM 100:2008 §7.2.6): as many
+  digits as the measurement resolves, no more (``0.0 ± 1.4``: a change the data cannot tell
+  from zero is not written as ``0.01274``), no fewer (trailing zeros say so);
+- a value's integer digits are never rounded away (``24388 ± 170``), and ``-0`` never shows.
 
 The caller converts units first (``factor``: from the base unit to the one shown, as
 :func:`cadcog.core.numformat.mass_unit` gives it). JSON never comes through here.
@@ -18,11 +18,11 @@ Examples
 >>> pm(2.6, 0.001), pm(2.5825, 0.0989), pm(24387.96, 168.14)
 ('2.6000 ± 0.0010', '2.583 ± 0.099', '24388 ± 170')
 >>> pm(1.274e-5, 1.406e-3, factor=1e3), pm(0.0, 0.0), pm(-4.13, 5.65)
-('0.01274 ± 1.4', '0 ± 0', '-4.13 ± 5.7')
+('0.0 ± 1.4', '0 ± 0', '-4.1 ± 5.7')
 >>> pm(0.0, 0.0036), pm(1234.0, 12.0)
 ('0.0000 ± 0.0036', '1234 ± 12')
->>> signed(pm(1.274e-5, 1.406e-3, factor=1e3)), signed("-3"), signed("0")
-('+0.01274 ± 1.4', '-3', '0')
+>>> signed(pm(0.874e-3, 1.406e-3, factor=1e3)), signed("-3"), signed("0")
+('+0.9 ± 1.4', '-3', '0')
 """
 
 from __future__ import annotations
@@ -64,12 +64,7 @@ def pm(value: float, sigma: float, factor: float = 1.0) -> str:
         return f"{nf.sig(v)} ± {nf.sig(s, SIGMA_FIGS)}"
     s = float(f"{s:.{SIGMA_FIGS - 1}e}")  # rounded first: 0.000999 is 0.0010, not 0.00100
     sigma_decimals = _decimals_for(s, SIGMA_FIGS)
-    text = nf.sig(v)
-    shown = len(text.split(".", 1)[1]) if "." in text else 0
-    if "e" not in text and shown < sigma_decimals and math.isfinite(v):
-        text = nf.fixed(v, sigma_decimals)
-    elif "e" in text and abs(v) < s:  # round-off far below σ: zero at σ's resolution
-        text = nf.fixed(v, sigma_decimals)
+    text = nf.fixed(v, sigma_decimals) if math.isfinite(v) and abs(v) < nf.PLAIN_MAX else nf.sig(v)
     return f"{text} ± {nf.fixed(s, sigma_decimals)}"
 
 

@@ -213,14 +213,16 @@ def test_the_text_and_the_page_give_the_json_s_numbers_readably(tmp_path, capsys
     lines = text.splitlines()
     # weighed to 1 g: 2.6000 ± 0.0010 kg (it was 2.6000 ± 0.0010 with no unit, "mass_kg")
     assert any(s.startswith("mass (kg) ") and "2.6000 ± 0.0010 (weighed)" in s for s in lines)
-    # a change of milligrams in a 20 g board printed as "+0.0 g": now its figures
+    # a change of a board in grams, to the resolution of its σ (the GUM's rule): the JSON's
+    # value rounded to σ's last decimal, σ to two figures
     board = next(c for c in d["items"] if c["item"].endswith("radio_board"))
-    assert abs(board["delta_kg"]) < 5e-5
     items = text.split("\nitems (", 1)[1].splitlines()
     row = next(s for s in items if s.lstrip().startswith(board["item"] + " "))
-    change_g = row.split()[6]  # item, P, CAD mass, change % ("a ± b": 3 tokens), change g
-    assert float(change_g) == pytest.approx(board["delta_kg"] * 1e3, rel=1e-3)
-    assert float(change_g) != 0.0
+    change_g, _, sigma_g = row.split()[6:9]  # item, P, CAD mass, change % (3 tokens), change g
+    decimals = len(sigma_g.split(".")[1]) if "." in sigma_g else 0
+    assert float(change_g) == pytest.approx(board["delta_kg"] * 1e3, abs=0.5 * 10**-decimals)
+    sigma_want_g = board["delta_sigma_rel"] * board["cad_mass_kg"] * 1e3
+    assert float(sigma_g) == pytest.approx(sigma_want_g, rel=0.05)
     # the products: Pyz = −J[1][2] (kg·mm² here: the moments are thousands)
     j = np.array(d["posterior"]["inertia_kg_mm2"])
     products = next(s for s in lines if s.startswith("  Pxy "))
