@@ -63,3 +63,75 @@ def test_report_with_a_given_campaign_uses_it(tmp_path, capsys):
     )
     assert "file not found" in capsys.readouterr().err
     assert not (tmp_path / "x").exists()
+
+
+def _nauo_masked(step: bytes) -> bytes:
+    """A STEP file without its line breaks (which move with the ids) and its NAUO ids."""
+    flat = re.sub(rb"\s*\n\s*", b"", step)
+    return re.sub(rb"NEXT_ASSEMBLY_USAGE_OCCURRENCE\('\d+'", b"NAUO('#'", flat)
+
+
+def _tree(folder):
+    """Every file under ``folder``: relative path → bytes."""
+    return {
+        p.relative_to(folder).as_posix(): p.read_bytes() for p in folder.rglob("*") if p.is_file()
+    }
+
+
+def test_the_rig_parts_come_back_from_the_cache_to_the_last_byte(paper_rig, tmp_path, monkeypatch):
+    from dataclasses import replace
+
+    import cadcog.cad.build
+    from cadcog.cad import cache
+    from cadcog.core.fileio import dumps_json
+    from cadcog.reports.rig_report import parts_cache_key, rig_parts
+
+    built = rig_parts(paper_rig, tmp_path / "a")
+    folder = cache.cache_dir()
+    assert folder is not None and len(list(folder.glob("*.json"))) == 1
+    real_build = cadcog.cad.build.build_parts
+
+    def no_build(*_a):
+        pytest.fail("built again")
+
+    monkeypatch.setattr(cadcog.cad.build, "build_parts", no_build)
+    again = rig_parts(paper_rig, tmp_path / "b")
+    assert again == built and dumps_json(again) == dumps_json(built)
+    assert (
+        again["bodies"]["proof_mass"]["inertia_kg_mm2"]
+        == built["bodies"]["proof_mass"]["inertia_kg_mm2"]
+    )
+    files = _tree(tmp_path / "a")
+    assert sorted(files) == sorted(
+        ["assembly.step", "ground_truth.json"]
+        + [f"stl/{b}.stl" for b in ("proof_mass", *[v.name for v in paper_rig.me_volumes])]
+    )
+    assert _tree(tmp_path / "b") == files
+    assert files["ground_truth.json"] == dumps_json(built).encode()
+
+    # any field of the rig is part of the key: a deeper hole is built afresh, and differs
+    deeper = replace(paper_rig, holes=replace(paper_rig.holes, depth_mm=13.0))
+    assert parts_cache_key(deeper) != parts_cache_key(paper_rig)
+    monkeypatch.setattr(cadcog.cad.build, "build_parts", real_build)
+    other = rig_parts(deeper, tmp_path / "c")
+    assert other["bodies"]["proof_mass"]["mass_kg"] == pytest.approx(paper_rig.proof_mass.mass_kg)
+    assert other["bodies"]["proof_mass"]["volume_mm3"] < built["bodies"]["proof_mass"]["volume_mm3"]
+
+    # a damaged entry is built again (and rewritten); with the cache off nothing is kept
+    entry = folder / f"{parts_cache_key(paper_rig)}.json"
+    entry.write_text('{"format": 1, "result": {"files": {"../x": "AA=="}}}', encoding="utf-8")
+    assert rig_parts(paper_rig, tmp_path / "d") == built
+    rebuilt = _tree(tmp_path / "d")
+    assert not (tmp_path / "x").exists()
+    # OCCT numbers the assembly links by the assemblies a process has written before: a
+    # second build in one process differs from the first in those ids, and only in them
+    assert {n: rebuilt[n] for n in files if n != "assembly.step"} == {
+        n: files[n] for n in files if n != "assembly.step"
+    }
+    assert _nauo_masked(rebuilt["assembly.step"]) == _nauo_masked(files["assembly.step"])
+    assert '"ground_truth"' in entry.read_text(encoding="utf-8")
+    monkeypatch.setenv("CADCOG_NO_CACHE", "1")
+    for e in folder.glob("*.json"):
+        e.unlink()
+    rig_parts(paper_rig, tmp_path / "e")
+    assert not list(folder.glob("*.json"))
