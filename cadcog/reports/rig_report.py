@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.core import numformat as nf
 from cadcog.core.fileio import dumps_json, staged_output_dir
 from cadcog.core.version import __version__
 from cadcog.method.errormodel import ErrorModel
@@ -217,9 +218,11 @@ def render_html(
     pm_truth = np.array(truth["bodies"]["proof_mass"]["cog_mm"])
     error = estimate.cog_mm - pm_truth
     sigma = np.sqrt(np.diag(estimate.cov_mm2))
+    listed = [*truth["bodies"].items(), ("assembly", truth["assembly"])]
+    mass_unit = nf.mass_unit(b["mass_kg"] for _, b in listed)  # one unit for the column
     bodies = [
-        [esc(name), f"{b['mass_kg']:.4f}", vec(b["cog_mm"]), f"{b['volume_mm3']:.1f}"]
-        for name, b in [*truth["bodies"].items(), ("assembly", truth["assembly"])]
+        [esc(name), nf.in_unit(b["mass_kg"], mass_unit), vec(b["cog_mm"]), nf.sig(b["volume_mm3"])]
+        for name, b in listed
     ]
     points = [
         [
@@ -335,7 +338,7 @@ assembly's CoG.</p>
 <p>Exact B-rep integration per solid with its own density (OCCT); estimated relative integration
 error {truth["integration"]["estimated_relative_error"]:.1g}. The holes shift the proof-mass CoG
 by {vec(truth["hole_cog_shift_mm"], 4)} mm.</p>
-{table(["body", "mass (kg)", "CoG (mm)", "volume (mm³)"], bodies)}
+{table(["body", f"mass ({mass_unit[0]})", "CoG (mm)", "volume (mm³)"], bodies)}
 
 <h2 id="budget">Error budget</h2>
 <p>Shares of the CoG error variance for pair {esc(budget.pair[0])}-{esc(budget.pair[1])} (plumb

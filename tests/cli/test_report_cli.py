@@ -35,6 +35,11 @@ def test_report_has_every_section_and_figure(tmp_path, capsys):
     for data, _alt in images:
         assert base64.b64decode(data)[:8] == b"\x89PNG\r\n\x1a\n"
     assert "virtual" in page
+    # masses to 4 significant figures in one unit for the column, volumes likewise (issue 22)
+    rows = dict(re.findall(r'<tr><td class="l">(\w+)</td><td class="">([^<]*)</td>', page))
+    assert ">mass (kg)</th>" in page
+    assert (rows["transmitter"], rows["assembly"], rows["proof_mass"]) == ("0.02", "9.376", "9.2")
+    assert '<td class="">9633</td></tr>' in page  # the transmitter's 9633.1 mm³
     for name in (
         "campaign.csv",
         "budget.json",
