@@ -14,8 +14,8 @@
    view, the histogram, the validation plot, the ellipses), CPU of each.
 
 ``--code DIR`` measures the cadcog package in DIR instead of this checkout (run in DIR, and
-DIR first on ``PYTHONPATH``): e.g. ``git archive main | tar -x -C /tmp/before`` for a before/after in
-the same sitting.
+DIR first on ``PYTHONPATH``): e.g. ``git archive main | tar -x -C /tmp/before`` for a
+before/after in the same sitting.
 
 Run: ``nice -n 5 .venv/bin/python benchmarks/bench_report.py [--runs 5] [--cold 2]``;
 figures in docs/performance.md ("cadcog report --out").

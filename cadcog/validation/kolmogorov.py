@@ -9,7 +9,7 @@ Copyright (c) 2001-2002 Enthought, Inc. 2003, SciPy Developers): Simard & L'Ecuy
 between Ruben-Gambino's closed forms, Durbin's matrix (Marsaglia-Tsang-Wang), Pomeranz's
 recursion, Smirnov's one-sided law (``scipy.special.smirnov``, the only scipy function used)
 and Pelz-Good's approximation. ``tests/validation/test_kolmogorov.py`` checks both against
-SciPy over sample sizes 1-400 and the whole range of ``D``.
+SciPy, to the bit, over sample sizes from 1 to 4000 and the whole range of ``D``.
 
 References: Durbin (1968), Ann. Math. Stat. 39, 398-411; Pomeranz (1974), CACM 17(12),
 703-704; Marsaglia, Tsang & Wang (2003), J. Stat. Softw. 8(18); Pelz & Good (1976), JRSS B
