@@ -13,6 +13,11 @@ An entry that cannot be read (damaged, from another version) is ignored and reco
 cache that cannot be written is skipped without a word: the cache only saves time, it never
 changes a result. Entries are a few kilobytes to a few megabytes; delete the folder to
 reclaim the space.
+
+Besides models, ``cadcog report`` keeps the CAD parts of a rig (its ground truth and the STEP
+and STL files of ``parts build``, which are byte-for-byte reproducible) as a plain JSON entry
+(:func:`load_data`, :func:`store_data`), so that a second report on an unchanged rig does not
+import build123d (~4 s).
 """
 
 from __future__ import annotations
@@ -49,32 +54,47 @@ def cache_dir() -> Path | None:
     return base / "cadcog"
 
 
-_code_digest: list[str] = []
+_code_digest: dict[tuple[str, ...], str] = {}
 
 
-def _code() -> str:
-    """Digest of cadcog's version and the sources of :data:`_CODE` (computed once a run)."""
-    if not _code_digest:
+def _code(subs: tuple[str, ...] = _CODE) -> str:
+    """Digest of cadcog's version and the sources of the sub-packages ``subs`` (computed once
+    a run for each)."""
+    if subs not in _code_digest:
         h = hashlib.sha256(f"cadcog {__version__} format {FORMAT}".encode())
         root = Path(__file__).resolve().parents[1]
-        for sub in _CODE:
+        for sub in subs:
             for path in sorted((root / sub).glob("*.py")):
-                h.update(path.name.encode())
+                h.update(f"{sub}/{path.name}".encode())
                 h.update(path.read_bytes())
-        _code_digest.append(h.hexdigest())
-    return _code_digest[0]
+        _code_digest[subs] = h.hexdigest()
+    return _code_digest[subs]
 
 
-def key(settings: dict[str, Any], files: Iterable[Path]) -> str:
-    """The entry's key: a SHA-256 of cadcog's code, ``settings`` (JSON-ready values) and the
-    path and content of every file in ``files``.
+def kernel_versions() -> dict[str, str]:
+    """Versions of the geometry kernel's distributions (build123d, OCP), read from their
+    installed metadata without importing them; ``"absent"`` for one not installed."""
+    from importlib import metadata
+
+    versions = {}
+    for dist in ("build123d", "cadquery-ocp", "cadquery-ocp-novtk"):
+        try:
+            versions[dist] = metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            versions[dist] = "absent"
+    return versions
+
+
+def key(settings: dict[str, Any], files: Iterable[Path], *, code: tuple[str, ...] = _CODE) -> str:
+    """The entry's key: a SHA-256 of cadcog's code (the sources of the sub-packages ``code``),
+    ``settings`` (JSON-ready values) and the path and content of every file in ``files``.
 
     Raises
     ------
     OSError
         If a file cannot be read (the caller then reads it as usual, and reports that).
     """
-    h = hashlib.sha256(_code().encode())
+    h = hashlib.sha256(_code(code).encode())
     h.update(json.dumps(settings, sort_keys=True, default=str).encode())
     for path in files:
         h.update(str(path).encode() + b"\0")
@@ -87,6 +107,23 @@ def key(settings: dict[str, Any], files: Iterable[Path]) -> str:
 
 def load(entry: str) -> ModelMassProperties | None:
     """The cached result under ``entry``, or None (no cache, no entry, or a damaged one)."""
+    data = load_data(entry)
+    if data is None:
+        return None
+    try:
+        return from_data(data)
+    except (ValueError, KeyError, TypeError, IndexError, AttributeError):
+        return None
+
+
+def store(entry: str, result: ModelMassProperties) -> None:
+    """Keep ``result`` under ``entry`` (written whole or not at all; errors ignored)."""
+    store_data(entry, to_data(result))
+
+
+def load_data(entry: str) -> Any:
+    """The JSON data kept under ``entry`` by :func:`store_data`, or None (no cache, no entry,
+    or a damaged one)."""
     folder = cache_dir()
     if folder is None:
         return None
@@ -94,17 +131,18 @@ def load(entry: str) -> ModelMassProperties | None:
         data = json.loads((folder / f"{entry}.json").read_text(encoding="utf-8"))
         if data.get("format") != FORMAT:
             return None
-        return from_data(data["result"])
-    except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError):
+        return data["result"]
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return None
 
 
-def store(entry: str, result: ModelMassProperties) -> None:
-    """Keep ``result`` under ``entry`` (written whole or not at all; errors ignored)."""
+def store_data(entry: str, data: Any) -> None:
+    """Keep ``data`` (JSON data; numpy values as exact Python numbers) under ``entry``,
+    written whole or not at all; errors ignored."""
     folder = cache_dir()
     if folder is None:
         return
-    text = json.dumps({"format": FORMAT, "result": to_data(result)}, default=_plain)
+    text = json.dumps({"format": FORMAT, "result": data}, default=_plain)
     with suppress(OSError):
         folder.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=folder, prefix=".entry-", suffix=".tmp")

@@ -90,17 +90,23 @@ def _box_edges(lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndar
     return edges
 
 
+def _box_path(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """The 12 edges of the box ``[lo, hi]`` (mm) as one polyline, edges separated by NaN:
+    shape (3, 36), rows x, y, z."""
+    nan = np.full(3, np.nan)
+    return np.array([p for a, b in _box_edges(lo, hi) for p in (a, b, nan)]).T
+
+
 def rig_view(rig: Rig, cog_mm: np.ndarray, path: Path) -> None:
     """3-D view of the proof mass, the ME boxes, the suspension points and their plumb lines."""
     plt = _pyplot()
     fig = plt.figure(figsize=(7.5, 5.2), dpi=120)
     ax = fig.add_subplot(projection="3d")
     size = np.asarray(rig.proof_mass.size_mm)
-    for a, b in _box_edges(np.zeros(3), size):
-        ax.plot(*zip(a, b, strict=True), color="#555", lw=1.2)
+    # one line per box (its 12 edges, NaN-separated), not one per edge: 5 artists, not 60
+    ax.plot(*_box_path(np.zeros(3), size), color="#555", lw=1.2)
     for k, v in enumerate(rig.me_volumes):
-        for a, b in _box_edges(v.min_mm, v.max_mm):
-            ax.plot(*zip(a, b, strict=True), color=f"C{k + 2}", lw=0.9)
+        ax.plot(*_box_path(v.min_mm, v.max_mm), color=f"C{k + 2}", lw=0.9)
         ax.text(*v.max_mm, v.name, fontsize=6, color=f"C{k + 2}")
     for p in rig.suspension_points:
         w = rig.wire_exit_mm(p)

@@ -7,7 +7,9 @@ one file that opens anywhere; the PNGs and the JSON of every step are written be
 
 from __future__ import annotations
 
+import base64
 import html
+import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.core import numformat as nf
 from cadcog.core.fileio import dumps_json, staged_output_dir
 from cadcog.core.version import __version__
 from cadcog.method.errormodel import ErrorModel
@@ -29,6 +32,10 @@ from cadcog.validation.campaign import virtual_campaign, write_campaign
 from cadcog.validation.verification import CampaignValidation, validate_campaign
 
 REPORT_FILE = "index.html"
+PARTS_DIR = "parts"
+
+#: The sub-packages whose code makes a rig's parts (hashed into the cache key).
+_PARTS_CODE = ("cad", "mass", "core", "rig")
 
 
 @dataclass(frozen=True)
@@ -52,13 +59,11 @@ def build_report(
     log: Callable[[str], None] = lambda _m: None,
 ) -> ReportResult:
     """Run the chain on ``rig`` and write ``out_dir/index.html`` with its figures and data."""
-    from cadcog.cad.build import build_parts
     from cadcog.reports import plots
 
     out = Path(out_dir)
     with staged_output_dir(out) as stage:
-        log("building the CAD parts and their ground truth")
-        truth = build_parts(rig, stage / "parts").ground_truth
+        truth = rig_parts(rig, stage / PARTS_DIR, log)
         log("error budget")
         budget = error_budget(Scenario.from_rig(rig), ErrorModel.from_rig(rig))
         log("Monte Carlo (25 random points, 300 pairs, 1000 trials each)")
@@ -123,6 +128,80 @@ def build_report(
     return ReportResult(out, out / REPORT_FILE, truth, budget, sim, validation, estimate, virtual)
 
 
+def parts_cache_key(rig: Rig) -> str:
+    """The cache key of ``rig``'s parts: a SHA-256 of every field of the rig (``repr`` of its
+    frozen dataclasses: exact floats), the geometry kernel's versions, the STEP timestamp's
+    ``SOURCE_DATE_EPOCH`` and the sources of cadcog's ``cad``, ``mass``, ``core`` and ``rig``."""
+    from cadcog.cad import cache
+
+    settings = {
+        "kind": "rig parts",
+        "rig": repr(rig),
+        "kernel": cache.kernel_versions(),
+        "SOURCE_DATE_EPOCH": os.environ.get("SOURCE_DATE_EPOCH", ""),
+    }
+    return cache.key(settings, [], code=_PARTS_CODE)
+
+
+def rig_parts(
+    rig: Rig, parts_dir: Path, log: Callable[[str], None] = lambda _m: None
+) -> dict[str, Any]:
+    """Write ``rig``'s parts into the new folder ``parts_dir`` as ``cadcog parts build`` does
+    (STEP, one STL per body, ``ground_truth.json``) and return the ground truth.
+
+    The parts are byte-for-byte reproducible, so they are kept in the cache
+    (:mod:`cadcog.cad.cache`, plain JSON: the ground truth as data, the files' bytes in
+    base64) under :func:`parts_cache_key`: a second run on an unchanged rig writes the same
+    bytes and returns the same ground truth, to the last bit, without importing build123d.
+    """
+    from cadcog.cad import cache
+
+    entry = parts_cache_key(rig)
+    hit = _parts_entry(cache.load_data(entry))
+    if hit is not None:
+        log("CAD parts and their ground truth (from the cache: unchanged rig)")
+        truth, files = hit
+        for name, data in files.items():
+            path = parts_dir / name
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_bytes(data)
+        return truth
+    from cadcog.cad.build import build_parts
+
+    log("building the CAD parts and their ground truth")
+    built = build_parts(rig, parts_dir)
+    stored = {
+        "ground_truth": built.ground_truth,
+        "files": {
+            p.relative_to(parts_dir).as_posix(): base64.b64encode(p.read_bytes()).decode("ascii")
+            for p in built.files
+        },
+    }
+    cache.store_data(entry, stored)
+    return built.ground_truth
+
+
+def _parts_entry(data: Any) -> tuple[dict[str, Any], dict[str, bytes]] | None:
+    """The ground truth and the files (relative path → bytes) of a parts entry, or None if
+    ``data`` is not one (no entry, or a damaged one: the parts are then built again)."""
+    if data is None:
+        return None
+    try:
+        truth = data["ground_truth"]
+        files = {
+            name: base64.b64decode(text, validate=True) for name, text in data["files"].items()
+        }
+    except (KeyError, TypeError, AttributeError, ValueError):
+        return None
+    names_ok = all(
+        isinstance(n, str) and n and not Path(n).is_absolute() and ".." not in Path(n).parts
+        for n in files
+    )
+    if not isinstance(truth, dict) or not files or not names_ok:
+        return None
+    return truth, files
+
+
 # --- HTML ----------------------------------------------------------------------------------------
 def render_html(
     rig: Rig,
@@ -139,9 +218,11 @@ def render_html(
     pm_truth = np.array(truth["bodies"]["proof_mass"]["cog_mm"])
     error = estimate.cog_mm - pm_truth
     sigma = np.sqrt(np.diag(estimate.cov_mm2))
+    listed = [*truth["bodies"].items(), ("assembly", truth["assembly"])]
+    mass_unit = nf.mass_unit(b["mass_kg"] for _, b in listed)  # one unit for the column
     bodies = [
-        [esc(name), f"{b['mass_kg']:.4f}", vec(b["cog_mm"]), f"{b['volume_mm3']:.1f}"]
-        for name, b in [*truth["bodies"].items(), ("assembly", truth["assembly"])]
+        [esc(name), nf.in_unit(b["mass_kg"], mass_unit), vec(b["cog_mm"]), nf.sig(b["volume_mm3"])]
+        for name, b in listed
     ]
     points = [
         [
@@ -257,7 +338,7 @@ assembly's CoG.</p>
 <p>Exact B-rep integration per solid with its own density (OCCT); estimated relative integration
 error {truth["integration"]["estimated_relative_error"]:.1g}. The holes shift the proof-mass CoG
 by {vec(truth["hole_cog_shift_mm"], 4)} mm.</p>
-{table(["body", "mass (kg)", "CoG (mm)", "volume (mm³)"], bodies)}
+{table(["body", f"mass ({mass_unit[0]})", "CoG (mm)", "volume (mm³)"], bodies)}
 
 <h2 id="budget">Error budget</h2>
 <p>Shares of the CoG error variance for pair {esc(budget.pair[0])}-{esc(budget.pair[1])} (plumb
