@@ -24,26 +24,26 @@ settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 GOLDEN_DIR = Path(__file__).parent / "golden"
 
-#: The longest test files (CPU seconds of a fresh run on a 2-core machine, November 2026),
+#: The longest test files (CPU seconds of a fresh run on an idle 2-core machine, November 2026),
 #: longest first. ``--dist loadfile`` keeps a file on one worker, so its module-scoped fixtures
 #: are computed once, not once per worker; by default it hands out the files with the most
-#: tests first, so a long file of few tests (the inertia validation: 2 tests, ~40 s) could start
+#: tests first, so a long file of few tests (the inertia validation: 2 tests, ~22 s) could start
 #: last and run alone. These start first instead (longest-processing-time-first); the other
 #: files follow in xdist's order. A stale list only costs balance: it selects nothing.
 LONG_FILES_FIRST = (
-    "tests/inertia/test_inertia_validation.py",  # ~37 s: 4 simulated campaigns
-    "tests/test_static.py",  # ~35 s: mypy (no cache in a fresh clone)
-    "tests/spacecraft/test_calibration.py",  # ~32 s: 480 simulated campaigns
-    "tests/spacecraft/test_update.py",  # ~27 s: two coverage tests
-    "tests/validation/test_verification.py",  # ~19 s
-    "tests/uncertainty/test_calibration.py",  # ~15 s
-    "tests/method/test_plumblines.py",  # ~14 s: hypothesis
-    "tests/validation/test_size_adc.py",  # ~12 s
-    "tests/test_packaging.py",  # ~10 s: builds and installs a wheel
-    "tests/core/test_fuzz_parsers.py",  # ~8 s: hypothesis
-    "tests/bench/test_session.py",  # ~8 s
-    "tests/core/test_fileio.py",  # ~7 s, mostly a `cadcog report` subprocess
-    "tests/cli/test_inertia_cli.py",  # ~6 s
+    "tests/test_static.py",  # ~32 s: mypy (no cache in a fresh clone)
+    "tests/inertia/test_inertia_validation.py",  # ~22 s: 4 simulated campaigns
+    "tests/spacecraft/test_calibration.py",  # ~25 s: 480 simulated campaigns
+    "tests/spacecraft/test_update.py",  # ~20 s: two coverage tests
+    "tests/validation/test_verification.py",  # ~14 s
+    "tests/uncertainty/test_calibration.py",  # ~11 s
+    "tests/method/test_plumblines.py",  # ~11 s: hypothesis
+    "tests/validation/test_size_adc.py",  # ~9 s
+    "tests/test_packaging.py",  # ~7 s: builds and installs a wheel
+    "tests/core/test_fuzz_parsers.py",  # ~7 s: hypothesis
+    "tests/bench/test_session.py",  # ~6 s
+    "tests/core/test_fileio.py",  # ~5 s, mostly a `cadcog report` subprocess
+    "tests/cli/test_inertia_cli.py",  # ~5 s
     "tests/test_docs_site.py",  # ~5 s: mkdocs build
 )
 
