@@ -48,7 +48,7 @@ LONG_FILES_FIRST = (
 )
 
 
-@pytest.hookimpl(tryfirst=True)
+@pytest.hookimpl(tryfirst=True, optionalhook=True)  # optional: a hook of pytest-xdist
 def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object:
     """``--dist loadfile`` with :data:`LONG_FILES_FIRST` handed out first (only the order of
     the files changes: which tests run, and with which fixtures, does not)."""
