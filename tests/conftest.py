@@ -1,4 +1,8 @@
-"""Shared fixtures. CAD fixtures build once per session: build123d is slow to import."""
+"""Shared fixtures. CAD fixtures build once per session: build123d is slow to import.
+
+Also the order in which pytest-xdist hands the test files to its workers (``-n 2 --dist
+loadfile`` in pyproject's addopts; :func:`pytest_xdist_make_scheduler`).
+"""
 
 from __future__ import annotations
 
@@ -19,6 +23,55 @@ settings.register_profile("dev", deadline=None)
 settings.load_profile("ci" if os.environ.get("CI") else "dev")
 
 GOLDEN_DIR = Path(__file__).parent / "golden"
+
+#: The longest test files (CPU seconds of a fresh run on an idle 2-core machine, November 2026),
+#: longest first. ``--dist loadfile`` keeps a file on one worker, so its module-scoped fixtures
+#: are computed once, not once per worker; by default it hands out the files with the most
+#: tests first, so a long file of few tests (the inertia validation: 2 tests, ~22 s) could start
+#: last and run alone. These start first instead (longest-processing-time-first); the other
+#: files follow in xdist's order. A stale list only costs balance: it selects nothing.
+LONG_FILES_FIRST = (
+    "tests/test_static.py",  # ~32 s: mypy (no cache in a fresh clone)
+    "tests/inertia/test_inertia_validation.py",  # ~22 s: 4 simulated campaigns
+    "tests/spacecraft/test_calibration.py",  # ~25 s: 480 simulated campaigns
+    "tests/spacecraft/test_update.py",  # ~20 s: two coverage tests
+    "tests/validation/test_verification.py",  # ~14 s
+    "tests/uncertainty/test_calibration.py",  # ~11 s
+    "tests/method/test_plumblines.py",  # ~11 s: hypothesis
+    "tests/validation/test_size_adc.py",  # ~9 s
+    "tests/test_packaging.py",  # ~7 s: builds and installs a wheel
+    "tests/core/test_fuzz_parsers.py",  # ~7 s: hypothesis
+    "tests/bench/test_session.py",  # ~6 s
+    "tests/core/test_fileio.py",  # ~5 s, mostly a `cadcog report` subprocess
+    "tests/cli/test_inertia_cli.py",  # ~5 s
+    "tests/test_docs_site.py",  # ~5 s: mkdocs build
+)
+
+
+@pytest.hookimpl(tryfirst=True, optionalhook=True)  # optional: a hook of pytest-xdist
+def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object:
+    """``--dist loadfile`` with :data:`LONG_FILES_FIRST` handed out first (only the order of
+    the files changes: which tests run, and with which fixtures, does not)."""
+    if config.getvalue("dist") != "loadfile":
+        return None
+    try:
+        from xdist.scheduler import LoadFileScheduling
+    except ImportError:  # pragma: no cover - a future xdist: its own order
+        return None
+
+    rank = {path: i for i, path in enumerate(LONG_FILES_FIRST)}
+
+    class LongFilesFirst(LoadFileScheduling):  # type: ignore[misc]
+        _ordered = False
+
+        def _assign_work_unit(self, node: object) -> None:
+            if not self._ordered:  # the queue is complete at the first assignment
+                order = sorted(self.workqueue, key=lambda f: rank.get(f, len(rank)))
+                self.workqueue = type(self.workqueue)((f, self.workqueue[f]) for f in order)
+                self._ordered = True
+            super()._assign_work_unit(node)
+
+    return LongFilesFirst(config, log)
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:

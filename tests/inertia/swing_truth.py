@@ -176,13 +176,20 @@ def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
 
 
 def _dot(a: FloatArray, b: FloatArray) -> FloatArray:
-    return np.asarray(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
+    return np.asarray((a * b).sum(axis=0))
 
 
 def _rot(q: FloatArray) -> FloatArray:
-    """Body → lab rotation matrices (3, 3, n) of quaternions (4, n), normalised here."""
-    qn = q / np.sqrt((q * q).sum(axis=0))
-    return np.moveaxis(quat_to_matrix(qn.T), 0, -1)
+    """Body → lab rotation matrices (3, 3, n) of quaternions (4, n), normalised here
+    (:func:`quat_to_matrix`'s formula, written component-first: fewer array operations)."""
+    w, x, y, z = q / np.sqrt((q * q).sum(axis=0))
+    xx, yy, zz, xy, xz, yz = x * x, y * y, z * z, x * y, x * z, y * z
+    wx, wy, wz = w * x, w * y, w * z
+    r = np.empty((3, 3, q.shape[1]))
+    r[0, 0], r[0, 1], r[0, 2] = 1 - 2 * (yy + zz), 2 * (xy - wz), 2 * (xz + wy)
+    r[1, 0], r[1, 1], r[1, 2] = 2 * (xy + wz), 1 - 2 * (xx + zz), 2 * (yz - wx)
+    r[2, 0], r[2, 1], r[2, 2] = 2 * (xz - wy), 2 * (yz + wx), 1 - 2 * (xx + yy)
+    return r
 
 
 @dataclass(frozen=True)
@@ -199,6 +206,10 @@ class Batch:
     damping: FloatArray  # (n,) 1/s: 2/τ
     pivot: bool  # every wire length 0
     pivot_kinv: FloatArray = field(repr=False)  # (3, 3, n): inverse of the pivot's mobility
+    # constant products, so that a derivative costs fewer (small, overhead-bound) array
+    # operations: [r_exit]× (r_exit × v = [r_exit]× v) and J⁻¹ [r_exit]×
+    skew_exit: FloatArray = field(repr=False)  # (3, 3, n)
+    inv_skew_exit: FloatArray = field(repr=False)  # (3, 3, n)
     baumgarte: float = 20.0  # 1/s
 
 
@@ -220,8 +231,9 @@ def make_batch(
     r_exit = np.array([np.subtract(b.wire_exit_mm, b.cog_mm) for b in bodies], float) * 1e-3
     r_sens = np.array([np.subtract(b.sensor_mm, b.cog_mm) for b in bodies], float) * 1e-3
     kinv = np.empty((n, 3, 3))
+    skew = np.array([_skew(r) for r in r_exit]).reshape(n, 3, 3)
     for i in range(n):  # pivot mobility: a_P = K F, K = I/m − [r]× J⁻¹ [r]×
-        s = _skew(r_exit[i])
+        s = skew[i]
         kinv[i] = np.linalg.inv(np.eye(3) / mass[i] - s @ inv[i] @ s)
 
     def cf(a: FloatArray) -> FloatArray:
@@ -237,6 +249,8 @@ def make_batch(
         2.0 / tau,
         bool(np.all(length == 0)),
         cf(kinv),
+        skew_exit=cf(skew),
+        inv_skew_exit=cf(inv @ skew),
     )
 
 
@@ -261,9 +275,9 @@ def accelerations(y: FloatArray, b: Batch) -> Accel:
     gl[2] = -GRAVITY_M_S2
     a0 = _mtv(rot, gl - b.damping * v)  # body frame
     wd0 = _mv(b.inertia_inv, -b.damping * jw - _cross(w, jw))
-    r = b.r_exit
-    wxr = _cross(w, r)
-    a_p0 = a0 + _cross(wd0, r) + _cross(w, wxr)  # wire exit's acceleration, no wire force
+    r, rx = b.r_exit, b.skew_exit  # [r]× a = r × a
+    wxr = -_mv(rx, w)
+    a_p0 = a0 - _mv(rx, wd0) + _cross(w, wxr)  # wire exit's acceleration, no wire force
     x_p = y[0:3] + _mv(rot, r)
     v_p = v + _mv(rot, wxr)
     beta = b.baumgarte
@@ -271,17 +285,18 @@ def accelerations(y: FloatArray, b: Batch) -> Accel:
         target = -_mtv(rot, 2 * beta * v_p + beta**2 * x_p)
         force = _mv(b.pivot_kinv, target - a_p0)  # body frame
         tension = np.sqrt(_dot(force, force))
+        alpha = wd0 + _mv(b.inv_skew_exit, force)  # J⁻¹ (r × F)
     else:
         dist = np.sqrt(_dot(x_p, x_p))
         k = _mtv(rot, x_p / dist)  # clamp → exit direction, body frame
         c = 0.5 * (dist**2 - b.wire_length**2)
-        s = _cross(r, k)
-        den = 1.0 / b.mass + _dot(s, _mv(b.inertia_inv, s))
+        inv_s = _mv(b.inv_skew_exit, k)  # J⁻¹ s, s = r × k
+        den = 1.0 / b.mass + _dot(_mv(rx, k), inv_s)
         num = _dot(k, a_p0) + (_dot(v_p, v_p) + 2 * beta * _dot(x_p, v_p) + beta**2 * c) / dist
         tension = num / den
         force = -tension * k
+        alpha = wd0 - tension * inv_s  # J⁻¹ (r × F), F = −T k
     a_cog_b = a0 + force / b.mass
-    alpha = wd0 + _mv(b.inertia_inv, _cross(r, force))
     return Accel(_mv(rot, a_cog_b), alpha, tension, rot)
 
 
