@@ -477,6 +477,10 @@ def simulate(
     wire_correction: bool = True,
     paper: bool = False,
     workers: int = 1,
+    self_calibrate_wire: bool = False,
+    samples: int | None = None,
+    inclinometer_model: str | None = None,
+    wire_model: str | None = None,
 ) -> SimulationReport:
     """The Monte Carlo of the method over random suspension points (``cadcog simulate``).
 
@@ -501,6 +505,15 @@ def simulate(
         no wire correction.
     workers : int
         Processes.
+    self_calibrate_wire : bool
+        Estimate the wire offset scale with the CoG (groups of 3 or more, with the correction).
+    samples : int, optional
+        Readings averaged per suspension (default: the rig's).
+    inclinometer_model : str, optional
+        Inclinometer error model, one of ``cadcog.rig.parameters.INCLINOMETER_MODELS``
+        (default: the rig's).
+    wire_model : str, optional
+        Wire offset model, one of ``cadcog.rig.parameters.WIRE_MODELS`` (default: the rig's).
 
     Returns
     -------
@@ -514,6 +527,7 @@ def simulate(
     >>> 0.0 < r.fits.q50_mm < 5.0
     True
     """
+    from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
     from cadcog.uncertainty.simulate_rig import simulate_rig
 
     f = "simulate"
@@ -528,8 +542,30 @@ def simulate(
     _numbers(f, **numbers)
     if points == 1:
         raise _fail(f, "points", points, "give 0 (the rig's own points) or at least 2")
+    if samples is not None:
+        _numbers(f, samples=samples)
+    if inclinometer_model is not None:
+        check_choice(f, "inclinometer_model", inclinometer_model, INCLINOMETER_MODELS)
+    if wire_model is not None:
+        check_choice(f, "wire_model", wire_model, WIRE_MODELS)
+    if self_calibrate_wire and (paper or group_size < 3 or not wire_correction):
+        raise _fail(
+            f,
+            "self_calibrate_wire",
+            self_calibrate_wire,
+            "needs group_size 3 or more and wire_correction, and not paper",
+        )
     try:
-        return simulate_rig(_rig(f, rig), **numbers, wire_correction=wire_correction, paper=paper)
+        return simulate_rig(
+            _rig(f, rig),
+            **numbers,
+            wire_correction=wire_correction,
+            paper=paper,
+            self_calibrate_wire=self_calibrate_wire,
+            samples=samples,
+            inclinometer_model=inclinometer_model,  # type: ignore[arg-type]
+            wire_model=wire_model,  # type: ignore[arg-type]
+        )
     except CadcogError:
         raise
     except ValueError as exc:

@@ -53,6 +53,10 @@ def test_the_api_names_are_listed_and_unknown_names_fail() -> None:
 # API keyword → the command's option dest, where the two differ.
 SAME_DEFAULTS = {
     "simulate": {
+        "self_calibrate_wire": "self_calibrate_wire",
+        "samples": "samples",
+        "inclinometer_model": "inclinometer_model",
+        "wire_model": "wire_model",
         "points": "points",
         "trials": "trials",
         "seed": "seed",
@@ -181,14 +185,11 @@ def test_simulate_options_are_the_command_s(keywords, options, capsys) -> None:
     assert mine.settings.wire_correction is (not paper and keywords.get("wire_correction", True))
 
 
-def test_the_command_s_own_simulate_options_reach_the_one_composition(capsys) -> None:
-    """The options only the command has (the error model's overrides, the self-calibrated
-    wire) go through the same function the API calls, and change the model it reports."""
-    from cadcog.uncertainty.simulate_rig import simulate_rig
-
-    mine = simulate_rig(
-        cadcog.load_rig(), points=5, trials=30, seed=4, group_size=3, min_angle_deg=0.0,
-        wire_correction=True, paper=False, workers=1, self_calibrate_wire=True, samples=3,
+def test_the_error_model_overrides_are_the_command_s(capsys) -> None:
+    """The error model's overrides and the self-calibrated wire: the API gives the command's
+    JSON, and the options change the model it reports."""
+    mine = cadcog.simulate(
+        points=5, trials=30, seed=4, group_size=3, self_calibrate_wire=True, samples=3,
         inclinometer_model="paper-averaged", wire_model="elastica",
     )  # fmt: skip
     assert mine.to_json() == _cli_json(
@@ -268,6 +269,18 @@ BAD_CALLS = [
         r"simulate\(min_angle_deg=-5\): expected at least 0",
     ),
     (lambda: cadcog.simulate(workers=0), r"simulate\(workers=0\): expected at least 1"),
+    (
+        lambda: cadcog.simulate(samples=0),
+        r"simulate\(samples=0\): expected at least 1 \(samples per hang\)",
+    ),
+    (
+        lambda: cadcog.simulate(inclinometer_model="perfect"),
+        r"simulate: inclinometer_model='perfect': expected one of hang-bias, paper-averaged",
+    ),
+    (
+        lambda: cadcog.simulate(self_calibrate_wire=True),
+        r"simulate\(self_calibrate_wire=True\): needs group_size 3 or more",
+    ),
     (
         lambda: cadcog.simulate(rig=["a.toml"]),
         r"simulate\(rig=\['a\.toml'\]\): expected a file path",
