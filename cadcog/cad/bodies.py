@@ -173,7 +173,9 @@ def integrate(
         lo, hi = _global_box(check, body, rigid)
         area = check.face_area
         if area is not None and rigid is None:  # a scaled or sheared placement changes it
-            area = face_area_mm2(body.shape)
+            # a surface's area is its placed properties' mass (unit areal density), as when
+            # rigid; only a solid needs its faces integrated again
+            area = placed_props.mass_kg if body.kind == "surface" else face_area_mm2(body.shape)
         out.append(
             Body(
                 body,
