@@ -236,6 +236,7 @@ def mass_properties(
     """
     from cadcog.cad.stepmass import model_mass_properties
     from cadcog.cad.stepread import read_step
+    from cadcog.core.gcpause import gc_paused
     from cadcog.core.parallel import available_workers
     from cadcog.mass.materials import MaterialMap, load_materials
     from cadcog.spacecraft.mass_summary import build_mass_report
@@ -262,23 +263,28 @@ def mass_properties(
         if density_kg_m3 is not None
         else None
     )
-    result = model_mass_properties(
-        read_step(_path(f, "model", model)),
-        material_map,
-        total_mass_kg=total_mass_kg,
-        units=units,
-        exclude=patterns,
-        overlaps=overlaps,
-        strict=strict,
-        workers=workers or available_workers(),
-        surface_areas=bool(surface_area),
-    )
-    try:
-        return build_mass_report(
-            result, about=about, axes=axes, form_factor=form_factor, cog_limits_mm=cog_limits_mm
+    with gc_paused():  # a bounded computation keeping ~10⁶ objects alive (core/gcpause.py)
+        result = model_mass_properties(
+            read_step(_path(f, "model", model)),
+            material_map,
+            total_mass_kg=total_mass_kg,
+            units=units,
+            exclude=patterns,
+            overlaps=overlaps,
+            strict=strict,
+            workers=workers or available_workers(),
+            surface_areas=bool(surface_area),
         )
-    except ValueError as exc:
-        raise _fail(f, "about/axes", (about, axes), str(exc)) from None
+        try:
+            return build_mass_report(
+                result,
+                about=about,
+                axes=axes,
+                form_factor=form_factor,
+                cog_limits_mm=cog_limits_mm,
+            )
+        except ValueError as exc:
+            raise _fail(f, "about/axes", (about, axes), str(exc)) from None
 
 
 def estimate(

@@ -9,7 +9,8 @@ from typing import Any
 from cadcog.cad.export import write_step, write_stl
 from cadcog.cad.groundtruth import ground_truth
 from cadcog.cad.rigsolids import build_rig
-from cadcog.core.fileio import dumps_json, staged_output_dir
+from cadcog.core.fileio import staged_output_dir
+from cadcog.core.jsontext import dumps_json
 from cadcog.rig.parameters import Rig
 
 GROUND_TRUTH_FILE = "ground_truth.json"

@@ -10,7 +10,8 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import dumps_json, refuse_overwriting_inputs, round_floats
+from cadcog.core.fileio import refuse_overwriting_inputs
+from cadcog.core.jsontext import dumps_json, round_floats
 from cadcog.rig.file import default_rig_path, load_rig
 
 FAULTS = ("none", "slip", "never-settle", "stall", "foreign")

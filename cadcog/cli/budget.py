@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from cadcog.core.fileio import dumps_json
+from cadcog.core.jsontext import dumps_json
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.uncertainty.error_budget import error_budget

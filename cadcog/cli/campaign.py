@@ -11,7 +11,8 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import dumps_json, is_stream, refuse_overwriting_inputs
+from cadcog.core.fileio import is_stream, refuse_overwriting_inputs
+from cadcog.core.jsontext import dumps_json
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.uncertainty.montecarlo import Scenario

@@ -12,7 +12,8 @@ import numpy as np
 
 from cadcog.cli.massprops_text import print_report
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import dumps_json
+from cadcog.core.gcpause import gc_paused
+from cadcog.core.jsontext import dumps_json, write_json
 from cadcog.core.units import UNIT_CHOICES
 from cadcog.mass.inertia import PRODUCT_CONVENTIONS
 from cadcog.mass.materials import LIBRARY, MaterialMap, load_materials
@@ -208,6 +209,11 @@ def _materials(args: argparse.Namespace) -> MaterialMap | None:
 
 
 def run(args: argparse.Namespace) -> int:
+    with gc_paused():  # a bounded computation keeping ~10⁶ objects alive (core/gcpause.py)
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     if args.depth < 0:
         raise CadcogError("--depth must be 0 or more")
     if not (np.isfinite(args.collapse_below_percent) and 0 <= args.collapse_below_percent < 100):
@@ -287,7 +293,7 @@ def emit(args: argparse.Namespace, result: ModelMassProperties, model: StepModel
 
         print(f"report: {write_budget_csv(report, args.csv)}", file=sys.stderr)
     if args.json:
-        print(dumps_json(report.to_dict()), end="")
+        write_json(report.to_dict(), sys.stdout)
     else:
         print_report(report, args.depth, args.products, args.collapse_below_percent / 100.0)
 

@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from cadcog.core.fileio import dumps_json
+from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 
 

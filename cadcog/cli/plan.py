@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import dumps_json
+from cadcog.core.jsontext import dumps_json
 
 
 def add_parser(sub: Any) -> None:

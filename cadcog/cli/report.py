@@ -10,7 +10,8 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import dumps_json, not_a_regular_file
+from cadcog.core.fileio import not_a_regular_file
+from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 
 

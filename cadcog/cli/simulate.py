@@ -10,7 +10,8 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import refuse_overwriting_inputs, round_floats, staged_file
+from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
+from cadcog.core.jsontext import round_floats
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
 from cadcog.uncertainty.random_points import SimulationReport

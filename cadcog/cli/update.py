@@ -11,7 +11,7 @@ import numpy as np
 
 from cadcog.cli._table import text_table
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import dumps_json
+from cadcog.core.jsontext import dumps_json
 from cadcog.spacecraft.update import INCONSISTENT_NOTE, REJECTED_NOTE, unmodelled_from_region
 
 if TYPE_CHECKING:

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import round_floats
+from cadcog.core.jsontext import round_floats
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.validation.validate_readings import validate_readings
 from cadcog.validation.verification import DEFAULT_WINDOWS_MM, CampaignValidation

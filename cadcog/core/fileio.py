@@ -18,8 +18,6 @@ stops with one line naming the holder's PID.
 from __future__ import annotations
 
 import errno
-import json
-import math
 import os
 import shutil
 import signal
@@ -30,9 +28,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from contextvars import ContextVar
 from pathlib import Path
-from typing import Any
 
-from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 
 #: The files the running command has read (resolved path → what it was), while a command runs
@@ -511,149 +507,6 @@ def _move_in(stage: Path, real: Path, produced: list[Path]) -> None:
             dst.parent.mkdir(parents=True, exist_ok=True)
             os.chmod(stage / rel, _new_file_mode())
             os.replace(stage / rel, dst)
-
-
-def round_floats(value: Any, digits: int = tolerances.JSON_SIGNIFICANT_DIGITS) -> Any:
-    """Round every float in a JSON-like structure to ``digits`` significant digits.
-
-    Examples
-    --------
-    >>> round_floats({"a": [0.1 + 0.2, 1]}, 15)
-    {'a': [0.3, 1]}
-    """
-    if isinstance(value, float):
-        if not math.isfinite(value):
-            raise ValueError(f"refusing to write non-finite value {value!r} to JSON")
-        return float(f"{value:.{digits}g}")
-    if isinstance(value, dict):
-        return {k: round_floats(v, digits) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [round_floats(v, digits) for v in value]
-    return value
-
-
-class _NotPlain(Exception):
-    """A value :func:`_plain_json` leaves to :mod:`json` (a key that is not a string, a type
-    :mod:`json` may reject)."""
-
-
-def _rounded_repr(value: float, digits: int) -> str:
-    """``repr(float(f"{value:.{digits}g}"))`` (``digits`` ≤ 15), mostly without the round trip.
-
-    A decimal of at most 15 significant digits is the shortest that gives its float back (IEEE
-    doubles hold 15.95), so ``repr`` of the rounded float has the digits of the ``g`` format;
-    only the layout differs: ``repr`` adds ``.0`` to whole numbers and writes exponents from
-    10¹⁶ where ``g`` does from 10^digits, and subnormal floats hold fewer digits (those few go
-    the long way).
-
-    Raises
-    ------
-    ValueError
-        If the value, rounded, is not finite.
-    """
-    text = f"{value:.{digits}g}"
-    if "e" in text:
-        if -4 <= int(text[text.index("e") + 1 :]) < 16 or abs(value) < sys.float_info.min:
-            text = float.__repr__(float(text))
-    elif "." not in text:
-        if text[-1] in "fn":  # inf, nan
-            raise ValueError(f"refusing to write non-finite value {value!r} to JSON")
-        text += ".0"
-    if abs(value) > 1.7976931348623e308 and not math.isfinite(float(text)):
-        raise ValueError(f"refusing to write non-finite value {value!r} to JSON")
-    return text
-
-
-def _plain_json(value: Any, digits: int) -> str:
-    """``json.dumps(round_floats(value, digits), indent=2, ensure_ascii=False)``, the same text.
-
-    :mod:`json` writes indented text with its pure-Python encoder, one generator per
-    container: for the 12 MB JSON of a 5000-body model it took 0.8 s, and rounding the floats
-    beforehand another 0.6 s. This writes the same text in one pass (floats rounded as
-    :func:`round_floats` does, then ``float.__repr__`` as :mod:`json` does), with strings
-    escaped by :mod:`json`'s own C escaper. Anything else raises :class:`_NotPlain`.
-    """
-    escape = json.encoder.encode_basestring  # ensure_ascii=False
-    out: list[str] = []
-    add = out.append
-
-    def emit(v: Any, pad: str) -> None:
-        if isinstance(v, str):
-            add(escape(v))
-        elif isinstance(v, float):
-            add(_rounded_repr(v, digits))
-        elif v is None:
-            add("null")
-        elif v is True:
-            add("true")
-        elif v is False:
-            add("false")
-        elif isinstance(v, int):
-            add(int.__repr__(v))
-        elif isinstance(v, dict):
-            if not v:
-                add("{}")
-                return
-            inner = pad + "  "
-            add("{\n" + inner)
-            first = True
-            for k, item in v.items():
-                if not isinstance(k, str):
-                    raise _NotPlain
-                if not first:
-                    add(",\n" + inner)
-                first = False
-                add(escape(k) + ": ")
-                emit(item, inner)
-            add("\n" + pad + "}")
-        elif isinstance(v, (list, tuple)):
-            if not v:
-                add("[]")
-                return
-            inner = pad + "  "
-            add("[\n" + inner)
-            first = True
-            for item in v:
-                if not first:
-                    add(",\n" + inner)
-                first = False
-                emit(item, inner)
-            add("\n" + pad + "]")
-        else:
-            raise _NotPlain
-
-    emit(value, "")
-    return "".join(out)
-
-
-def dumps_json(data: Any) -> str:
-    """Deterministic JSON text: floats rounded, two-space indent, trailing newline.
-
-    The text is ``json.dumps(round_floats(data), indent=2, ensure_ascii=False,
-    allow_nan=False)``, written in one faster pass when ``data`` is plain (string keys;
-    strings, numbers, booleans, None, lists, tuples and dicts: every JSON cadcog writes).
-
-    Raises
-    ------
-    ValueError
-        On a NaN or infinity (JSON has none).
-
-    Examples
-    --------
-    >>> print(dumps_json({"a": [0.1 + 0.2, 1, None], "b": {}}), end="")
-    {
-      "a": [
-        0.3,
-        1,
-        null
-      ],
-      "b": {}
-    }
-    """
-    try:
-        return _plain_json(data, tolerances.JSON_SIGNIFICANT_DIGITS) + "\n"
-    except _NotPlain:
-        return json.dumps(round_floats(data), indent=2, ensure_ascii=False, allow_nan=False) + "\n"
 
 
 @contextmanager

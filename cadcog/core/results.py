@@ -9,7 +9,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any
 
-from cadcog.core.fileio import dumps_json
+from cadcog.core.jsontext import dumps_json
 
 #: Longest text of one field in a result's repr.
 _REPR_FIELD_CHARS = 60

@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from cadcog.core import numformat as nf
-from cadcog.core.fileio import dumps_json, staged_output_dir
+from cadcog.core.fileio import staged_output_dir
+from cadcog.core.jsontext import dumps_json
 from cadcog.core.version import __version__
 from cadcog.mass.inertia import PRODUCT_CONVENTIONS, TENSOR_CONVENTION, products_of_inertia
 from cadcog.reports.html import CSS, img_tag, table, vec

@@ -18,7 +18,8 @@ from typing import Any
 import numpy as np
 
 from cadcog.core import numformat as nf
-from cadcog.core.fileio import dumps_json, staged_output_dir
+from cadcog.core.fileio import staged_output_dir
+from cadcog.core.jsontext import dumps_json
 from cadcog.core.version import __version__
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog

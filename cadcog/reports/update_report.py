@@ -14,7 +14,8 @@ import html
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from cadcog.core.fileio import dumps_json, staged_output_dir
+from cadcog.core.fileio import staged_output_dir
+from cadcog.core.jsontext import dumps_json
 from cadcog.core.version import __version__
 from cadcog.mass.inertia import PRODUCT_CONVENTIONS, TENSOR_CONVENTION
 from cadcog.reports.html import CSS, img_tag, table

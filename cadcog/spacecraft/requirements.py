@@ -500,7 +500,8 @@ def check_requirements(
         ``update_baseline`` without a ``[baseline]`` file.
     """
     from cadcog.cad.modelfile import load_model
-    from cadcog.core.fileio import dumps_json, staged_file
+    from cadcog.core.fileio import staged_file
+    from cadcog.core.jsontext import dumps_json
     from cadcog.core.paramfile import read_toml
     from cadcog.spacecraft.baseline import baseline_dict, diff, load_baseline
 

@@ -88,7 +88,7 @@ def test_the_rig_parts_come_back_from_the_cache_to_the_last_byte(paper_rig, tmp_
 
     import cadcog.cad.build
     from cadcog.cad import cache
-    from cadcog.core.fileio import dumps_json
+    from cadcog.core.jsontext import dumps_json
     from cadcog.reports.rig_report import parts_cache_key, rig_parts
 
     built = rig_parts(paper_rig, tmp_path / "a")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import subprocess
@@ -10,16 +9,12 @@ import sys
 import time
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import (
-    dumps_json,
     guarding_inputs,
     note_input,
     refuse_overwriting_inputs,
-    round_floats,
     staged_file,
     staged_output_dir,
 )
@@ -131,58 +126,3 @@ def test_outside_a_command_inputs_are_not_tracked(tmp_path):
     with staged_file(target) as tmp:
         tmp.write_text("new")
     assert target.read_text() == "new"
-
-
-_json_leaves = (
-    st.none()
-    | st.booleans()
-    | st.integers(-(10**20), 10**20)
-    | st.floats(allow_nan=False, allow_infinity=False)
-    | st.text(max_size=8)
-)
-_json_values = st.recursive(
-    _json_leaves,
-    lambda inner: (
-        st.lists(inner, max_size=4)
-        | st.tuples(inner, inner)
-        | st.dictionaries(st.text(max_size=6), inner, max_size=4)
-    ),
-    max_leaves=30,
-)
-
-
-@given(_json_values)
-def test_dumps_json_writes_what_json_writes(value):
-    # dumps_json has its own one-pass writer (speed); the text must be json's, to the byte.
-    try:
-        expected = json.dumps(round_floats(value), indent=2, ensure_ascii=False, allow_nan=False)
-    except ValueError:  # a float that rounds to infinity (near the largest float)
-        with pytest.raises(ValueError, match="non-finite"):
-            dumps_json(value)
-        return
-    assert dumps_json(value) == expected + "\n"
-
-
-def test_dumps_json_leaves_other_keys_and_types_to_json():
-    assert (
-        dumps_json({1: 0.1 + 0.2, None: [True]})
-        == json.dumps({"1": 0.3, "null": [True]}, indent=2) + "\n"
-    )
-    with pytest.raises(TypeError, match="not JSON serializable"):
-        dumps_json({"a": {1, 2}})
-    with pytest.raises(ValueError, match="non-finite"):
-        dumps_json({"a": [1.0, float("nan")]})
-
-
-@settings(max_examples=2000)
-@given(st.floats(allow_nan=False, allow_infinity=False))
-def test_a_rounded_float_is_written_as_json_writes_it(value):
-    from cadcog.core.fileio import _rounded_repr
-
-    try:
-        expected = json.dumps(round_floats(value), allow_nan=False)
-    except ValueError:
-        with pytest.raises(ValueError, match="non-finite"):
-            _rounded_repr(value, 15)
-        return
-    assert _rounded_repr(value, 15) == expected
