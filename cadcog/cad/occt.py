@@ -112,12 +112,19 @@ def rigid_transform(placement: TopLoc_Location) -> tuple[FloatArray, FloatArray]
     :data:`cadcog.core.tolerances.RIGID_PLACEMENT_TOLERANCE`.
     """
     t = placement.Transformation()
-    if abs(t.ScaleFactor() - 1.0) > tolerances.RIGID_PLACEMENT_TOLERANCE:
+    tol = tolerances.RIGID_PLACEMENT_TOLERANCE
+    if abs(t.ScaleFactor() - 1.0) > tol:
         return None
-    r = np.array([[t.Value(i, j) for j in (1, 2, 3)] for i in (1, 2, 3)])
-    if np.max(np.abs(r @ r.T - np.eye(3))) > tolerances.RIGID_PLACEMENT_TOLERANCE:
-        return None
-    return r, np.array([t.Value(i, 4) for i in (1, 2, 3)])
+    value = t.Value
+    rows = [(value(i, 1), value(i, 2), value(i, 3)) for i in (1, 2, 3)]
+    # R Rᵀ = I entry by entry, in plain floats: numpy's overhead is most of a 3 × 3 product
+    for a in range(3):
+        ra = rows[a]
+        for b in range(a, 3):
+            rb = rows[b]
+            if abs(ra[0] * rb[0] + ra[1] * rb[1] + ra[2] * rb[2] - (a == b)) > tol:
+                return None
+    return np.array(rows), np.array([value(1, 4), value(2, 4), value(3, 4)])
 
 
 def placed(
