@@ -13,16 +13,11 @@ from cadcog.core.errors import CadcogError
 from cadcog.mass.materials import DENSITY_RANGE_KG_M3, ItemRule, MaterialMap, glob_match
 
 
-def _rule_names(body: StepBody) -> tuple[str, ...]:
-    """Names a materials rule may match: the body's own, then its assemblies' (deepest first),
-    as full paths and as paths below the common top assembly."""
-    root = f"{body.root}/" if body.root else ""
-    above = tuple(reversed(body.assembly_paths))
-    below = tuple(a[len(root) :] for a in above if root and a.startswith(root))
-    return (*body.match_names(), *above, *below)
-
-
 def matches_any(patterns: Sequence[str], body: StepBody) -> bool:
+    """Whether any pattern matches the body's own names, an assembly path above it, or such
+    a path below the common top assembly."""
+    if not patterns:
+        return False
     root = f"{body.root}/" if body.root else ""
     below = tuple(a[len(root) :] for a in body.assembly_paths if root and a.startswith(root))
     names = (*body.match_names(), *body.assembly_paths, *below)
@@ -39,23 +34,10 @@ def item_rules(
     return materials.uncertainty(candidates), materials.growth(candidates)
 
 
-def item_candidates(body: StepBody) -> list[tuple[str, tuple[str, ...]]]:
-    """(node path, names a rule may match), the body first, then its assemblies deepest first;
-    paths both full and below the common top assembly."""
-    root = f"{body.root}/" if body.root else ""
-
-    def below(path: str) -> str:
-        return path[len(root) :] if root and path.startswith(root) else ""
-
-    own = body.nodes[-1]
-    own_names = (body.path, below(body.path), own.name, own.instance, own.product)
-    candidates = [(body.path, tuple(dict.fromkeys(v for v in own_names if v)))]
-    for k in range(len(body.nodes) - 1, 0, -1):
-        node = body.nodes[k - 1]
-        prefix = "/".join(n.name for n in body.nodes[:k])
-        names = (prefix, below(prefix), node.name, node.instance, node.product)
-        candidates.append((prefix, tuple(dict.fromkeys(v for v in names if v))))
-    return candidates
+def item_candidates(body: StepBody) -> Sequence[tuple[str, tuple[str, ...]]]:
+    """(node path, names a rule may match), the body first, then its assemblies deepest first
+    (:attr:`cadcog.cad.stepread.StepBody.item_candidates`)."""
+    return body.item_candidates
 
 
 def unmatched_rules(materials: MaterialMap, bodies: Sequence[StepBody]) -> list[str]:
@@ -63,7 +45,7 @@ def unmatched_rules(materials: MaterialMap, bodies: Sequence[StepBody]) -> list[
     often a typo, whose bodies then fall to a later rule (a default) without a word."""
     names: set[str] = set()
     for b in bodies:
-        names.update(_rule_names(b))
+        names.update(b.rule_names)
         for _, n in item_candidates(b):
             names.update(n)
     tables = {
@@ -97,7 +79,7 @@ def assign_densities(
     missing: list[str] = []
     lo_d, hi_d = DENSITY_RANGE_KG_M3
     for b in bodies:
-        names = _rule_names(b.step)
+        names = b.step.rule_names
         if b.step.kind == "surface":
             found_s = materials.assign_surface(names) if materials is not None else None
             if found_s is None:

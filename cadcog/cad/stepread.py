@@ -165,12 +165,12 @@ class StepBody:
         """The body's own name (the last path element)."""
         return self.nodes[-1].name
 
-    @property
+    @cached_property
     def assembly_paths(self) -> tuple[str, ...]:
         """Path of every assembly node above the body, from the root: ``a``, ``a/b``, ..."""
         return tuple("/".join(n.name for n in self.nodes[:k]) for k in range(1, len(self.nodes)))
 
-    @property
+    @cached_property
     def short_path(self) -> str:
         """The path below the common top assembly (how tables and messages show it)."""
         prefix = f"{self.root}/" if self.root else ""
@@ -179,10 +179,44 @@ class StepBody:
     def match_names(self) -> tuple[str, ...]:
         """Every name a pattern may match: the full path, the path below the common top
         assembly, each node's unique, instance and product name (the body's own first)."""
+        return self._match_names
+
+    @cached_property
+    def _match_names(self) -> tuple[str, ...]:
         names = [self.path, self.short_path]
         for n in reversed(self.nodes):
             names.extend(v for v in (n.name, n.instance, n.product) if v)
         return tuple(dict.fromkeys(names))
+
+    @cached_property
+    def rule_names(self) -> tuple[str, ...]:
+        """Names a materials rule may match: the body's own (:meth:`match_names`), then its
+        assemblies' (deepest first), as full paths and as paths below the common top
+        assembly (computed once: every rule table asks)."""
+        root = f"{self.root}/" if self.root else ""
+        above = tuple(reversed(self.assembly_paths))
+        below = tuple(a[len(root) :] for a in above if root and a.startswith(root))
+        return (*self.match_names(), *above, *below)
+
+    @cached_property
+    def item_candidates(self) -> tuple[tuple[str, tuple[str, ...]], ...]:
+        """(node path, names a rule may match) of the body, then of its assemblies deepest
+        first, paths both full and below the common top assembly: where mass-uncertainty,
+        growth and CoG-uncertainty rules look for the body's item (computed once)."""
+        root = f"{self.root}/" if self.root else ""
+
+        def below(path: str) -> str:
+            return path[len(root) :] if root and path.startswith(root) else ""
+
+        own = self.nodes[-1]
+        own_names = (self.path, below(self.path), own.name, own.instance, own.product)
+        candidates = [(self.path, tuple(dict.fromkeys(v for v in own_names if v)))]
+        for k in range(len(self.nodes) - 1, 0, -1):
+            node = self.nodes[k - 1]
+            prefix = "/".join(n.name for n in self.nodes[:k])
+            names = (prefix, below(prefix), node.name, node.instance, node.product)
+            candidates.append((prefix, tuple(dict.fromkeys(v for v in names if v))))
+        return tuple(candidates)
 
 
 @dataclass(frozen=True)
