@@ -52,6 +52,7 @@ from OCP.TopoDS import TopoDS, TopoDS_Compound, TopoDS_Shape
 from OCP.XCAFApp import XCAFApp_Application
 from OCP.XCAFDoc import XCAFDoc, XCAFDoc_DocumentTool, XCAFDoc_Material, XCAFDoc_ShapeTool
 
+from cadcog.cad.flatassembly import isolate_sibling_placements
 from cadcog.cad.occt import FloatArray, rigid_transform
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import not_a_regular_file, note_input
@@ -527,6 +528,7 @@ def read_step(path: str | Path) -> StepModel:
         lengths.Value(i).ToCString().lower() for i in range(1, lengths.Length() + 1)
     )
     with _phase(large, f"building the shapes of {p}"):
+        isolate_sibling_placements(reader.ChangeReader())  # flat assemblies: linear transfer
         transferred = reader.Transfer(doc)
     if not transferred:
         raise CadcogError(f"{p}: the STEP file holds nothing OCCT can transfer to shapes")
