@@ -134,23 +134,27 @@ def _plain_chunks(value: Any, digits: int) -> list[str]:
             add("false")
         elif isinstance(v, int):
             add(int.__repr__(v))
-        elif isinstance(v, dict):
+        elif isinstance(v, (dict, list, tuple)):
+            mapping = isinstance(v, dict)
             if not v:
-                add("{}")
+                add("{}" if mapping else "[]")
                 return
             inner = pad + "  "
             between = ",\n" + inner
-            add("{\n" + inner)
+            add(("{\n" if mapping else "[\n") + inner)
             first = True
-            for k, item in v.items():
-                if type(k) is not str:
-                    if not isinstance(k, str):
-                        raise _NotPlain
+            for entry in v.items() if mapping else v:
                 if first:
                     first = False
                 else:
                     add(between)
-                add(escape(k) + ": ")
+                if mapping:
+                    key, item = entry
+                    if type(key) is not str and not isinstance(key, str):
+                        raise _NotPlain
+                    add(escape(key) + ": ")
+                else:
+                    item = entry
                 kind = type(item)  # the commonest leaves here, the rest by emit
                 if kind is float:
                     add(number(item))
@@ -158,31 +162,7 @@ def _plain_chunks(value: Any, digits: int) -> list[str]:
                     add(escape(item))
                 else:
                     emit(item, inner)
-            add("\n" + pad + "}")
-            if len(out) > _PIECES_PER_CHUNK:
-                chunks.append("".join(out))
-                out.clear()
-        elif isinstance(v, (list, tuple)):
-            if not v:
-                add("[]")
-                return
-            inner = pad + "  "
-            between = ",\n" + inner
-            add("[\n" + inner)
-            first = True
-            for item in v:
-                if first:
-                    first = False
-                else:
-                    add(between)
-                kind = type(item)
-                if kind is float:
-                    add(number(item))
-                elif kind is str:
-                    add(escape(item))
-                else:
-                    emit(item, inner)
-            add("\n" + pad + "]")
+            add("\n" + pad + ("}" if mapping else "]"))
             if len(out) > _PIECES_PER_CHUNK:
                 chunks.append("".join(out))
                 out.clear()
