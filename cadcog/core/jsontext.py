@@ -24,6 +24,7 @@ from __future__ import annotations
 import json
 import math
 import sys
+from collections.abc import Iterable
 from typing import Any, TextIO
 
 from cadcog.core import tolerances
@@ -143,7 +144,8 @@ def _plain_chunks(value: Any, digits: int) -> list[str]:
             between = ",\n" + inner
             add(("{\n" if mapping else "[\n") + inner)
             first = True
-            for entry in v.items() if mapping else v:
+            entries: Iterable[Any] = v.items() if isinstance(v, dict) else v
+            for entry in entries:
                 if first:
                     first = False
                 else:
