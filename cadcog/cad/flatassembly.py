@@ -6,9 +6,9 @@ For each child it asks which entities share that parent representation
 (``STEPConstruct_Assembly::CheckSRRReversesNAUO``, to tell the relationship's direction) and
 scans the representation's items for the child's placement
 (``STEPControl_ActorRead::ComputeTransformation``). Under a parent with N children both are
-O(N) per child, O(N²) in all: a flat file of 20 000 products spent 332 of its 377 s of CPU
-there, 4000 products 15 of 24 s (OCCT 8.0.1; ``perf`` profile and measurements in
-docs/performance.md).
+O(N) per child, O(N²) in all: reading a flat file of 20 000 products took 377 s of CPU, 332
+of them in the transfer, where a ``perf`` profile put 45 % in the first and most of the rest in
+the lists it builds and frees (4000 products: 15 of 24 s; OCCT 8.0.1; docs/performance.md).
 
 :func:`isolate_sibling_placements` runs between parsing and transfer. For every placement
 relationship under a parent with at least :data:`MIN_SIBLINGS` children whose ``Rep2`` is
