@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -11,7 +10,7 @@ from typing import Any
 
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
-from cadcog.core.jsontext import round_floats
+from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
 from cadcog.uncertainty.random_points import SimulationReport
@@ -149,7 +148,7 @@ def run(args: argparse.Namespace) -> int:
             )
         print(f"report: {args.plot}", file=sys.stderr)
     if args.json:
-        print(json.dumps(round_floats(report.to_dict()), indent=2, ensure_ascii=False))
+        print(dumps_json(report.to_dict()), end="")
     else:
         print_report(report)
     return 0

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 from typing import Any
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.jsontext import round_floats
+from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.validation.validate_readings import validate_readings
 from cadcog.validation.verification import DEFAULT_WINDOWS_MM, CampaignValidation
@@ -73,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         level=args.level,
     )
     if args.json:
-        print(json.dumps(round_floats(result.to_dict()), indent=2, ensure_ascii=False))
+        print(dumps_json(result.to_dict()), end="")
     else:
         print_validation(result)
     return 0
