@@ -22,7 +22,7 @@ from cadcog.core.fileio import staged_output_dir
 from cadcog.core.jsontext import dumps_json
 from cadcog.core.version import __version__
 from cadcog.method.errormodel import ErrorModel
-from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
+from cadcog.method.estimate import CogEstimate, estimate_for_rig
 from cadcog.method.readings import read_readings
 from cadcog.reports.html import CSS, img_tag, table, vec
 from cadcog.rig.parameters import Rig
@@ -82,13 +82,7 @@ def build_report(
         log("validation against simulated campaigns")
         validation = validate_campaign(rig, suspensions, seed=seed)
         log("compensated estimate")
-        estimate = estimate_cog(
-            suspensions,
-            rig.inclinometer,
-            MEData.from_rig(rig),
-            model=ErrorModel.from_rig(rig),
-            body=BodyBox.of_rig(rig),
-        )
+        estimate = estimate_for_rig(rig, suspensions)
         figures = {
             "rig": stage / "rig.png",
             "histogram": stage / "histogram.png",
