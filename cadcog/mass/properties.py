@@ -130,6 +130,33 @@ def snap_roundoff(values: npt.ArrayLike, relative: float | None = None) -> Float
     return arr
 
 
+def parallel_axis_kg_mm2(masses_kg: FloatArray, offsets_mm: FloatArray) -> FloatArray:
+    """What moving the inertia of point masses adds, for many at once: ``mᵢ (|dᵢ|² 1 − dᵢ dᵢᵀ)``.
+
+    The element-wise arithmetic of :meth:`MassProperties.inertia_about` for each mass (so a sum
+    over parts in a loop gets the same bits), vectorised over the first axis.
+
+    Parameters
+    ----------
+    masses_kg : ndarray, shape (n,)
+    offsets_mm : ndarray, shape (n, 3)
+        From each body's CoG to the new reference point.
+
+    Returns
+    -------
+    ndarray, shape (n, 3, 3)
+        kg·mm².
+
+    Examples
+    --------
+    >>> parallel_axis_kg_mm2(np.array([2.0]), np.array([[0.0, 0.0, 3.0]]))[0].tolist()
+    [[18.0, 0.0, 0.0], [0.0, 18.0, 0.0], [0.0, 0.0, 0.0]]
+    """
+    d = offsets_mm
+    shift = (d * d).sum(axis=1)[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :]
+    return np.asarray(masses_kg[:, None, None] * shift)
+
+
 def combine(parts: Iterable[MassProperties]) -> MassProperties:
     """Mass properties of a union of bodies: masses add, the CoG is mass-weighted.
 
@@ -158,10 +185,9 @@ def combine(parts: Iterable[MassProperties]) -> MassProperties:
     masses = np.array([p.mass_kg for p in items])
     cogs = np.array([p.cog_mm for p in items])
     cog_mm = np.sum(masses[:, None] * cogs, axis=0) / mass_kg
-    d = cog_mm - cogs
-    shift = (d * d).sum(axis=1)[:, None, None] * np.eye(3) - d[:, :, None] * d[:, None, :]
     inertia = np.sum(
-        np.array([p.inertia_kg_mm2 for p in items]) + masses[:, None, None] * shift, axis=0
+        np.array([p.inertia_kg_mm2 for p in items]) + parallel_axis_kg_mm2(masses, cog_mm - cogs),
+        axis=0,
     )
     volume_mm3 = sum(p.volume_mm3 for p in items)
     return MassProperties(mass_kg, cog_mm, inertia, volume_mm3)

@@ -34,7 +34,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.results import JsonResult
-from cadcog.mass.properties import MassProperties, combine
+from cadcog.mass.properties import MassProperties, combine, parallel_axis_kg_mm2
 from cadcog.spacecraft.items import items_from_bodies, linear_prior
 
 FloatArray = npt.NDArray[np.float64]
@@ -240,15 +240,8 @@ def _alone(lines: Sequence[BudgetLine], total_cog_mm: FloatArray) -> _Alone:
         return {}
     c = np.array([b.properties.cog_mm for b in lines])
     cog = (m[:, None] * c) / m[:, None]
-    eye = np.eye(3)
-
-    def moved(inertia: FloatArray, d: FloatArray) -> FloatArray:
-        return inertia + m[:, None, None] * (
-            (d * d).sum(axis=1)[:, None, None] * eye - d[:, :, None] * d[:, None, :]
-        )
-
-    own = moved(np.array([b.properties.inertia_kg_mm2 for b in lines]), cog - c)
-    about = moved(own, total_cog_mm - cog)
+    own = np.array([b.properties.inertia_kg_mm2 for b in lines]) + parallel_axis_kg_mm2(m, cog - c)
+    about = own + parallel_axis_kg_mm2(m, total_cog_mm - cog)
     return {
         id(b): (MassProperties(m[k], cog[k], own[k], b.properties.volume_mm3 + 0.0), about[k])
         for k, b in enumerate(lines)
