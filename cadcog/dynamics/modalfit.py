@@ -81,11 +81,20 @@ class ModalFit:
     correlation_inflation: float
 
 
-def _basis(t: FloatArray, f: FloatArray, s: FloatArray) -> FloatArray:
+_Waves = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
+
+
+def _waves(t: FloatArray, f: FloatArray, s: FloatArray) -> _Waves:
+    """The basis (n, 1 + 2k) at ``(f, σ)``, with the envelopes, cosines and sines it is made of
+    (which the model's derivatives reuse)."""
     env = np.exp(-np.outer(t, s))
     ph = 2.0 * np.pi * np.outer(t, f)
-    cols = [np.ones((len(t), 1)), env * np.cos(ph), env * np.sin(ph)]
-    return np.hstack(cols)
+    cos, sin = np.cos(ph), np.sin(ph)
+    return np.hstack([np.ones((len(t), 1)), env * cos, env * sin]), env, cos, sin
+
+
+def _basis(t: FloatArray, f: FloatArray, s: FloatArray) -> FloatArray:
+    return _waves(t, f, s)[0]
 
 
 def _lstsq(b: FloatArray, rhs: FloatArray) -> FloatArray:
@@ -105,16 +114,11 @@ def _solve(
     return coef, resid
 
 
-def _model_derivatives(
-    t: FloatArray, f: FloatArray, s: FloatArray, coef: FloatArray
-) -> tuple[FloatArray, list[FloatArray]]:
-    """The basis at ``(f, σ)`` and, per channel, the model's derivative w.r.t. ``(f, σ)`` at the
-    linear coefficients ``coef``: shapes (n, 1 + 2k) and 2 × (n, 2k)."""
-    k = len(f)
-    env = np.exp(-np.outer(t, s))
-    ph = 2.0 * np.pi * np.outer(t, f)
-    cos, sin = np.cos(ph), np.sin(ph)
-    basis = np.hstack([np.ones((len(t), 1)), env * cos, env * sin])
+def _model_derivatives(t: FloatArray, waves: _Waves, coef: FloatArray) -> list[FloatArray]:
+    """Per channel, the model's derivative w.r.t. ``(f, σ)`` at the linear coefficients
+    ``coef``, from :func:`_waves` at ``(f, σ)``: 2 × (n, 2k)."""
+    _, env, cos, sin = waves
+    k = cos.shape[1]
     out = []
     for c in range(2):
         a = coef[1 : 1 + k, c]
@@ -127,7 +131,7 @@ def _model_derivatives(
                 ]
             )
         )
-    return basis, out
+    return out
 
 
 def _projected_jacobian(
@@ -135,8 +139,9 @@ def _projected_jacobian(
 ) -> FloatArray:
     """Kaufman's variable-projection Jacobian of the weighted residuals w.r.t. (f, σ): the
     derivative of the model at the current linear coefficients, projected off the basis."""
-    b = _basis(t, f, s)
-    _, derivs = _model_derivatives(t, f, s, _lstsq(b, y))
+    waves = _waves(t, f, s)
+    b = waves[0]
+    derivs = _model_derivatives(t, waves, _lstsq(b, y))
     return np.vstack([-w[c] * (d - b @ _lstsq(b, d)) for c, d in enumerate(derivs)])
 
 
@@ -193,7 +198,9 @@ def _jacobian(
     t: FloatArray, f: FloatArray, s: FloatArray, coef: FloatArray, w: FloatArray
 ) -> FloatArray:
     """Jacobian of the weighted residuals of both channels w.r.t. (f, σ, linear coefficients)."""
-    basis, derivs = _model_derivatives(t, f, s, coef)
+    waves = _waves(t, f, s)
+    basis = waves[0]
+    derivs = _model_derivatives(t, waves, coef)
     nlin = basis.shape[1]
     blocks = []
     for c, d in enumerate(derivs):
