@@ -142,22 +142,6 @@ def _quat_from_matrix(r: FloatArray) -> FloatArray:
     return np.array([w, x, y, z])
 
 
-def quat_to_matrix(q: FloatArray) -> FloatArray:
-    """Rotation matrices (body → lab) of quaternions (w, x, y, z), shape (..., 4) → (..., 3, 3)."""
-    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    r = np.empty((*q.shape[:-1], 3, 3))
-    r[..., 0, 0] = 1 - 2 * (y * y + z * z)
-    r[..., 0, 1] = 2 * (x * y - w * z)
-    r[..., 0, 2] = 2 * (x * z + w * y)
-    r[..., 1, 0] = 2 * (x * y + w * z)
-    r[..., 1, 1] = 1 - 2 * (x * x + z * z)
-    r[..., 1, 2] = 2 * (y * z - w * x)
-    r[..., 2, 0] = 2 * (x * z - w * y)
-    r[..., 2, 1] = 2 * (y * z + w * x)
-    r[..., 2, 2] = 1 - 2 * (x * x + y * y)
-    return r
-
-
 def _mv(m: FloatArray, v: FloatArray) -> FloatArray:
     """Matrix-vector products, component-first: m (3, 3, n), v (3, n) → (3, n)."""
     return np.asarray((m * v[None, :, :]).sum(axis=1))
@@ -180,8 +164,8 @@ def _dot(a: FloatArray, b: FloatArray) -> FloatArray:
 
 
 def _rot(q: FloatArray) -> FloatArray:
-    """Body → lab rotation matrices (3, 3, n) of quaternions (4, n), normalised here
-    (:func:`quat_to_matrix`'s formula, written component-first: fewer array operations)."""
+    """Body → lab rotation matrices (3, 3, n) of quaternions (w, x, y, z) (4, n), normalised
+    here; component-first: few array operations."""
     w, x, y, z = q / np.sqrt((q * q).sum(axis=0))
     xx, yy, zz, xy, xz, yz = x * x, y * y, z * z, x * y, x * z, y * z
     wx, wy, wz = w * x, w * y, w * z
