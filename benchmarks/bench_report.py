@@ -32,6 +32,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from bench_commands import environment
+
 ROOT = Path(__file__).resolve().parents[1]
 
 FIGURES = r"""
@@ -92,7 +94,7 @@ def _cpu(argv: list[str], env: dict[str, str] | None = None) -> tuple[float, flo
 _CWD = [ROOT]
 
 #: The environment of every measured process: the user's, writing bytecode (see above).
-_ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+_ENV = environment()
 
 
 def _summary(name: str, cpus: list[float], walls: list[float]) -> str:
