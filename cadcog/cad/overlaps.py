@@ -19,7 +19,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 import numpy.typing as npt
@@ -176,6 +175,9 @@ class Placed:
         Identifies the geometry: solids with one key are instances of one shape.
     box_lo, box_hi : ndarray, shape (3,)
         An axis-aligned box containing the solid at its placement.
+    rigid : (ndarray, ndarray) or None
+        Rotation and translation of ``placement``, None if it is not rigid
+        (:func:`cadcog.cad.occt.rigid_transform`, as the body already has it).
     """
 
     shape: TopoDS_Shape
@@ -184,21 +186,12 @@ class Placed:
     key: str
     box_lo: FloatArray
     box_hi: FloatArray
-
-    @cached_property
-    def rigid(self) -> tuple[FloatArray, FloatArray] | None:
-        """Rotation and translation of :attr:`placement`, None if not rigid (computed once)."""
-        return rigid_transform(self.placement)
+    rigid: tuple[FloatArray, FloatArray] | None
 
 
-def relative_key(
-    a: Placed, b: Placed, a_rigid: bool | None = None
-) -> tuple[str, str, tuple[float, ...]] | None:
-    """Identifies the configuration of ``b`` seen from ``a``'s frame (None if not rigid);
-    ``a_rigid``: whether ``a``'s placement is rigid, when the caller knows."""
-    if a_rigid is None:
-        a_rigid = a.rigid is not None
-    if not a_rigid:
+def relative_key(a: Placed, b: Placed) -> tuple[str, str, tuple[float, ...]] | None:
+    """Identifies the configuration of ``b`` seen from ``a``'s frame (None if not rigid)."""
+    if a.rigid is None:
         return None
     rel = a.placement.Inverted().Multiplied(b.placement)
     if rigid_transform(rel) is None:
@@ -251,12 +244,9 @@ def find_overlaps(
     jobs: list[tuple[TopoDS_Shape, TopoDS_Shape]] = []
     job_of: dict[object, int] = {}
     pair_job: list[tuple[int, bool]] = []  # (job index, computed in the first solid's frame)
-    rigid_of: dict[int, tuple[FloatArray, FloatArray] | None] = {}
-    for i in {i for i, _ in pairs}:
-        rigid_of[i] = solids[i].rigid
     for i, j in pairs:
         a, b = solids[i], solids[j]
-        key = relative_key(a, b, rigid_of[i] is not None)
+        key = relative_key(a, b)
         if key is None:
             pair_job.append((len(jobs), False))
             jobs.append((a.shape, b.shape))
@@ -273,7 +263,7 @@ def find_overlaps(
     for (i, j), (k, local) in zip(pairs, pair_job, strict=True):
         common = commons[k]
         if common is not None and local:
-            rigid = rigid_of[i]
+            rigid = solids[i].rigid
             common = None if rigid is None else placed(common, *rigid)
         if common is not None and is_overlap(
             common.volume_mm3 * scale**3, volumes_mm3[i], volumes_mm3[j]

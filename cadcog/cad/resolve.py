@@ -48,8 +48,16 @@ def handle_overlaps(
     if len(solids) < 2:
         return OverlapSummary(policy), [], set()
     placed_solids = [
-        Placed(b.step.shape, b.step.local_shape, b.step.placement, b.step.product_key, lo, hi)
-        for b, lo, hi in ((b, b.box_lo, b.box_hi) for b in solids)
+        Placed(
+            b.step.shape,
+            b.step.local_shape,
+            b.step.placement,
+            b.step.product_key,
+            b.box_lo,
+            b.box_hi,
+            b.step.rigid,
+        )
+        for b in solids
     ]
     volumes = [b.props.volume_mm3 for b in solids]
     found, candidates, n_contact = find_overlaps(
