@@ -6,7 +6,8 @@ revision out into a temporary ``git worktree``, imports it through ``PYTHONPATH`
 virtual environment's libraries, and measures each model with ``bench_commands.measure``
 (CPU of the process tree, wall, memory): one warm-up run per model and tree (bytecode), then
 ``--repeat`` rounds alternating the two trees. It also checks that both trees wrote the same
-JSON.
+JSON. Both compute afresh (``CADCOG_NO_CACHE=1``); ``--cached`` adds a third "tree", this code
+on a second run, its result read from a cache its warm-up filled (its JSON compared too).
 
 Models: ``--instanced N`` (``satellite(N, instanced)`` with ``--materials``) and any
 ``--step FILE`` (``--density-kg-m3 1850 --allow-overlap``, e.g. the public KiCad board of
@@ -47,6 +48,9 @@ def main() -> None:
     parser.add_argument("--instanced", type=int, nargs="*", default=[], metavar="N")
     parser.add_argument("--step", type=Path, nargs="*", default=[], metavar="FILE")
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument(
+        "--cached", action="store_true", help="also this code on a second run (result cached)"
+    )
     args = parser.parse_args()
     cadcog = str(Path(sys.executable).parent / "cadcog")
     with tempfile.TemporaryDirectory() as tmp:
@@ -66,17 +70,19 @@ def main() -> None:
                 cases[f"{n} instanced solids"] = [str(step), "--materials", str(mats)]
             for path in args.step:
                 cases[path.name] = [str(path), "--density-kg-m3", "1850", "--allow-overlap"]
-            trees = {
-                f"before ({args.before})": environment(PYTHONPATH=str(tree)),
-                "now": environment(),
+            trees = {  # first runs: no cache (a revision without one is not affected)
+                f"before ({args.before})": environment(PYTHONPATH=str(tree), CADCOG_NO_CACHE="1"),
+                "now": environment(CADCOG_NO_CACHE="1"),
             }
+            if args.cached:  # the warm-up fills the cache: the measured runs read it
+                trees["now, second run (cached)"] = environment(CADCOG_CACHE_DIR=str(d / "cache"))
             print(f"{time.strftime('%Y-%m-%d %H:%M')}; load average {os.getloadavg()[0]:.2f}")
             runs: dict[tuple[str, str], list[dict[str, float]]] = {}
             for case, options in cases.items():
                 argv = [cadcog, "massprops", *options, "--json"]
                 texts = {name: _json_of(argv, env) for name, env in trees.items()}  # warm-up
                 same = len(set(texts.values())) == 1
-                print(f"{case}: JSON {'identical' if same else 'DIFFERENT'} in both trees")
+                print(f"{case}: JSON {'identical' if same else 'DIFFERENT'} in every tree")
                 for name in trees:
                     runs[(case, name)] = []
             for _ in range(args.repeat):

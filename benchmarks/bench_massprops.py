@@ -24,7 +24,9 @@ reading the STEP file, integrating the bodies, the overlap search (boxes, candid
 booleans), the cuts that count each region once, the topology checks, the rest. ``--flat N``
 adds N separate boxes, each its own product (the worst case for OCCT's STEP reader), and
 ``--step FILE`` any STEP file (e.g. the KiCad board of docs/performance.md), with
-``--density-kg-m3 1850`` and the overlap policy of ``--policy``.
+``--density-kg-m3 1850`` and the overlap policy of ``--policy``. Every run computes afresh
+(``CADCOG_NO_CACHE=1``); ``--cached`` adds each model's second run, its result read from a
+cache the first run filled.
 
 Run: ``.venv/bin/python benchmarks/bench_massprops.py [--repeat 3]`` or
 ``... --curve 10 100 1000 5000 20000 [--flat 20000] [--step board.step]``; figures in
@@ -155,6 +157,7 @@ def run(step: Path, mats: Path, repeat: int) -> tuple[list[float], float]:
             check=True,
             capture_output=True,
             text=True,
+            env={**os.environ, "CADCOG_NO_CACHE": "1"},
         )
         times.append(time.perf_counter() - t)
         peak_mb = max(peak_mb, int(out.stdout.split()[-1]) / 1024.0)
@@ -193,7 +196,11 @@ print(json.dumps({"status": status, "total": total, "phases": phases}))
 
 def phases(argv: list[str]) -> dict[str, object]:
     out = subprocess.run(
-        [sys.executable, "-c", _PHASES, *argv], check=True, capture_output=True, text=True
+        [sys.executable, "-c", _PHASES, *argv],
+        check=True,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "CADCOG_NO_CACHE": "1"},
     )
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -201,7 +208,8 @@ def phases(argv: list[str]) -> dict[str, object]:
 def curve(args: argparse.Namespace, d: Path) -> None:
     from bench_commands import environment, measure, summary
 
-    env = environment()
+    env = environment(CADCOG_NO_CACHE="1")  # first runs
+    cached = environment(CADCOG_CACHE_DIR=str(d / "cache"))  # second runs
     mats = d / "materials.toml"
     mats.write_text(MATERIALS, encoding="utf-8")
     models: list[tuple[str, Path, list[str]]] = []
@@ -226,6 +234,10 @@ def curve(args: argparse.Namespace, d: Path) -> None:
         big = step.stat().st_size > 50e6
         runs = [measure(argv, env) for _ in range(1 if big else args.repeat)]
         print(f"{name}: {summary(runs)}", flush=True)
+        if args.cached:
+            subprocess.run(argv, check=True, capture_output=True, env=cached)  # fills the cache
+            runs = [measure(argv, cached) for _ in range(args.repeat)]
+            print(f"{name}, second run (cached): {summary(runs)}", flush=True)
         if not big or args.phases_big:
             p = phases(argv[1:])
             shown = ", ".join(f"{k} {v:.2f}" for k, v in p["phases"].items())  # type: ignore[union-attr]
@@ -243,6 +255,9 @@ def main() -> None:
         "--policy", default="allow-overlap", choices=("allow-overlap", "skip-overlaps")
     )
     parser.add_argument("--phases-big", action="store_true", help="phases of files > 50 MB too")
+    parser.add_argument(
+        "--cached", action="store_true", help="--curve: also a second run (result cached)"
+    )
     args = parser.parse_args()
     print(
         f"{time.strftime('%Y-%m-%d %H:%M')}; {os.cpu_count()} CPUs; load average "

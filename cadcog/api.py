@@ -34,6 +34,7 @@ from cadcog.core.arguments import check_choice, check_text
 from cadcog.core.errors import CadcogError
 
 if TYPE_CHECKING:
+    from cadcog.cad.massresults import ModelMassProperties
     from cadcog.dynamics.result import InertiaResult
     from cadcog.method.estimate import CogEstimate
     from cadcog.rig.parameters import Rig
@@ -182,7 +183,10 @@ def mass_properties(
 
     Each solid is integrated exactly by OCCT at its global placement, given the density its
     material rule assigns, and combined by mass; overlapping solids are refused unless
-    ``overlaps`` says what to do.
+    ``overlaps`` says what to do. The result (or the refusal) is cached by the content of the
+    files and every option that changes it, shared with the command (``docs/performance.md``,
+    "The mass-properties cache"; ``CADCOG_NO_CACHE=1`` turns it off): a second call on
+    unchanged files reads no CAD.
 
     Parameters
     ----------
@@ -234,8 +238,7 @@ def mass_properties(
     ... )
     >>> report.result.total.mass_kg, report.result.total.cog_mm  # doctest: +SKIP
     """
-    from cadcog.cad.stepmass import model_mass_properties
-    from cadcog.cad.stepread import read_step
+    from cadcog.cad import cache
     from cadcog.core.gcpause import gc_paused
     from cadcog.core.parallel import available_workers
     from cadcog.mass.materials import MaterialMap, load_materials
@@ -263,9 +266,24 @@ def mass_properties(
         if density_kg_m3 is not None
         else None
     )
-    with gc_paused():  # a bounded computation keeping ~10⁶ objects alive (core/gcpause.py)
-        result = model_mass_properties(
-            read_step(_path(f, "model", model)),
+    step = _path(f, "model", model)
+    files = [step] if materials is None else [step, _path(f, "materials", materials)]
+    settings = cache.massprops_settings(
+        density_kg_m3=density_kg_m3,
+        total_mass_kg=total_mass_kg,
+        units=units,
+        exclude=patterns,
+        overlaps=overlaps,
+        strict=strict,
+        surface_areas=surface_area,
+    )
+
+    def afresh() -> ModelMassProperties:
+        from cadcog.cad.stepmass import model_mass_properties
+        from cadcog.cad.stepread import read_step
+
+        return model_mass_properties(
+            read_step(step),
             material_map,
             total_mass_kg=total_mass_kg,
             units=units,
@@ -275,6 +293,9 @@ def mass_properties(
             workers=workers or available_workers(),
             surface_areas=bool(surface_area),
         )
+
+    with gc_paused():  # a bounded computation keeping ~10⁶ objects alive (core/gcpause.py)
+        result, _ = cache.mass_properties(settings, files, afresh)
         try:
             return build_mass_report(
                 result,

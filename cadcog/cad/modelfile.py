@@ -69,35 +69,33 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
         "overlaps": overlaps,
         "strict": strict,
     }
-    try:
-        entry: str | None = cache.key(settings, files)
-    except OSError:  # a file that cannot be read: reading it below says why
-        entry = None
-    if entry is not None and (hit := cache.load(entry)) is not None:
+
+    def compute() -> ModelMassProperties:
+        model, materials = _read(t, source, materials_path)
+        from cadcog.cad.stepmass import model_mass_properties
+
+        try:
+            result = model_mass_properties(
+                model,
+                materials,
+                total_mass_kg=total,
+                units=units,
+                exclude=exclude,
+                overlaps=overlaps,
+                strict=strict,
+            )
+        except AllExcludedError:
+            raise t.error("exclude", f"{exclude!r} excludes every body of the model") from None
+        if t.has("model"):  # name the spec, not the temporary STEP it was read back from
+            result = replace(result, audit=replace(result.audit, source=f"{source} (built)"))
+        return result
+
+    result, hit = cache.mass_properties(settings, files, compute)
+    if hit:  # read from the cache: the inputs are still this command's inputs
         what = "a parameter file it reads" if t.has("model") else "the STEP model it reads"
         note_input(source, what)
         if materials_path is not None:
             note_input(materials_path, "a parameter file it reads")
-        return hit
-    model, materials = _read(t, source, materials_path)
-    from cadcog.cad.stepmass import model_mass_properties
-
-    try:
-        result = model_mass_properties(
-            model,
-            materials,
-            total_mass_kg=total,
-            units=units,
-            exclude=exclude,
-            overlaps=overlaps,
-            strict=strict,
-        )
-    except AllExcludedError:
-        raise t.error("exclude", f"{exclude!r} excludes every body of the model") from None
-    if t.has("model"):  # name the spec, not the temporary STEP it was read back from
-        result = replace(result, audit=replace(result.audit, source=f"{source} (built)"))
-    if entry is not None:
-        cache.store(entry, result)
     return result
 
 

@@ -12,6 +12,7 @@ import numpy as np
 
 from cadcog.cli.massprops_text import print_report
 from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import note_input
 from cadcog.core.gcpause import gc_paused
 from cadcog.core.jsontext import dumps_json, write_json
 from cadcog.core.units import UNIT_CHOICES
@@ -21,7 +22,7 @@ from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
 from cadcog.spacecraft.mass_summary import MassReport, build_mass_report, parse_point
 
 if TYPE_CHECKING:
-    from cadcog.cad.stepmass import ModelMassProperties
+    from cadcog.cad.stepmass import ModelMassProperties, OverlapPolicy
     from cadcog.cad.stepread import StepModel
 
 
@@ -51,7 +52,8 @@ def add_parser(sub: Any) -> None:
         "import audit (declared unit, instances, surface bodies, overlaps, invalid topology, "
         "density sources), the mass budget by assembly node, and the inertia. Materials: "
         + "; ".join(f"{m.name} {m.density_kg_m3:g} kg/m³" for m in LIBRARY.values())
-        + ". See docs/spacecraft.md.",
+        + ". A second run on unchanged files and options reads the result from a cache "
+        "(CADCOG_NO_CACHE=1 computes afresh). See docs/spacecraft.md.",
     )
     p.add_argument("model", type=Path, help="STEP file (part or assembly)")
     g = p.add_mutually_exclusive_group()
@@ -224,30 +226,75 @@ def _run(args: argparse.Namespace) -> int:
     if args.workers is not None and args.workers < 1:
         raise CadcogError("--workers must be at least 1")
     materials = _materials(args)
-    from cadcog.cad.stepmass import OverlapPolicy, model_mass_properties
-    from cadcog.cad.stepread import read_step
-    from cadcog.core.parallel import available_workers
-
-    model = read_step(args.model)
     policy: OverlapPolicy = (
         "allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check"
     )
     if args.skip_overlaps:
         policy = "skip"
+    read: list[StepModel] = []
+    cached: list[bool] = []  # whether the cache answered, once a run
+
+    def model() -> StepModel:
+        """The model, read once and only when needed: a cached result needs no CAD."""
+        if not read:
+            from cadcog.cad.stepread import read_step
+
+            read.append(read_step(args.model))
+        return read[0]
 
     def compute(overlaps: OverlapPolicy, strict: bool) -> ModelMassProperties:
-        return model_mass_properties(
-            model,
-            materials,
+        from cadcog.cad import cache
+
+        ran: list[bool] = []
+
+        def afresh() -> ModelMassProperties:
+            from cadcog.cad.stepmass import model_mass_properties
+            from cadcog.core.parallel import available_workers
+
+            ran.append(True)
+            return model_mass_properties(
+                model(),
+                materials,
+                total_mass_kg=args.total_mass_kg,
+                units=args.units,
+                exclude=args.exclude,
+                overlaps=overlaps,
+                strict=strict,
+                progress=_progress(),
+                workers=args.workers or available_workers(),
+                surface_areas=args.surface_area,
+            )
+
+        settings = cache.massprops_settings(
+            density_kg_m3=args.density_kg_m3,
             total_mass_kg=args.total_mass_kg,
             units=args.units,
             exclude=args.exclude,
             overlaps=overlaps,
             strict=strict,
-            progress=_progress(),
-            workers=args.workers or available_workers(),
             surface_areas=args.surface_area,
         )
+        files = [args.model] if args.materials is None else [args.model, args.materials]
+        try:
+            result, hit = cache.mass_properties(settings, files, afresh)
+        except CadcogError:
+            if not ran:  # a refusal kept in the cache
+                say_cached()
+            raise
+        if hit:
+            say_cached()
+        return result
+
+    def say_cached() -> None:
+        """One line on stderr, once a run; the STEP file is still an input of the run."""
+        note_input(args.model, "the STEP model it reads")
+        if not cached:
+            cached.append(True)
+            print(
+                f"cadcog: {args.model}: mass properties from the cache (inputs unchanged; "
+                "CADCOG_NO_CACHE=1 computes afresh)",
+                file=sys.stderr,
+            )
 
     try:
         result = compute(policy, args.strict)
@@ -280,13 +327,16 @@ def _build_report(args: argparse.Namespace, result: ModelMassProperties) -> Mass
         raise CadcogError(f"--about/--axes: {exc}") from None
 
 
-def emit(args: argparse.Namespace, result: ModelMassProperties, model: StepModel) -> None:
-    """Every output the command line asks for: report, CSV, then JSON or text on stdout."""
+def emit(
+    args: argparse.Namespace, result: ModelMassProperties, model: Callable[[], StepModel]
+) -> None:
+    """Every output the command line asks for: report, CSV, then JSON or text on stdout
+    (``model()`` reads the model, for the HTML report's views)."""
     report = _build_report(args, result)
     if args.report is not None:
         from cadcog.reports.massprops_report import write_mass_report
 
-        page = write_mass_report(report, model, args.report)
+        page = write_mass_report(report, model(), args.report)
         print(f"report: {page}", file=sys.stderr)
     if args.csv is not None:
         from cadcog.reports.budget_csv import write_budget_csv
@@ -302,7 +352,7 @@ def emit_refusal(
     args: argparse.Namespace,
     refusal: str,
     as_is: ModelMassProperties | None,
-    model: StepModel,
+    model: Callable[[], StepModel],
     policy: str,
 ) -> None:
     """On a refusal, still write what ``--json``/``--report``/``--csv`` asked for.
@@ -327,7 +377,7 @@ def emit_refusal(
     if report is not None and args.report is not None:
         from cadcog.reports.massprops_report import write_mass_report
 
-        page = write_mass_report(report, model, args.report, refusal=refusal)
+        page = write_mass_report(report, model(), args.report, refusal=refusal)
         print(f"report: {page}", file=sys.stderr)
     if report is not None and args.csv is not None:
         from cadcog.reports.budget_csv import write_budget_csv

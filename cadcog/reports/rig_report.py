@@ -125,14 +125,14 @@ def build_report(
 
 def parts_cache_key(rig: Rig) -> str:
     """The cache key of ``rig``'s parts: a SHA-256 of every field of the rig (``repr`` of its
-    frozen dataclasses: exact floats), the geometry kernel's versions, the STEP timestamp's
-    ``SOURCE_DATE_EPOCH`` and the sources of cadcog's ``cad``, ``mass``, ``core`` and ``rig``."""
+    frozen dataclasses: exact floats), the STEP timestamp's ``SOURCE_DATE_EPOCH``, and (as
+    every key) the geometry kernel's versions and the sources of cadcog's ``cad``, ``mass``,
+    ``core`` and ``rig``."""
     from cadcog.cad import cache
 
     settings = {
         "kind": "rig parts",
         "rig": repr(rig),
-        "kernel": cache.kernel_versions(),
         "SOURCE_DATE_EPOCH": os.environ.get("SOURCE_DATE_EPOCH", ""),
     }
     return cache.key(settings, [], code=_PARTS_CODE)

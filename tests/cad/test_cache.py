@@ -108,3 +108,53 @@ def test_an_unwritable_cache_changes_nothing(setup_file, monkeypatch, tmp_path):
     monkeypatch.setenv("CADCOG_CACHE_DIR", str(blocker / "cache"))
     r = _load(setup_file)
     assert np.isfinite(r.total.mass_kg) and blocker.read_text(encoding="utf-8") == "not a folder"
+
+
+def test_the_kernel_versions_are_the_installed_metadata():
+    from importlib import metadata
+
+    def installed(dist):
+        try:
+            return metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            return "absent"
+
+    versions = cache.kernel_versions()
+    assert versions == {dist: installed(dist) for dist, _ in cache.KERNEL_DISTRIBUTIONS}
+    assert versions["build123d"] != "absent"
+
+
+def test_another_kernel_is_another_key(monkeypatch):
+    before = cache.key({"a": 1}, [])
+    monkeypatch.setattr(cache, "_code_digest", {})
+    monkeypatch.setattr(cache, "kernel_versions", lambda: {"cadquery-ocp-novtk": "9.9"})
+    assert cache.key({"a": 1}, []) != before
+
+
+def test_trimming_deletes_the_entries_used_least_recently_and_nothing_else(tmp_path):
+    import os
+
+    names = [f"{i:064x}.json" for i in range(5)]
+    for age, name in enumerate(names):  # names[0] the newest
+        (tmp_path / name).write_bytes(b"x" * 100)
+        os.utime(tmp_path / name, (1e9 - age, 1e9 - age))
+    (tmp_path / "notes.json").write_bytes(b"y" * 1000)  # not an entry: never deleted
+    (tmp_path / ".entry-abc.tmp").write_bytes(b"z")  # a killed writer's, long ago
+    os.utime(tmp_path / ".entry-abc.tmp", (1e9, 1e9))
+    (tmp_path / ".entry-new.tmp").write_bytes(b"z")  # another process writing now
+    cache.trim(tmp_path, keep=names[4], max_bytes=250)
+    left = sorted(p.name for p in tmp_path.iterdir())
+    assert left == sorted([names[0], names[4], "notes.json", ".entry-new.tmp"])
+
+
+def test_a_hit_marks_its_entry_used_so_trimming_spares_it(monkeypatch, tmp_path):
+    import os
+
+    monkeypatch.setenv("CADCOG_CACHE_DIR", str(tmp_path))
+    cache.store_data("a" * 64, {"v": 1})
+    cache.store_data("b" * 64, {"v": 2})
+    os.utime(tmp_path / f"{'a' * 64}.json", (1e9, 1e9))
+    os.utime(tmp_path / f"{'b' * 64}.json", (1e9 + 1, 1e9 + 1))
+    assert cache.load_data("a" * 64) == {"v": 1}  # now the most recently used
+    cache.trim(tmp_path, max_bytes=(tmp_path / f"{'a' * 64}.json").stat().st_size)
+    assert [p.name for p in tmp_path.iterdir()] == [f"{'a' * 64}.json"]
