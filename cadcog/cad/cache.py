@@ -12,8 +12,8 @@ Where: ``$CADCOG_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/cadcog``, else
 An entry that cannot be read (damaged, from another version) is ignored and recomputed; a
 cache that cannot be written is skipped without a word: the cache only saves time, it never
 changes a result. Entries are a few kilobytes to a few megabytes (a 5000-solid model's ~5
-MB); beyond :data:`MAX_BYTES` (1 GiB) in all, the entries used least recently are deleted as a
-new one is written. Delete the folder to reclaim the space at once.
+MB); beyond :data:`MAX_BYTES` (1 GB) in all, the entries used least recently are deleted as a
+new one is written. ``cadcog cache`` shows the folder and its size; ``--clear`` empties it.
 
 ``cadcog massprops`` and :func:`cadcog.mass_properties` keep their result the same way, under
 the STEP file, the materials file and every option that changes a number
@@ -53,14 +53,24 @@ _CODE = ("cad", "mass", "core")
 
 def cache_dir() -> Path | None:
     """The cache folder, or None when caching is turned off (``CADCOG_NO_CACHE``)."""
-    if os.environ.get("CADCOG_NO_CACHE", "").strip() not in ("", "0"):
-        return None
+    return None if turned_off() else where()[0]
+
+
+def turned_off() -> bool:
+    """Whether ``CADCOG_NO_CACHE`` turns the cache off (any value but empty or ``0``)."""
+    return os.environ.get("CADCOG_NO_CACHE", "").strip() not in ("", "0")
+
+
+def where() -> tuple[Path, str]:
+    """The cache folder (whether or not the cache is turned off) and what chose it:
+    ``"CADCOG_CACHE_DIR"``, ``"XDG_CACHE_HOME"`` or ``"default"`` (``~/.cache/cadcog``)."""
     explicit = os.environ.get("CADCOG_CACHE_DIR", "").strip()
     if explicit:
-        return Path(explicit).expanduser()
+        return Path(explicit).expanduser(), "CADCOG_CACHE_DIR"
     xdg = os.environ.get("XDG_CACHE_HOME", "").strip()
-    base = Path(xdg) if xdg and Path(xdg).is_absolute() else Path.home() / ".cache"
-    return base / "cadcog"
+    if xdg and Path(xdg).is_absolute():  # the XDG spec: relative values are ignored
+        return Path(xdg) / "cadcog", "XDG_CACHE_HOME"
+    return Path.home() / ".cache" / "cadcog", "default"
 
 
 _code_digest: dict[tuple[str, ...], str] = {}
@@ -274,7 +284,7 @@ def store_data(entry: str, data: Any) -> None:
 
 #: The most the cache folder holds; beyond it the entries used least recently are deleted
 #: (a 5000-solid model's entry is ~5 MB, a 3U CubeSat's ~13 kB).
-MAX_BYTES = 1 << 30
+MAX_BYTES = 1_000_000_000
 
 #: Age after which a temporary file left by a killed writer is deleted (s).
 STALE_TMP_S = 3600.0
@@ -285,11 +295,10 @@ STALE_TMP_S = 3600.0
 _ENTRY_NAME = re.compile(r"[0-9a-f]{64}\.json")
 
 
-def trim(folder: Path, *, keep: str = "", max_bytes: int = MAX_BYTES) -> None:
-    """Delete the entries of ``folder`` used least recently (modification time: a hit
-    touches its entry) until they hold at most ``max_bytes``, never the entry named ``keep``,
-    and temporary files of ours older than :data:`STALE_TMP_S`; no other file. Errors
-    ignored (another process may be trimming too)."""
+def _entries(folder: Path, *, stale_s: float | None = None) -> list[tuple[int, str, int]]:
+    """The entries of ``folder`` as (modification time in ns, name, size in bytes), oldest
+    first; with ``stale_s``, our temporary files older than that (s) are deleted on the way.
+    Errors ignored (another process may be writing or trimming)."""
     import time
 
     entries = []
@@ -298,18 +307,55 @@ def trim(folder: Path, *, keep: str = "", max_bytes: int = MAX_BYTES) -> None:
             with suppress(OSError):
                 st = e.stat(follow_symlinks=False)
                 if e.name.startswith(".entry-") and e.name.endswith(".tmp"):
-                    if time.time() - st.st_mtime > STALE_TMP_S:
+                    if stale_s is not None and time.time() - st.st_mtime > stale_s:
                         os.unlink(e.path)
                 elif _ENTRY_NAME.fullmatch(e.name) and e.is_file(follow_symlinks=False):
                     entries.append((st.st_mtime_ns, e.name, st.st_size))
+    return sorted(entries)
+
+
+def trim(folder: Path, *, keep: str = "", max_bytes: int = MAX_BYTES) -> None:
+    """Delete the entries of ``folder`` used least recently (modification time: a hit
+    touches its entry) until they hold at most ``max_bytes``, never the entry named ``keep``,
+    and temporary files of ours older than :data:`STALE_TMP_S`; no other file. Errors
+    ignored (another process may be trimming too)."""
+    entries = _entries(folder, stale_s=STALE_TMP_S)
     total = sum(size for _, _, size in entries)
-    for _, name, size in sorted(entries):
+    for _, name, size in entries:
         if total <= max_bytes:
             break
         if name != keep:
             with suppress(OSError):
                 os.unlink(folder / name)
                 total -= size
+
+
+def usage(folder: Path) -> tuple[int, int]:
+    """The number of entries in ``folder`` and their size in bytes."""
+    entries = _entries(folder)
+    return len(entries), sum(size for _, _, size in entries)
+
+
+def clear(folder: Path) -> tuple[int, int]:
+    """Delete every entry of ``folder`` and our temporary files older than a minute (a
+    writer's current one is left to finish); no other file. Returns the number of entries and
+    the bytes deleted.
+
+    Raises
+    ------
+    CadcogError
+        If an entry cannot be deleted (naming it and why).
+    """
+    n, freed = 0, 0
+    for _, name, size in _entries(folder, stale_s=60.0):
+        try:
+            (folder / name).unlink()
+        except FileNotFoundError:  # another process trimmed it
+            continue
+        except OSError as exc:
+            raise CadcogError(f"{folder / name}: cannot delete ({exc.strerror})") from None
+        n, freed = n + 1, freed + size
+    return n, freed
 
 
 def _plain(value: Any) -> Any:

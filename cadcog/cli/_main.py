@@ -76,6 +76,7 @@ COMMANDS: dict[str, str] = {
     "update": "cadcog.cli.update",
     "inertia": "cadcog.cli.inertia",
     "setup": "cadcog.cli.setup",
+    "cache": "cadcog.cli.cache",
 }
 
 

@@ -251,6 +251,7 @@ CASES = [
     ),
     # --- budget, simulate ----------------------------------------------------------------------
     Case("budget-rig-missing", ["budget", "--rig", "no.toml"], r"no\.toml: file not found"),
+    Case("cache-unknown-option", ["cache", "--purge"], r"unrecognized arguments: --purge"),
     Case(
         "simulate-trials-huge",
         ["simulate", "--trials-per-pair", "100000000"],

@@ -32,6 +32,7 @@ def test_help_lists_the_subcommands(capsys):
         "massprops",
         "plan",
         "acquire",
+        "cache",
     ):
         assert f"    {command}" in out, command
 
