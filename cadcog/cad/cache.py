@@ -46,6 +46,19 @@ from cadcog.core.version import __version__
 #: Bumped when the stored form changes.
 FORMAT = 1
 
+#: The most the cache folder holds; beyond it the entries used least recently are deleted
+#: (a 5000-solid model's entry is ~5 MB, a 3U CubeSat's ~13 kB).
+MAX_BYTES = 1_000_000_000
+
+#: Age after which a temporary file left by a killed writer is deleted (s).
+STALE_TMP_S = 3600.0
+
+
+#: The name of an entry (a SHA-256 key): the only files :func:`trim` deletes, with its own
+#: temporary files, whatever else the folder holds.
+_ENTRY_NAME = re.compile(r"[0-9a-f]{64}\.json")
+
+
 #: The sub-packages whose code computes a model's mass properties (their sources are hashed
 #: into every key, so a changed cadcog never reuses an old entry).
 _CODE = ("cad", "mass", "core")
@@ -280,19 +293,6 @@ def store_data(entry: str, data: Any) -> None:
             with suppress(OSError):
                 os.unlink(tmp)
         trim(folder, keep=f"{entry}.json")
-
-
-#: The most the cache folder holds; beyond it the entries used least recently are deleted
-#: (a 5000-solid model's entry is ~5 MB, a 3U CubeSat's ~13 kB).
-MAX_BYTES = 1_000_000_000
-
-#: Age after which a temporary file left by a killed writer is deleted (s).
-STALE_TMP_S = 3600.0
-
-
-#: The name of an entry (a SHA-256 key): the only files :func:`trim` deletes, with its own
-#: temporary files, whatever else the folder holds.
-_ENTRY_NAME = re.compile(r"[0-9a-f]{64}\.json")
 
 
 def _entries(folder: Path, *, stale_s: float | None = None) -> list[tuple[int, str, int]]:
