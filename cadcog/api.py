@@ -228,6 +228,15 @@ def mass_properties(
     MassReport
         Total mass properties, budget tree, inertia in the frame, envelope check, notes.
 
+    Raises
+    ------
+    cadcog.cad.massresults.Refusal
+        Overlaps above the threshold under ``'check'``, or a note under ``strict``; a
+        :class:`~cadcog.core.errors.CadcogError` whose ``as_is`` is the model counted as what
+        was refused allows (each solid as it is; notes not errors), as ``--json`` writes it.
+    CadcogError
+        Any other bad input, naming the file (an open solid, a file OCCT cannot read...).
+
     Examples
     --------
     ``docs/tutorial.md`` runs it on a STEP file it writes (a test runs the tutorial):

@@ -39,7 +39,7 @@ from contextlib import suppress
 from pathlib import Path
 from typing import Any
 
-from cadcog.cad.massresults import ModelMassProperties, from_data, to_data
+from cadcog.cad.massresults import ModelMassProperties, Refusal, from_data, to_data
 from cadcog.core.errors import CadcogError
 from cadcog.core.version import __version__
 
@@ -210,9 +210,12 @@ def mass_properties(
     """``compute()``'s result, kept under :func:`key` ``(settings, files)``: read back if an
     entry exists, else computed and stored.
 
-    A refusal, a :class:`~cadcog.core.errors.CadcogError` itself (not a subclass: those say
-    something else about the input), is kept as its message and raised again on a hit. An
-    input that cannot be read makes no key: ``compute()`` then runs and says why.
+    A refusal (:class:`~cadcog.cad.massresults.Refusal`: overlaps, ``strict``) is kept with
+    the model as counted that it carries, and any other error that is a
+    :class:`~cadcog.core.errors.CadcogError` itself (an open solid, a file OCCT cannot read;
+    not a subclass: those say something else about the input) as its message; either is
+    raised again on a hit. An input that cannot be read makes no key: ``compute()`` then runs
+    and says why.
 
     Parameters
     ----------
@@ -240,13 +243,17 @@ def mass_properties(
         entry = None
     if entry is not None:
         data = load_data(entry)
-        if isinstance(data, dict) and isinstance(data.get("refused"), str) and len(data) == 1:
-            raise CadcogError(data["refused"])
+        if isinstance(data, dict) and isinstance(data.get("refused"), str):
+            _raise_kept(data)
         if data is not None:
             with suppress(ValueError, KeyError, TypeError, IndexError, AttributeError):
                 return from_data(data), True
     try:
         result = compute()
+    except Refusal as exc:
+        if entry is not None:
+            store_data(entry, {"refused": str(exc), "as_is": to_data(exc.as_is)})
+        raise
     except CadcogError as exc:
         if entry is not None and type(exc) is CadcogError:
             store_data(entry, {"refused": str(exc)})
@@ -254,6 +261,18 @@ def mass_properties(
     if entry is not None:
         store(entry, result)
     return result, False
+
+
+def _raise_kept(data: dict[str, Any]) -> None:
+    """Raise the refusal or the error kept as ``data`` (a damaged entry: return)."""
+    if set(data) == {"refused"}:
+        raise CadcogError(data["refused"])
+    if set(data) == {"refused", "as_is"}:
+        try:
+            as_is = from_data(data["as_is"])
+        except (ValueError, KeyError, TypeError, IndexError, AttributeError):
+            return
+        raise Refusal(data["refused"], as_is)
 
 
 def load_data(entry: str) -> Any:

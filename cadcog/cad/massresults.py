@@ -262,6 +262,27 @@ class ModelMassProperties(JsonResult):
 
 
 # --- plain data, exactly ---------------------------------------------------------------------
+class Refusal(CadcogError):
+    """The model was refused: overlaps above the threshold under ``check``, or a note under
+    ``strict``. It still carries the model counted as what was refused allows.
+
+    Attributes
+    ----------
+    as_is : ModelMassProperties
+        The model counted as it is and without ``strict``: under ``check`` as ``allow`` counts
+        it (each solid whole, the overlaps an info line), under another policy as that policy
+        does; notes not errors. What ``massprops`` writes under ``"refused"`` with ``--json``,
+        ``--csv`` or ``--report``.
+    """
+
+    def __init__(self, message: str, as_is: ModelMassProperties) -> None:
+        super().__init__(message)
+        self.as_is = as_is
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Refusal, (str(self), self.as_is))
+
+
 def _props_data(p: MassProperties) -> list[Any]:
     return [p.mass_kg, p.cog_mm.tolist(), p.inertia_kg_mm2.tolist(), p.volume_mm3]
 

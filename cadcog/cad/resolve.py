@@ -35,18 +35,25 @@ def handle_overlaps(
     progress: ProgressFactory | None,
     src: Any,
     workers: int,
-) -> tuple[OverlapSummary, list[str], set[str]]:
+) -> tuple[OverlapSummary, list[str], set[str], str | None]:
     """Find overlaps among solids, summarise them, refuse or resolve them per ``policy``.
 
-    Returns the summary, info lines and the product keys of the solids that took part in a
-    boolean (whose topology is then worth checking). ``skip``: no search at all.
+    Returns the summary, info lines, the product keys of the solids that took part in a
+    boolean (whose topology is then worth checking), and under ``check`` the refusal's message
+    when the mass counted more than once is above the threshold (else None): the caller still
+    counts the model as ``allow`` would, for the refusal to carry. ``skip``: no search at all.
+
+    Raises
+    ------
+    CadcogError
+        If OCCT cannot cut the overlaps out of a solid (to count the overlap exactly).
     """
     solids = [b for b in bodies if b.step.kind == "solid"]
     if policy == "skip":
         info = ["--skip-overlaps: overlaps not searched; each solid counted as it is"]
-        return OverlapSummary(policy), info if len(solids) >= 2 else [], set()
+        return OverlapSummary(policy), info if len(solids) >= 2 else [], set(), None
     if len(solids) < 2:
-        return OverlapSummary(policy), [], set()
+        return OverlapSummary(policy), [], set(), None
     placed_solids = [
         Placed(
             b.step.shape,
@@ -67,7 +74,7 @@ def handle_overlaps(
     in_booleans = {solids[k].step.product_key for pair in candidates for k in pair}
     if not found:
         summary = OverlapSummary(policy, n_candidates=n_candidates, n_contact=n_contact)
-        return summary, [], in_booleans
+        return summary, [], in_booleans, None
 
     def lighter(o: Overlap) -> tuple[int, int]:
         """(less dense, denser): the later solid in file order loses a tie."""
@@ -128,15 +135,16 @@ def handle_overlaps(
     if policy == "check" and fraction > tolerances.OVERLAP_REFUSE_MASS_FRACTION:
         root = _common_root([b.step.path for b in bodies])
         worst = "; ".join(p.describe(root) for p in ranked[:3])
-        raise CadcogError(
+        refusal = (
             f"{src}: {summary.headline()}, above the "
             f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%} threshold; worst: {worst}. Fix the "
             "model, --exclude one of each pair, --resolve-overlaps (the denser solid keeps the "
             "common volume) or --allow-overlap (count each solid as it is); --json lists every "
             "pair"
         )
+        return summary, [], in_booleans, refusal
     if policy != "resolve":
-        return summary, [], in_booleans
+        return summary, [], in_booleans, None
     for i, props in after.items():
         solids[i].removed_mm3 = solids[i].props.volume_mm3 - props.volume_mm3
         solids[i].props = props
@@ -145,7 +153,7 @@ def handle_overlaps(
         f"each keeping the common volume ({double_mass * 1e3:.4g} g no longer counted more than "
         "once)"
     ]
-    return summary, info, in_booleans
+    return summary, info, in_booleans, None
 
 
 def _cuts(

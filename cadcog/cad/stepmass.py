@@ -29,11 +29,13 @@ once and transformed (rotation and translation) for every rigid placement.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
-from cadcog.cad.bodies import ProgressFactory, integrate, invalid_solids, with_mass_factor
+from cadcog.cad.bodies import Body, ProgressFactory, integrate, invalid_solids, with_mass_factor
 from cadcog.cad.massresults import (
     AllExcludedError,
     BodyResult,
@@ -41,6 +43,7 @@ from cadcog.cad.massresults import (
     ModelMassProperties,
     OverlapPair,
     OverlapSummary,
+    Refusal,
 )
 from cadcog.cad.massrules import (
     assign_densities,
@@ -66,6 +69,7 @@ __all__ = [
     "OverlapPolicy",
     "OverlapSummary",
     "ProgressFactory",
+    "Refusal",
     "model_mass_properties",
 ]
 
@@ -209,111 +213,168 @@ def model_mass_properties(
         )
 
     assign_densities(bodies, materials, total_mass_kg, notes, src)
-    summary, resolved_info, in_booleans = handle_overlaps(
+    summary, resolved_info, in_booleans, refused = handle_overlaps(
         bodies, overlaps, scale, progress, src, workers
     )
     info.extend(resolved_info)
-    audit_bits["invalid"] = invalid_solids(bodies, None if strict else in_booleans, workers)
-
-    raw = [with_mass_factor(b.props, b.density_kg_mm3) for b in bodies]
-    counted = [(b, p) for b, p in zip(bodies, raw, strict=True) if p.mass_kg > 0]
-    if not counted:
-        raise CadcogError(f"{src}: no body has mass (only surfaces without an areal density?)")
-    factor = 1.0
-    if total_mass_kg is not None:
-        factor = total_mass_kg / sum(p.mass_kg for _, p in counted)
-        info.append(f"densities scaled by {factor:.6g} to match the weighed {total_mass_kg:g} kg")
-        volume = sum(b.props.volume_mm3 for b, _ in counted)
-        mean = total_mass_kg / volume * 1e9 if volume > 0 else float("inf")
-        lo_d, hi_d = PLAUSIBLE_MEAN_DENSITY_KG_M3
-        if units is None and not lo_d <= mean <= hi_d:
-            notes.append(
-                f"the weighed mass implies a mean density of {mean:.4g} kg/m³: the file's "
-                f"declared unit ({model.declared_unit or 'none'}) may be wrong; pass --units"
-            )
-    if factor != 1.0 and summary.pairs:
-        summary = replace(
-            summary,
-            mass_kg=summary.mass_kg * factor,
-            pairs=tuple(replace(p, mass_kg=p.mass_kg * factor) for p in summary.pairs),
-        )
-    if summary.pairs and overlaps == "check":
-        notes.append(
-            f"{summary.headline()}; under the refusal threshold of "
-            f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%}: each solid counted as it is"
-        )
-    elif summary.pairs and overlaps == "allow":  # the user chose: info, not a note
-        info.append(f"{summary.headline()}; --allow-overlap: each solid counted as it is")
-    results = []
-    for b, p in counted:
-        sigma, growth = item_rules(b.step, materials)
-        results.append(
-            BodyResult(
-                b.step.path,
-                tuple(n.name for n in b.step.nodes),
-                b.step.kind,
-                b.material,
-                b.source,
-                None if b.density_kg_m3 is None else b.density_kg_m3 * factor,
-                None if b.areal_density_kg_m2 is None else b.areal_density_kg_m2 * factor,
-                with_mass_factor(p, factor),
-                b.props.mass_kg if b.step.kind == "surface" else 0.0,
-                b.removed_mm3,
-                None if sigma is None else sigma.value,
-                b.step.path if sigma is None else sigma.item,
-                0.0 if growth is None else growth.value,
-                "" if growth is None else growth.label,
-                None if materials is None else materials.cog_uncertainty(item_candidates(b.step)),
-                b.surface_area_mm2,
-            )
-        )
-    left_out = tuple((b.step.path, b.props.mass_kg) for b in bodies if b.density_kg_mm3 == 0.0)
-    if left_out:
-        area = sum(a for _, a in left_out)
-        shown = ", ".join(f"{p} ({a:.4g} mm²)" for p, a in left_out[:WORST_PAIRS_SHOWN])
-        more = f" and {len(left_out) - WORST_PAIRS_SHOWN} more" if len(left_out) > 10 else ""
-        notes.append(
-            f"{len(left_out)} surface bod{'y' if len(left_out) == 1 else 'ies'} "
-            f"({area:.4g} mm² in all) have no volume and are left out: {shown}{more}; give "
-            "them an areal density in the materials file's [surfaces] table"
-        )
-    if audit_bits["made_solid"]:
-        notes.append(
-            f"closed shells made into solids: {', '.join(audit_bits['made_solid'][:10])}"
-            + (" ..." if len(audit_bits["made_solid"]) > 10 else "")
-        )
-    if audit_bits["invalid"]:
-        notes.append(
-            f"OCCT reports invalid topology in {len(audit_bits['invalid'])} solid(s) "
-            f"({', '.join(audit_bits['invalid'][:10])}); integrated anyway"
-        )
-    if model.curve_only_parts:
-        notes.append(
-            f"{len(model.curve_only_parts)} part(s) hold only curves or points, no mass: "
-            + ", ".join(model.curve_only_parts[:10])
-        )
-    sources: dict[str, int] = {}
-    for r in results:
-        kind = r.density_source.split(" ", 1)[0]
-        sources[kind] = sources.get(kind, 0) + 1
-    audit = ImportAudit(
-        str(src),
-        model.declared_units,
-        units,
-        scale,
-        model.n_products,
-        model.n_instances,
-        sum(1 for b in bodies if b.step.kind == "solid"),
-        sum(1 for b in bodies if b.step.kind == "surface"),
-        excluded,
-        left_out,
-        tuple(audit_bits["made_solid"]),
-        tuple(audit_bits["invalid"]),
-        model.curve_only_parts,
-        sources,
-        (tuple(float(v) for v in bbox[0]), tuple(float(v) for v in bbox[1])),  # type: ignore[arg-type]
+    invalid = invalid_solids(bodies, None if strict else in_booleans, workers)
+    # what the checks find without --strict: the solids that took part in a boolean (the
+    # order of the bodies kept)
+    product_of = {b.step.path: b.step.product_key for b in bodies}
+    invalid_as_is = [p for p in invalid if product_of[p] in in_booleans]
+    parts = _Parts(
+        model, bodies, materials, total_mass_kg, units, scale, excluded, audit_bits, bbox
     )
-    if strict and notes:
-        raise CadcogError(f"{src}: --strict: {len(notes)} note(s): " + " | ".join(notes))
-    total = combine(r.properties for r in results)
-    return ModelMassProperties(total, tuple(results), audit, summary, tuple(notes), tuple(info))
+    # What a refusal carries: the model counted as it is (check as allow), without strict.
+    as_is_summary = replace(summary, policy="allow") if overlaps == "check" else summary
+    if refused is not None:
+        raise Refusal(refused, parts.assemble(as_is_summary, notes, info, invalid_as_is))
+    result = parts.assemble(summary, notes, info, invalid)
+    if strict and result.notes:
+        same = invalid_as_is == invalid and as_is_summary is summary
+        as_is = result if same else parts.assemble(as_is_summary, notes, info, invalid_as_is)
+        raise Refusal(
+            f"{src}: --strict: {len(result.notes)} note(s): " + " | ".join(result.notes), as_is
+        )
+    return result
+
+
+@dataclass(frozen=True)
+class _Parts:
+    """What a model's result is assembled from once its bodies are integrated, their densities
+    assigned and their overlaps handled: :meth:`assemble` gives the result for a summary, notes,
+    info lines and invalid solids (twice when a refusal carries the model as counted)."""
+
+    model: StepModel
+    bodies: list[Body]
+    materials: MaterialMap | None
+    total_mass_kg: float | None
+    units: str | None
+    scale: float
+    excluded: tuple[str, ...]
+    audit_bits: dict[str, Any]
+    bbox: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]
+
+    def assemble(
+        self,
+        summary: OverlapSummary,
+        notes_so_far: list[str],
+        info_so_far: list[str],
+        invalid: list[str],
+    ) -> ModelMassProperties:
+        """The result (``notes_so_far`` and ``info_so_far`` are copied, not extended).
+
+        Raises
+        ------
+        CadcogError
+            If no body has mass.
+        """
+        model, bodies, materials = self.model, self.bodies, self.materials
+        total_mass_kg, units, scale = self.total_mass_kg, self.units, self.scale
+        excluded, audit_bits, src = self.excluded, self.audit_bits, model.source
+        bbox = self.bbox
+        notes, info = list(notes_so_far), list(info_so_far)
+        raw = [with_mass_factor(b.props, b.density_kg_mm3) for b in bodies]
+        counted = [(b, p) for b, p in zip(bodies, raw, strict=True) if p.mass_kg > 0]
+        if not counted:
+            raise CadcogError(f"{src}: no body has mass (only surfaces without an areal density?)")
+        factor = 1.0
+        if total_mass_kg is not None:
+            factor = total_mass_kg / sum(p.mass_kg for _, p in counted)
+            info.append(
+                f"densities scaled by {factor:.6g} to match the weighed {total_mass_kg:g} kg"
+            )
+            volume = sum(b.props.volume_mm3 for b, _ in counted)
+            mean = total_mass_kg / volume * 1e9 if volume > 0 else float("inf")
+            lo_d, hi_d = PLAUSIBLE_MEAN_DENSITY_KG_M3
+            if units is None and not lo_d <= mean <= hi_d:
+                notes.append(
+                    f"the weighed mass implies a mean density of {mean:.4g} kg/m³: the file's "
+                    f"declared unit ({model.declared_unit or 'none'}) may be wrong; pass --units"
+                )
+        if factor != 1.0 and summary.pairs:
+            summary = replace(
+                summary,
+                mass_kg=summary.mass_kg * factor,
+                pairs=tuple(replace(p, mass_kg=p.mass_kg * factor) for p in summary.pairs),
+            )
+        if summary.pairs and summary.policy == "check":
+            notes.append(
+                f"{summary.headline()}; under the refusal threshold of "
+                f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%}: each solid counted as it is"
+            )
+        elif summary.pairs and summary.policy == "allow":  # the user chose: info, not a note
+            info.append(f"{summary.headline()}; --allow-overlap: each solid counted as it is")
+        results = []
+        for b, p in counted:
+            sigma, growth = item_rules(b.step, materials)
+            results.append(
+                BodyResult(
+                    b.step.path,
+                    tuple(n.name for n in b.step.nodes),
+                    b.step.kind,
+                    b.material,
+                    b.source,
+                    None if b.density_kg_m3 is None else b.density_kg_m3 * factor,
+                    None if b.areal_density_kg_m2 is None else b.areal_density_kg_m2 * factor,
+                    with_mass_factor(p, factor),
+                    b.props.mass_kg if b.step.kind == "surface" else 0.0,
+                    b.removed_mm3,
+                    None if sigma is None else sigma.value,
+                    b.step.path if sigma is None else sigma.item,
+                    0.0 if growth is None else growth.value,
+                    "" if growth is None else growth.label,
+                    None
+                    if materials is None
+                    else materials.cog_uncertainty(item_candidates(b.step)),
+                    b.surface_area_mm2,
+                )
+            )
+        left_out = tuple((b.step.path, b.props.mass_kg) for b in bodies if b.density_kg_mm3 == 0.0)
+        if left_out:
+            area = sum(a for _, a in left_out)
+            shown = ", ".join(f"{p} ({a:.4g} mm²)" for p, a in left_out[:WORST_PAIRS_SHOWN])
+            more = f" and {len(left_out) - WORST_PAIRS_SHOWN} more" if len(left_out) > 10 else ""
+            notes.append(
+                f"{len(left_out)} surface bod{'y' if len(left_out) == 1 else 'ies'} "
+                f"({area:.4g} mm² in all) have no volume and are left out: {shown}{more}; give "
+                "them an areal density in the materials file's [surfaces] table"
+            )
+        if audit_bits["made_solid"]:
+            notes.append(
+                f"closed shells made into solids: {', '.join(audit_bits['made_solid'][:10])}"
+                + (" ..." if len(audit_bits["made_solid"]) > 10 else "")
+            )
+        if invalid:
+            notes.append(
+                f"OCCT reports invalid topology in {len(invalid)} solid(s) "
+                f"({', '.join(invalid[:10])}); integrated anyway"
+            )
+        if model.curve_only_parts:
+            notes.append(
+                f"{len(model.curve_only_parts)} part(s) hold only curves or points, no mass: "
+                + ", ".join(model.curve_only_parts[:10])
+            )
+        sources: dict[str, int] = {}
+        for r in results:
+            kind = r.density_source.split(" ", 1)[0]
+            sources[kind] = sources.get(kind, 0) + 1
+        audit = ImportAudit(
+            str(src),
+            model.declared_units,
+            units,
+            scale,
+            model.n_products,
+            model.n_instances,
+            sum(1 for b in bodies if b.step.kind == "solid"),
+            sum(1 for b in bodies if b.step.kind == "surface"),
+            excluded,
+            left_out,
+            tuple(audit_bits["made_solid"]),
+            tuple(invalid),
+            model.curve_only_parts,
+            sources,
+            (tuple(float(v) for v in bbox[0]), tuple(float(v) for v in bbox[1])),  # type: ignore[arg-type]
+        )
+        total = combine(r.properties for r in results)
+        return ModelMassProperties(total, tuple(results), audit, summary, tuple(notes), tuple(info))

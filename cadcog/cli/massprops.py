@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from cadcog.cad.massresults import Refusal
 from cadcog.cli.massprops_text import print_report
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import note_input
@@ -301,14 +302,10 @@ def _run(args: argparse.Namespace) -> int:
     except CadcogError as exc:
         if not (args.json or args.report or args.csv):
             raise
-        refusal = str(exc)
-        try:  # what the refusal is about, counted as it is: for CI to parse
-            as_is: ModelMassProperties | None = compute(
-                "allow" if policy == "check" else policy, False
-            )
-        except CadcogError:
-            as_is = None
-        emit_refusal(args, refusal, as_is, model, policy)
+        # a refusal carries what it is about, counted as it is (for CI to parse); any other
+        # error (an open solid, a file OCCT cannot read) has nothing to count
+        as_is = exc.as_is if isinstance(exc, Refusal) else None
+        emit_refusal(args, str(exc), as_is, model, policy)
         raise
     emit(args, result, model)
     return 0
