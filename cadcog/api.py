@@ -268,13 +268,6 @@ def mass_properties(
     patterns = [exclude] if isinstance(exclude, str) else list(exclude)  # one pattern, not letters
     if not all(isinstance(p, str) for p in patterns):
         raise _fail(f, "exclude", exclude, "expected a pattern or a list of patterns (str)")
-    material_map = (
-        load_materials(_path(f, "materials", materials))
-        if materials is not None
-        else MaterialMap.uniform(density_kg_m3)
-        if density_kg_m3 is not None
-        else None
-    )
     step = _path(f, "model", model)
     files = [step] if materials is None else [step, _path(f, "materials", materials)]
     settings = cache.massprops_settings(
@@ -291,6 +284,13 @@ def mass_properties(
         from cadcog.cad.stepmass import model_mass_properties
         from cadcog.cad.stepread import read_step
 
+        material_map = (  # read here: the cache keeps a result under the content it read
+            load_materials(files[1])
+            if materials is not None
+            else MaterialMap.uniform(density_kg_m3)
+            if density_kg_m3 is not None
+            else None
+        )
         return model_mass_properties(
             read_step(step),
             material_map,

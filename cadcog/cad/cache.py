@@ -18,8 +18,8 @@ new one is written. ``cadcog cache`` shows the folder and its size; ``--clear`` 
 ``cadcog massprops`` and :func:`cadcog.mass_properties` keep their result the same way, under
 the STEP file, the materials file and every option that changes a number
 (:func:`mass_properties`): a second run on an unchanged model reads no CAD at all. A refusal
-(overlaps under ``check``, a note under ``--strict``) is kept too, as its message, and raised
-again.
+(overlaps under ``check``, a note under ``--strict``) is kept too, with the model as counted
+that it carries, and raised again; other errors are not kept.
 
 Besides models, ``cadcog report`` keeps the CAD parts of a rig (its ground truth and the STEP
 and STL files of ``parts build``, which are byte-for-byte reproducible) as a plain JSON entry
@@ -105,11 +105,10 @@ def _code(subs: tuple[str, ...] = _CODE) -> str:
     return _code_digest[subs]
 
 
-#: The geometry kernel's distributions, and the package each installs.
-KERNEL_DISTRIBUTIONS = (
-    ("build123d", "build123d"),
-    ("cadquery-ocp", "OCP"),
-    ("cadquery-ocp-novtk", "OCP"),
+#: The geometry kernel's packages, and the distributions that install each.
+KERNEL_PACKAGES = (
+    ("build123d", ("build123d",)),
+    ("OCP", ("cadquery-ocp", "cadquery-ocp-novtk")),
 )
 
 
@@ -117,37 +116,64 @@ def kernel_versions() -> dict[str, str]:
     """Versions of the geometry kernel's distributions (build123d, OCP), without importing
     them; ``"absent"`` for one not installed.
 
-    Read from the name of the distribution's ``<name>-<version>.dist-info`` folder beside the
-    package it installs (a directory listing, ~1 ms; none there: that package comes from
-    another distribution), else, when the folder cannot be listed or holds several, from
-    ``importlib.metadata`` (~40 ms to import, on a cached ``plan`` of ~0.8 s).
+    Read from the names of the ``<name>-<version>.dist-info`` folders beside each package (a
+    directory listing, ~1 ms). A package installed otherwise (no such folder beside it: an
+    editable or conda install) is identified by ``importlib.metadata`` (~40 ms to import, on
+    a cached ``plan`` of ~0.8 s) and by the names, sizes and modification times of its own
+    top-level files (``"<package> files"``), so that a new build changes the key too.
     """
     import importlib.util
 
-    versions = {}
-    for dist, package in KERNEL_DISTRIBUTIONS:
-        versions[dist] = "absent"
+    versions: dict[str, str] = {}
+    for package, dists in KERNEL_PACKAGES:
+        versions.update(dict.fromkeys(dists, "absent"))
         spec = importlib.util.find_spec(package)
         if spec is None or not spec.submodule_search_locations:
             continue
-        site = Path(next(iter(spec.submodule_search_locations))).parent
-        prefix = dist.replace("-", "_") + "-"
+        folder = Path(next(iter(spec.submodule_search_locations)))
         try:
-            found = [
-                name[len(prefix) : -len(".dist-info")]
-                for name in os.listdir(site)
-                if name.startswith(prefix) and name.endswith(".dist-info")
-            ]
+            beside = os.listdir(folder.parent)
         except OSError:
-            found = ["?", "?"]
-        if len(found) == 1:
-            versions[dist] = found[0]
-        elif found:
-            from importlib import metadata
-
-            with suppress(metadata.PackageNotFoundError):
-                versions[dist] = metadata.version(dist)
+            beside = []
+        found = False
+        for dist in dists:
+            prefix = dist.replace("-", "_") + "-"
+            names = [n for n in beside if n.startswith(prefix) and n.endswith(".dist-info")]
+            if len(names) == 1:
+                versions[dist] = names[0][len(prefix) : -len(".dist-info")]
+            found = found or bool(names)
+            if len(names) > 1:
+                versions[dist] = _metadata_version(dist)
+        if not found:
+            versions.update({dist: _metadata_version(dist) for dist in dists})
+            versions[f"{package} files"] = _fingerprint(folder)
     return versions
+
+
+def _metadata_version(dist: str) -> str:
+    from importlib import metadata
+
+    try:
+        return metadata.version(dist)
+    except metadata.PackageNotFoundError:
+        return "absent"
+
+
+def _fingerprint(folder: Path) -> str:
+    """The names, sizes and modification times of a folder's files (not its sub-folders')."""
+    h = hashlib.sha256()
+    with suppress(OSError), os.scandir(folder) as it:
+        for e in sorted(it, key=lambda e: e.name):
+            with suppress(OSError):
+                if e.is_file():
+                    st = e.stat()
+                    h.update(f"{e.name} {st.st_size} {st.st_mtime_ns}\n".encode())
+    return h.hexdigest()[:16]
+
+
+#: A STEP entity naming another file: OCCT's reader follows it (multi-file assemblies), so a
+#: key on the main file alone would miss a change in the files it names.
+_EXTERNAL_REFERENCES = (b"DOCUMENT_FILE", b"document_file")
 
 
 def key(settings: dict[str, Any], files: Iterable[Path], *, code: tuple[str, ...] = _CODE) -> str:
@@ -157,20 +183,36 @@ def key(settings: dict[str, Any], files: Iterable[Path], *, code: tuple[str, ...
     Raises
     ------
     OSError
-        If a file is not a regular file or cannot be read (the caller then reads it as usual,
-        and reports that).
+        If a file is not a regular file, cannot be read, or names other files its reader
+        follows (a STEP ``DOCUMENT_FILE``: the key cannot see them). The caller then computes
+        without the cache, and reading says what is wrong if anything is.
     """
     h = hashlib.sha256(_code(code).encode())
     h.update(json.dumps(settings, sort_keys=True, default=str).encode())
+    width = max(len(r) for r in _EXTERNAL_REFERENCES) - 1
     for path in files:
         if not os.path.isfile(path):  # never open a pipe or a device (it could block)
             raise OSError(f"{path}: not a regular file")
         h.update(str(path).encode() + b"\0")
+        tail = b""
         with open(path, "rb") as f:
             for block in iter(lambda: f.read(1 << 20), b""):
                 h.update(block)
+                window = tail + block  # a name across two blocks is found too
+                if any(r in window for r in _EXTERNAL_REFERENCES):
+                    raise OSError(f"{path}: refers to other files (DOCUMENT_FILE)")
+                tail = block[-width:]
         h.update(b"\0")
     return h.hexdigest()
+
+
+def _stamps(files: Iterable[Path]) -> list[tuple[int, int, int, int]] | None:
+    """Device, inode, size and modification time of each file (None if one cannot be
+    stat'ed): equal before and after a computation, the files it read are the ones hashed."""
+    try:
+        return [(st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns) for st in map(os.stat, files)]
+    except OSError:
+        return None
 
 
 def store(entry: str, result: ModelMassProperties) -> None:
@@ -210,12 +252,14 @@ def mass_properties(
     """``compute()``'s result, kept under :func:`key` ``(settings, files)``: read back if an
     entry exists, else computed and stored.
 
-    A refusal (:class:`~cadcog.cad.massresults.Refusal`: overlaps, ``strict``) is kept with
-    the model as counted that it carries, and any other error that is a
-    :class:`~cadcog.core.errors.CadcogError` itself (an open solid, a file OCCT cannot read;
-    not a subclass: those say something else about the input) as its message; either is
-    raised again on a hit. An input that cannot be read makes no key: ``compute()`` then runs
-    and says why.
+    A refusal (:class:`~cadcog.cad.massresults.Refusal`: overlaps, ``strict``) depends only on
+    the inputs: it is kept with the model as counted that it carries, and raised again on a
+    hit. Any other error is not kept (some depend on the machine: memory, a full temporary
+    folder). An input that cannot be read, or that names other files, makes no key:
+    ``compute()`` then runs and nothing is kept; nor is anything when a file changed while it
+    ran (its device, inode, size or modification time), so a result is only ever kept under
+    the content it was computed from. ``compute()`` should read every file itself (for the
+    same reason).
 
     Parameters
     ----------
@@ -237,6 +281,8 @@ def mass_properties(
     CadcogError
         What ``compute()`` raises, or the refusal kept under the key.
     """
+    files = list(files)
+    before = _stamps(files)
     try:
         entry: str | None = key(settings, files)
     except OSError:
@@ -248,25 +294,25 @@ def mass_properties(
         if data is not None:
             with suppress(ValueError, KeyError, TypeError, IndexError, AttributeError):
                 return from_data(data), True
+
+    def unchanged() -> bool:
+        return entry is not None and before is not None and _stamps(files) == before
+
     try:
         result = compute()
     except Refusal as exc:
-        if entry is not None:
+        if unchanged():
+            assert entry is not None
             store_data(entry, {"refused": str(exc), "as_is": to_data(exc.as_is)})
         raise
-    except CadcogError as exc:
-        if entry is not None and type(exc) is CadcogError:
-            store_data(entry, {"refused": str(exc)})
-        raise
-    if entry is not None:
+    if unchanged():
+        assert entry is not None
         store(entry, result)
     return result, False
 
 
 def _raise_kept(data: dict[str, Any]) -> None:
-    """Raise the refusal or the error kept as ``data`` (a damaged entry: return)."""
-    if set(data) == {"refused"}:
-        raise CadcogError(data["refused"])
+    """Raise the refusal kept as ``data`` (a damaged entry: return)."""
     if set(data) == {"refused", "as_is"}:
         try:
             as_is = from_data(data["as_is"])
@@ -314,14 +360,26 @@ def store_data(entry: str, data: Any) -> None:
         trim(folder, keep=f"{entry}.json")
 
 
-def _entries(folder: Path, *, stale_s: float | None = None) -> list[tuple[int, str, int]]:
+def _entries(
+    folder: Path, *, stale_s: float | None = None, listed: bool = False
+) -> list[tuple[int, str, int]]:
     """The entries of ``folder`` as (modification time in ns, name, size in bytes), oldest
     first; with ``stale_s``, our temporary files older than that (s) are deleted on the way.
-    Errors ignored (another process may be writing or trimming)."""
+    Errors ignored (another process may be writing or trimming), but with ``listed`` a folder
+    that exists and cannot be listed raises :class:`CadcogError` (a missing one is empty)."""
     import time
 
     entries = []
-    with suppress(OSError), os.scandir(folder) as it:
+    try:
+        it = os.scandir(folder)
+    except FileNotFoundError:
+        return []
+    except OSError as exc:
+        if not listed:
+            return []
+        what = "not a folder" if isinstance(exc, NotADirectoryError) else exc.strerror
+        raise CadcogError(f"{folder}: cannot list the cache folder ({what})") from None
+    with it:
         for e in it:
             with suppress(OSError):
                 st = e.stat(follow_symlinks=False)
@@ -350,8 +408,14 @@ def trim(folder: Path, *, keep: str = "", max_bytes: int = MAX_BYTES) -> None:
 
 
 def usage(folder: Path) -> tuple[int, int]:
-    """The number of entries in ``folder`` and their size in bytes."""
-    entries = _entries(folder)
+    """The number of entries in ``folder`` and their size in bytes.
+
+    Raises
+    ------
+    CadcogError
+        If the folder exists and cannot be listed (or is not a folder).
+    """
+    entries = _entries(folder, listed=True)
     return len(entries), sum(size for _, _, size in entries)
 
 
@@ -363,10 +427,10 @@ def clear(folder: Path) -> tuple[int, int]:
     Raises
     ------
     CadcogError
-        If an entry cannot be deleted (naming it and why).
+        If the folder cannot be listed or an entry cannot be deleted (naming it and why).
     """
     n, freed = 0, 0
-    for _, name, size in _entries(folder, stale_s=60.0):
+    for _, name, size in _entries(folder, stale_s=60.0, listed=True):
         try:
             (folder / name).unlink()
         except FileNotFoundError:  # another process trimmed it

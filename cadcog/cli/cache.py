@@ -58,4 +58,5 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _mb(n_bytes: int) -> str:
-    return f"{n_bytes / 1e6:.1f} MB"
+    """A size in kB below 1 MB, else in MB (a 3U model's entry is 13 kB)."""
+    return f"{n_bytes / 1e3:.1f} kB" if n_bytes < 1e6 else f"{n_bytes / 1e6:.1f} MB"

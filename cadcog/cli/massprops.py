@@ -199,11 +199,16 @@ def _progress() -> Callable[[str, int], Callable[[int], None]] | None:
     return factory
 
 
-def _materials(args: argparse.Namespace) -> MaterialMap | None:
+def _check_numbers(args: argparse.Namespace) -> None:
     for name in ("density_kg_m3", "total_mass_kg"):
         value = getattr(args, name)
         if value is not None and not (np.isfinite(value) and value > 0):
             raise CadcogError(f"--{name.replace('_', '-')} must be a positive number, got {value}")
+
+
+def _materials(args: argparse.Namespace) -> MaterialMap | None:
+    """The densities the options give (a materials file read here, inside the computation:
+    the cache keeps a result only under the content it read)."""
     if args.materials is not None:
         return load_materials(args.materials)
     if args.density_kg_m3 is not None:  # its range is checked with every option (bounds.py)
@@ -226,7 +231,7 @@ def _run(args: argparse.Namespace) -> int:
         )
     if args.workers is not None and args.workers < 1:
         raise CadcogError("--workers must be at least 1")
-    materials = _materials(args)
+    _check_numbers(args)
     policy: OverlapPolicy = (
         "allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check"
     )
@@ -253,6 +258,7 @@ def _run(args: argparse.Namespace) -> int:
             from cadcog.core.parallel import available_workers
 
             ran.append(True)
+            materials = _materials(args)
             return model_mass_properties(
                 model(),
                 materials,
@@ -287,8 +293,10 @@ def _run(args: argparse.Namespace) -> int:
         return result
 
     def say_cached() -> None:
-        """One line on stderr, once a run; the STEP file is still an input of the run."""
+        """One line on stderr, once a run; the files are still inputs of the run."""
         note_input(args.model, "the STEP model it reads")
+        if args.materials is not None:
+            note_input(args.materials, "a parameter file it reads")
         if not cached:
             cached.append(True)
             print(

@@ -120,8 +120,31 @@ def test_the_kernel_versions_are_the_installed_metadata():
             return "absent"
 
     versions = cache.kernel_versions()
-    assert versions == {dist: installed(dist) for dist, _ in cache.KERNEL_DISTRIBUTIONS}
+    dists = [d for _, ds in cache.KERNEL_PACKAGES for d in ds]
+    assert {d: versions[d] for d in dists} == {d: installed(d) for d in dists}
     assert versions["build123d"] != "absent"
+
+
+def test_a_kernel_installed_without_metadata_beside_it_is_fingerprinted(tmp_path, monkeypatch):
+    """An editable or conda install: no dist-info beside the package. Its files identify it,
+    and a rebuilt file changes the versions (so every key)."""
+    import importlib.util
+
+    package = tmp_path / "src" / "OCP"
+    package.mkdir(parents=True)
+    (package / "__init__.py").write_text("", encoding="utf-8")
+    (package / "OCP.so").write_bytes(b"v1")
+    real = importlib.util.find_spec
+    spec = importlib.util.spec_from_file_location(
+        "OCP", package / "__init__.py", submodule_search_locations=[str(package)]
+    )
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name: spec if name == "OCP" else real(name)
+    )
+    before = cache.kernel_versions()
+    (package / "OCP.so").write_bytes(b"v2 rebuilt")
+    after = cache.kernel_versions()
+    assert "OCP files" in before and before["OCP files"] != after["OCP files"]
 
 
 def test_another_kernel_is_another_key(monkeypatch):

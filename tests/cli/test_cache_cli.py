@@ -89,3 +89,23 @@ def test_an_entry_that_cannot_be_deleted_is_named(monkeypatch, capsys):
     assert main(["cache", "--clear"]) == 2
     err = capsys.readouterr().err
     assert f"{'d' * 64}.json: cannot delete (Permission denied)" in err
+
+
+def test_a_folder_that_cannot_be_listed_is_an_error_not_an_empty_cache(
+    tmp_path, monkeypatch, capsys
+):
+    not_a_folder = tmp_path / "file"
+    not_a_folder.write_text("x", encoding="utf-8")
+    monkeypatch.setenv("CADCOG_CACHE_DIR", str(not_a_folder))
+    for argv in (["cache"], ["cache", "--clear"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert f"{not_a_folder}: cannot list the cache folder (not a folder)" in err
+    assert not_a_folder.read_text(encoding="utf-8") == "x"
+
+
+def test_small_sizes_read_in_kilobytes(capsys):
+    cache.store_data("e" * 64, {"v": 5})
+    assert main(["cache"]) == 0
+    line = capsys.readouterr().out.splitlines()[-1]
+    assert line.startswith("entries: 1, ") and " kB (at most 1000.0 MB)" in line

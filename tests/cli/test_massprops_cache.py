@@ -182,6 +182,99 @@ def test_a_cached_run_imports_no_cad_kernel(model):
     assert len(json.loads(run.stdout)["bodies"]) > 0
 
 
+def _multi_file_assembly(folder: Path, length_mm: float) -> Path:
+    """``main.step`` naming two component files (``DOCUMENT_FILE``), as OCCT's multi-file
+    export writes them; the second box ``length_mm`` long."""
+    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox
+    from OCP.gp import gp_Trsf, gp_Vec
+    from OCP.STEPCAFControl import STEPCAFControl_Writer
+    from OCP.STEPControl import STEPControl_AsIs
+    from OCP.TCollection import TCollection_ExtendedString
+    from OCP.TDocStd import TDocStd_Document
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.XCAFApp import XCAFApp_Application
+    from OCP.XCAFDoc import XCAFDoc_DocumentTool
+
+    from tests.cad.stepfixtures import _name
+
+    doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
+    XCAFApp_Application.GetApplication_s().InitDocument(doc)
+    tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+    a = tool.AddShape(BRepPrimAPI_MakeBox(10, 10, 10).Shape(), False)
+    b = tool.AddShape(BRepPrimAPI_MakeBox(length_mm, 10, 10).Shape(), False)
+    asm = tool.NewShape()
+    for label, name in ((a, "partA"), (b, "partB"), (asm, "asm")):
+        _name(label, name)
+    move = gp_Trsf()
+    move.SetTranslation(gp_Vec(50, 0, 0))
+    tool.AddComponent(asm, a, TopLoc_Location())
+    tool.AddComponent(asm, b, TopLoc_Location(move))
+    tool.UpdateAssemblies()
+    writer = STEPCAFControl_Writer()
+    cwd = Path.cwd()
+    os.chdir(folder)  # the component files are written beside the main one
+    try:
+        assert writer.Transfer(doc, STEPControl_AsIs, "comp")
+        writer.Write("main.step")
+    finally:
+        os.chdir(cwd)
+    return folder / "main.step"
+
+
+def test_a_model_that_names_other_files_is_never_kept(tmp_path, capsys):
+    main_step = _multi_file_assembly(tmp_path, 10.0)
+    text = main_step.read_bytes()
+    assert b"DOCUMENT_FILE" in text and len(list(tmp_path.glob("*.stp"))) == 2
+    argv = ["massprops", str(main_step), "--density-kg-m3", "1000", "--json"]
+    first = json.loads(_run(capsys, argv)[1])
+    _multi_file_assembly(tmp_path, 30.0)  # a component changes...
+    main_step.write_bytes(text)  # ...and the main file's bytes do not
+    status, out, err = _run(capsys, argv)
+    assert status == 0 and "from the cache" not in err
+    assert json.loads(out)["mass_kg"] == pytest.approx(first["mass_kg"] * 4 / 2, rel=1e-9)
+    assert not list(Path(os.environ["CADCOG_CACHE_DIR"]).glob("*.json"))
+
+
+def test_a_file_changed_while_it_was_read_is_not_kept(model, monkeypatch, capsys):
+    """Hashed as A, changed to B before it was read (an export still being written): B's result
+    must not be kept under A's key, where A's bytes coming back (a checkout) would find it."""
+    step, mats = model
+    a_bytes = step.read_bytes()
+    real = stepread.read_step
+
+    def change_then_read(path):
+        top = nested_three_levels()
+        top.add(Part("late", [((1.0, 1.0, 1.0), (90.0, 0.0, 0.0))], 1000.0))
+        write_step(top, step)
+        return real(path)
+
+    monkeypatch.setattr(stepread, "read_step", change_then_read)
+    argv = ["massprops", str(step), "--materials", str(mats), "--json"]
+    b_result = json.loads(_run(capsys, argv)[1])
+    monkeypatch.setattr(stepread, "read_step", real)
+    step.write_bytes(a_bytes)
+    status, out, err = _run(capsys, argv)
+    assert status == 0 and "from the cache" not in err
+    assert json.loads(out)["mass_kg"] < b_result["mass_kg"]  # A's own result, computed
+
+
+def test_an_error_that_may_pass_is_not_kept(model, monkeypatch, capsys):
+    from cadcog.core.errors import CadcogError
+
+    step, mats = model
+    real = stepmass.model_mass_properties
+
+    def once(*a, **k):
+        monkeypatch.setattr(stepmass, "model_mass_properties", real)
+        raise CadcogError(f"{step}: cannot read as STEP (std::bad_alloc)")
+
+    monkeypatch.setattr(stepmass, "model_mass_properties", once)
+    argv = ["massprops", str(step), "--materials", str(mats), "--json"]
+    assert _run(capsys, argv)[0] == 2
+    status, out, err = _run(capsys, argv)
+    assert status == 0 and "from the cache" not in err and json.loads(out)["mass_kg"] > 0
+
+
 def test_a_computation_that_fails_unexpectedly_keeps_nothing(model, monkeypatch, capsys):
     step, mats = model
 
