@@ -238,7 +238,7 @@ def _run(args: argparse.Namespace) -> int:
     if args.skip_overlaps:
         policy = "skip"
     read: list[StepModel] = []
-    cached: list[bool] = []  # whether the cache answered, once a run
+    ran: list[bool] = []  # whether the computation ran (else the cache answered)
 
     def model() -> StepModel:
         """The model, read once and only when needed: a cached result needs no CAD."""
@@ -248,66 +248,42 @@ def _run(args: argparse.Namespace) -> int:
             read.append(read_step(args.model))
         return read[0]
 
-    def compute(overlaps: OverlapPolicy, strict: bool) -> ModelMassProperties:
-        from cadcog.cad import cache
+    def afresh() -> ModelMassProperties:
+        from cadcog.cad.stepmass import model_mass_properties
+        from cadcog.core.parallel import available_workers
 
-        ran: list[bool] = []
-
-        def afresh() -> ModelMassProperties:
-            from cadcog.cad.stepmass import model_mass_properties
-            from cadcog.core.parallel import available_workers
-
-            ran.append(True)
-            materials = _materials(args)
-            return model_mass_properties(
-                model(),
-                materials,
-                total_mass_kg=args.total_mass_kg,
-                units=args.units,
-                exclude=args.exclude,
-                overlaps=overlaps,
-                strict=strict,
-                progress=_progress(),
-                workers=args.workers or available_workers(),
-                surface_areas=args.surface_area,
-            )
-
-        settings = cache.massprops_settings(
-            density_kg_m3=args.density_kg_m3,
+        ran.append(True)
+        materials = _materials(args)
+        return model_mass_properties(
+            model(),
+            materials,
             total_mass_kg=args.total_mass_kg,
             units=args.units,
             exclude=args.exclude,
-            overlaps=overlaps,
-            strict=strict,
+            overlaps=policy,
+            strict=args.strict,
+            progress=_progress(),
+            workers=args.workers or available_workers(),
             surface_areas=args.surface_area,
         )
-        files = [args.model] if args.materials is None else [args.model, args.materials]
-        try:
-            result, hit = cache.mass_properties(settings, files, afresh)
-        except CadcogError:
-            if not ran:  # a refusal kept in the cache
-                say_cached()
-            raise
-        if hit:
-            say_cached()
-        return result
 
-    def say_cached() -> None:
-        """One line on stderr, once a run; the files are still inputs of the run."""
-        note_input(args.model, "the STEP model it reads")
-        if args.materials is not None:
-            note_input(args.materials, "a parameter file it reads")
-        if not cached:
-            cached.append(True)
-            print(
-                f"cadcog: {args.model}: mass properties from the cache (inputs unchanged; "
-                "CADCOG_NO_CACHE=1 computes afresh)",
-                file=sys.stderr,
-            )
+    from cadcog.cad import cache
 
+    settings = cache.massprops_settings(
+        density_kg_m3=args.density_kg_m3,
+        total_mass_kg=args.total_mass_kg,
+        units=args.units,
+        exclude=args.exclude,
+        overlaps=policy,
+        strict=args.strict,
+        surface_areas=args.surface_area,
+    )
+    files = [args.model] if args.materials is None else [args.model, args.materials]
     try:
-        result = compute(policy, args.strict)
+        result, _ = cache.mass_properties(settings, files, afresh)
     except CadcogError as exc:
+        if not ran:  # a refusal kept in the cache
+            _say_cached(args)
         if not (args.json or args.report or args.csv):
             raise
         # a refusal carries what it is about, counted as it is (for CI to parse); any other
@@ -315,8 +291,22 @@ def _run(args: argparse.Namespace) -> int:
         as_is = exc.as_is if isinstance(exc, Refusal) else None
         emit_refusal(args, str(exc), as_is, model, policy)
         raise
+    if not ran:
+        _say_cached(args)
     emit(args, result, model)
     return 0
+
+
+def _say_cached(args: argparse.Namespace) -> None:
+    """One line on stderr: the cache answered; the files are still inputs of the run."""
+    note_input(args.model, "the STEP model it reads")
+    if args.materials is not None:
+        note_input(args.materials, "a parameter file it reads")
+    print(
+        f"cadcog: {args.model}: mass properties from the cache (inputs unchanged; "
+        "CADCOG_NO_CACHE=1 computes afresh)",
+        file=sys.stderr,
+    )
 
 
 def _build_report(args: argparse.Namespace, result: ModelMassProperties) -> MassReport:
