@@ -20,7 +20,8 @@ reports what it found and what it did:
   ``allow`` them (each solid counted as it is) or ``resolve`` them (the denser solid of each pair
   keeps the common volume);
 - **notes** (things a user should look at) are separate from **info** (what was done as asked);
-  ``strict`` turns every note into an error, for CI.
+  ``strict`` turns every note into an error, for CI. A refusal (:class:`Refusal`) still
+  carries the model counted as it is, so that a caller can show what was refused.
 
 Bodies that are instances of one product share their placement-free integration: it is done
 once and transformed (rotation and translation) for every rigid placement.
@@ -167,10 +168,13 @@ def model_mass_properties(
 
     Raises
     ------
+    Refusal
+        Overlaps beyond the threshold under ``check``, or (with ``strict``) any note; its
+        ``as_is`` is the model counted as it is (``check`` as ``allow``, without ``strict``),
+        from the same computation.
     CadcogError
         Naming the file and the bodies: zero or negative volumes, open solids, bodies without a
-        density, overlaps beyond the threshold under ``check``, every body excluded, and (with
-        ``strict``) any note.
+        density, every body excluded.
     """
     src = model.source
     if overlaps not in ("check", "allow", "resolve", "skip"):
