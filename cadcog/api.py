@@ -34,7 +34,6 @@ from cadcog.core.arguments import check_choice, check_text
 from cadcog.core.errors import CadcogError
 
 if TYPE_CHECKING:
-    from cadcog.cad.massresults import ModelMassProperties
     from cadcog.dynamics.result import InertiaResult
     from cadcog.method.estimate import CogEstimate
     from cadcog.rig.parameters import Rig
@@ -247,10 +246,9 @@ def mass_properties(
     ... )
     >>> report.result.total.mass_kg, report.result.total.cog_mm  # doctest: +SKIP
     """
-    from cadcog.cad import cache
+    from cadcog.cad.cache import step_mass_properties
     from cadcog.core.gcpause import gc_paused
     from cadcog.core.parallel import available_workers
-    from cadcog.mass.materials import MaterialMap, load_materials
     from cadcog.spacecraft.mass_summary import build_mass_report
 
     f = "mass_properties"
@@ -268,43 +266,19 @@ def mass_properties(
     patterns = [exclude] if isinstance(exclude, str) else list(exclude)  # one pattern, not letters
     if not all(isinstance(p, str) for p in patterns):
         raise _fail(f, "exclude", exclude, "expected a pattern or a list of patterns (str)")
-    step = _path(f, "model", model)
-    files = [step] if materials is None else [step, _path(f, "materials", materials)]
-    settings = cache.massprops_settings(
-        density_kg_m3=density_kg_m3,
-        total_mass_kg=total_mass_kg,
-        units=units,
-        exclude=patterns,
-        overlaps=overlaps,
-        strict=strict,
-        surface_areas=surface_area,
-    )
-
-    def afresh() -> ModelMassProperties:
-        from cadcog.cad.stepmass import model_mass_properties
-        from cadcog.cad.stepread import read_step
-
-        material_map = (  # read here: the cache keeps a result under the content it read
-            load_materials(files[1])
-            if materials is not None
-            else MaterialMap.uniform(density_kg_m3)
-            if density_kg_m3 is not None
-            else None
-        )
-        return model_mass_properties(
-            read_step(step),
-            material_map,
+    with gc_paused():  # a bounded computation keeping ~10⁶ objects alive (core/gcpause.py)
+        result, _ = step_mass_properties(
+            _path(f, "model", model),
+            None if materials is None else _path(f, "materials", materials),
+            density_kg_m3=density_kg_m3,
             total_mass_kg=total_mass_kg,
             units=units,
             exclude=patterns,
             overlaps=overlaps,
             strict=strict,
-            workers=workers or available_workers(),
             surface_areas=bool(surface_area),
+            workers=workers or available_workers(),
         )
-
-    with gc_paused():  # a bounded computation keeping ~10⁶ objects alive (core/gcpause.py)
-        result, _ = cache.mass_properties(settings, files, afresh)
         try:
             return build_mass_report(
                 result,

@@ -17,7 +17,7 @@ new one is written. ``cadcog cache`` shows the folder and its size; ``--clear`` 
 
 ``cadcog massprops`` and :func:`cadcog.mass_properties` keep their result the same way, under
 the STEP file, the materials file and every option that changes a number
-(:func:`mass_properties`): a second run on an unchanged model reads no CAD at all. A refusal
+(:func:`step_mass_properties`): a second run on an unchanged model reads no CAD at all. A refusal
 (overlaps under ``check``, a note under ``--strict``) is kept too, with the model as counted
 that it carries, and raised again; other errors are not kept.
 
@@ -34,14 +34,19 @@ import json
 import os
 import re
 import tempfile
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from contextlib import suppress
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from cadcog.cad.massresults import ModelMassProperties, Refusal, from_data, to_data
 from cadcog.core.errors import CadcogError
 from cadcog.core.version import __version__
+
+if TYPE_CHECKING:
+    from cadcog.cad.bodies import ProgressFactory
+    from cadcog.cad.resolve import OverlapPolicy
+    from cadcog.cad.stepread import StepModel
 
 #: Bumped when the stored form changes.
 FORMAT = 1
@@ -220,21 +225,38 @@ def store(entry: str, result: ModelMassProperties) -> None:
     store_data(entry, to_data(result))
 
 
-def massprops_settings(
+def step_mass_properties(
+    step: Path,
+    materials: Path | None,
     *,
     density_kg_m3: float | None,
     total_mass_kg: float | None,
     units: str | None,
-    exclude: Iterable[str],
-    overlaps: str,
+    exclude: Sequence[str],
+    overlaps: OverlapPolicy,
     strict: bool,
     surface_areas: bool,
-) -> dict[str, Any]:
-    """Every option of ``cadcog massprops`` (and :func:`cadcog.mass_properties`) that changes
-    its result, as the settings of :func:`mass_properties` (the STEP and materials files are
-    hashed beside them): the command and the API share entries. ``--workers`` is not one (the
-    same bits with any number)."""
-    return {
+    workers: int,
+    progress: ProgressFactory | None = None,
+    read: Callable[[], StepModel] | None = None,
+) -> tuple[ModelMassProperties, bool]:
+    """What ``cadcog massprops`` and :func:`cadcog.mass_properties` compute for a STEP file
+    (:func:`~cadcog.cad.stepmass.model_mass_properties` with the materials file, or one
+    density), through :func:`mass_properties`: the command and the API share entries.
+
+    The key holds both files and every option that changes the result; ``workers`` and
+    ``progress`` change no bit and are not in it. ``read`` reads the model (default:
+    :func:`~cadcog.cad.stepread.read_step` of ``step``); the command passes its own, which
+    keeps the model for the report's views. Returns the result and whether the cache gave it.
+
+    Raises
+    ------
+    Refusal
+        Computed, or kept in the cache (then ``read`` was not called).
+    CadcogError
+        Any other bad input, computed.
+    """
+    settings = {
         "kind": "massprops",
         "density_kg_m3": density_kg_m3,
         "total_mass_kg": total_mass_kg,
@@ -244,6 +266,34 @@ def massprops_settings(
         "strict": bool(strict),
         "surface_areas": bool(surface_areas),
     }
+
+    def afresh() -> ModelMassProperties:
+        from cadcog.cad.stepmass import model_mass_properties
+        from cadcog.cad.stepread import read_step
+        from cadcog.mass.materials import MaterialMap, load_materials
+
+        material_map = (  # read here: a result is kept under the content it read
+            load_materials(materials)
+            if materials is not None
+            else MaterialMap.uniform(density_kg_m3)
+            if density_kg_m3 is not None
+            else None
+        )
+        return model_mass_properties(
+            read() if read is not None else read_step(step),
+            material_map,
+            total_mass_kg=total_mass_kg,
+            units=units,
+            exclude=exclude,
+            overlaps=overlaps,
+            strict=strict,
+            progress=progress,
+            workers=workers,
+            surface_areas=surface_areas,
+        )
+
+    files = [step] if materials is None else [step, materials]
+    return mass_properties(settings, files, afresh)
 
 
 def mass_properties(

@@ -18,7 +18,7 @@ from cadcog.core.gcpause import gc_paused
 from cadcog.core.jsontext import dumps_json, write_json
 from cadcog.core.units import UNIT_CHOICES
 from cadcog.mass.inertia import PRODUCT_CONVENTIONS
-from cadcog.mass.materials import LIBRARY, MaterialMap, load_materials
+from cadcog.mass.materials import LIBRARY
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
 from cadcog.spacecraft.mass_summary import MassReport, build_mass_report, parse_point
 
@@ -206,16 +206,6 @@ def _check_numbers(args: argparse.Namespace) -> None:
             raise CadcogError(f"--{name.replace('_', '-')} must be a positive number, got {value}")
 
 
-def _materials(args: argparse.Namespace) -> MaterialMap | None:
-    """The densities the options give (a materials file read here, inside the computation:
-    the cache keeps a result only under the content it read)."""
-    if args.materials is not None:
-        return load_materials(args.materials)
-    if args.density_kg_m3 is not None:  # its range is checked with every option (bounds.py)
-        return MaterialMap.uniform(args.density_kg_m3)
-    return None
-
-
 def run(args: argparse.Namespace) -> int:
     with gc_paused():  # a bounded computation keeping ~10⁶ objects alive (core/gcpause.py)
         return _run(args)
@@ -238,7 +228,6 @@ def _run(args: argparse.Namespace) -> int:
     if args.skip_overlaps:
         policy = "skip"
     read: list[StepModel] = []
-    ran: list[bool] = []  # whether the computation ran (else the cache answered)
 
     def model() -> StepModel:
         """The model, read once and only when needed: a cached result needs no CAD."""
@@ -248,50 +237,36 @@ def _run(args: argparse.Namespace) -> int:
             read.append(read_step(args.model))
         return read[0]
 
-    def afresh() -> ModelMassProperties:
-        from cadcog.cad.stepmass import model_mass_properties
-        from cadcog.core.parallel import available_workers
+    from cadcog.cad.cache import step_mass_properties
+    from cadcog.core.parallel import available_workers
 
-        ran.append(True)
-        materials = _materials(args)
-        return model_mass_properties(
-            model(),
-            materials,
+    try:
+        result, hit = step_mass_properties(
+            args.model,
+            args.materials,
+            density_kg_m3=args.density_kg_m3,
             total_mass_kg=args.total_mass_kg,
             units=args.units,
             exclude=args.exclude,
             overlaps=policy,
             strict=args.strict,
-            progress=_progress(),
-            workers=args.workers or available_workers(),
             surface_areas=args.surface_area,
+            workers=args.workers or available_workers(),
+            progress=_progress(),
+            read=model,
         )
-
-    from cadcog.cad import cache
-
-    settings = cache.massprops_settings(
-        density_kg_m3=args.density_kg_m3,
-        total_mass_kg=args.total_mass_kg,
-        units=args.units,
-        exclude=args.exclude,
-        overlaps=policy,
-        strict=args.strict,
-        surface_areas=args.surface_area,
-    )
-    files = [args.model] if args.materials is None else [args.model, args.materials]
-    try:
-        result, _ = cache.mass_properties(settings, files, afresh)
     except CadcogError as exc:
-        if not ran:  # a refusal kept in the cache
+        refusal = exc if isinstance(exc, Refusal) else None
+        if refusal is not None and not read:  # kept in the cache: the model was not read
             _say_cached(args)
         if not (args.json or args.report or args.csv):
             raise
         # a refusal carries what it is about, counted as it is (for CI to parse); any other
         # error (an open solid, a file OCCT cannot read) has nothing to count
-        as_is = exc.as_is if isinstance(exc, Refusal) else None
+        as_is = refusal.as_is if refusal is not None else None
         emit_refusal(args, str(exc), as_is, model, policy)
         raise
-    if not ran:
+    if hit:
         _say_cached(args)
     emit(args, result, model)
     return 0
