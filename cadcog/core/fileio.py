@@ -24,6 +24,7 @@ import signal
 import stat
 import sys
 import tempfile
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from contextvars import ContextVar
@@ -376,13 +377,17 @@ def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
     done = False
     try:
         with output_lock(out):
+            stage: Path | None = None
             try:
-                stage = Path(
-                    tempfile.mkdtemp(prefix=f".{real.name}.", suffix=".partial", dir=parent)
-                )
-            except OSError as exc:
-                raise _cannot_write(out, exc) from None
-            try:
+                # Made and named with SIGINT/SIGTERM held: a signal that arrives as the folder
+                # is made is delivered once ``stage`` names it, so the ``finally`` removes it.
+                with _signals_held():
+                    try:
+                        stage = Path(
+                            tempfile.mkdtemp(prefix=f".{real.name}.", suffix=".partial", dir=parent)
+                        )
+                    except OSError as exc:
+                        raise _cannot_write(out, exc) from None
                 try:
                     yield stage
                 except BaseException as exc:
@@ -399,7 +404,9 @@ def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
                 _WRITTEN.append(out)
                 done = True
             finally:
-                shutil.rmtree(stage, ignore_errors=True)
+                if stage is not None:
+                    with _signals_held():  # a second signal does not cut the clean-up short
+                        shutil.rmtree(stage, ignore_errors=True)
     finally:
         if not done:
             _remove_empty(created)
@@ -486,17 +493,43 @@ def _exchange(a: Path, b: Path) -> bool:
 
 @contextmanager
 def _signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM wait (not lost) until the block is done."""
-    held = {signal.SIGINT, signal.SIGTERM}
-    try:
-        previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    except (AttributeError, OSError, ValueError):  # pragma: no cover - no POSIX signals
-        yield
+    """SIGINT and SIGTERM wait (not lost) until the block is done.
+
+    In the main thread the Python handlers are swapped for one that notes the signal, and a
+    noted signal is raised again, once, when the block ends (so the command's own handler, or
+    the default action, then runs). A mask alone would not do: a signal sent to the process
+    reaches any thread that does not block it (BLAS's worker threads), and its Python handler
+    then runs in the main thread all the same. Elsewhere (no handlers can be set there), or
+    where a handler was not set from Python (it could not be put back), the calling thread's
+    mask holds them.
+    """
+    held = (signal.SIGINT, signal.SIGTERM)
+    main = threading.current_thread() is threading.main_thread()
+    if not main or any(signal.getsignal(signum) is None for signum in held):
+        try:
+            previous_mask = signal.pthread_sigmask(signal.SIG_BLOCK, set(held))
+        except (AttributeError, OSError, ValueError):  # pragma: no cover - no POSIX signals
+            yield
+            return
+        try:
+            yield
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous_mask)
         return
+    noted: list[int] = []
+
+    def note(signum: int, frame: object) -> None:
+        if signum not in noted:
+            noted.append(signum)
+
+    previous = {signum: signal.signal(signum, note) for signum in held}
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        for pending in noted:
+            signal.raise_signal(pending)
 
 
 def _move_in(stage: Path, real: Path, produced: list[Path]) -> None:
@@ -542,14 +575,16 @@ def staged_file(path: str | Path) -> Iterator[Path]:
     done = False
     try:
         with output_lock(target):
+            tmp: str | None = None
             try:
-                fd, tmp = tempfile.mkstemp(
-                    prefix=f".{real.stem}.", suffix=real.suffix, dir=real.parent
-                )
-            except OSError as exc:
-                raise _cannot_write(target, exc) from None
-            os.close(fd)
-            try:
+                with _signals_held():  # as for a folder: a signal finds ``tmp`` named
+                    try:
+                        fd, tmp = tempfile.mkstemp(
+                            prefix=f".{real.stem}.", suffix=real.suffix, dir=real.parent
+                        )
+                    except OSError as exc:
+                        raise _cannot_write(target, exc) from None
+                    os.close(fd)
                 try:
                     yield Path(tmp)
                 except BaseException as exc:
@@ -566,7 +601,7 @@ def staged_file(path: str | Path) -> Iterator[Path]:
                 _WRITTEN.append(target)
                 done = True
             finally:
-                if os.path.exists(tmp):
+                if tmp is not None and os.path.exists(tmp):
                     os.unlink(tmp)
     finally:
         if not done:
@@ -578,9 +613,11 @@ def _streamed(target: Path, kind: str) -> Iterator[Path]:
     """Stage in a private temporary folder, then stream into ``target`` (see
     :func:`staged_file`)."""
     shown = "standard output" if kind == "stdout" else str(target)
-    scratch = Path(tempfile.mkdtemp(prefix=".cadcog-stream."))
-    tmp = scratch / f"out{target.suffix}"
+    scratch: Path | None = None
     try:
+        with _signals_held():  # as for a folder: a signal finds ``scratch`` named
+            scratch = Path(tempfile.mkdtemp(prefix=".cadcog-stream."))
+        tmp = scratch / f"out{target.suffix}"
         try:
             yield tmp
         except BaseException as exc:
@@ -597,7 +634,9 @@ def _streamed(target: Path, kind: str) -> Iterator[Path]:
             raise _cannot_write(shown, exc) from None
         _WRITTEN.append(target)
     finally:
-        shutil.rmtree(scratch, ignore_errors=True)
+        if scratch is not None:
+            with _signals_held():
+                shutil.rmtree(scratch, ignore_errors=True)
 
 
 def refuse_overwriting_inputs(output: str | Path, inputs: dict[str, str | Path | None]) -> None:

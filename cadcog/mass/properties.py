@@ -92,7 +92,10 @@ class MassProperties(JsonResult):
             kg·mm².
         """
         d = np.asarray(point_mm, dtype=float) - self.cog_mm
-        return self.inertia_kg_mm2 + self.mass_kg * (np.dot(d, d) * np.eye(3) - np.outer(d, d))
+        if d.shape != (3,):
+            raise ValueError(f"point_mm must have shape (3,), got {d.shape}")
+        shift = parallel_axis_kg_mm2(np.array([self.mass_kg]), d[None, :])[0]
+        return np.asarray(self.inertia_kg_mm2 + shift)
 
     def scaled(self, factor: float) -> MassProperties:
         """The same body with mass multiplied by ``factor`` (``-1`` marks removed material)."""
@@ -133,8 +136,9 @@ def snap_roundoff(values: npt.ArrayLike, relative: float | None = None) -> Float
 def parallel_axis_kg_mm2(masses_kg: FloatArray, offsets_mm: FloatArray) -> FloatArray:
     """What moving the inertia of point masses adds, for many at once: ``mᵢ (|dᵢ|² 1 − dᵢ dᵢᵀ)``.
 
-    The element-wise arithmetic of :meth:`MassProperties.inertia_about` for each mass (so a sum
-    over parts in a loop gets the same bits), vectorised over the first axis.
+    The one place the parallel-axis term is computed (:meth:`MassProperties.inertia_about` calls
+    it for one mass), element-wise in numpy (no BLAS dot, whose summation order depends on the
+    machine), vectorised over the first axis.
 
     Parameters
     ----------
@@ -180,8 +184,9 @@ def combine(parts: Iterable[MassProperties]) -> MassProperties:
     mass_kg = sum(p.mass_kg for p in items)
     if not mass_kg > 0.0:
         raise ValueError(f"combined mass must be positive, got {mass_kg} kg")
-    # Vectorised over the parts, with each part's arithmetic and the summation order (part by
-    # part) of :meth:`MassProperties.inertia_about` summed in a loop: the same bits.
+    # Vectorised over the parts with :meth:`MassProperties.inertia_about`'s kernel; equal to the
+    # part-by-part sum within the floating-point bound of the sums (property-tested), not
+    # promised to the bit: numpy may order a reduction differently on another machine.
     masses = np.array([p.mass_kg for p in items])
     cogs = np.array([p.cog_mm for p in items])
     cog_mm = np.sum(masses[:, None] * cogs, axis=0) / mass_kg

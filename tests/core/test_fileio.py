@@ -6,6 +6,7 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 
 import pytest
@@ -96,6 +97,44 @@ def test_sigterm_during_report_leaves_no_staging_behind(tmp_path):
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 143, err
     assert "terminated; nothing was written" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+class _Terminated(Exception):
+    pass
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+@pytest.mark.parametrize("kind", ["folder", "file"])
+def test_a_signal_as_the_staging_is_made_leaves_nothing_behind(tmp_path, monkeypatch, kind):
+    """The race a loaded run met (issue 30): SIGTERM delivered the instant the staging folder
+    or file exists, before the code that removes it has started. The signal waits until the
+    staging is named, then its handler's exception finds it and removes it."""
+    real_mkdtemp, real_mkstemp = tempfile.mkdtemp, tempfile.mkstemp
+
+    def mkdtemp_then_signal(*args, **kwargs):
+        made = real_mkdtemp(*args, **kwargs)
+        os.kill(os.getpid(), signal.SIGTERM)
+        return made
+
+    def mkstemp_then_signal(*args, **kwargs):
+        made = real_mkstemp(*args, **kwargs)
+        os.kill(os.getpid(), signal.SIGTERM)
+        return made
+
+    def handler(signum, frame):
+        raise _Terminated
+
+    monkeypatch.setattr(tempfile, "mkdtemp", mkdtemp_then_signal)
+    monkeypatch.setattr(tempfile, "mkstemp", mkstemp_then_signal)
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        with pytest.raises(_Terminated):
+            staging = staged_output_dir if kind == "folder" else staged_file
+            with staging(tmp_path / "out") as stage:
+                pytest.fail(f"the body ran with {stage}")
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     assert list(tmp_path.iterdir()) == []
 
 

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from cadcog.mass.properties import MassProperties, box_properties, combine, cylinder_properties
+from tests.mass.exact import assert_close_to_exact
 
 lengths = st.floats(min_value=0.5, max_value=500.0)
 coords = st.floats(min_value=-500.0, max_value=500.0)
@@ -95,13 +96,6 @@ def test_results_are_immutable():
         p.cog_mm[0] = 3.0
 
 
-def _combine_part_by_part(items: list[MassProperties]) -> tuple[np.ndarray, np.ndarray]:
-    """The definition, one part at a time: CoG by mass, each part moved by the parallel axis."""
-    mass = sum(p.mass_kg for p in items)
-    cog = np.sum([p.mass_kg * p.cog_mm for p in items], axis=0) / mass
-    return cog, np.sum([p.inertia_about(cog) for p in items], axis=0)
-
-
 @given(
     st.lists(
         st.tuples(
@@ -113,14 +107,50 @@ def _combine_part_by_part(items: list[MassProperties]) -> tuple[np.ndarray, np.n
         max_size=12,
     )
 )
-def test_combine_is_the_part_by_part_sum_to_the_bit(parts):
-    # combine() is vectorised over the parts for large assemblies; it must give the same bits
-    # as the per-part loop it replaced (the JSON of a model must not change).
+# The counterexample to the former claim "equal to the part-by-part loop to the bit" (a fresh
+# hypothesis draw, issue 30): kept, now against the exact combination.
+@example(
+    [
+        (1.0, [0.0, 0.0, 1.0], [0.0] * 6),
+        (0.5, [0.0] * 3, [0.0] * 6),
+        (0.25, [0.0, 1.0, 0.0], [0.0] * 6),
+    ]
+)
+@example(
+    [
+        (1.0, [0.0, 0.0, 1.0], [1.0] * 6),
+        (0.5, [0.0] * 3, [0.5] * 6),
+        (0.25, [0.0, 1.0, 0.0], [-2.0] * 6),
+    ]
+)
+def test_combine_is_the_exact_combination_within_rounding(parts):
+    # combine() is vectorised over the parts; whatever order numpy sums in, it must be the
+    # definition (computed exactly, in rationals) within the floating-point bound of its sums.
     items = []
     for mass, cog, a in parts:
         lower = np.array([[a[0], 0, 0], [a[1], a[2], 0], [a[3], a[4], a[5]]])
         items.append(MassProperties(mass, cog, lower @ lower.T, 1.0))
-    cog, inertia = _combine_part_by_part(items)
-    got = combine(items)
-    assert np.array_equal(got.cog_mm, cog)
-    assert np.array_equal(got.inertia_kg_mm2, inertia)
+    assert_close_to_exact(combine(items), items)
+
+
+def test_the_exact_reference_catches_a_wrong_combination():
+    """The bound is tight enough to matter: one part's parallel-axis term left out fails it."""
+    a = box_properties([1, 1, 1], [0, 0, 0], mass_kg=1.0)
+    b = box_properties([1, 1, 1], [3, 0, 0], mass_kg=3.0)
+    right = combine([a, b])
+    wrong = MassProperties(4.0, right.cog_mm, a.inertia_kg_mm2 + b.inertia_about(right.cog_mm), 2)
+    assert_close_to_exact(right, [a, b])
+    with pytest.raises(AssertionError):
+        assert_close_to_exact(wrong, [a, b])
+
+
+@given(
+    st.floats(1e-6, 1e3),
+    st.lists(st.floats(-1e4, 1e4), min_size=3, max_size=3),
+    st.lists(st.floats(-1e4, 1e4), min_size=3, max_size=3),
+)
+def test_inertia_about_a_point_is_the_parallel_axis_theorem(mass, cog, point):
+    p = box_properties([2, 4, 6], cog, mass_kg=mass)
+    assert_close_to_exact(
+        p, [p], inertia_about_mm=np.array(point), about_value_kg_mm2=p.inertia_about(point)
+    )
