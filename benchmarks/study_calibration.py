@@ -1,7 +1,7 @@
 """Do `cadcog estimate`'s uncertainties cover, and does `cadcog plan` predict what it gets?
 
 Virtual campaigns (:func:`cadcog.validation.campaign.simulated_readings`: raw ADC counts with noise,
-a bias per hang, play and wire offset per hang, one ME error per campaign) are read back as `cadcog
+a bias per hang, play per hang, one wire and one ME error per campaign) are read back as `cadcog
 estimate` reads them (:func:`cadcog.validation.campaign.campaign_suspensions`, equal to the CSV
 path: ``tests/uncertainty/test_calibration.py``) and estimated by
 :func:`cadcog.method.estimate.estimate_cog`, the function behind the command. For each set of hangs
@@ -145,11 +145,17 @@ def main() -> None:
             true_scale_mm=lam_true,
         )
     )
+    paper_wire = replace(model, wire_model="paper")
+    outcomes.append(
+        run_set(
+            "S1-S6, paper wire (per hang)", full, paper_wire, rig.inclinometer, me, body, truth, n
+        )
+    )
     outcomes.append(
         run_set(
             "S1-S6, paper wire, self-calibrated λ (true 0.5 mm)",
             full,
-            model,
+            paper_wire,
             rig.inclinometer,
             me,
             body,

@@ -37,6 +37,7 @@ LONG_FILES_FIRST = (
     "tests/inertia/test_inertia_validation.py",  # ~22 s: 4 simulated campaigns
     "tests/spacecraft/test_calibration.py",  # ~25 s: 480 simulated campaigns
     "tests/spacecraft/test_update.py",  # ~20 s: two coverage tests
+    "tests/validation/test_shared_errors.py",  # ~25 s: 280 independent campaigns
     "tests/validation/test_verification.py",  # ~14 s
     "tests/uncertainty/test_calibration.py",  # ~11 s
     "tests/method/test_plumblines.py",  # ~11 s: hypothesis

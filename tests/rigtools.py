@@ -68,20 +68,29 @@ HEADER = "point_id,x_mm,y_mm,z_mm,inc_x_deg,inc_y_deg,top_face_up"
 def ideal_rows(rig: Any, wire_offset_mm: float | None = None) -> list[str]:
     """One noise-free readings row per suspension point of ``rig`` (assembly CoG).
 
-    The body hangs from the virtual suspension point, ``wire_offset_mm`` above the wire exit
-    along the bolt axis (default: the offset the rig's error model expects, which
-    ``cadcog estimate`` corrects); the row gives the wire exit, as a lab would.
+    The body hangs from the virtual suspension point above the wire exit along the bolt axis:
+    the wire scale ``wire_offset_mm`` (default: the one the rig's error model expects, which
+    ``cadcog estimate`` corrects) times the model's shape at the hang's angle (1 for the
+    paper's model, ``1/cos(θ/2)`` for the elastica and one-wire models); the row gives the
+    wire exit, as a lab would.
     """
-    from cadcog.method.errormodel import ErrorModel
+    import numpy as np
+
+    from cadcog.method.errormodel import ErrorModel, wire_shape_factor
     from cadcog.rig.geometry import ideal_reading
 
-    if wire_offset_mm is None:
-        wire_offset_mm = ErrorModel.from_rig(rig).wire_prior(rig.weight_n).scale_mm
+    model = ErrorModel.from_rig(rig)
+    scale = model.wire_prior(rig.weight_n).scale_mm if wire_offset_mm is None else wire_offset_mm
+    shaped = model.wire_model != "paper"
     g = rig.analytic_assembly.cog_mm
     rows = []
     for p in rig.suspension_points:
         w = rig.wire_exit_mm(p)
-        r = ideal_reading(w + wire_offset_mm * p.normal, g)
+        offset = scale
+        for _ in range(50 if shaped else 0):  # the angle depends on the offset: a fixed point
+            up = (w + offset * p.normal - g) / np.linalg.norm(w + offset * p.normal - g)
+            offset = scale * float(wire_shape_factor(up @ p.normal, model.wire_model))
+        r = ideal_reading(w + offset * p.normal, g)
         rows.append(
             f"{p.id},{float(w[0])!r},{float(w[1])!r},{float(w[2])!r},{r.inc_x_deg!r},{r.inc_y_deg!r},"
             f"{str(r.top_face_up).lower()}"

@@ -243,9 +243,22 @@ def print_estimate(result: CogEstimate) -> None:
     j = result.joint
     print(f"lines' consistency: χ² = {j.chi2:.2f} with {j.dof} dof (p = {j.chi2_p_value:.3f})")
     if j.wire is not None:
-        what = "estimated" if j.wire.estimated else "expected (error model)"
+        if j.wire.estimated:
+            what = "estimated"
+        elif j.wire.sigma_mm:
+            what = f"from the hangs and the error model's {j.wire.prior_mm:.3f} mm"
+        else:
+            what = "expected (error model)"
         spread = f" ± {j.wire.sigma_mm:.3f}" if j.wire.sigma_mm else ""
         print(f"wire offset scale λ, {what}: {j.wire.scale_mm:.3f}{spread} mm")
+    shared = result.model.get("shared_sensor")
+    if shared:
+        parts = [
+            f"{name} {v['estimate']:+.3g} ± {v['sigma']:.2g}"
+            + (" (calibrated)" if v["calibrated_by_hangs"] else " (prior)")
+            for name, v in shared.items()
+        ]
+        print("sensor, shared by the hangs: " + "; ".join(parts))
     print(f"assembly CoG (object + ME): {_fmt(result.assembly_cog_mm)} mm  ± {_fmt(sigma)} mm")
     if result.compensation is None:
         print("no ME data given: the CoG above is not compensated for the measurement equipment")

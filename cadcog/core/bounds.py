@@ -100,6 +100,9 @@ NAMED_BOUNDS: dict[str, Bound] = {
     "level": Bound(1e-6, 0.5, "significance level of a test"),
     "candidates": Bound(2, MAX_CANDIDATES, "candidate points: every pair is screened", True),
     "min_angle_deg": Bound(0.0, 90.0, "the angle between two plumb lines"),
+    "offset_deg": Bound(0.0, 5.0, "a sensor's zero offset per channel; datasheets: tenths of °"),
+    "scale_error_rel": Bound(0.0, 0.2, "a channel's sensitivity error, a fraction (1 % is 0.01)"),
+    "mounting_misalignment_deg": Bound(0.0, 10.0, "the sensor's axes against the object's"),
 }
 
 

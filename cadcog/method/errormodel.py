@@ -7,8 +7,11 @@
   quantisation per sample, averaged over n samples (the paper's averaged model stays available,
   see :class:`ErrorModel`).
 - **Suspension point** (§4.3): a uniform square of play in the face plane, plus an outward offset
-  of the virtual suspension point along the bolt axis caused by the wire's bending stiffness: the
-  paper's uniform 0-1 mm, or the elastica's ``Δ(θ) = λ / cos(θ/2)``, ``λ = √(EI/W)``.
+  of the virtual suspension point along the bolt axis caused by the wire's bending stiffness:
+  ``one-wire`` (the default: one wire hangs every hang, so one offset scale λ for the test,
+  anywhere from an ideal string's 0 to the bound, with the elastica's shape), the paper's
+  uniform 0-1 mm drawn afresh for each hang, or the elastica's ``Δ(θ) = λ / cos(θ/2)``,
+  ``λ = √(EI/W)`` from a stated stiffness.
 
 All lengths mm, angles degrees, forces N.
 """
@@ -242,16 +245,27 @@ class ErrorModel:
         Standard deviation of the sensor noise of one raw sample (an assumption, 0.05°).
     play_mm : float
         Edge of the uniform square of suspension-point play in the face plane (paper 1).
-    wire_model : "paper" or "elastica"
-        ``paper``: the virtual suspension point lies uniform in 0 … ``wire_offset_max_mm``
-        above the bolt head along its axis, independently for every hang. ``elastica``: it
+    wire_model : "one-wire", "paper" or "elastica"
+        ``one-wire`` (the default): one wire hangs every hang of a test, so the virtual point
+        lies ``λ/cos(θ/2)`` above the bolt head along its axis (the elastica's shape) with one
+        ``λ`` for the test, uniform in 0 … ``wire_offset_max_mm`` (an ideal string turns at the
+        exit itself, a stiff wire further out); the estimator treats λ as one unknown with a
+        prior of mean and σ half the bound, so both ends lie within 1 σ. ``paper``: the
+        virtual suspension point lies uniform in 0 … ``wire_offset_max_mm`` above the bolt
+        head along its axis, independently for every hang. ``elastica``: it
         lies at ``Δ(θ) = λ/cos(θ/2)``, ``λ = √(EI/W)``, with the stiffness uncertain by a
         uniform ±``wire_stiffness_rel_uncertainty``, one draw for the campaign (one wire).
     wire_offset_max_mm : float
-        The paper's bound (1 mm).
+        The paper's bound (1 mm): the ``paper`` and ``one-wire`` models' largest offset.
     wire_bending_stiffness_n_mm2 : float
         Cable EI (N·mm²).
     wire_stiffness_rel_uncertainty : float
+    sensor_offset_deg, sensor_scale_rel, mounting_misalignment_deg : float
+        What one sensor brings to every hang of a test (its ``[inclinometer]`` figures
+        ``offset_deg``, ``scale_error_rel``, ``mounting_misalignment_deg``): each channel's
+        zero offset and sensitivity error, uniform within ±, and the mounting rotation, uniform
+        in angle up to the figure about a uniformly random axis; drawn once per test, part of
+        the inclinometer source.
     sources : tuple of str
         Enabled sources, from :data:`SOURCES`; a disabled source is zero in the draws and in
         the estimator's covariance alike.
@@ -270,6 +284,9 @@ class ErrorModel:
     wire_offset_max_mm: float = ErrorOptions.wire_offset_max_mm
     wire_bending_stiffness_n_mm2: float = ErrorOptions.wire_bending_stiffness_n_mm2
     wire_stiffness_rel_uncertainty: float = ErrorOptions.wire_stiffness_rel_uncertainty
+    sensor_offset_deg: float = InclinometerConfig.offset_deg
+    sensor_scale_rel: float = InclinometerConfig.scale_error_rel
+    mounting_misalignment_deg: float = InclinometerConfig.mounting_misalignment_deg
     sources: tuple[str, ...] = SOURCES
 
     def __post_init__(self) -> None:
@@ -304,15 +321,27 @@ class ErrorModel:
             wire_offset_max_mm=o.wire_offset_max_mm,
             wire_bending_stiffness_n_mm2=o.wire_bending_stiffness_n_mm2,
             wire_stiffness_rel_uncertainty=o.wire_stiffness_rel_uncertainty,
+            sensor_offset_deg=rig.inclinometer.offset_deg,
+            sensor_scale_rel=rig.inclinometer.scale_error_rel,
+            mounting_misalignment_deg=rig.inclinometer.mounting_misalignment_deg,
         )
 
     def paper(self) -> ErrorModel:
-        """The paper's version of this model: readings averaged per sample, no sensor noise.
+        """The paper's version of this model: readings averaged per sample, no sensor noise,
+        nothing shared by the hangs but the ME (the wire offset drawn afresh for each hang).
 
         Used to reproduce the paper's Monte Carlo (``cadcog simulate --paper``,
-        ``benchmarks/study_paper_reproduction.py``); not a description of a real inclinometer.
+        ``benchmarks/study_paper_reproduction.py``); not a description of a real rig.
         """
-        return replace(self, inclinometer_model="paper-averaged", sensor_noise_deg=0.0)
+        return replace(
+            self,
+            inclinometer_model="paper-averaged",
+            sensor_noise_deg=0.0,
+            wire_model="paper",
+            sensor_offset_deg=0.0,
+            sensor_scale_rel=0.0,
+            mounting_misalignment_deg=0.0,
+        )
 
     def only(self, *sources: str) -> ErrorModel:
         """The same model with only ``sources`` enabled."""
@@ -403,6 +432,50 @@ class ErrorModel:
             out += rng.standard_normal(shape, dtype=np.float32) * np.float32(np.sqrt(averaged))
         return np.asarray(out)
 
+    # --- what one sensor shares across the hangs ------------------------------------------------
+    @property
+    def shared_sensor_sigmas(self) -> FloatArray:
+        """Prior standard deviations of the shared sensor parameters, in the order of
+        :data:`cadcog.rig.inclinometer.SHARED_SENSOR_PARAMETERS` (deg, deg, rel, rel, deg ×3);
+        zeros when the inclinometer source is off.
+
+        A uniform ±a has σ = a/√3; a rotation uniform in angle on [0, m] about a random axis
+        has ``E|r|² = m²/3``, so σ = m/3 per component.
+
+        Examples
+        --------
+        >>> ErrorModel((1.0,), (10.0,), sensor_offset_deg=0.3).shared_sensor_sigmas.round(4)[:2]
+        array([0.1732, 0.1732])
+        """
+        if "inclinometer" not in self.sources:
+            return np.zeros(7)
+        b = self.sensor_offset_deg / np.sqrt(3.0)
+        s = self.sensor_scale_rel / np.sqrt(3.0)
+        m = self.mounting_misalignment_deg / 3.0
+        return np.array([b, b, s, s, m, m, m])
+
+    @property
+    def has_shared_sensor(self) -> bool:
+        """Whether any shared sensor figure is declared (and the inclinometer source is on)."""
+        return bool(np.any(self.shared_sensor_sigmas > 0.0))
+
+    def sample_shared_sensor(self, rng: np.random.Generator, n: int) -> FloatArray:
+        """Shared sensor parameters of ``n`` tests (one sensor each), shape (7, n).
+
+        Offsets and sensitivities uniform within their figures; the mounting a rotation of
+        angle uniform on [0, figure] about an axis uniform on the sphere. Nothing is drawn (and
+        ``rng`` is not advanced) when no figure is declared.
+        """
+        out = np.zeros((7, n))
+        if not self.has_shared_sensor:
+            return out
+        out[0:2] = rng.uniform(-self.sensor_offset_deg, self.sensor_offset_deg, (2, n))
+        out[2:4] = rng.uniform(-self.sensor_scale_rel, self.sensor_scale_rel, (2, n))
+        axis = rng.standard_normal((3, n))
+        axis /= np.linalg.norm(axis, axis=0)
+        out[4:7] = axis * rng.uniform(0.0, self.mounting_misalignment_deg, n)
+        return out
+
     # --- suspension point ------------------------------------------------------------------------
     @property
     def play_var_mm2(self) -> float:
@@ -424,11 +497,16 @@ class ErrorModel:
 
         Examples
         --------
-        >>> ErrorModel((1.0,), (10.0,)).wire_prior(90.0)  # the paper's U(0, 1 mm)
+        >>> ErrorModel((1.0,), (10.0,)).wire_prior(90.0)  # one wire, λ in 0 … 1 mm
+        WirePrior(scale_mm=0.5, scale_var_mm2=0.25, scatter_var_mm2=0.0)
+        >>> ErrorModel((1.0,), (10.0,), wire_model="paper").wire_prior(90.0)  # U(0, 1 mm) a hang
         WirePrior(scale_mm=0.5, scale_var_mm2=0.0, scatter_var_mm2=0.08333333333333333)
         """
         if "wire_offset" not in self.sources:
             return WirePrior(0.0, 0.0, 0.0)
+        if self.wire_model == "one-wire":
+            half = 0.5 * self.wire_offset_max_mm
+            return WirePrior(half, half * half, 0.0)
         if self.wire_model == "paper":
             m = self.wire_offset_max_mm
             return WirePrior(0.5 * m, 0.0, m * m / 12.0)
@@ -439,9 +517,14 @@ class ErrorModel:
     def sample_wire(self, rng: np.random.Generator, n: int, k: int) -> FloatArray:
         """Wire draws for ``n`` campaigns of ``k`` hangs.
 
-        The paper's model: the offset of each hang (mm), shape (k, n). The elastica: the factor
-        ``√(EI/EI_nominal)`` on λ, one per campaign, shape (1, n).
+        The paper's model: the offset of each hang (mm), shape (k, n). One wire: λ (mm), one
+        per campaign, uniform in 0 … ``wire_offset_max_mm``, shape (1, n). The elastica: the
+        factor ``√(EI/EI_nominal)`` on λ, one per campaign, shape (1, n).
         """
+        if self.wire_model == "one-wire":
+            if "wire_offset" not in self.sources:
+                return np.zeros((1, n))
+            return np.asarray(rng.random((1, n), dtype=np.float32) * self.wire_offset_max_mm)
         if self.wire_model == "paper":
             if "wire_offset" not in self.sources:
                 return np.zeros((k, n))
@@ -468,6 +551,9 @@ class ErrorModel:
             "wire_bending_stiffness_n_mm2": self.wire_bending_stiffness_n_mm2,
             "wire_stiffness_rel_uncertainty": self.wire_stiffness_rel_uncertainty,
             "me_cog_sigma_mm": self.me_sigma_mm,
+            "sensor_offset_deg": self.sensor_offset_deg,
+            "sensor_scale_rel": self.sensor_scale_rel,
+            "mounting_misalignment_deg": self.mounting_misalignment_deg,
             "sources": list(self.sources),
         }
 
@@ -480,12 +566,20 @@ class ErrorModel:
             )
         else:
             incl = "inclinometer errors averaged per sample (the paper's model)"
-        wire = (
-            f"wire offset U(0, {self.wire_offset_max_mm:g} mm)"
-            if self.wire_model == "paper"
-            else f"elastica wire (EI {self.wire_bending_stiffness_n_mm2:g} N·mm² "
-            f"±{self.wire_stiffness_rel_uncertainty:.0%})"
-        )
+        if self.wire_model == "one-wire":
+            wire = f"one wire for every hang, offset scale 0-{self.wire_offset_max_mm:g} mm"
+        elif self.wire_model == "paper":
+            wire = f"wire offset U(0, {self.wire_offset_max_mm:g} mm) per hang"
+        else:
+            wire = (
+                f"elastica wire (EI {self.wire_bending_stiffness_n_mm2:g} N·mm² "
+                f"±{self.wire_stiffness_rel_uncertainty:.0%})"
+            )
+        if self.has_shared_sensor:
+            incl += (
+                f"; shared by the hangs: offset ±{self.sensor_offset_deg:g}°, "
+                f"scale ±{self.sensor_scale_rel:.1%}, mounting {self.mounting_misalignment_deg:g}°"
+            )
         off = [s for s in SOURCES if s not in self.sources]
         tail = f"; off: {', '.join(off)}" if off else ""
         return (

@@ -17,7 +17,7 @@ from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError, ReadingsError
 from cadcog.core.results import JsonResult
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
-from cadcog.method import gls
+from cadcog.method import gls, sharedfit
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.plumblines import (
     Compensation,
@@ -31,7 +31,7 @@ from cadcog.method.plumblines import (
 )
 from cadcog.method.readings import Suspension, suspension_verticals
 from cadcog.rig.geometry import FloatArray, axes_beyond_range, face_normal_of_point
-from cadcog.rig.inclinometer import InclinometerConfig
+from cadcog.rig.inclinometer import SHARED_SENSOR_PARAMETERS, InclinometerConfig
 from cadcog.rig.parameters import Rig
 
 
@@ -225,7 +225,15 @@ class CogEstimate(JsonResult):
 def default_model(config: InclinometerConfig | None = None) -> ErrorModel:
     """The error model without a rig: the inclinometer's, the paper's other defaults."""
     cfg = config or InclinometerConfig()
-    return ErrorModel((1.0,), (0.0,), accuracy_deg=cfg.accuracy_deg, lsb_deg=cfg.sensor.lsb_deg)
+    return ErrorModel(
+        (1.0,),
+        (0.0,),
+        accuracy_deg=cfg.accuracy_deg,
+        lsb_deg=cfg.sensor.lsb_deg,
+        sensor_offset_deg=cfg.offset_deg,
+        sensor_scale_rel=cfg.scale_error_rel,
+        mounting_misalignment_deg=cfg.mounting_misalignment_deg,
+    )
 
 
 def estimate_cog(
@@ -330,29 +338,16 @@ def estimate_cog(
     pair_diagnostics(
         [PlumbLine(s.id, p[:, j, 0], v.u[j]) for j, s in enumerate(suspensions)], min_angle_deg
     )
-    batch = gls.plumb_gls(p, u, nrm, errors, wire)
-    _check_normal_matrix(gls.sym_to_full(batch.weights.sum(axis=1))[0])
-    wire_scale = None
-    if body is not None and (wire.scale_mm or wire.estimate):
-        wire_scale = _wire_scale(batch, wire, warnings)
-    virtual = batch.points_mm
-    lines = [PlumbLine(s.id, virtual[:, j, 0], v.u[j]) for j, s in enumerate(suspensions)]
-    pairs, skipped = pair_diagnostics(lines, min_angle_deg)
-    cog = batch.cog_mm[:, 0]
-    residuals, chi2, dof = line_consistency(
-        [s.id for s in suspensions], p, u, nrm, batch.shape, batch.weights,
-        batch.lateral_cov_mm2, wire, cog,
-    )  # fmt: skip
-    joint = JointEstimate(
-        cog,
-        gls.sym_to_full(batch.cov_mm2[:, 0]),
-        tuple(residuals),
-        tuple(pairs),
-        tuple(skipped),
-        chi2,
-        dof,
-        wire_scale,
-    )
+    shared_info: dict[str, Any] | None = None
+    if mdl.has_shared_sensor:
+        joint, verticals, shared_info = _joint_with_shared_sensor(
+            suspensions, cfg, mdl, normals, errors, wire, body is not None, min_angle_deg,
+            warnings,
+        )  # fmt: skip
+    else:
+        joint = _joint(suspensions, p, u, nrm, errors, wire, body is not None, min_angle_deg,
+                       warnings)  # fmt: skip
+        verticals = v.u
     for a, b, angle in joint.skipped_pairs:
         warnings.append(
             f"pair {a}-{b}: plumb lines meet at {angle:.2f}° (< {min_angle_deg:g}°), "
@@ -391,7 +386,105 @@ def estimate_cog(
         "point_sigma_mm_override": point_sigma_mm,
         "bolt_axes": None if body is None else body.source,
     }
-    return CogEstimate(tuple(suspensions), v.u, joint, comp, info, v.n_normalized, tuple(warnings))
+    if shared_info is not None:
+        info["shared_sensor"] = shared_info
+    return CogEstimate(
+        tuple(suspensions), verticals, joint, comp, info, v.n_normalized, tuple(warnings)
+    )
+
+
+def _joint(
+    suspensions: Sequence[Suspension],
+    p: FloatArray,
+    u: FloatArray,
+    nrm: FloatArray,
+    errors: gls.LineErrors,
+    wire: gls.WireTerm,
+    has_body: bool,
+    min_angle_deg: float,
+    warnings: list[str],
+) -> JointEstimate:
+    """The lines' joint estimate when nothing is shared but the wire (the per-hang GLS)."""
+    batch = gls.plumb_gls(p, u, nrm, errors, wire)
+    _check_normal_matrix(gls.sym_to_full(batch.weights.sum(axis=1))[0])
+    wire_scale = None
+    if has_body and (wire.scale_mm or wire.estimate):
+        wire_scale = _wire_scale(batch, wire, warnings)
+    virtual = batch.points_mm
+    lines = [PlumbLine(s.id, virtual[:, j, 0], u[:, j, 0]) for j, s in enumerate(suspensions)]
+    pairs, skipped = pair_diagnostics(lines, min_angle_deg)
+    cog = batch.cog_mm[:, 0]
+    residuals, chi2, dof = line_consistency(
+        [s.id for s in suspensions], p, u, nrm, batch.shape, batch.weights,
+        batch.lateral_cov_mm2, wire, cog,
+    )  # fmt: skip
+    return JointEstimate(
+        cog,
+        gls.sym_to_full(batch.cov_mm2[:, 0]),
+        tuple(residuals),
+        tuple(pairs),
+        tuple(skipped),
+        chi2,
+        dof,
+        wire_scale,
+    )
+
+
+def _joint_with_shared_sensor(
+    suspensions: Sequence[Suspension],
+    cfg: InclinometerConfig,
+    mdl: ErrorModel,
+    normals: FloatArray,
+    errors: gls.LineErrors,
+    wire: gls.WireTerm,
+    has_body: bool,
+    min_angle_deg: float,
+    warnings: list[str],
+) -> tuple[JointEstimate, FloatArray, dict[str, Any]]:
+    """The joint estimate with the sensor's shared offsets, sensitivities and mounting
+    estimated alongside (:func:`cadcog.method.sharedfit.fit_shared`): the estimate, the
+    corrected verticals and what became of each shared parameter."""
+    fit = sharedfit.fit_shared(
+        [s.position_mm for s in suspensions],
+        [s.inc_x_deg for s in suspensions],
+        [s.inc_y_deg for s in suspensions],
+        [s.top_face_up for s in suspensions],
+        normals,
+        errors,
+        wire,
+        mdl.shared_sensor_sigmas,
+        cfg,
+        [s.id for s in suspensions],
+    )
+    _check_normal_matrix(np.asarray(np.linalg.inv(fit.cov_mm2), dtype=float))
+    wire_scale = None
+    if has_body and (wire.scale_mm or wire.estimate):
+        if wire.estimate and fit.scale_sigma_mm > max(wire.scale_mm, 0.1):
+            warnings.append(
+                f"wire scale poorly determined: λ = {fit.scale_mm:.2f} ± "
+                f"{fit.scale_sigma_mm:.2f} mm"
+            )
+        wire_scale = WireScale(fit.scale_mm, fit.scale_sigma_mm, wire.estimate, wire.scale_mm)
+    lines = [PlumbLine(s.id, fit.points_mm[j], fit.verticals[j]) for j, s in enumerate(suspensions)]
+    pairs, skipped = pair_diagnostics(lines, min_angle_deg)
+    joint = JointEstimate(
+        fit.cog_mm, fit.cov_mm2, fit.residuals, tuple(pairs), tuple(skipped), fit.chi2, fit.dof,
+        wire_scale,
+    )  # fmt: skip
+    carried = [
+        name
+        for name, c, prior in zip(
+            SHARED_SENSOR_PARAMETERS, fit.calibrated, fit.prior_sigma, strict=True
+        )
+        if prior > 0 and not c
+    ]
+    if carried:
+        warnings.append(
+            "these hangs do not calibrate the sensor's shared "
+            f"{', '.join(carried)}: their declared figures are carried into the CoG's σ "
+            "(docs/estimate.md: what one sensor shares across the hangs)"
+        )
+    return joint, fit.verticals, fit.to_dict()
 
 
 def _reading_warnings(

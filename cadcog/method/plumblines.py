@@ -10,7 +10,7 @@ with its error propagated (eq. 16).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
 
@@ -417,24 +417,38 @@ def line_consistency(
     distances = [
         PlumbLine(i, virtual[:, j, 0], u[:, j, 0]).distance_mm(cog_mm) for j, i in enumerate(ids)
     ]
+
+    def statistic(active: list[int], i: int) -> float:
+        return _loo_statistic(points_mm, u, normals, shape, weights, lateral, wire, active, i)
+
+    residuals = flag_lines(ids, distances, chi2, dof, statistic, outlier_probability)
+    return residuals, chi2, dof
+
+
+def flag_lines(
+    ids: Sequence[str],
+    distances: Sequence[float],
+    chi2: float,
+    dof: int,
+    statistic: Callable[[list[int], int], float],
+    outlier_probability: float = tolerances.OUTLIER_PROBABILITY,
+) -> list[LineResidual]:
+    """Each line's verdict from its leave-one-out χ²₂ ``statistic(active, i)`` (line ``i``
+    against the estimate of the other ``active`` lines): the worst significant line is flagged
+    and set aside, and the rest are tested again. With two lines, or no degree of freedom, the
+    campaign's ``chi2`` is tested and every line shares the verdict."""
+    k = len(ids)
     if k == 2 or dof < 1:
         p_value = chi2_sf(chi2, dof) if dof > 0 else 1.0
         bad = p_value < outlier_probability
-        return (
-            [
-                LineResidual(i, d, float(np.sqrt(max(chi2, 0.0))), p_value, bad)
-                for i, d in zip(ids, distances, strict=True)
-            ],
-            chi2,
-            dof,
-        )
+        return [
+            LineResidual(i, d, float(np.sqrt(max(chi2, 0.0))), p_value, bad)
+            for i, d in zip(ids, distances, strict=True)
+        ]
     active = list(range(k))
     verdict: dict[int, tuple[float, float, bool]] = {}
     while True:
-        current = {
-            i: _loo_statistic(points_mm, u, normals, shape, weights, lateral, wire, active, i)
-            for i in active
-        }
+        current = {i: statistic(active, i) for i in active}
         worst = max(active, key=lambda i: current[i])
         p_worst = chi2_sf(current[worst], 2)
         if p_worst < outlier_probability and len(active) > 3:
@@ -445,11 +459,10 @@ def line_consistency(
             p_i = chi2_sf(current[i], 2)
             verdict[i] = (current[i], p_i, p_i < outlier_probability and i == worst)
         break
-    residuals = [
+    return [
         LineResidual(ids[i], distances[i], float(np.sqrt(verdict[i][0])), *verdict[i][1:])
         for i in range(k)
     ]
-    return residuals, chi2, dof
 
 
 def _scale_at(

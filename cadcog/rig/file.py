@@ -165,6 +165,11 @@ def _inclinometer(t: TableReader) -> InclinometerConfig:
             ),
             zero_v=t.number("zero_v", default=ds.zero_v),
         ),
+        offset_deg=t.number("offset_deg", nonnegative=True, default=d.offset_deg),
+        scale_error_rel=t.number("scale_error_rel", nonnegative=True, default=d.scale_error_rel),
+        mounting_misalignment_deg=t.number(
+            "mounting_misalignment_deg", nonnegative=True, default=d.mounting_misalignment_deg
+        ),
     )
     lsb = config.sensor.lsb_deg
     if lsb > MAX_ADC_STEP_DEG:

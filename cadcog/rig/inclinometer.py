@@ -83,6 +83,19 @@ class InclinometerConfig:
     sign_x, sign_y : int
         +1 if the device follows the project convention on that axis, -1 if it reads reversed.
     sensor : SensorModel
+    offset_deg : float
+        Each channel's zero offset lies within ±offset_deg (uniform), the same on every hang of
+        a test (one sensor). 0 (the default): the accuracy bounds every error of a hang.
+    scale_error_rel : float
+        Each channel's sensitivity lies within ±scale_error_rel of nominal (uniform), the same
+        on every hang.
+    mounting_misalignment_deg : float
+        The sensor's axes lie within this angle of the object's (any axis, uniform in angle),
+        the same on every hang.
+
+    The three shared figures are what one sensor brings to every hang of a test
+    (:func:`sensor_readings` is their definition); the estimator calibrates them jointly with
+    the CoG where the hangs allow it (:mod:`cadcog.method.sharedfit`).
     """
 
     range_deg: float = 60.0
@@ -90,6 +103,9 @@ class InclinometerConfig:
     sign_x: int = 1
     sign_y: int = 1
     sensor: SensorModel = field(default_factory=SensorModel)
+    offset_deg: float = 0.0
+    scale_error_rel: float = 0.0
+    mounting_misalignment_deg: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -164,3 +180,98 @@ def readings_from_verticals(
     x = rad_to_deg(np.arcsin(np.clip(v[:, 0], -1, 1))) * cfg.sign_x
     y = rad_to_deg(np.arcsin(np.clip(v[:, 1], -1, 1))) * cfg.sign_y
     return x, y, v[:, 2] > 0.0
+
+
+#: The shared sensor parameters, in the order of every vector of them: each channel's zero
+#: offset (degrees, in the device's own signs), each channel's sensitivity error (relative) and
+#: the mounting rotation vector from object to sensor axes (degrees).
+SHARED_SENSOR_PARAMETERS = (
+    "offset_x_deg",
+    "offset_y_deg",
+    "scale_x_rel",
+    "scale_y_rel",
+    "mounting_x_deg",
+    "mounting_y_deg",
+    "mounting_z_deg",
+)
+
+
+def rotation_matrix(rotation_deg: npt.ArrayLike) -> FloatArray:
+    """The rotation by the rotation vector ``rotation_deg`` (axis × angle, degrees): Rodrigues.
+
+    Examples
+    --------
+    >>> np.round(rotation_matrix([0.0, 0.0, 90.0]) @ [1.0, 0.0, 0.0], 12).tolist()
+    [0.0, 1.0, 0.0]
+    """
+    r = deg_to_rad(np.asarray(rotation_deg, dtype=float))
+    angle = float(np.linalg.norm(r))
+    if angle == 0.0:
+        return np.eye(3)
+    k = r / angle
+    kx = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.asarray(np.eye(3) + np.sin(angle) * kx + (1.0 - np.cos(angle)) * (kx @ kx))
+
+
+def sensor_readings(
+    u: npt.ArrayLike, shared: npt.ArrayLike, config: InclinometerConfig | None = None
+) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_]]:
+    """What a sensor with the shared errors ``shared`` reports for upward verticals ``u``.
+
+    The definition of the shared parameters (:data:`SHARED_SENSOR_PARAMETERS`): the sensor
+    sees ``v = R u`` (``R`` :func:`rotation_matrix` of the mounting), each channel's ideal
+    report is ``A = sign · asin(v)`` and it reports ``(1 + s) A + b``. Per-hang errors (bias,
+    noise, ADC) come on top.
+
+    Parameters
+    ----------
+    u : array_like, shape (n, 3)
+        Unit upward verticals, body components.
+    shared : array_like, shape (7,)
+    config : InclinometerConfig, optional
+
+    Returns
+    -------
+    x_deg, y_deg : ndarray, shape (n,)
+    top_face_up : ndarray of bool, shape (n,)
+        From the body's own vertical (a small misalignment never turns the object over).
+
+    Examples
+    --------
+    >>> x, y, _ = sensor_readings([[0.5, 0.0, 0.75**0.5]], [0.2, 0, 0.01, 0, 0, 0, 0])
+    >>> round(float(x[0]), 9)  # 30° read 1 % high, plus 0.2°
+    30.5
+    """
+    cfg = config or InclinometerConfig()
+    b = np.asarray(shared, dtype=float)
+    v = np.atleast_2d(np.asarray(u, dtype=float))
+    seen = v @ rotation_matrix(b[4:7]).T
+    x, y, _ = readings_from_verticals(seen, cfg)
+    return (1.0 + b[2]) * x + b[0], (1.0 + b[3]) * y + b[1], v[:, 2] > 0.0
+
+
+def corrected_verticals(
+    inc_x_deg: npt.ArrayLike,
+    inc_y_deg: npt.ArrayLike,
+    top_face_up: npt.ArrayLike,
+    shared: npt.ArrayLike,
+    config: InclinometerConfig | None = None,
+) -> Verticals:
+    """Body-frame upward verticals from readings of a sensor with shared errors ``shared``.
+
+    The inverse of :func:`sensor_readings`: offsets and sensitivities removed, eq. 2 in the
+    sensor's axes, then turned into the object's.
+
+    Examples
+    --------
+    >>> shared = [0.2, -0.1, 0.01, -0.02, 0.3, -0.4, 0.5]
+    >>> u = np.array([[0.3, -0.2, (1 - 0.13) ** 0.5]])
+    >>> x, y, top = sensor_readings(u, shared)
+    >>> bool(np.allclose(corrected_verticals(x, y, top, shared).u, u, atol=1e-12))
+    True
+    """
+    b = np.asarray(shared, dtype=float)
+    x = (np.atleast_1d(np.asarray(inc_x_deg, dtype=float)) - b[0]) / (1.0 + b[2])
+    y = (np.atleast_1d(np.asarray(inc_y_deg, dtype=float)) - b[1]) / (1.0 + b[3])
+    seen = verticals_from_readings(x, y, top_face_up, config)
+    return Verticals(np.asarray(seen.u @ rotation_matrix(b[4:7])), seen.normalized)

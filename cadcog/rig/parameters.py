@@ -97,9 +97,9 @@ class MEVolume:
 
 
 InclinometerModel = Literal["hang-bias", "paper-averaged"]
-WireModel = Literal["paper", "elastica"]
+WireModel = Literal["one-wire", "paper", "elastica"]
 INCLINOMETER_MODELS: tuple[InclinometerModel, ...] = ("hang-bias", "paper-averaged")
-WIRE_MODELS: tuple[WireModel, ...] = ("paper", "elastica")
+WIRE_MODELS: tuple[WireModel, ...] = ("one-wire", "paper", "elastica")
 
 
 @dataclass(frozen=True)
@@ -113,7 +113,7 @@ class ErrorOptions:
     inclinometer_model: InclinometerModel = "hang-bias"
     sensor_noise_deg: float = 0.05
     play_mm: float = 1.0
-    wire_model: WireModel = "paper"
+    wire_model: WireModel = "one-wire"
     wire_offset_max_mm: float = 1.0
     wire_bending_stiffness_n_mm2: float = 30.0
     wire_stiffness_rel_uncertainty: float = 0.5

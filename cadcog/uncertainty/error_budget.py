@@ -95,6 +95,9 @@ def _parameters(model: ErrorModel) -> list[tuple[str, str, tuple[int, ...], floa
     if model.wire_model == "elastica":  # one wire for the campaign: one shared factor
         m1, var = _wire_factor_moments(model)
         out.append(("wire_offset", "wire", (0, 0), m1, var))
+    elif model.wire_model == "one-wire":  # one wire: one λ, uniform in 0 … the bound
+        m = model.wire_offset_max_mm
+        out.append(("wire_offset", "wire", (0, 0), 0.5 * m, m * m / 12.0))
     for j in range(2):
         for t in range(2):
             out.append(("point_play", "play_mm", (t, j, 0), 0.0, model.play_mm**2 / 12.0))
@@ -116,9 +119,33 @@ def _wire_factor_moments(model: ErrorModel) -> tuple[float, float]:
 def _nominal(model: ErrorModel) -> Perturbations:
     if model.wire_model == "paper":
         wire0 = np.full((2, 1), 0.5 * model.wire_offset_max_mm)
+    elif model.wire_model == "one-wire":
+        wire0 = np.full((1, 1), 0.5 * model.wire_offset_max_mm)
     else:
         wire0 = np.full((1, 1), _wire_factor_moments(model)[0])
     return Perturbations(np.zeros((3, 1)), np.zeros((2, 2, 1)), wire0, np.zeros((2, 2, 1)))
+
+
+def _wire_row(model: ErrorModel, lam: float, w: float, weight_n: float) -> tuple[str, float, str]:
+    """The wire offset's row of the budget: its model, its spread (mm) and unit."""
+    if model.wire_model == "paper":
+        return (
+            f"U(0, {w:g} mm) along the bolt axis (mean {w / 2:g} mm), per hang",
+            w / 12**0.5,
+            "mm",
+        )
+    if model.wire_model == "one-wire":
+        return (
+            f"one wire for all hangs: Δ = λ/cos(θ/2), λ U(0, {w:g} mm) (a string to a stiff wire)",
+            w / 12**0.5,
+            "mm",
+        )
+    return (
+        f"elastica Δ = λ/cos(θ/2), λ = {lam:.3f} mm, "
+        f"EI ±{model.wire_stiffness_rel_uncertainty:.0%}, one wire for all hangs",
+        float(np.sqrt(model.wire_prior(weight_n).scale_var_mm2)),
+        "mm",
+    )
 
 
 def linearised_covariance(
@@ -184,18 +211,7 @@ def error_budget(
             model.play_mm / np.sqrt(12.0),
             "mm per axis",
         ),
-        "wire_offset": (
-            (
-                f"U(0, {w:g} mm) along the bolt axis (mean {w / 2:g} mm)"
-                if model.wire_model == "paper"
-                else f"elastica Δ = λ/cos(θ/2), λ = {lam:.3f} mm, "
-                f"EI ±{model.wire_stiffness_rel_uncertainty:.0%}, one wire for all hangs"
-            ),
-            w / np.sqrt(12.0)
-            if model.wire_model == "paper"
-            else np.sqrt(model.wire_prior(scenario.weight_n).scale_var_mm2),
-            "mm",
-        ),
+        "wire_offset": _wire_row(model, lam, w, scenario.weight_n),
     }
     rows = []
     for s in SOURCES:

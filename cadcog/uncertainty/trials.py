@@ -193,8 +193,8 @@ class Perturbations:
     play_mm : ndarray, shape (2, k, n)
         Suspension-point play along the two face tangents.
     wire : ndarray, shape (k, n) or (1, n)
-        Paper wire model: the offset of each hang along its bolt axis (mm). Elastica: the
-        factor on λ, one per trial (the campaign's one wire).
+        Paper wire model: the offset of each hang along its bolt axis (mm). One wire: λ (mm),
+        one per trial. Elastica: the factor on λ, one per trial (the campaign's one wire).
     reading_deg : ndarray, shape (2, k, n)
         X and Y reading errors.
     """
@@ -238,7 +238,11 @@ def hang(
     if model.wire_model == "paper":
         delta = pert.wire
     elif "wire_offset" in model.sources:
-        lam = model.wire_length_mm(scenario.weight_n) * pert.wire
+        lam = (
+            pert.wire
+            if model.wire_model == "one-wire"
+            else model.wire_length_mm(scenario.weight_n) * pert.wire
+        )
         delta = lam * np.ones(q.shape[1:])
         for _ in range(3):  # θ depends on the offset only weakly: a fixed point converges
             u0 = _unit(q + delta * nrm - g_true)

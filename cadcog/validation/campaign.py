@@ -7,7 +7,9 @@ stiffness too (one wire); each hang draws its own suspension play and wire offse
 ``hang-bias`` model, the inclinometer's bias (uniform ±accuracy per axis, fixed during the hang).
 Then ``model.samples`` raw samples per axis add sensor noise (``sensor_noise_deg``) and are
 quantised by the ADC to counts: the averaging and the quantisation happen here for real, where the
-Monte Carlo uses their closed forms. The result is a readings CSV with ``inc_x_counts,
+Monte Carlo uses their closed forms. A sensor's shared errors (``offset_deg``,
+``scale_error_rel``, ``mounting_misalignment_deg`` of ``[inclinometer]``) are drawn once for the
+campaign: one sensor. The result is a readings CSV with ``inc_x_counts,
 inc_y_counts`` columns: :func:`cadcog.method.readings.read_readings` reads it as it reads real data.
 """
 
@@ -28,7 +30,7 @@ from cadcog.method.readings import (
     header_columns,
     suspension_from_samples,
 )
-from cadcog.rig.inclinometer import InclinometerConfig
+from cadcog.rig.inclinometer import InclinometerConfig, sensor_readings
 from cadcog.rig.parameters import Rig
 from cadcog.uncertainty.montecarlo import Scenario, draw_perturbations, hang
 
@@ -60,6 +62,11 @@ def simulated_readings(
     k = len(scenario.ids)
     pert = draw_perturbations(model.only("me_cog", "point_play", "wire_offset"), rng, 1, k)
     u = hang(scenario, model, range(k), pert)[:, :, 0]  # (3, k)
+    # One sensor for the whole campaign: its offsets, sensitivities and mounting drawn once
+    # (nothing is drawn when the model declares none).
+    shared = model.sample_shared_sensor(rng, 1)[:, 0]
+    if model.has_shared_sensor:
+        seen_x, seen_y, _ = sensor_readings(u.T, shared, inclinometer)
     sensor = inclinometer.sensor
     a = model.accuracy_deg if "inclinometer" in model.sources else 0.0
     noise = model.sensor_noise_deg if "inclinometer" in model.sources else 0.0
@@ -69,7 +76,10 @@ def simulated_readings(
     rows = []
     for j, pid in enumerate(scenario.ids):
         # What the device reports for the true vertical, then its errors (in its own signs).
-        true_deg = rad_to_deg(np.arcsin(np.clip(u[:2, j], -1, 1))) * signs
+        if model.has_shared_sensor:
+            true_deg = np.array([seen_x[j], seen_y[j]])
+        else:
+            true_deg = rad_to_deg(np.arcsin(np.clip(u[:2, j], -1, 1))) * signs
         bias = rng.uniform(-a, a, (n, 2) if per_sample else 2)
         noisy = true_deg + bias + rng.normal(0.0, noise, (n, 2))
         counts = np.clip(np.floor(sensor.deg_to_counts(noisy) + 0.5), 0, sensor.max_counts)

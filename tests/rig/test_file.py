@@ -200,7 +200,50 @@ CASES: list[tuple[str, Mutation, str, str]] = [
         "error_model.sensor_noise_deg",
         "expected a number >= 0, got -0.1",
     ),
+    (
+        "sensor offset beyond any datasheet",
+        _set("inclinometer.offset_deg", 20.0),
+        "inclinometer.offset_deg",
+        "expected at most 5 \\(a sensor's zero offset",
+    ),
+    (
+        "negative scale error",
+        _set("inclinometer.scale_error_rel", -0.01),
+        "inclinometer.scale_error_rel",
+        "expected a number >= 0",
+    ),
+    (
+        "scale error given in percent",
+        _set("inclinometer.scale_error_rel", 1.0),
+        "inclinometer.scale_error_rel",
+        "expected at most 0.2 \\(a channel's sensitivity error, a fraction",
+    ),
+    (
+        "mounting beyond 10 degrees",
+        _set("inclinometer.mounting_misalignment_deg", 15.0),
+        "inclinometer.mounting_misalignment_deg",
+        "expected at most 10",
+    ),
+    (
+        "unknown wire model",
+        _set("error_model.wire_model", "string"),
+        "error_model.wire_model",
+        "expected one of one-wire, paper, elastica",
+    ),
 ]
+
+
+def test_shared_sensor_figures_reach_the_error_model(tmp_path):
+    from cadcog.method.errormodel import ErrorModel
+
+    data = paper_rig_dict()
+    data["inclinometer"].update(offset_deg=0.3, scale_error_rel=0.01, mounting_misalignment_deg=0.6)
+    m = ErrorModel.from_rig(load_rig(write_rig(tmp_path / "rig.toml", data)))
+    np.testing.assert_allclose(
+        m.shared_sensor_sigmas, [0.3 / 3**0.5] * 2 + [0.01 / 3**0.5] * 2 + [0.2] * 3
+    )
+    assert "shared by the hangs: offset ±0.3°" in m.summary()
+    assert m.paper().has_shared_sensor is False
 
 
 @pytest.mark.parametrize(

@@ -21,7 +21,8 @@ Physics, written here from the documentation (``docs/method.md`` §1-4, ``docs/m
 - each hang, from the candidate's nominal point ``p0`` on a face of the bounding box with outward
   normal (bolt axis) ``n``: the wire's point is ``p0`` plus the play, uniform in a ``play_mm``
   square in the face plane, plus the wire's virtual offset along ``n``: the ``paper`` model
-  uniform in ``[0, wire_offset_max_mm]``, independent per hang, or the ``elastica``
+  uniform in ``[0, wire_offset_max_mm]``, independent per hang, the ``one-wire`` model's one
+  ``λ`` per campaign uniform in that range with the elastica's shape, or the ``elastica``
   ``λ/cos(θ/2)``, ``λ = √(EI/W)``, ``EI`` uniform within ``±wire_stiffness_rel_uncertainty`` of
   its nominal value once per campaign, ``W`` the true hung weight (spacecraft + ME), ``θ`` the
   angle between the bolt axis and the vertical (solved by fixed-point iteration);
@@ -482,11 +483,14 @@ def simulate(
     if "wire" in sources:
         if rig.wire_model == "paper":
             offset = rng.uniform(0.0, rig.wire_offset_max_mm, k)
-        elif rig.wire_model == "elastica":
-            ei = rig.wire_bending_stiffness_n_mm2 * (
-                1.0 + rig.wire_stiffness_rel_uncertainty * rng.uniform(-1.0, 1.0)
-            )
-            lam = math.sqrt(ei / (m_all * STANDARD_GRAVITY))
+        elif rig.wire_model in ("elastica", "one-wire"):
+            if rig.wire_model == "one-wire":  # one wire: one λ for the campaign, 0 … the bound
+                lam = rng.uniform(0.0, rig.wire_offset_max_mm)
+            else:
+                ei = rig.wire_bending_stiffness_n_mm2 * (
+                    1.0 + rig.wire_stiffness_rel_uncertainty * rng.uniform(-1.0, 1.0)
+                )
+                lam = math.sqrt(ei / (m_all * STANDARD_GRAVITY))
             offset = np.full(k, lam)
             for _ in range(50):  # θ depends on the vertical, which depends on the offset
                 u = hang_verticals(points + offset[:, None] * h.normals, g)

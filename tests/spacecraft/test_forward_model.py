@@ -129,14 +129,18 @@ def test_ideal_hangs_point_through_the_assembly_cog(cad):
 def test_every_hang_is_in_equilibrium(cad):
     """With every error on, each true vertical still passes through the true virtual point and
     the true assembly CoG; the virtual point is the nominal one moved within the play square
-    and up to 1 mm along the bolt axis."""
+    and along the bolt axis by one wire's offset, λ ≤ 1 mm times the elastica's 1/cos(θ/2)."""
     c = fm.campaign(cad, "priors", 3)
     d = c.wire_points_mm - c.assembly_cog_mm
     np.testing.assert_allclose(np.cross(d, c.verticals), 0.0, atol=1e-10)
     off = c.wire_points_mm - cad.hangs.points_mm
     along = np.sum(off * cad.hangs.normals, axis=1)
     across = off - along[:, None] * cad.hangs.normals
-    assert np.all((along >= 0) & (along <= 1.0))
+    cos_theta = np.sum(c.verticals * cad.hangs.normals, axis=1)
+    shape = np.sqrt(2.0 / (1.0 + cos_theta))
+    assert np.all((along >= 0) & (along <= 1.0 * shape + 1e-12))
+    lam = along / shape  # one wire: the same λ on every hang
+    np.testing.assert_allclose(lam, lam[0], atol=1e-9)
     assert np.all(np.abs(across) <= 0.5)
 
 

@@ -41,19 +41,31 @@ def _run(scenario, model, config, me, body, truth, n=N):
     return np.array(d2), np.array(norms), flagged, lines
 
 
-def _check_coverage(d2):
+def _check_coverage(d2, conservative=False):
+    """Calibrated coverage; ``conservative``: at least the nominal coverage, above it by no
+    more than a stated prior's excess can give (95 % → at most 99.5 %)."""
     c95 = np.mean(d2 <= stats.chi2.ppf(0.95, 3))
     c68 = np.mean(d2 <= stats.chi2.ppf(0.68, 3))
     lo95, hi95 = _bounds(0.95)
     lo68, hi68 = _bounds(0.68)
+    if conservative:
+        hi95, hi68 = 0.995, 0.85
     assert lo95 <= c95 <= hi95, c95
     assert lo68 <= c68 <= hi68, c68
 
 
 @pytest.mark.parametrize(
-    "names", [("S1", "S2", "S3", "S4", "S5", "S6"), ("S1", "S3", "S5"), ("S1", "S2")]
+    ("names", "conservative"),
+    [
+        (("S1", "S2", "S3", "S4", "S5", "S6"), False),
+        (("S1", "S3", "S5"), False),
+        # Two hangs cannot determine the one wire's scale λ: its prior carries it, and the
+        # prior's σ (half the bound, so that a string and the stiffest wire both lie within
+        # 1 σ) is wider than the uniform draw's (bound/√12): the ellipsoids are then larger.
+        (("S1", "S2"), True),
+    ],
 )
-def test_paper_rig_ellipsoids_cover(paper_rig, names):
+def test_paper_rig_ellipsoids_cover(paper_rig, names, conservative):
     model = ErrorModel.from_rig(paper_rig)
     full = Scenario.from_rig(paper_rig)
     idx = [full.ids.index(i) for i in names]
@@ -66,7 +78,7 @@ def test_paper_rig_ellipsoids_cover(paper_rig, names):
         BodyBox.of_rig(paper_rig),
         paper_rig.analytic_proof_mass.cog_mm,
     )
-    _check_coverage(d2)
+    _check_coverage(d2, conservative)
     # Clean lines: flagged at about the nominal 0.3 % (uniform errors have light tails).
     assert flagged <= stats.binom.ppf(0.999, lines, 0.003), flagged
 

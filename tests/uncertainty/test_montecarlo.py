@@ -65,9 +65,15 @@ def test_single_source_matches_linearised_prediction(scenario, model, source):
     np.testing.assert_allclose(e.mean(axis=0), 0.0, atol=0.01)
 
 
-def test_linearised_budget_equals_the_estimators_own_covariance(scenario, model):
+@pytest.mark.parametrize("wire_model", ["paper", "elastica", "one-wire"])
+def test_linearised_budget_equals_the_estimators_own_covariance(scenario, model, wire_model):
     """Two independent routes to one number: finite differences of the whole simulation (the
-    budget) and the closed-form generalised least-squares covariance, compensated (eq. 16)."""
+    budget) and the closed-form generalised least-squares covariance, compensated (eq. 16).
+
+    The one-wire model's estimator takes λ's prior σ as half the bound (a string and the
+    stiffest wire both within 1 σ), wider than the uniform draw's bound/√12: its covariance
+    is then the budget's plus the difference along λ's direction, and never smaller."""
+    model = replace(model, wire_model=wire_model)
     pair = representative_pair(scenario)
     _, covs = linearised_covariance(scenario, model, pair)
     total = sum(covs.values())
@@ -78,6 +84,12 @@ def test_linearised_budget_equals_the_estimators_own_covariance(scenario, model)
     closed = (1 + ratio) ** 2 * sym_to_full(est.cov_mm2)[
         0
     ] + ratio**2 * model.me_sigma_mm**2 * np.eye(3)
+    if wire_model == "one-wire":
+        m = model.wire_offset_max_mm
+        wider = model.wire_prior(scenario.weight_n).scale_var_mm2 / (m * m / 12.0)
+        _, covs_wide = linearised_covariance(scenario, model, pair)
+        # The wire's share grows by the prior's variance ratio; the rest is the same.
+        total = total + (wider - 1.0) * covs_wide["wire_offset"]
     np.testing.assert_allclose(total, closed, rtol=0.02, atol=1e-5)
 
 
@@ -140,7 +152,7 @@ def test_streamed_axis_moments_match_direct_computation(scenario, model):
             own = replace(
                 pert,
                 play_mm=pert.play_mm[:, cols],
-                wire=pert.wire[cols],
+                wire=pert.wire[cols] if model.wire_model == "paper" else pert.wire,
                 reading_deg=pert.reading_deg[:, cols],
             )
             errors[g].append(propagate(scenario, model, pair, own))

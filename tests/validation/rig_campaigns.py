@@ -20,11 +20,26 @@ Monte Carlo or error-model code, so that a shared mistake cannot hide a wrong si
   ADC's range. The CSV holds those counts (``inc_x_counts, inc_y_counts``), or the unquantised
   angles (``inc_x_deg, inc_y_deg``, 9 decimals) for the comparison without the ADC.
 
+What one rig shares across its hangs (issue 31), drawn once per campaign when asked for:
+
+- the wire: ``"paper"`` (the above: an offset drawn afresh for every hang, the paper's model),
+  ``"one-wire"`` (one wire of elastica length λ uniform in 0 … ``wire_offset_max_mm`` for the
+  campaign, the rig file's default model), ``"flexible"`` (an ideal string: it
+  turns at the exit itself, no offset on any hang) or ``"stiff"`` (a wire of bending stiffness
+  EI under the hung weight W: the object hangs below the straight part's line, found here by
+  integrating the elastica ``EI φ'' = W sin φ`` numerically from the clamp, where the wire leaves
+  along the bolt axis, and iterating the hang to its equilibrium);
+- the sensor: each channel's zero offset and sensitivity error uniform within the given figures,
+  and its mounting a rotation of angle uniform in [0, figure] about a uniformly random axis
+  (:class:`scipy.spatial.transform.Rotation`): the sensor sees the vertical in its own axes and
+  reports ``(1 + s)·asin(v) + b`` per channel before its per-hang bias and noise.
+
 Campaign ``i`` of a seed draws from ``SeedSequence(seed, spawn_key=(i,))`` alone.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 import tomllib
 from dataclasses import dataclass
@@ -82,6 +97,7 @@ class RigPhysics:
     noise_deg: float
     play_mm: float
     wire_offset_max_mm: float
+    wire_model: str = "one-wire"
 
     @classmethod
     def from_file(cls, path: str | Path) -> RigPhysics:
@@ -89,8 +105,8 @@ class RigPhysics:
         with Path(path).open("rb") as fh:
             d = tomllib.load(fh)
         em = d.get("error_model", {})
-        if em.get("wire_model", "paper") != "paper":
-            raise ValueError("the independent generator models the paper's wire offset only")
+        if em.get("wire_model", "one-wire") not in ("paper", "one-wire"):
+            raise ValueError("the independent generator models the paper and one-wire offsets")
         if em.get("inclinometer_model", "hang-bias") != "hang-bias":
             raise ValueError("the independent generator models the hang-bias inclinometer only")
         size = np.array(d["proof_mass"]["size_mm"], dtype=float)
@@ -127,6 +143,7 @@ class RigPhysics:
             noise_deg=float(em.get("sensor_noise_deg", 0.05)),
             play_mm=float(em.get("play_mm", 1.0)),
             wire_offset_max_mm=float(em.get("wire_offset_max_mm", 1.0)),
+            wire_model=str(em.get("wire_model", "one-wire")),
         )
 
     @property
@@ -177,6 +194,37 @@ def _tangents(normal: FloatArray) -> tuple[FloatArray, FloatArray]:
     return axes[0], axes[1]
 
 
+#: Standard gravity (m/s²), for the hung weight.
+G0_M_S2 = 9.80665
+
+
+@functools.lru_cache(maxsize=1)
+def _offset_ratio_table() -> tuple[FloatArray, FloatArray]:
+    """``Δ/λ`` of :func:`elastica_virtual_offset_mm` on a grid of θ (it depends on θ alone: the
+    elastica scales with λ), each value integrated numerically once."""
+    from scipy.integrate import solve_ivp
+
+    def rhs(s: float, y: FloatArray) -> list[float]:
+        return [-2.0 * math.sin(0.5 * y[0]), math.sin(y[0])]
+
+    thetas = np.linspace(1e-4, 3.0, 601)
+    ratios = np.empty_like(thetas)
+    for i, theta in enumerate(thetas):
+        sol = solve_ivp(rhs, (0.0, 60.0), [theta, 0.0], rtol=1e-11, atol=1e-13)
+        ratios[i] = sol.y[1, -1] / math.sin(theta)
+    return thetas, ratios
+
+
+def elastica_virtual_offset_mm(theta_rad: float, lam_mm: float) -> float:
+    """How far along the bolt axis above the clamp the straight part's line meets it, for a wire
+    that leaves the clamp at ``theta_rad`` from the upward vertical: the elastica integrated
+    numerically (tangent angle ``φ(s)``, ``φ(0) = θ``, ``λ² φ'' = sin φ``, the branch that
+    straightens: ``φ' = −(2/λ) sin(φ/2)``), its lateral drift ``h = ∫ sin φ ds`` taken to where
+    the wire is straight, then ``h / sin θ`` (tabulated in θ once, interpolated: 10⁻⁵ relative)."""
+    thetas, ratios = _offset_ratio_table()
+    return float(lam_mm * np.interp(theta_rad, thetas, ratios))
+
+
 def generate(
     rig: RigPhysics,
     seed: int,
@@ -184,6 +232,11 @@ def generate(
     *,
     noise_deg: float | None = None,
     samples: int | None = None,
+    wire: str | None = None,
+    bending_stiffness_n_mm2: float = 30.0,
+    sensor_offset_deg: float = 0.0,
+    sensor_scale_rel: float = 0.0,
+    mounting_deg: float = 0.0,
 ) -> Campaign:
     """Campaign ``index`` of ``seed``: one hang per suspension point.
 
@@ -194,7 +247,16 @@ def generate(
         The draws come from ``SeedSequence(seed, spawn_key=(index,))``.
     noise_deg, samples : optional
         Override the rig's per-sample noise and sample count.
+    wire : "paper", "one-wire", "flexible" or "stiff", optional
+        See the module's docstring; ``bending_stiffness_n_mm2`` is the stiff wire's EI.
+        ``"one-wire"``: a wire whose elastica length λ is uniform in 0 … the rig's
+        ``wire_offset_max_mm``, once per campaign. Default: the rig file's ``wire_model``.
+    sensor_offset_deg, sensor_scale_rel, mounting_deg : float
+        The sensor's shared errors' figures (0: none).
     """
+    wire = rig.wire_model if wire is None else wire
+    if wire not in ("paper", "one-wire", "flexible", "stiff"):
+        raise ValueError(f"wire must be 'paper', 'one-wire', 'flexible' or 'stiff', got {wire!r}")
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index,)))
     noise = rig.noise_deg if noise_deg is None else noise_deg
     n = rig.samples if samples is None else samples
@@ -203,7 +265,25 @@ def generate(
         rig.me_centers_mm + (rng.random((len(rig.me_cube_mm), 3)) - 0.5) * rig.me_cube_mm[:, None]
     )
     m = rig.me_masses_kg
-    g = (rig.pm_mass_kg * rig.pm_cog_mm + m @ me_true) / (rig.pm_mass_kg + m.sum())
+    mass = rig.pm_mass_kg + m.sum()
+    g = (rig.pm_mass_kg * rig.pm_cog_mm + m @ me_true) / mass
+    # One sensor for the campaign.
+    offset = scale = np.zeros(2)
+    mount = np.eye(3)
+    if sensor_offset_deg or sensor_scale_rel or mounting_deg:
+        from scipy.spatial.transform import Rotation
+
+        offset = rng.uniform(-sensor_offset_deg, sensor_offset_deg, 2)
+        scale = rng.uniform(-sensor_scale_rel, sensor_scale_rel, 2)
+        axis = rng.standard_normal(3)
+        axis /= np.linalg.norm(axis)
+        angle = np.radians(rng.uniform(0.0, mounting_deg))
+        mount = Rotation.from_rotvec(axis * angle).as_matrix()
+    lam = 0.0
+    if wire == "stiff":
+        lam = math.sqrt(bending_stiffness_n_mm2 / (mass * G0_M_S2))
+    elif wire == "one-wire":
+        lam = rng.random() * rig.wire_offset_max_mm
     k = len(rig.ids)
     u = np.empty((k, 3))
     out = np.empty((k, n, 2))
@@ -211,13 +291,24 @@ def generate(
         nrm = rig.normals[j]
         t1, t2 = _tangents(nrm)
         play = (rng.random(2) - 0.5) * rig.play_mm
-        offset = rng.random() * rig.wire_offset_max_mm
-        q = rig.exits_mm[j] + play[0] * t1 + play[1] * t2 + offset * nrm
+        exit_mm = rig.exits_mm[j] + play[0] * t1 + play[1] * t2
+        if wire == "paper":
+            q = exit_mm + rng.random() * rig.wire_offset_max_mm * nrm
+        else:
+            q = exit_mm
+            for _ in range(50):  # the hang's equilibrium: θ and the offset agree
+                up = (q - g) / np.linalg.norm(q - g)
+                theta = math.acos(float(np.clip(up @ nrm, -1.0, 1.0)))
+                q_new = exit_mm + elastica_virtual_offset_mm(theta, lam) * nrm
+                if np.linalg.norm(q_new - q) < 1e-12:
+                    break
+                q = q_new
         d = q - g
         u[j] = d / np.linalg.norm(d)
-        ideal = np.degrees(np.arcsin(u[j, :2])) * (rig.sign_x, rig.sign_y)
+        seen = mount @ u[j]
+        ideal = (1.0 + scale) * np.degrees(np.arcsin(seen[:2])) * (rig.sign_x, rig.sign_y)
         bias = (rng.random(2) - 0.5) * 2.0 * rig.accuracy_deg
-        out[j] = ideal + bias + rng.normal(0.0, 1.0, (n, 2)) * noise
+        out[j] = ideal + offset + bias + rng.normal(0.0, 1.0, (n, 2)) * noise
     return Campaign(u, out)
 
 

@@ -1,0 +1,449 @@
+"""Plumb lines with what every hang of a test shares: the sensor's offsets, sensitivities and
+mounting estimated jointly with the CoG (and the wire scale), within their declared figures.
+
+One sensor is read on every hang, so its zero offsets ``b``, sensitivity errors ``s`` and
+mounting rotation ``r`` (:data:`cadcog.rig.inclinometer.SHARED_SENSOR_PARAMETERS`, defined by
+:func:`cadcog.rig.inclinometer.sensor_readings`) are the same on every hang and do not average
+out. The hangs' lines then meet only once those are corrected: hang ``i``'s upward vertical is
+``uᵢ(θ)`` (:func:`cadcog.rig.inclinometer.corrected_verticals` of its readings), its line passes
+through ``qᵢ = pᵢ + λ fᵢ nᵢ``, and the estimate minimises
+
+    Σ rᵢᵀ Wᵢ rᵢ + Σⱼ θⱼ²/σⱼ² (+ (λ − λ₀)²/σ_λ²),     rᵢ = (I − uᵢuᵢᵀ)(G − qᵢ),
+
+over the CoG ``G``, the shared parameters ``θ`` (those with a declared figure: its prior σ from
+:attr:`cadcog.method.errormodel.ErrorModel.shared_sensor_sigmas`) and ``λ`` when it is
+uncertain, by Gauss-Newton (``∂rᵢ/∂θ = −Lᵢ ∂uᵢ/∂θ`` on the plane ⊥ ``uᵢ``, ``Lᵢ = uᵢ·(G − qᵢ)``),
+with ``Wᵢ`` the per-hang lateral weights of :func:`cadcog.method.gls.line_weights` at the
+current distances. The covariance is the inverse of the normal matrix: the CoG's is marginal
+over ``θ`` and ``λ``. Where the hangs identify a parameter its posterior σ falls below its
+prior's (:attr:`SharedFit.calibrated`); where they do not, the prior carries it into the CoG's
+covariance. With no shared figure and a known wire scale this is
+:func:`cadcog.method.gls.plumb_gls` iterated to its fixed point.
+
+The consistency check is :func:`cadcog.method.plumblines.line_consistency`'s, generalised: each
+line against the joint estimate of the others (shared parameters included; the one-step
+leave-one-out update of the joint estimate), a χ²₂ statistic with the others' covariance
+propagated, the worst significant line set aside at a time
+(:func:`cadcog.method.plumblines.flag_lines`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core import tolerances
+from cadcog.core.errors import DegenerateGeometryError
+from cadcog.method import gls
+from cadcog.method.errormodel import wire_shape_factor
+from cadcog.method.plumblines import LineResidual, PlumbLine, flag_lines
+from cadcog.rig.inclinometer import (
+    SHARED_SENSOR_PARAMETERS,
+    InclinometerConfig,
+    corrected_verticals,
+)
+
+FloatArray = npt.NDArray[np.float64]
+
+#: Gauss-Newton iterations at most; the step is below :data:`STEP_TOL_MM` in 3-5 on every
+#: tested campaign (the problem is nearly linear: θ is a fraction of a degree).
+MAX_ITERATIONS = 30
+#: Convergence: the CoG moves less than this (mm) and θ less than 10⁻⁶ of its prior σ.
+STEP_TOL_MM = 1e-9
+#: Finite-difference step of ∂u/∂θ, as a fraction of each parameter's prior σ (central
+#: differences: the error is ~(step)² of the curvature, far below the readings' noise).
+JACOBIAN_STEP = 1e-3
+#: A parameter counts as calibrated by the hangs when its posterior σ is below this fraction
+#: of its prior σ (the hangs then carry at least 75 % of what is known of it).
+CALIBRATED_FRACTION = 0.5
+
+
+@dataclass(frozen=True)
+class SharedFit:
+    """The joint estimate of :func:`fit_shared`.
+
+    Attributes
+    ----------
+    cog_mm : ndarray, shape (3,)
+    cov_mm2 : ndarray, shape (3, 3)
+        The CoG's covariance, marginal over the shared parameters and λ.
+    scale_mm, scale_sigma_mm : float
+        The wire scale λ and its σ (0 when it is known).
+    shared : ndarray, shape (7,)
+        The shared sensor parameters' estimates (0 where no figure is declared).
+    shared_sigma : ndarray, shape (7,)
+        Their posterior σ (0 where no figure is declared).
+    prior_sigma : ndarray, shape (7,)
+    verticals : ndarray, shape (k, 3)
+        Each hang's vertical with the shared errors removed.
+    points_mm : ndarray, shape (k, 3)
+        Virtual suspension points at the estimated λ.
+    chi2, dof : float, int
+        ``Σ rᵢᵀWᵢrᵢ`` plus the priors' terms at the estimate, and ``2k − 3`` (one fewer when λ
+        is self-calibrated): the priors are observations of their own.
+    residuals : tuple of LineResidual
+    scale_information : float
+        What the lines say about λ once everything else is free (1/mm²; 0: nothing).
+    """
+
+    cog_mm: FloatArray
+    cov_mm2: FloatArray
+    scale_mm: float
+    scale_sigma_mm: float
+    shared: FloatArray
+    shared_sigma: FloatArray
+    prior_sigma: FloatArray
+    verticals: FloatArray
+    points_mm: FloatArray
+    chi2: float
+    dof: int
+    residuals: tuple[LineResidual, ...]
+    scale_information: float
+
+    @property
+    def calibrated(self) -> npt.NDArray[np.bool_]:
+        """Which shared parameters the hangs determined (posterior σ below
+        :data:`CALIBRATED_FRACTION` of the prior's), shape (7,)."""
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratio = self.shared_sigma / self.prior_sigma
+        return np.asarray((self.prior_sigma > 0) & (ratio < CALIBRATED_FRACTION))
+
+    def to_dict(self) -> dict[str, object]:
+        """Each declared shared parameter: estimate, σ, prior σ, whether the hangs calibrated it."""
+        out: dict[str, object] = {}
+        for j, name in enumerate(SHARED_SENSOR_PARAMETERS):
+            if self.prior_sigma[j] > 0:
+                out[name] = {
+                    "estimate": float(self.shared[j]),
+                    "sigma": float(self.shared_sigma[j]),
+                    "prior_sigma": float(self.prior_sigma[j]),
+                    "calibrated_by_hangs": bool(self.calibrated[j]),
+                }
+        return out
+
+
+@dataclass(frozen=True)
+class _Lines:
+    """One test's hangs as :func:`fit_shared` takes them."""
+
+    p: FloatArray  # (k, 3) nominal points
+    x_deg: FloatArray  # (k,)
+    y_deg: FloatArray
+    top: npt.NDArray[np.bool_]
+    n: FloatArray  # (k, 3) bolt axes
+    errors: gls.LineErrors
+    wire: gls.WireTerm
+    prior_sigma: FloatArray  # (7,)
+    config: InclinometerConfig
+
+    def take(self, rows: Sequence[int]) -> _Lines:
+        idx = np.asarray(rows)
+        reading = self.errors.reading_var_rad2
+        if isinstance(reading, np.ndarray) and reading.ndim and reading.shape[0] == len(self.p):
+            errors = gls.LineErrors(
+                self.errors.play_var_mm2,
+                self.errors.axial_var_mm2,
+                reading[idx],
+                self.errors.point_var_mm2,
+            )
+        else:
+            errors = self.errors
+        return _Lines(
+            self.p[idx], self.x_deg[idx], self.y_deg[idx], self.top[idx], self.n[idx], errors,
+            self.wire, self.prior_sigma, self.config,
+        )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class _State:
+    """The unknowns at one iterate and what the lines give there."""
+
+    x: FloatArray  # G (3), [λ], θ_active
+    normal: FloatArray  # the normal matrix (m × m)
+    chi2: float
+    u: FloatArray  # (k, 3)
+    q: FloatArray  # (k, 3)
+    shape: FloatArray  # (k,)
+    design: FloatArray  # (k, 3, m): ∂rᵢ/∂x
+    weights: FloatArray  # (k, 3, 3)
+    scale_information: float
+
+
+def _layout(lines: _Lines) -> tuple[bool, npt.NDArray[np.intp]]:
+    """Whether λ is an unknown, and which shared parameters are."""
+    return (not lines.wire.fixed), np.flatnonzero(lines.prior_sigma > 0)
+
+
+def _verticals(lines: _Lines, theta: FloatArray) -> FloatArray:
+    return corrected_verticals(lines.x_deg, lines.y_deg, lines.top, theta, lines.config).u
+
+
+def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _State:
+    """Residuals, their design and weights, the normal matrix and χ² at ``x`` (and, with
+    ``information``, what the lines alone say about λ)."""
+    with_lam, active = _layout(lines)
+    k = len(lines.p)
+    g = x[:3]
+    lam = x[3] if with_lam else lines.wire.scale_mm
+    theta = np.zeros(7)
+    theta[active] = x[3 + with_lam :]
+    u = _verticals(lines, theta)
+    shape = (
+        np.ones(k)
+        if lines.wire.model == "paper"
+        else wire_shape_factor(np.einsum("ij,ij->i", u, lines.n), lines.wire.model)
+    )
+    q = lines.p + (lam * shape)[:, None] * lines.n
+    d = g - q
+    dist = np.linalg.norm(d, axis=1)
+    packed = gls.line_weights(u.T[:, :, None], lines.n.T[:, :, None], dist[:, None], lines.errors)
+    w = gls.sym_to_full(np.stack([np.asarray(c)[:, 0] for c in packed]))  # (k, 3, 3)
+    proj = np.eye(3) - u[:, :, None] * u[:, None, :]
+    r = np.einsum("kij,kj->ki", proj, d)
+    along = np.einsum("ki,ki->k", u, d)  # Lᵢ, signed
+    cols = [np.broadcast_to(proj, (k, 3, 3))]
+    if with_lam:
+        cols.append(-(shape[:, None] * np.einsum("kij,kj->ki", proj, lines.n))[:, :, None])
+    if len(active):
+        steps = JACOBIAN_STEP * lines.prior_sigma[active]
+        du = np.empty((k, 3, len(active)))
+        for c, (j, h) in enumerate(zip(active, steps, strict=True)):
+            up, down = theta.copy(), theta.copy()
+            up[j] += h
+            down[j] -= h
+            du[:, :, c] = (_verticals(lines, up) - _verticals(lines, down)) / (2.0 * h)
+        cols.append(-along[:, None, None] * du)
+    design = np.concatenate(cols, axis=2)
+    normal = np.einsum("kai,kab,kbj->ij", design, w, design)
+    chi2 = float(np.einsum("ka,kab,kb->", r, w, r))
+    info = 0.0
+    if with_lam and information:
+        # What the lines alone say about λ once G and θ are free (the prior left out).
+        lam_col = 3
+        rest = [i for i in range(normal.shape[0]) if i != lam_col]
+        others = (
+            normal[np.ix_(rest, rest)]
+            + _prior_precision(lines, exclude_lam=True)[np.ix_(rest, rest)]
+        )
+        cross = normal[lam_col, rest]
+        try:
+            info = float(normal[lam_col, lam_col] - cross @ np.linalg.solve(others, cross))
+        except np.linalg.LinAlgError:
+            info = 0.0  # G is not determined without λ's prior: nothing said about λ alone
+    return _State(x, normal, chi2, u, q, shape, design, w, max(info, 0.0))
+
+
+def _prior_precision(lines: _Lines, *, exclude_lam: bool = False) -> FloatArray:
+    """The priors' precision on the unknowns (0 for G, and for λ when self-calibrated)."""
+    with_lam, active = _layout(lines)
+    diag = [0.0, 0.0, 0.0]
+    if with_lam:
+        est = lines.wire.estimate or exclude_lam
+        diag.append(0.0 if est else 1.0 / lines.wire.scale_var_mm2)
+    diag.extend(1.0 / lines.prior_sigma[active] ** 2)
+    return np.diag(diag)
+
+
+def _prior_mean(lines: _Lines) -> FloatArray:
+    with_lam, active = _layout(lines)
+    return np.array([0.0, 0.0, 0.0, *([lines.wire.scale_mm] if with_lam else []),
+                     *np.zeros(len(active))])  # fmt: skip
+
+
+def _solve(lines: _Lines, start: FloatArray) -> tuple[_State, FloatArray]:
+    """Gauss-Newton from ``start``; the final state and the unknowns' covariance."""
+    prec, mean = _prior_precision(lines), _prior_mean(lines)
+    with_lam, active = _layout(lines)
+    scale = np.concatenate([[1.0, 1.0, 1.0], [1.0] * with_lam, lines.prior_sigma[active]])
+    x = start.copy()
+    for _ in range(MAX_ITERATIONS):
+        st = _evaluate(lines, x)
+        r = np.einsum("kij,kj->ki", np.eye(3) - st.u[:, :, None] * st.u[:, None, :], x[:3] - st.q)
+        grad = np.einsum("kai,kab,kb->i", st.design, st.weights, r) + prec @ (x - mean)
+        total = st.normal + prec
+        try:
+            step = -np.linalg.solve(total, grad)
+        except np.linalg.LinAlgError:
+            raise DegenerateGeometryError(
+                "the suspensions do not determine the CoG with the shared sensor parameters "
+                "(the plumb lines are parallel or nearly so)"
+            ) from None
+        x = x + step
+        if np.all(np.abs(step[:3]) < STEP_TOL_MM) and np.all(np.abs(step[3:]) < 1e-6 * scale[3:]):
+            break
+    st = _evaluate(lines, x, information=True)
+    total = st.normal + prec
+    cov = np.asarray(np.linalg.inv(total), dtype=float)
+    dx = x - mean
+    chi2 = st.chi2 + float(dx @ prec @ dx)
+    return _State(x, st.normal, chi2, st.u, st.q, st.shape, st.design, st.weights,
+                  st.scale_information), cov  # fmt: skip
+
+
+def _start(lines: _Lines) -> FloatArray:
+    """The equal-weight point of the uncorrected lines, λ at its prior, θ = 0."""
+    with_lam, active = _layout(lines)
+    u = _verticals(lines, np.zeros(7))
+    g = gls.equal_weight_point(lines.p.T[:, :, None], u.T[:, :, None])[:, 0]
+    return np.concatenate([g, [lines.wire.scale_mm] * with_lam, np.zeros(len(active))])
+
+
+def _loo_statistic(state: _State, hessian: FloatArray, local: int) -> float:
+    """χ²₂ of the ``local``-th line of ``state`` (the joint estimate of a set of lines, its
+    Hessian ``hessian`` = normal matrix + priors) against the estimate of the others.
+
+    One Gauss-Newton step from the joint estimate with the line's terms taken out (exact for
+    the linearised problem, the usual leave-one-out update): ``H₋ᵢ = H − Mᵢᵀ Wᵢ Mᵢ``, the others'
+    estimate ``x₋ᵢ = x + H₋ᵢ⁻¹ Mᵢᵀ Wᵢ rᵢ``, line ``i``'s residual there ``rᵢ + Mᵢ (x₋ᵢ − x)`` with
+    covariance ``Sᵢ + Mᵢ H₋ᵢ⁻¹ Mᵢᵀ``.
+    """
+    u = state.u[local]
+    uu = np.outer(u, u)
+    m, w = state.design[local], state.weights[local]
+    r = (np.eye(3) - uu) @ (state.x[:3] - state.q[local])
+    try:
+        h_inv = np.linalg.inv(hessian - m.T @ w @ m)
+    except np.linalg.LinAlgError:
+        return 0.0  # the others do not determine an estimate: nothing to test against
+    if not np.all(np.isfinite(h_inv)) or np.any(np.diag(h_inv) < 0):
+        return 0.0
+    r_other = r + m @ (h_inv @ (m.T @ (w @ r)))
+    lateral = np.linalg.inv(w + uu) - uu
+    v = lateral + m @ h_inv @ m.T
+    wv = np.linalg.inv(v + uu) - uu
+    return float(r_other @ wv @ r_other)
+
+
+def fit_shared(
+    positions_mm: npt.ArrayLike,
+    inc_x_deg: npt.ArrayLike,
+    inc_y_deg: npt.ArrayLike,
+    top_face_up: npt.ArrayLike,
+    normals: npt.ArrayLike,
+    errors: gls.LineErrors,
+    wire: gls.WireTerm,
+    prior_sigma: npt.ArrayLike,
+    config: InclinometerConfig | None = None,
+    ids: Sequence[str] | None = None,
+    outlier_probability: float = tolerances.OUTLIER_PROBABILITY,
+) -> SharedFit:
+    """The CoG of one test's hangs with the shared sensor parameters (and λ) estimated jointly.
+
+    Parameters
+    ----------
+    positions_mm : array_like, shape (k, 3)
+        Nominal suspension points.
+    inc_x_deg, inc_y_deg : array_like, shape (k,)
+        Each hang's mean readings, as the device reports them.
+    top_face_up : array_like of bool, shape (k,)
+    normals : array_like, shape (k, 3)
+        Bolt axes.
+    errors : LineErrors
+        The per-hang errors (play, wire scatter, the reading's own errors).
+    wire : WireTerm
+    prior_sigma : array_like, shape (7,)
+        Prior σ of each shared parameter (0: known to be 0, not estimated).
+    config : InclinometerConfig, optional
+    ids : sequence of str, optional
+        Names of the hangs for the residuals (default their indices).
+
+    Raises
+    ------
+    cadcog.core.errors.DegenerateGeometryError
+        If the hangs do not determine the CoG, or λ is to be self-calibrated and they do not
+        determine it.
+
+    Examples
+    --------
+    Five hangs of a 100 mm cube read by a sensor with every shared error; the hangs calibrate
+    them, and the true CoG lies inside the estimate's 95 % ellipsoid:
+
+    >>> from cadcog.rig.inclinometer import sensor_readings
+    >>> g = np.array([50.0, 50.0, 40.0])
+    >>> p = np.array([[20.0, 50, 100], [100, 30, 80], [70, 0, 70], [0, 60, 90], [80, 100, 60]])
+    >>> n = np.array([[0, 0, 1.0], [1, 0, 0], [0, -1, 0], [-1, 0, 0], [0, 1, 0]])
+    >>> u = (p - g) / np.linalg.norm(p - g, axis=1)[:, None]
+    >>> x, y, top = sensor_readings(u, [0.3, -0.2, 0.01, 0, 0.4, -0.3, 0.2])
+    >>> prior = [0.2, 0.2, 0.01, 0.01, 0.3, 0.3, 0.3]
+    >>> fit = fit_shared(p, x, y, top, n, gls.LineErrors(1e-4, 1e-4, 1e-10), gls.WireTerm(), prior)
+    >>> e = fit.cog_mm - g
+    >>> bool(e @ np.linalg.solve(fit.cov_mm2, e) < 7.81), fit.calibrated.tolist()
+    (True, [True, True, True, True, True, True, True])
+    """
+    p = np.atleast_2d(np.asarray(positions_mm, dtype=float))
+    k = len(p)
+    names = [str(j) for j in range(k)] if ids is None else list(ids)
+    lines = _Lines(
+        p,
+        np.asarray(inc_x_deg, dtype=float).reshape(k),
+        np.asarray(inc_y_deg, dtype=float).reshape(k),
+        np.asarray(top_face_up, dtype=bool).reshape(k),
+        np.atleast_2d(np.asarray(normals, dtype=float)),
+        errors,
+        wire,
+        np.asarray(prior_sigma, dtype=float).reshape(7),
+        config or InclinometerConfig(),
+    )
+    if np.any(lines.prior_sigma < 0):
+        raise ValueError("prior σ of the shared sensor parameters must be non-negative")
+    with_lam, active = _layout(lines)
+    state, cov = _solve(lines, _start(lines))
+    if wire.estimate:
+        ref = float(np.trace(np.einsum("k,kij->ij", state.shape**2, state.weights))) / 2.0
+        if not state.scale_information > tolerances.WIRE_IDENTIFIABILITY * ref:
+            raise DegenerateGeometryError(
+                "the wire offset scale cannot be estimated from these suspensions together with "
+                "the shared sensor parameters: hang from points whose bolt axes are tilted from "
+                "the vertical, or drop --self-calibrate-wire"
+            )
+    shared = np.zeros(7)
+    shared_sigma = np.zeros(7)
+    off = 3 + with_lam
+    shared[active] = state.x[off:]
+    shared_sigma[active] = np.sqrt(np.diag(cov)[off:])
+    dof = 2 * k - 3 - (1 if wire.estimate else 0)
+    residuals = _residuals(lines, state, names, dof, outlier_probability)
+    return SharedFit(
+        state.x[:3].copy(),
+        cov[:3, :3].copy(),
+        float(state.x[3]) if with_lam else wire.scale_mm,
+        float(np.sqrt(cov[3, 3])) if with_lam else 0.0,
+        shared,
+        shared_sigma,
+        lines.prior_sigma.copy(),
+        state.u,
+        state.q,
+        state.chi2,
+        dof,
+        tuple(residuals),
+        state.scale_information,
+    )
+
+
+def _residuals(
+    lines: _Lines, state: _State, ids: list[str], dof: int, outlier_probability: float
+) -> list[LineResidual]:
+    """Per-line verdicts, as :func:`cadcog.method.plumblines.line_consistency` gives them."""
+    g = state.x[:3]
+    distances = [PlumbLine(i, state.q[j], state.u[j]).distance_mm(g) for j, i in enumerate(ids)]
+
+    solved: dict[tuple[int, ...], tuple[_State, FloatArray] | None] = {}
+
+    def statistic(active: list[int], i: int) -> float:
+        key = tuple(active)
+        if key not in solved:  # the joint estimate of the lines still in, once per set
+            sub = lines.take(active)
+            try:
+                st = state if len(active) == len(ids) else _solve(sub, state.x)[0]
+                solved[key] = (st, st.normal + _prior_precision(sub))
+            except DegenerateGeometryError:
+                solved[key] = None
+        found = solved[key]
+        if found is None:
+            return 0.0  # these lines do not determine an estimate: nothing to test against
+        return _loo_statistic(found[0], found[1], active.index(i))
+
+    return flag_lines(ids, distances, state.chi2, dof, statistic, outlier_probability)

@@ -1,0 +1,153 @@
+"""What one sensor shares across the hangs: its definition, its draws, and the joint estimate
+that calibrates it (cadcog.method.sharedfit)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+
+from cadcog.method import gls
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.sharedfit import fit_shared
+from cadcog.rig.inclinometer import (
+    InclinometerConfig,
+    corrected_verticals,
+    rotation_matrix,
+    sensor_readings,
+)
+
+angles = st.floats(-2.0, 2.0)
+
+
+@given(st.lists(st.floats(-30.0, 30.0), min_size=3, max_size=3))
+def test_rotation_matrix_is_scipys_rotation_of_the_same_vector(r_deg):
+    want = Rotation.from_rotvec(np.radians(r_deg)).as_matrix()
+    np.testing.assert_allclose(rotation_matrix(r_deg), want, atol=1e-12)
+
+
+@given(
+    st.floats(-0.7, 0.7),
+    st.floats(-0.7, 0.7),
+    st.booleans(),
+    st.lists(angles, min_size=2, max_size=2),
+    st.lists(st.floats(-0.05, 0.05), min_size=2, max_size=2),
+    st.lists(angles, min_size=3, max_size=3),
+    st.sampled_from([1, -1]),
+)
+def test_corrected_verticals_invert_the_sensor(ux, uy, up, offset, scale, mount, sign):
+    """Readings of a sensor with any shared errors, corrected with the same errors, give the
+    vertical back (within the sensor's range, away from the horizontal)."""
+    uz = np.sqrt(max(1.0 - ux * ux - uy * uy, 0.09)) * (1 if up else -1)
+    u = np.array([[ux, uy, uz]])
+    u /= np.linalg.norm(u)
+    shared = [*offset, *scale, *mount]
+    cfg = InclinometerConfig(sign_x=sign)
+    x, y, top = sensor_readings(u, shared, cfg)
+    np.testing.assert_allclose(corrected_verticals(x, y, top, shared, cfg).u, u, atol=1e-10)
+
+
+def test_the_sensor_reads_its_errors_as_defined():
+    """A level object (vertical along +z) read by a sensor turned 0.5° about x: X stays 0, Y
+    reads the tilt, scaled and offset."""
+    x, y, top = sensor_readings([[0.0, 0.0, 1.0]], [0.1, -0.2, 0.0, 0.02, 0.5, 0.0, 0.0])
+    assert x[0] == pytest.approx(0.1, abs=1e-12)
+    # R about +x by 0.5° turns +z towards −y: the sensor's y channel reads −0.5°.
+    assert y[0] == pytest.approx(1.02 * -0.5 - 0.2, abs=1e-9)
+    assert top[0]
+
+
+def test_shared_draws_are_within_the_figures_and_repeatable():
+    m = ErrorModel((1.0,), (10.0,), sensor_offset_deg=0.3, sensor_scale_rel=0.01,
+                   mounting_misalignment_deg=0.5)  # fmt: skip
+    a = m.sample_shared_sensor(np.random.default_rng(4), 20_000)
+    b = m.sample_shared_sensor(np.random.default_rng(4), 20_000)
+    np.testing.assert_array_equal(a, b)
+    assert np.all(np.abs(a[:2]) <= 0.3) and np.all(np.abs(a[2:4]) <= 0.01)
+    angle = np.linalg.norm(a[4:], axis=0)
+    assert np.all(angle <= 0.5 + 1e-12)
+    # uniform in angle: the mean angle is half the figure; components have the prior's σ
+    assert angle.mean() == pytest.approx(0.25, rel=0.02)
+    np.testing.assert_allclose(a.std(axis=1), m.shared_sensor_sigmas, rtol=0.03)
+
+
+def test_no_figure_draws_nothing():
+    rng = np.random.default_rng(1)
+    state = rng.bit_generator.state
+    out = ErrorModel((1.0,), (10.0,)).sample_shared_sensor(rng, 5)
+    assert not out.any() and rng.bit_generator.state == state
+
+
+def _cube_hangs():
+    g = np.array([50.0, 50.0, 40.0])
+    p = np.array([[20.0, 50, 100], [100, 30, 80], [70, 0, 70], [0, 60, 90], [80, 100, 60],
+                  [45, 70, 100]])  # fmt: skip
+    n = np.array([[0, 0, 1.0], [1, 0, 0], [0, -1, 0], [-1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    return g, p, n
+
+
+def test_without_shared_figures_it_is_the_per_hang_estimator():
+    """No shared figure, a known wire scale: the same minimum as plumb_gls (which weighs by the
+    distances of its equal-weight pass, one step short of the fixed point: ~µm)."""
+    g, p, n = _cube_hangs()
+    u = (p - g) / np.linalg.norm(p - g, axis=1)[:, None]
+    rng = np.random.default_rng(2)
+    x, y, top = sensor_readings(u, np.zeros(7))
+    x, y = x + rng.normal(0, 0.05, 6), y + rng.normal(0, 0.05, 6)
+    errors = gls.LineErrors(0.08, 0.02, np.radians(0.06) ** 2)
+    fit = fit_shared(p, x, y, top, n, errors, gls.WireTerm(), np.zeros(7))
+    uu = corrected_verticals(x, y, top, np.zeros(7)).u
+    batch = gls.plumb_gls(p.T[:, :, None], uu.T[:, :, None], n.T[:, :, None], errors,
+                          gls.WireTerm())  # fmt: skip
+    np.testing.assert_allclose(fit.cog_mm, batch.cog_mm[:, 0], atol=5e-3)
+    np.testing.assert_allclose(fit.cov_mm2, gls.sym_to_full(batch.cov_mm2[:, 0]), rtol=0.02)
+    assert not fit.shared.any() and not fit.calibrated.any()
+
+
+def test_noise_free_hangs_give_back_every_shared_error():
+    """Six hangs of exact readings from a sensor with all seven errors and a weak prior: the
+    joint estimate recovers the CoG and each error (the hangs identify all of them)."""
+    g, p, n = _cube_hangs()
+    u = (p - g) / np.linalg.norm(p - g, axis=1)[:, None]
+    truth = np.array([0.3, -0.2, 0.01, -0.008, 0.4, -0.3, 0.2])
+    x, y, top = sensor_readings(u, truth)
+    errors = gls.LineErrors(1e-8, 1e-8, 1e-14)
+    prior = np.array([5.0, 5.0, 0.1, 0.1, 5.0, 5.0, 5.0])
+    fit = fit_shared(p, x, y, top, n, errors, gls.WireTerm(), prior)
+    np.testing.assert_allclose(fit.cog_mm, g, atol=1e-5)
+    np.testing.assert_allclose(fit.shared, truth, atol=1e-5)
+    assert fit.calibrated.all()
+    d = fit.to_dict()
+    assert d["offset_x_deg"]["estimate"] == pytest.approx(0.3, abs=1e-5)
+    assert d["offset_x_deg"]["calibrated_by_hangs"] is True
+
+
+def test_two_hangs_cannot_calibrate_and_the_prior_is_carried():
+    """Two hangs leave nothing to calibrate with: the parameters keep their prior σ, and the
+    CoG's covariance grows by their share."""
+    g, p, n = _cube_hangs()
+    p, n = p[:2], n[:2]
+    u = (p - g) / np.linalg.norm(p - g, axis=1)[:, None]
+    x, y, top = sensor_readings(u, np.zeros(7))
+    errors = gls.LineErrors(0.08, 0.02, np.radians(0.06) ** 2)
+    prior = ErrorModel((1.0,), (1.0,), sensor_offset_deg=0.3).shared_sensor_sigmas
+    with_prior = fit_shared(p, x, y, top, n, errors, gls.WireTerm(), prior)
+    without = fit_shared(p, x, y, top, n, errors, gls.WireTerm(), np.zeros(7))
+    assert not with_prior.calibrated.any()
+    assert with_prior.shared_sigma[0] == pytest.approx(prior[0], rel=0.3)
+    assert np.trace(with_prior.cov_mm2) > 1.2 * np.trace(without.cov_mm2)
+
+
+def test_an_outlier_hang_is_flagged_with_shared_figures():
+    g, p, n = _cube_hangs()
+    u = (p - g) / np.linalg.norm(p - g, axis=1)[:, None]
+    x, y, top = sensor_readings(u, np.zeros(7))
+    x = x.copy()
+    x[3] += 3.0  # one hang read 3° off: no shared error explains one hang alone
+    errors = gls.LineErrors(0.08, 0.02, np.radians(0.06) ** 2)
+    prior = ErrorModel((1.0,), (1.0,), sensor_offset_deg=0.3, sensor_scale_rel=0.01,
+                       mounting_misalignment_deg=0.5).shared_sensor_sigmas  # fmt: skip
+    fit = fit_shared(p, x, y, top, n, errors, gls.WireTerm(), prior, ids=list("abcdef"))
+    assert [r.id for r in fit.residuals if r.inconsistent] == ["d"]
