@@ -44,6 +44,7 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from cadcog.cli._warn import monte_carlo_caveat
     from cadcog.spacecraft.plan import plan_test
     from cadcog.spacecraft.setup import load_setup
 
@@ -54,6 +55,7 @@ def run(args: argparse.Namespace) -> int:
             "--max-inertia-set must be at least 3 (six entries, two frequencies a hang)"
         )
     setup = load_setup(args.setup)
+    monte_carlo_caveat(setup.error_model())
     plan = plan_test(setup, trials=args.trials, max_set=args.max_set, seed=args.seed)
     inertia = None
     if args.goal != "cog":
