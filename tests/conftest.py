@@ -6,13 +6,26 @@ loadfile`` in pyproject's addopts; :func:`pytest_xdist_make_scheduler`).
 
 from __future__ import annotations
 
-from pathlib import Path
+import os
+import sys
 
-import pytest
-from hypothesis import settings
+# The suite's BLAS runs on one thread, as the console command's does (cadcog.cli.console_main):
+# its matrices are small and pytest-xdist already runs a worker per core, so BLAS pools would only
+# oversubscribe the CPUs (a loaded run once spent minutes so). Set before numpy is first imported
+# (which is here, in every worker; tests/test_imports.py fails if a plugin ever imports it first).
+from cadcog.cli import BLAS_THREAD_VARIABLES
 
-from cadcog.rig.file import default_rig_path, load_rig
-from cadcog.rig.parameters import Rig
+for _name in BLAS_THREAD_VARIABLES:
+    os.environ.setdefault(_name, "1")
+NUMPY_WAS_IMPORTED_FIRST = "numpy" in sys.modules
+
+from pathlib import Path  # noqa: E402
+
+import pytest  # noqa: E402
+from hypothesis import settings  # noqa: E402
+
+from cadcog.rig.file import default_rig_path, load_rig  # noqa: E402
+from cadcog.rig.parameters import Rig  # noqa: E402
 
 # The README's test command runs the same examples on every run and every machine, in CI or
 # not (a red run is then a real regression, never a lucky draw; the examples are those of the

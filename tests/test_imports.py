@@ -76,3 +76,14 @@ def test_the_normal_cdf_without_scipy_is_scipys():
     assert np.max(np.abs(ours - theirs)) <= 2.3e-16  # two steps of a double near 1
     tail = theirs > 0
     assert np.max(np.abs(ours[tail] / theirs[tail] - 1)) <= 1e-13  # and relative in the tails
+
+
+def test_the_suites_blas_is_set_to_one_thread_before_numpy_loads():
+    """tests/conftest.py sets the BLAS thread variables before numpy's first import, in this
+    worker too: a pool per worker would oversubscribe the CPUs pytest-xdist already fills."""
+    import os
+
+    from tests import conftest
+
+    assert not conftest.NUMPY_WAS_IMPORTED_FIRST
+    assert all(os.environ.get(name) for name in conftest.BLAS_THREAD_VARIABLES)
