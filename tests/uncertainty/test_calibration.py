@@ -58,10 +58,11 @@ def _check_coverage(d2, conservative=False):
     ("names", "conservative"),
     [
         (("S1", "S2", "S3", "S4", "S5", "S6"), False),
-        (("S1", "S3", "S5"), False),
-        # Two hangs cannot determine the one wire's scale λ: its prior carries it, and the
-        # prior's σ (half the bound, so that a string and the stiffest wire both lie within
-        # 1 σ) is wider than the uniform draw's (bound/√12): the ellipsoids are then larger.
+        # Three hangs, and two, cannot determine the one wire's scale λ well: its prior
+        # carries it, and the prior's σ (half the bound, so that a string and the stiffest wire
+        # both lie within 1 σ) is wider than the uniform draw's (bound/√12): the ellipsoids are
+        # then larger (97.3 % and 98.7 % over 2000 campaigns, docs/estimate.md).
+        (("S1", "S3", "S5"), True),
         (("S1", "S2"), True),
     ],
 )
@@ -105,7 +106,7 @@ def test_cubesat_ellipsoids_cover_and_plan_comes_true(cubesat_setup):
         BodyBox(lo, hi, "setup"),
         setup.mass.cog_mm,
     )
-    _check_coverage(d2)
+    _check_coverage(d2, conservative=True)  # the one wire's prior, as for S1+S2 (97.8 %)
     # The realised 95 % quantile's 99.9 % order-statistic interval must hold the prediction.
     k_lo, k_hi = stats.binom.ppf([0.0005, 0.9995], N, 0.95).astype(int)
     srt = np.sort(norms)
