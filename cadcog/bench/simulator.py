@@ -34,6 +34,7 @@ from cadcog.bench.pendulum import SwingModes, swing_modes, swing_verticals
 from cadcog.bench.protocol import Header, format_header, format_sample
 from cadcog.bench.target import BenchTarget
 from cadcog.core.units import rad_to_deg
+from cadcog.rig.inclinometer import sensor_readings
 from cadcog.uncertainty.montecarlo import draw_perturbations, hang
 
 #: ``deg_per_lsb`` of the Murata SCL3300's angle outputs: angle = raw / 2¹⁴ × 90°.
@@ -154,6 +155,11 @@ class SimulatedDevice:
         self.assembly = target.assembly
         # One physical ME: its CoG error is drawn once.
         self.me_error_mm = self.model.sample_me_errors(self.rng, 1)  # (3, 1)
+        # One wire and one sensor for the whole test, like the ME: drawn once, from a stream of
+        # their own (spawned: the device's other draws are as they were).
+        test_rng = self.rng.spawn(1)[0]
+        self.wire = self.model.sample_wire(test_rng, 1, 1)  # per hang for the paper's model
+        self.shared_sensor = self.model.sample_shared_sensor(test_rng, 1)[:, 0]
         self.time_s = float(self.rng.uniform(1.0, 5.0))  # the device has been on for a while
         self._seq = int(self.rng.integers(0, 1000))
         self._next_sample_s = self.time_s
@@ -202,6 +208,8 @@ class SimulatedDevice:
         model = self.model.only("point_play", "wire_offset")
         pert = draw_perturbations(model, self.rng, 1, 1)
         pert = replace(pert, me_mm=self.me_error_mm)
+        if self.model.wire_model != "paper":  # one wire: the same on every hang
+            pert = replace(pert, wire=self.wire)
         scenario = self.scenario
         slipped = self._attempts in s.slipped_hangs
         if slipped:
@@ -239,7 +247,11 @@ class SimulatedDevice:
         return self._next_sample_s
 
     def _angles(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Device readings (degrees, configured signs) of upward verticals (n, 3)."""
+        """Device readings (degrees, configured signs) of upward verticals (n, 3), with the
+        sensor's shared errors when the model declares them."""
+        if self.model.has_shared_sensor:
+            sx, sy, _ = sensor_readings(u, self.shared_sensor, self.config)
+            return sx, sy
         x = rad_to_deg(np.arcsin(np.clip(u[:, 0], -1, 1))) * self.config.sign_x
         y = rad_to_deg(np.arcsin(np.clip(u[:, 1], -1, 1))) * self.config.sign_y
         return x, y

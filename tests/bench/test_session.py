@@ -249,3 +249,22 @@ def test_each_recorded_hang_keeps_its_swing_and_the_swings_give_the_inertia(
     r = inertia_for_rig(pivot, swings, read_readings(out, paper_target.inclinometer))
     d = entries(r.inertia_kg_mm2) - entries(paper_rig.analytic_proof_mass.inertia_kg_mm2)
     assert float(d @ np.linalg.solve(r.cov_kg2_mm4, d)) < 22.5  # χ²(6) at 99.9 %
+
+
+@pytest.mark.parametrize(("wire_model", "same"), [("one-wire", True), ("paper", False)])
+def test_the_device_hangs_every_hang_from_one_wire(paper_rig, wire_model, same):
+    """The simulated device draws its wire once per test, as a lab has one wire: hung twice
+    from the same point without play, the object hangs the same way (the paper's model, an
+    offset per hang, is the negative control)."""
+    from dataclasses import replace
+
+    from cadcog.bench.target import target_from_rig
+
+    options = replace(paper_rig.error_options, wire_model=wire_model, play_mm=0.0)
+    device = SimulatedDevice(
+        target_from_rig(replace(paper_rig, error_options=options)), DeviceSpec(), FAST, seed=3
+    )
+    device.hang(0)
+    first = device.truth.vertical.copy()
+    device.hang(0)
+    assert np.allclose(device.truth.vertical, first, atol=1e-12) is same
