@@ -2,10 +2,10 @@
 without per-sample ADC quantisation (issue 19, item 5).
 
 The campaigns come from :mod:`tests.validation.rig_campaigns`, written from the documented physics
-without cadcog's campaign, Monte Carlo or error-model code: ME cubes drawn once per campaign,
-suspension play and wire offset per hang, an inclinometer bias per hang, Gaussian noise per
-sample and (when quantised) the 10-bit ADC per sample (noise 0.05° against a 0.146° step: partial
-dither).
+without cadcog's campaign, Monte Carlo or error-model code: ME cubes and the one wire's offset
+scale drawn once per campaign, suspension play per hang, an inclinometer bias per hang,
+Gaussian noise per sample and (when quantised) the 10-bit ADC per sample (noise 0.05° against a
+0.146° step: partial dither).
 
 Part 1, the command's path: each campaign is written as a readings CSV (counts, or degrees when
 unquantised), read back by :func:`cadcog.method.readings.read_readings` and validated by

@@ -25,8 +25,9 @@ def add_parser(sub: Any) -> None:
         help="simulate the paper's experiment as a lab would record it (readings CSV)",
         description="One hang per suspension point of the rig, drawn from the rig's error model "
         "(the one every command uses): N raw ADC samples per axis with sensor noise and "
-        "quantisation, the inclinometer's bias and the suspension point's play and wire offset "
-        "drawn once per hang. See docs/validation.md.",
+        "quantisation, the inclinometer's bias and the suspension point's play drawn once per "
+        "hang, the wire's offset (one wire), the sensor's shared errors (one sensor) and the "
+        "ME's CoG once per campaign. See docs/validation.md.",
     )
     p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
     p.add_argument("--seed", type=int, default=0, help="seed (default 0)")

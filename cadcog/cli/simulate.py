@@ -12,7 +12,6 @@ from cadcog.cli._warn import monte_carlo_caveat
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
 from cadcog.core.jsontext import dumps_json
-from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
 from cadcog.uncertainty.random_points import SimulationReport
@@ -102,8 +101,6 @@ def run(args: argparse.Namespace) -> int:
             )
         refuse_overwriting_inputs(args.plot, {"--rig": args.rig})
     rig = load_rig(args.rig or default_rig_path())
-    if not args.paper:
-        monte_carlo_caveat(ErrorModel.from_rig(rig))
     if args.points == 1:
         raise CadcogError("--points 1: give 0 (the rig's own points) or at least 2")
     if args.paper and args.self_calibrate_wire:
@@ -140,6 +137,7 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
+    monte_carlo_caveat(report.model)  # the model the simulation ran (the paper's has no caveat)
     if args.plot is not None:
         from cadcog.reports.plots import error_histogram
 
