@@ -380,7 +380,9 @@ def staged_output_dir(out_dir: str | Path) -> Iterator[Path]:
             stage: Path | None = None
             try:
                 # Made and named with SIGINT/SIGTERM held: a signal that arrives as the folder
-                # is made is delivered once ``stage`` names it, so the ``finally`` removes it.
+                # is made is delivered once ``stage`` names it, so the ``finally`` removes it
+                # (where a handler raises, as the command's do; the default action ends the
+                # process at once, with no clean-up possible).
                 with _signals_held():
                     try:
                         stage = Path(
@@ -528,8 +530,18 @@ def _signals_held() -> Iterator[None]:
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
-        for pending in noted:
-            signal.raise_signal(pending)
+        _deliver(noted)
+
+
+def _deliver(pending: list[int]) -> None:
+    """Raise each of ``pending`` in turn, each even if the handler of the one before raised (the
+    last one's exception is the one that propagates, the others chained to it)."""
+    if not pending:
+        return
+    try:
+        signal.raise_signal(pending[0])
+    finally:
+        _deliver(pending[1:])
 
 
 def _move_in(stage: Path, real: Path, produced: list[Path]) -> None:

@@ -465,6 +465,28 @@ def _joint_with_shared_sensor(
                 f"{fit.scale_sigma_mm:.2f} mm"
             )
         wire_scale = WireScale(fit.scale_mm, fit.scale_sigma_mm, wire.estimate, wire.scale_mm)
+    near = np.sin(np.radians(mdl.mounting_misalignment_deg))
+    for s, u in zip(suspensions, fit.verticals, strict=True):
+        if near > 0 and abs(u[2]) < near:
+            warnings.append(
+                f"suspension {s.id}: its vertical lies within the sensor's mounting angle "
+                f"({mdl.mounting_misalignment_deg:g}°) of the horizontal, where which way up the "
+                "sensor reads is ambiguous; hang it from a point whose vertical is steeper"
+            )
+    bounds = np.array([mdl.sensor_offset_deg] * 2 + [mdl.sensor_scale_rel] * 2)
+    beyond = [
+        f"{name} = {fit.shared[j]:+.3g}"
+        for j, name in enumerate(SHARED_SENSOR_PARAMETERS[:4])
+        if bounds[j] > 0 and abs(fit.shared[j]) > bounds[j]
+    ]
+    angle = float(np.linalg.norm(fit.shared[4:]))
+    if mdl.mounting_misalignment_deg > 0 and angle > mdl.mounting_misalignment_deg:
+        beyond.append(f"mounting {angle:.3g}°")
+    if beyond:
+        warnings.append(
+            f"the fit puts the sensor's {', '.join(beyond)} beyond its declared figures: a hang "
+            "is probably wrong (look at the flagged ones), or the figures are too small"
+        )
     lines = [PlumbLine(s.id, fit.points_mm[j], fit.verticals[j]) for j, s in enumerate(suspensions)]
     pairs, skipped = pair_diagnostics(lines, min_angle_deg)
     joint = JointEstimate(

@@ -216,7 +216,9 @@ def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _St
             down[j] -= h
             du[:, :, c] = (_verticals(lines, up) - _verticals(lines, down)) / (2.0 * h)
         cols.append(-along[:, None, None] * du)
-    design = np.concatenate(cols, axis=2)
+    # Every column on the plane ⊥ uᵢ, where the residual and the weights live (a finite
+    # difference of a strongly corrected vertical is not exactly ⊥ uᵢ).
+    design = np.einsum("kij,kjm->kim", proj, np.concatenate(cols, axis=2))
     normal = np.einsum("kai,kab,kbj->ij", design, w, design)
     chi2 = float(np.einsum("ka,kab,kb->", r, w, r))
     info = 0.0
@@ -314,7 +316,7 @@ def _loo_statistic(state: _State, hessian: FloatArray, local: int) -> float:
     lateral = np.linalg.inv(w + uu) - uu
     v = lateral + m @ h_inv @ m.T
     wv = np.linalg.inv(v + uu) - uu
-    return float(r_other @ wv @ r_other)
+    return max(float(r_other @ wv @ r_other), 0.0)
 
 
 def fit_shared(

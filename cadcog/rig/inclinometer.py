@@ -260,7 +260,10 @@ def corrected_verticals(
     """Body-frame upward verticals from readings of a sensor with shared errors ``shared``.
 
     The inverse of :func:`sensor_readings`: offsets and sensitivities removed, eq. 2 in the
-    sensor's axes, then turned into the object's.
+    sensor's axes (the sign of its z from ``top_face_up``), then turned into the object's. Within
+    the mounting angle of the horizontal (the object's z and the sensor's of opposite signs) two
+    verticals read alike and the one whose sensor z has the flag's sign is returned: such a hang
+    is ambiguous (``cadcog estimate`` warns).
 
     Examples
     --------

@@ -138,6 +138,41 @@ def test_a_signal_as_the_staging_is_made_leaves_nothing_behind(tmp_path, monkeyp
     assert list(tmp_path.iterdir()) == []
 
 
+class _Interrupted(Exception):
+    pass
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+def test_two_held_signals_are_both_delivered():
+    """SIGINT and SIGTERM both arrive while held: each handler runs when the block ends, the
+    second even though the first raised (the last one's exception propagates)."""
+    from cadcog.core.fileio import _signals_held
+
+    ran: list[str] = []
+
+    def on_int(signum, frame):
+        ran.append("int")
+        raise _Interrupted
+
+    def on_term(signum, frame):
+        ran.append("term")
+        raise _Terminated
+
+    previous = {signal.SIGINT: signal.signal(signal.SIGINT, on_int),
+                signal.SIGTERM: signal.signal(signal.SIGTERM, on_term)}  # fmt: skip
+    try:
+        with pytest.raises(_Terminated) as info:
+            with _signals_held():
+                os.kill(os.getpid(), signal.SIGINT)
+                os.kill(os.getpid(), signal.SIGTERM)
+                ran.append("body")
+        assert isinstance(info.value.__context__, _Interrupted)
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+    assert ran == ["body", "int", "term"]
+
+
 def test_outputs_never_replace_a_file_the_command_read(tmp_path):
     """Inside guarding_inputs, a file noted as read is refused as an output, whatever the name
     it is reached by (here through a folder and ``..``), and nothing of the output is moved."""

@@ -151,3 +151,31 @@ def test_an_outlier_hang_is_flagged_with_shared_figures():
                        mounting_misalignment_deg=0.5).shared_sensor_sigmas  # fmt: skip
     fit = fit_shared(p, x, y, top, n, errors, gls.WireTerm(), prior, ids=list("abcdef"))
     assert [r.id for r in fit.residuals if r.inconsistent] == ["d"]
+
+
+def test_a_wild_hang_under_wide_figures_gives_finite_verdicts_and_says_so(tmp_path, capsys):
+    """Three hangs, one read ~10° off, under the widest figures the rig file accepts: the fit
+    drives a sensitivity far beyond its figure; the verdicts stay finite (the design lives on
+    the plane ⊥ u) and the command says the shared parameters left their figures (an audit's
+    case: it once wrote NaN)."""
+    import json
+
+    from cadcog.cli import main
+    from tests.rigtools import paper_rig_dict, write_csv, write_rig
+
+    data = paper_rig_dict()
+    data["inclinometer"].update(offset_deg=5.0, scale_error_rel=0.2, mounting_misalignment_deg=10.0)
+    rig = write_rig(tmp_path / "wide.toml", data)
+    csv = write_csv(
+        tmp_path / "r.csv",
+        [
+            "S5,55.000,-4.000,60.000,-45.0879,-34.1748,true",
+            "S1,45.000,20.000,82.000,-53.2484,-24.1407,true",
+            "S4,140.000,15.000,-4.000,45.0000,-22.2803,false",
+        ],
+    )
+    assert main(["estimate", str(csv), "--rig", str(rig), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert all(np.isfinite(s["residual_sigma"]) for s in out["suspensions"])
+    assert any(s["inconsistent"] for s in out["suspensions"])
+    assert any("beyond its declared figures" in w for w in out["warnings"])
