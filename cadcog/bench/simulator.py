@@ -33,7 +33,6 @@ import numpy as np
 from cadcog.bench.pendulum import SwingModes, swing_modes, swing_verticals
 from cadcog.bench.protocol import Header, format_header, format_sample
 from cadcog.bench.target import BenchTarget
-from cadcog.core.units import rad_to_deg
 from cadcog.rig.inclinometer import sensor_readings
 from cadcog.uncertainty.montecarlo import draw_perturbations, hang
 
@@ -158,7 +157,7 @@ class SimulatedDevice:
         # One wire and one sensor for the whole test, like the ME: drawn once, from a stream of
         # their own (spawned: the device's other draws are as they were).
         test_rng = self.rng.spawn(1)[0]
-        self.wire = self.model.sample_wire(test_rng, 1, 1)  # per hang for the paper's model
+        self.wire = self.model.sample_wire(test_rng, 1, 1)  # unused by the paper's per-hang model
         self.shared_sensor = self.model.sample_shared_sensor(test_rng, 1)[:, 0]
         self.time_s = float(self.rng.uniform(1.0, 5.0))  # the device has been on for a while
         self._seq = int(self.rng.integers(0, 1000))
@@ -248,12 +247,8 @@ class SimulatedDevice:
 
     def _angles(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Device readings (degrees, configured signs) of upward verticals (n, 3), with the
-        sensor's shared errors when the model declares them."""
-        if self.model.has_shared_sensor:
-            sx, sy, _ = sensor_readings(u, self.shared_sensor, self.config)
-            return sx, sy
-        x = rad_to_deg(np.arcsin(np.clip(u[:, 0], -1, 1))) * self.config.sign_x
-        y = rad_to_deg(np.arcsin(np.clip(u[:, 1], -1, 1))) * self.config.sign_y
+        sensor's shared errors (zeros when the model declares none)."""
+        x, y, _ = sensor_readings(u, self.shared_sensor, self.config)
         return x, y
 
     def _readings(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

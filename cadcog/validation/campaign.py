@@ -21,7 +21,6 @@ from pathlib import Path
 import numpy as np
 
 from cadcog.core.fileio import staged_file
-from cadcog.core.units import rad_to_deg
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.readings import (
     COUNT_COLUMNS,
@@ -65,21 +64,16 @@ def simulated_readings(
     # One sensor for the whole campaign: its offsets, sensitivities and mounting drawn once
     # (nothing is drawn when the model declares none).
     shared = model.sample_shared_sensor(rng, 1)[:, 0]
-    if model.has_shared_sensor:
-        seen_x, seen_y, _ = sensor_readings(u.T, shared, inclinometer)
+    # What the device reports for each true vertical, before its per-hang errors (its signs).
+    seen_x, seen_y, _ = sensor_readings(u.T, shared, inclinometer)
     sensor = inclinometer.sensor
     a = model.accuracy_deg if "inclinometer" in model.sources else 0.0
     noise = model.sensor_noise_deg if "inclinometer" in model.sources else 0.0
     n = model.samples
     per_sample = model.inclinometer_model == "paper-averaged"
-    signs = np.array([inclinometer.sign_x, inclinometer.sign_y])
     rows = []
     for j, pid in enumerate(scenario.ids):
-        # What the device reports for the true vertical, then its errors (in its own signs).
-        if model.has_shared_sensor:
-            true_deg = np.array([seen_x[j], seen_y[j]])
-        else:
-            true_deg = rad_to_deg(np.arcsin(np.clip(u[:2, j], -1, 1))) * signs
+        true_deg = np.array([seen_x[j], seen_y[j]])
         bias = rng.uniform(-a, a, (n, 2) if per_sample else 2)
         noisy = true_deg + bias + rng.normal(0.0, noise, (n, 2))
         counts = np.clip(np.floor(sensor.deg_to_counts(noisy) + 0.5), 0, sensor.max_counts)
