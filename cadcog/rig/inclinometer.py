@@ -213,6 +213,15 @@ def rotation_matrix(rotation_deg: npt.ArrayLike) -> FloatArray:
     return np.asarray(np.eye(3) + np.sin(angle) * kx + (1.0 - np.cos(angle)) * (kx @ kx))
 
 
+def _turn(v: FloatArray, rotation: FloatArray) -> FloatArray:
+    """``rotation @ vᵢ`` for each row of ``v`` (n, 3), element-wise: no BLAS call, which would
+    start its thread pool and allocate its buffers (under a memory limit OpenBLAS aborts the
+    process instead of raising), and with the identity every vector comes back to the bit."""
+    return np.asarray(
+        v[:, 0:1] * rotation[:, 0] + v[:, 1:2] * rotation[:, 1] + v[:, 2:3] * rotation[:, 2]
+    )
+
+
 def sensor_readings(
     u: npt.ArrayLike, shared: npt.ArrayLike, config: InclinometerConfig | None = None
 ) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_]]:
@@ -245,7 +254,7 @@ def sensor_readings(
     cfg = config or InclinometerConfig()
     b = np.asarray(shared, dtype=float)
     v = np.atleast_2d(np.asarray(u, dtype=float))
-    seen = v @ rotation_matrix(b[4:7]).T
+    seen = _turn(v, rotation_matrix(b[4:7]))
     x, y, _ = readings_from_verticals(seen, cfg)
     return (1.0 + b[2]) * x + b[0], (1.0 + b[3]) * y + b[1], v[:, 2] > 0.0
 
@@ -277,4 +286,4 @@ def corrected_verticals(
     x = (np.atleast_1d(np.asarray(inc_x_deg, dtype=float)) - b[0]) / (1.0 + b[2])
     y = (np.atleast_1d(np.asarray(inc_y_deg, dtype=float)) - b[1]) / (1.0 + b[3])
     seen = verticals_from_readings(x, y, top_face_up, config)
-    return Verticals(np.asarray(seen.u @ rotation_matrix(b[4:7])), seen.normalized)
+    return Verticals(_turn(seen.u, rotation_matrix(b[4:7]).T), seen.normalized)
