@@ -409,7 +409,13 @@ def _joint(
     _check_normal_matrix(gls.sym_to_full(batch.weights.sum(axis=1))[0])
     wire_scale = None
     if has_body and (wire.scale_mm or wire.estimate):
-        wire_scale = _wire_scale(batch, wire, warnings)
+        wire_scale = _wire_scale(
+            float(batch.scale_mm[0]),
+            float(batch.scale_var_mm2[0]),
+            bool(gls.scale_identifiable(batch)[0]),
+            wire,
+            warnings,
+        )
     virtual = batch.points_mm
     lines = [PlumbLine(s.id, virtual[:, j, 0], u[:, j, 0]) for j, s in enumerate(suspensions)]
     pairs, skipped = pair_diagnostics(lines, min_angle_deg)
@@ -459,12 +465,9 @@ def _joint_with_shared_sensor(
     _check_normal_matrix(np.asarray(np.linalg.inv(fit.cov_mm2), dtype=float))
     wire_scale = None
     if has_body and (wire.scale_mm or wire.estimate):
-        if wire.estimate and fit.scale_sigma_mm > max(wire.scale_mm, 0.1):
-            warnings.append(
-                f"wire scale poorly determined: λ = {fit.scale_mm:.2f} ± "
-                f"{fit.scale_sigma_mm:.2f} mm"
-            )
-        wire_scale = WireScale(fit.scale_mm, fit.scale_sigma_mm, wire.estimate, wire.scale_mm)
+        wire_scale = _wire_scale(
+            fit.scale_mm, fit.scale_sigma_mm**2, fit.scale_identified, wire, warnings
+        )
     near = np.sin(np.radians(mdl.mounting_misalignment_deg))
     for s, u in zip(suspensions, fit.verticals, strict=True):
         if near > 0 and abs(u[2]) < near:
@@ -528,24 +531,28 @@ def _reading_warnings(
     return warnings
 
 
-def _wire_scale(batch: gls.GLSBatch, wire: gls.WireTerm, warnings: list[str]) -> WireScale:
-    """The wire scale of an estimate; raises if self-calibration cannot determine it."""
+def _wire_scale(
+    scale_mm: float,
+    var_mm2: float,
+    identified: bool,
+    wire: gls.WireTerm,
+    warnings: list[str],
+) -> WireScale:
+    """The wire scale of an estimate (λ, its variance, whether the lines determine it); raises
+    if self-calibration cannot determine it."""
     if wire.estimate:
-        if not gls.scale_identifiable(batch)[0]:
+        if not identified:
             raise DegenerateGeometryError(
                 "the wire offset scale cannot be estimated from these suspensions: the bolt "
                 "axes lie (nearly) along their verticals, or the CoG can absorb the offsets, so "
                 "a wire offset does not change the plumb lines' meeting; hang from points whose "
                 "bolt axes are tilted from the vertical, or drop --self-calibrate-wire"
             )
-        sigma = float(np.sqrt(batch.scale_var_mm2[0]))
+        sigma = float(np.sqrt(var_mm2))
         if sigma > max(wire.scale_mm, 0.1):
-            warnings.append(
-                f"wire scale poorly determined: λ = {batch.scale_mm[0]:.2f} ± {sigma:.2f} mm"
-            )
-        return WireScale(float(batch.scale_mm[0]), sigma, True, wire.scale_mm)
-    sigma = float(np.sqrt(max(float(batch.scale_var_mm2[0]), 0.0)))
-    return WireScale(float(batch.scale_mm[0]), sigma, False, wire.scale_mm)
+            warnings.append(f"wire scale poorly determined: λ = {scale_mm:.2f} ± {sigma:.2f} mm")
+        return WireScale(scale_mm, sigma, True, wire.scale_mm)
+    return WireScale(scale_mm, float(np.sqrt(max(var_mm2, 0.0))), False, wire.scale_mm)
 
 
 def estimate_for_rig(

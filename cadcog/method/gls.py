@@ -444,8 +444,17 @@ def scale_identifiable(batch: GLSBatch) -> npt.NDArray[np.bool_]:
     offsets all move the lines alike).
     """
     w = np.asarray(batch.weights)
-    ref = (batch.shape**2 * (w[0] + w[1] + w[2])).sum(axis=0) / 2.0
-    return np.asarray(batch.scale_information > tolerances.WIRE_IDENTIFIABILITY * ref)
+    return wire_scale_identified(batch.scale_information, batch.shape, w[0] + w[1] + w[2])
+
+
+def wire_scale_identified(
+    information: npt.ArrayLike, shape: npt.ArrayLike, weight_traces: npt.ArrayLike
+) -> npt.NDArray[np.bool_]:
+    """The criterion of :func:`scale_identifiable`, from its parts: the information on λ
+    (1/mm²), each line's wire shape ``fᵢ`` and the trace of its weight ``Wᵢ``, lines along the
+    first axis."""
+    ref = (np.asarray(shape) ** 2 * np.asarray(weight_traces)).sum(axis=0) / 2.0
+    return np.asarray(np.asarray(information) > tolerances.WIRE_IDENTIFIABILITY * ref)
 
 
 def equal_weight_point(points_mm: Comp, u: Comp) -> FloatArray:

@@ -87,6 +87,9 @@ class SharedFit:
     residuals : tuple of LineResidual
     scale_information : float
         What the lines say about λ once everything else is free (1/mm²; 0: nothing).
+    scale_identified : bool
+        Whether that determines λ (:func:`cadcog.method.gls.wire_scale_identified`): what
+        self-calibrating the wire needs. False when λ is not an unknown.
     """
 
     cog_mm: FloatArray
@@ -102,6 +105,7 @@ class SharedFit:
     dof: int
     residuals: tuple[LineResidual, ...]
     scale_information: float
+    scale_identified: bool
 
     @property
     def calibrated(self) -> npt.NDArray[np.bool_]:
@@ -269,9 +273,15 @@ def _solve(lines: _Lines, start: FloatArray) -> tuple[_State, FloatArray]:
         try:
             step = -np.linalg.solve(total, grad)
         except np.linalg.LinAlgError:
+            why = "the plumb lines are parallel or nearly so"
+            if lines.wire.estimate:
+                why += (
+                    ", or a CoG shift absorbs the self-calibrated wire offsets (hang from "
+                    "points on two faces or more, or drop --self-calibrate-wire)"
+                )
             raise DegenerateGeometryError(
                 "the suspensions do not determine the CoG with the shared sensor parameters "
-                "(the plumb lines are parallel or nearly so)"
+                f"({why})"
             ) from None
         x = x + step
         if np.all(np.abs(step[:3]) < STEP_TOL_MM) and np.all(np.abs(step[3:]) < 1e-6 * scale[3:]):
@@ -355,8 +365,8 @@ def fit_shared(
     Raises
     ------
     cadcog.core.errors.DegenerateGeometryError
-        If the hangs do not determine the CoG, or λ is to be self-calibrated and they do not
-        determine it.
+        If the hangs do not determine the CoG. (Whether they determine λ is
+        :attr:`SharedFit.scale_identified`.)
 
     Examples
     --------
@@ -393,14 +403,11 @@ def fit_shared(
         raise ValueError("prior σ of the shared sensor parameters must be non-negative")
     with_lam, active = _layout(lines)
     state, cov = _solve(lines, _start(lines))
-    if wire.estimate:
-        ref = float(np.trace(np.einsum("k,kij->ij", state.shape**2, state.weights))) / 2.0
-        if not state.scale_information > tolerances.WIRE_IDENTIFIABILITY * ref:
-            raise DegenerateGeometryError(
-                "the wire offset scale cannot be estimated from these suspensions together with "
-                "the shared sensor parameters: hang from points whose bolt axes are tilted from "
-                "the vertical, or drop --self-calibrate-wire"
-            )
+    identified = with_lam and bool(
+        gls.wire_scale_identified(
+            state.scale_information, state.shape, np.trace(state.weights, axis1=1, axis2=2)
+        )
+    )
     shared = np.zeros(7)
     shared_sigma = np.zeros(7)
     off = 3 + with_lam
@@ -422,6 +429,7 @@ def fit_shared(
         dof,
         tuple(residuals),
         state.scale_information,
+        identified,
     )
 
 
