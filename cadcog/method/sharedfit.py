@@ -208,9 +208,9 @@ def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _St
     proj = np.eye(3) - u[:, :, None] * u[:, None, :]
     r = np.einsum("kij,kj->ki", proj, d)
     along = np.einsum("ki,ki->k", u, d)  # Lᵢ, signed
-    cols = [np.broadcast_to(proj, (k, 3, 3))]
+    cols = [np.broadcast_to(np.eye(3), (k, 3, 3))]
     if with_lam:
-        cols.append(-(shape[:, None] * np.einsum("kij,kj->ki", proj, lines.n))[:, :, None])
+        cols.append(-(shape[:, None] * lines.n)[:, :, None])
     if len(active):
         steps = JACOBIAN_STEP * lines.prior_sigma[active]
         du = np.empty((k, 3, len(active)))
@@ -220,8 +220,9 @@ def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _St
             down[j] -= h
             du[:, :, c] = (_verticals(lines, up) - _verticals(lines, down)) / (2.0 * h)
         cols.append(-along[:, None, None] * du)
-    # Every column on the plane ⊥ uᵢ, where the residual and the weights live (a finite
-    # difference of a strongly corrected vertical is not exactly ⊥ uᵢ).
+    # ∂(G − qᵢ)/∂x, then every column on the plane ⊥ uᵢ, where the residual and the weights
+    # live (once, here: a finite difference of a strongly corrected vertical is not exactly
+    # ⊥ uᵢ either).
     design = np.einsum("kij,kjm->kim", proj, np.concatenate(cols, axis=2))
     normal = np.einsum("kai,kab,kbj->ij", design, w, design)
     chi2 = float(np.einsum("ka,kab,kb->", r, w, r))
