@@ -30,7 +30,7 @@ propagated, the worst significant line set aside at a time
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import numpy.typing as npt
@@ -174,6 +174,7 @@ class _State:
     design: FloatArray  # (k, 3, m): ∂rᵢ/∂x
     weights: FloatArray  # (k, 3, 3)
     scale_information: float
+    residuals: FloatArray  # (k, 3): rᵢ = (I − uᵢuᵢᵀ)(G − qᵢ)
 
 
 def _layout(lines: _Lines) -> tuple[bool, npt.NDArray[np.intp]]:
@@ -240,7 +241,7 @@ def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _St
             info = float(normal[lam_col, lam_col] - cross @ np.linalg.solve(others, cross))
         except np.linalg.LinAlgError:
             info = 0.0  # G is not determined without λ's prior: nothing said about λ alone
-    return _State(x, normal, chi2, u, q, shape, design, w, max(info, 0.0))
+    return _State(x, normal, chi2, u, q, shape, design, w, max(info, 0.0), r)
 
 
 def _prior_precision(lines: _Lines, *, exclude_lam: bool = False) -> FloatArray:
@@ -268,8 +269,7 @@ def _solve(lines: _Lines, start: FloatArray) -> tuple[_State, FloatArray]:
     x = start.copy()
     for _ in range(MAX_ITERATIONS):
         st = _evaluate(lines, x)
-        r = np.einsum("kij,kj->ki", np.eye(3) - st.u[:, :, None] * st.u[:, None, :], x[:3] - st.q)
-        grad = np.einsum("kai,kab,kb->i", st.design, st.weights, r) + prec @ (x - mean)
+        grad = np.einsum("kai,kab,kb->i", st.design, st.weights, st.residuals) + prec @ (x - mean)
         total = st.normal + prec
         try:
             step = -np.linalg.solve(total, grad)
@@ -291,9 +291,7 @@ def _solve(lines: _Lines, start: FloatArray) -> tuple[_State, FloatArray]:
     total = st.normal + prec
     cov = np.asarray(np.linalg.inv(total), dtype=float)
     dx = x - mean
-    chi2 = st.chi2 + float(dx @ prec @ dx)
-    return _State(x, st.normal, chi2, st.u, st.q, st.shape, st.design, st.weights,
-                  st.scale_information), cov  # fmt: skip
+    return replace(st, chi2=st.chi2 + float(dx @ prec @ dx)), cov
 
 
 def _start(lines: _Lines) -> FloatArray:
@@ -315,8 +313,7 @@ def _loo_statistic(state: _State, hessian: FloatArray, local: int) -> float:
     """
     u = state.u[local]
     uu = np.outer(u, u)
-    m, w = state.design[local], state.weights[local]
-    r = (np.eye(3) - uu) @ (state.x[:3] - state.q[local])
+    m, w, r = state.design[local], state.weights[local], state.residuals[local]
     try:
         h_inv = np.linalg.inv(hessian - m.T @ w @ m)
     except np.linalg.LinAlgError:
