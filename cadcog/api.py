@@ -24,11 +24,12 @@ True
 
 from __future__ import annotations
 
+import functools
 import numbers
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
 from cadcog.core.arguments import check_choice, check_text
 from cadcog.core.errors import CadcogError
@@ -44,6 +45,28 @@ if TYPE_CHECKING:
     from cadcog.spacecraft.update import UpdateResult
     from cadcog.uncertainty.random_points import SimulationReport
     from cadcog.validation.verification import CampaignValidation
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _one_blas_thread(function: _F) -> _F:
+    """Run ``function`` with the BLAS libraries' thread pools limited to one thread, as the
+    console command runs (:data:`cadcog.cli.BLAS_THREAD_VARIABLES`): cadcog's matrices are
+    small, and a default pool of many threads made ``update`` 9× slower from Python than from
+    the command. A limit the user set in the environment wins, as it does for the command."""
+    from cadcog.cli import BLAS_THREAD_VARIABLES
+
+    @functools.wraps(function)
+    def limited(*args: Any, **kwargs: Any) -> Any:
+        if any(name in os.environ for name in BLAS_THREAD_VARIABLES):
+            return function(*args, **kwargs)
+        from threadpoolctl import threadpool_limits
+
+        with threadpool_limits(limits=1, user_api="blas"):
+            return function(*args, **kwargs)
+
+    return limited  # type: ignore[return-value]
+
 
 __all__ = [
     "check",
@@ -108,6 +131,7 @@ def _as_user_error(function: str, source: object, exc: ValueError) -> CadcogErro
     return CadcogError(f"{source}: {exc}" if source is not None else f"{function}: {exc}")
 
 
+@_one_blas_thread
 def load_rig(path: str | Path | None = None) -> Rig:
     """A rig from its parameter file (TOML), or the paper's rig.
 
@@ -135,6 +159,7 @@ def load_rig(path: str | Path | None = None) -> Rig:
     return _load_rig(default_rig_path() if path is None else _path("load_rig", "path", path))
 
 
+@_one_blas_thread
 def load_setup(path: str | Path) -> Setup:
     """A spacecraft's test set-up file: model, measurement equipment, candidate points.
 
@@ -161,6 +186,7 @@ def _setup(function: str, setup: Setup | str | Path) -> Setup:
     return load_setup(_path(function, "setup", setup))
 
 
+@_one_blas_thread
 def mass_properties(
     model: str | Path,
     materials: str | Path | None = None,
@@ -291,6 +317,7 @@ def mass_properties(
             raise _fail(f, "about/axes", (about, axes), str(exc)) from None
 
 
+@_one_blas_thread
 def estimate(
     readings: str | Path,
     rig: Rig | str | Path | None = None,
@@ -396,6 +423,7 @@ def estimate(
         raise _as_user_error(f, path, exc) from None
 
 
+@_one_blas_thread
 def inertia(
     swings: str | Path,
     readings: str | Path,
@@ -476,6 +504,7 @@ def inertia(
         raise _as_user_error(f, swings_path, exc) from None
 
 
+@_one_blas_thread
 def simulate(
     rig: Rig | str | Path | None = None,
     *,
@@ -582,6 +611,7 @@ def simulate(
         raise _as_user_error(f, None, exc) from None
 
 
+@_one_blas_thread
 def validate(
     readings: str | Path,
     rig: Rig | str | Path | None = None,
@@ -640,6 +670,7 @@ def validate(
     )
 
 
+@_one_blas_thread
 def update(
     readings: str | Path,
     setup: Setup | str | Path,
@@ -719,6 +750,7 @@ def update(
     return result
 
 
+@_one_blas_thread
 def plan(
     setup: Setup | str | Path, *, trials: int = 10_000, max_set: int = 4, seed: int = 0
 ) -> Plan:
@@ -747,6 +779,7 @@ def plan(
     return plan_test(_setup("plan", setup), trials=trials, max_set=max_set, seed=seed)
 
 
+@_one_blas_thread
 def check(requirements: str | Path, *, strict: bool = False) -> CheckResult:
     """Check a model against its mass-properties requirements (``cadcog check``).
 

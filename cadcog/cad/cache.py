@@ -33,9 +33,11 @@ import hashlib
 import json
 import os
 import re
+import stat
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
 from contextlib import suppress
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -49,7 +51,10 @@ if TYPE_CHECKING:
     from cadcog.cad.stepread import StepModel
 
 #: Bumped when the stored form changes.
-FORMAT = 1
+FORMAT = 2
+
+#: The largest entry read or written (bytes): a 5000-solid model's is ~5 MB.
+MAX_ENTRY_BYTES = 256 * 1024 * 1024
 
 #: The most the cache folder holds; beyond it the entries used least recently are deleted
 #: (a 5000-solid model's entry is ~5 MB, a 3U CubeSat's ~13 kB).
@@ -183,7 +188,9 @@ _EXTERNAL_REFERENCES = (b"DOCUMENT_FILE", b"document_file")
 
 def key(settings: dict[str, Any], files: Iterable[Path], *, code: tuple[str, ...] = _CODE) -> str:
     """The entry's key: a SHA-256 of cadcog's code (the sources of the sub-packages ``code``),
-    ``settings`` (JSON-ready values) and the path and content of every file in ``files``.
+    ``settings`` (JSON-ready values) and the content of every file in ``files``, in order (not
+    their paths: the same bytes reached from another folder, or by an absolute path from the
+    API, are the same entry; :func:`mass_properties` puts the caller's paths in the result).
 
     Raises
     ------
@@ -195,10 +202,10 @@ def key(settings: dict[str, Any], files: Iterable[Path], *, code: tuple[str, ...
     h = hashlib.sha256(_code(code).encode())
     h.update(json.dumps(settings, sort_keys=True, default=str).encode())
     width = max(len(r) for r in _EXTERNAL_REFERENCES) - 1
-    for path in files:
+    for i, path in enumerate(files):
         if not os.path.isfile(path):  # never open a pipe or a device (it could block)
             raise OSError(f"{path}: not a regular file")
-        h.update(str(path).encode() + b"\0")
+        h.update(f"file {i}".encode() + b"\0")  # the content, not how the path is spelled
         tail = b""
         with open(path, "rb") as f:
             for block in iter(lambda: f.read(1 << 20), b""):
@@ -218,11 +225,6 @@ def _stamps(files: Iterable[Path]) -> list[tuple[int, int, int, int]] | None:
         return [(st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns) for st in map(os.stat, files)]
     except OSError:
         return None
-
-
-def store(entry: str, result: ModelMassProperties) -> None:
-    """Keep ``result`` under ``entry`` (written whole or not at all; errors ignored)."""
-    store_data(entry, to_data(result))
 
 
 def step_mass_properties(
@@ -337,13 +339,14 @@ def mass_properties(
         entry: str | None = key(settings, files)
     except OSError:
         entry = None
+    paths = [str(f) for f in files]
     if entry is not None:
         data = load_data(entry)
         if isinstance(data, dict) and isinstance(data.get("refused"), str):
-            _raise_kept(data)
+            _raise_kept(data, paths)
         if data is not None:
             with suppress(ValueError, KeyError, TypeError, IndexError, AttributeError):
-                return from_data(data), True
+                return _relabelled(from_data(data), data["paths"], paths), True
 
     def unchanged() -> bool:
         return entry is not None and before is not None and _stamps(files) == before
@@ -353,50 +356,103 @@ def mass_properties(
     except Refusal as exc:
         if unchanged():
             assert entry is not None
-            store_data(entry, {"refused": str(exc), "as_is": to_data(exc.as_is)})
+            store_data(entry, {"refused": str(exc), "as_is": to_data(exc.as_is), "paths": paths})
         raise
     if unchanged():
         assert entry is not None
-        store(entry, result)
+        store_data(entry, {**to_data(result), "paths": paths})
     return result, False
 
 
-def _raise_kept(data: dict[str, Any]) -> None:
+def _swap(text: str, old: Sequence[str], new: Sequence[str]) -> str:
+    for a, b in zip(old, new, strict=True):
+        if a != b:
+            text = text.replace(a, b)
+    return text
+
+
+def _relabelled(
+    result: ModelMassProperties, old: Sequence[str], new: Sequence[str]
+) -> ModelMassProperties:
+    """A kept result as the caller's paths name its files (its source, notes and info)."""
+    if len(old) != len(new) or not all(isinstance(p, str) for p in old):
+        raise ValueError("damaged entry: its paths")
+    if list(old) == list(new):
+        return result
+    return replace(
+        result,
+        audit=replace(result.audit, source=_swap(result.audit.source, old, new)),
+        notes=tuple(_swap(n, old, new) for n in result.notes),
+        info=tuple(_swap(n, old, new) for n in result.info),
+    )
+
+
+def _raise_kept(data: dict[str, Any], paths: Sequence[str]) -> None:
     """Raise the refusal kept as ``data`` (a damaged entry: return)."""
-    if set(data) == {"refused", "as_is"}:
+    if set(data) == {"refused", "as_is", "paths"}:
         try:
-            as_is = from_data(data["as_is"])
+            as_is = _relabelled(from_data(data["as_is"]), data["paths"], paths)
+            message = _swap(data["refused"], data["paths"], paths)
         except (ValueError, KeyError, TypeError, IndexError, AttributeError):
             return
-        raise Refusal(data["refused"], as_is)
+        raise Refusal(message, as_is)
+
+
+def _digest(entry: str, result: Any) -> str:
+    """What an entry's ``digest`` must be: a SHA-256 of its key and its result's JSON text."""
+    text = json.dumps(result, sort_keys=True, default=_plain)
+    return hashlib.sha256(f"{entry}\0{text}".encode()).hexdigest()
+
+
+def _read_entry(path: Path) -> str:
+    """An entry's text: a regular file (no link followed, never a pipe or a device) of at most
+    :data:`MAX_ENTRY_BYTES`; else OSError."""
+    flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0)
+    fd = os.open(path, flags)
+    with os.fdopen(fd, "rb") as f:
+        st = os.fstat(f.fileno())
+        if not stat.S_ISREG(st.st_mode) or st.st_size > MAX_ENTRY_BYTES:
+            raise OSError(f"{path}: not a cache entry")
+        data = f.read(MAX_ENTRY_BYTES + 1)
+    if len(data) > MAX_ENTRY_BYTES:
+        raise OSError(f"{path}: not a cache entry")
+    return data.decode("utf-8")
 
 
 def load_data(entry: str) -> Any:
     """The JSON data kept under ``entry`` by :func:`store_data`, or None (no cache, no entry,
-    or a damaged one)."""
+    or one that is damaged, of another format, or not this key's: its digest must match)."""
     folder = cache_dir()
     if folder is None:
         return None
     path = folder / f"{entry}.json"
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-        if data.get("format") != FORMAT:
+        data = json.loads(_read_entry(path))
+        if data.get("format") != FORMAT or data.get("key") != entry:
             return None
         result = data["result"]
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        if data.get("digest") != _digest(entry, result):
+            return None
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError):
         return None
-    with suppress(OSError):
-        os.utime(path)  # used now: the last to go when the cache is trimmed
+    with suppress(OSError, NotImplementedError):
+        os.utime(path, follow_symlinks=False)  # used now: the last to go when trimmed
     return result
 
 
 def store_data(entry: str, data: Any) -> None:
-    """Keep ``data`` (JSON data; numpy values as exact Python numbers) under ``entry``,
-    written whole or not at all; errors ignored."""
+    """Keep ``data`` (JSON data; numpy values as exact Python numbers) under ``entry`` with its
+    key and digest (:func:`load_data` checks both: a damaged entry, or another's copied over it,
+    is ignored), written whole or not at all; errors ignored."""
     folder = cache_dir()
     if folder is None:
         return
-    text = json.dumps({"format": FORMAT, "result": data}, default=_plain)
+    plain = json.loads(json.dumps(data, default=_plain))
+    text = json.dumps(
+        {"format": FORMAT, "key": entry, "digest": _digest(entry, plain), "result": plain}
+    )
+    if len(text.encode("utf-8")) > MAX_ENTRY_BYTES:
+        return
     with suppress(OSError):
         folder.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=folder, prefix=".entry-", suffix=".tmp")

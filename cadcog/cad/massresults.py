@@ -61,6 +61,9 @@ class BodyResult(JsonResult):
         Area of the body's faces (mm²): a solid's whole boundary, as modelled (before any
         overlap resolution; faces it shares with a neighbour counted in both); a surface body's
         ``area_mm2``. None unless asked for (``massprops --surface-area``).
+    products : tuple of str
+        The product each node of ``nodes`` places (the STEP's product names): copies of one
+        part share them whatever the exporter named the instances.
     """
 
     path: str
@@ -79,6 +82,7 @@ class BodyResult(JsonResult):
     growth_label: str = ""
     cog_sigma_mm: tuple[float, float, float] | None = None
     surface_area_mm2: float | None = None
+    products: tuple[str, ...] = ()
 
     @property
     def name(self) -> str:
@@ -306,6 +310,7 @@ def to_data(m: ModelMassProperties) -> dict[str, Any]:
     for b in m.bodies:
         d = fields(b)
         d["nodes"] = list(b.nodes)
+        d["products"] = list(b.products)
         d["properties"] = _props_data(b.properties)
         d["cog_sigma_mm"] = None if b.cog_sigma_mm is None else list(b.cog_sigma_mm)
         bodies.append(d)
@@ -340,6 +345,7 @@ def from_data(d: dict[str, Any]) -> ModelMassProperties:
     for b in d["bodies"]:
         b = dict(b)
         b["nodes"] = tuple(b["nodes"])
+        b["products"] = tuple(str(x) for x in b["products"])
         b["properties"] = _props(b["properties"])
         b["cog_sigma_mm"] = _tuple3(b["cog_sigma_mm"])
         bodies.append(BodyResult(**b))

@@ -10,7 +10,13 @@ from typing import Any
 from cadcog.cad.bodies import Body
 from cadcog.cad.stepread import StepBody
 from cadcog.core.errors import CadcogError
-from cadcog.mass.materials import DENSITY_RANGE_KG_M3, ItemRule, MaterialMap, glob_match
+from cadcog.mass.materials import (
+    DENSITY_RANGE_KG_M3,
+    ItemRule,
+    MaterialMap,
+    glob_match,
+    is_placeholder_material,
+)
 
 
 def matches_any(patterns: Sequence[str], body: StepBody) -> bool:
@@ -77,7 +83,13 @@ def assign_densities(
     origin = (materials.source if materials is not None else "") or "materials"
     bad_xcaf: set[str] = set()
     missing: list[str] = []
+    placeholder: dict[str, list[Body]] = {}  # placeholder STEP material → bodies that used it
+    defaulted: dict[str, list[Body]] = {}  # ... → bodies the catch-all rule gave a density
     lo_d, hi_d = DENSITY_RANGE_KG_M3
+    # One material stamped on every solid is the exporter's default (Fusion 360's 'Steel'):
+    # a catch-all rule replaces it, as it replaces a placeholder.
+    stamps = {(b.step.material.name, b.step.material.density_kg_m3) for b in xcaf_usable}
+    stamped_default = len(solids) >= 2 and len(xcaf_usable) == len(solids) and len(stamps) == 1
     for b in bodies:
         names = b.step.rule_names
         if b.step.kind == "surface":
@@ -92,19 +104,44 @@ def assign_densities(
             continue
         found = materials.assign(names) if materials is not None else None
         xm = b.step.material
+        usable = xm is not None and xm.density_kg_m3 and lo_d <= xm.density_kg_m3 <= hi_d
+        named_stub = bool(usable and xm is not None and is_placeholder_material(xm.name))
+        stub = named_stub or stamped_default
+        # A catch-all rule of a materials file is a default: the STEP's own material first.
+        default_only = found is not None and found.rule == "*" and materials.step_first
+        if found is not None and default_only and usable and not stub:
+            found = None
         if found is not None:
             b.material, b.density_kg_m3 = found.material, found.density_kg_m3
             b.source = f"materials rule {found.rule!r} ({origin})"
+            if named_stub and default_only and xm is not None:
+                defaulted.setdefault(xm.name, []).append(b)
         elif uniform:
             b.material, b.density_kg_m3 = "uniform", 1000.0
             b.source = "uniform (scaled to --total-mass-kg)"
-        elif xm is not None and xm.density_kg_m3 and lo_d <= xm.density_kg_m3 <= hi_d:
+        elif usable and xm is not None and xm.density_kg_m3 is not None:
             b.material, b.density_kg_m3 = xm.name, xm.density_kg_m3
-            b.source = f"STEP material {xm.name!r} ({xm.raw})"
+            b.source = f"STEP material {xm.name!r} ({xm.density_kg_m3:g} kg/m³)"
+            if named_stub:
+                b.source += ", a placeholder"
+                placeholder.setdefault(xm.name, []).append(b)
         else:
             if xm is not None:
                 bad_xcaf.add(f"{xm.name} ({xm.raw or 'no density'})")
             missing.append(b.step.path)
+    for name, group in sorted(placeholder.items()):
+        mass_g = 1e3 * sum(g.props.mass_kg * g.density_kg_mm3 for g in group)
+        notes.append(
+            f"{len(group)} solid(s) carry the exporter's placeholder material {name!r} "
+            f"({group[0].density_kg_m3:g} kg/m³), {mass_g:.4g} g as counted: "
+            f"{_listed([g.step.path for g in group])}; give them their material"
+        )
+    for name, group in sorted(defaulted.items()):
+        notes.append(
+            f"{len(group)} solid(s) carry the exporter's placeholder material {name!r}: the "
+            f"catch-all rule gave them {group[0].material!r}: "
+            f"{_listed([g.step.path for g in group])}; check it"
+        )
     from_file = [b for b in solids if b.source.startswith("STEP material")]
     if len(from_file) >= 2 and len({(b.material, b.density_kg_m3) for b in from_file}) == 1:
         b0 = from_file[0]
@@ -120,10 +157,13 @@ def assign_densities(
             f"{lo_d:g} and {hi_d:g}): {', '.join(sorted(bad_xcaf))}"
         )
     if missing:
-        shown = ", ".join(missing[:10]) + (
-            f" and {len(missing) - 10} more" if len(missing) > 10 else ""
-        )
+        shown = _listed(missing)
         raise CadcogError(
             f"{src}: no density for {len(missing)} solid(s): {shown}; give a materials file "
             '(--materials; a catch-all "*" rule gives a default) or --density-kg-m3'
         )
+
+
+def _listed(paths: Sequence[str], most: int = 10) -> str:
+    """The first ``most`` paths, and how many more."""
+    return ", ".join(paths[:most]) + (f" and {len(paths) - most} more" if len(paths) > most else "")

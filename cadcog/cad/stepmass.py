@@ -332,6 +332,7 @@ class _Parts:
                     if materials is None
                     else materials.cog_uncertainty(item_candidates(b.step)),
                     b.surface_area_mm2,
+                    tuple(n.product for n in b.step.nodes),
                 )
             )
         left_out = tuple((b.step.path, b.props.mass_kg) for b in bodies if b.density_kg_mm3 == 0.0)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -58,20 +59,30 @@ def run(args: argparse.Namespace) -> int:
     monte_carlo_caveat(setup.error_model())
     plan = plan_test(setup, trials=args.trials, max_set=args.max_set, seed=args.seed)
     inertia = None
+    inertia_refused = ""
     if args.goal != "cog":
+        from cadcog.core.errors import DegenerateGeometryError
         from cadcog.dynamics.hangplan import plan_inertia_for_setup
 
-        inertia = plan_inertia_for_setup(
-            setup,
-            plan,
-            weighed=not args.no_weighing,
-            max_set=args.max_inertia_set,
-            both=args.goal == "both",
-        )
+        try:
+            inertia = plan_inertia_for_setup(
+                setup,
+                plan,
+                weighed=not args.no_weighing,
+                max_set=args.max_inertia_set,
+                both=args.goal == "both",
+            )
+        except DegenerateGeometryError as e:
+            if args.goal == "inertia":
+                raise
+            inertia_refused = str(e)  # --for both: the CoG plan stands, the inertia is refused
     if args.json:
         data = plan.to_dict()
         if inertia is not None:
             data["inertia"] = inertia.to_dict()
+        elif inertia_refused:
+            data["inertia"] = {"refused": inertia_refused}
+        if args.goal != "cog":
             data["goal"] = args.goal
         print(dumps_json(data).rstrip("\n"))
         return 0
@@ -81,10 +92,12 @@ def run(args: argparse.Namespace) -> int:
         f"{setup.name}: {m.mass_kg:.4f} kg, CAD CoG [{cog}] mm; "
         f"ME {setup.me_mass_kg:.3f} kg (m_ME/m = {setup.me_mass_kg / m.mass_kg:.3f})"
     )
+    for w in plan.warnings:
+        print(f"warning: {w}", file=sys.stderr)
     bad = [c for c in plan.checks if not c.usable]
     print(
         f"{len(plan.checks) - len(bad)} of {len(plan.checks)} candidates keep the "
-        "inclinometer in range"
+        "inclinometer's readings in range and trustworthy"
     )
     for c in bad:
         print(f"  {c.id}: cannot work: {c.reason}")
@@ -112,6 +125,8 @@ def run(args: argparse.Namespace) -> int:
     )
     if inertia is not None:
         _print_inertia_plan(inertia, args.goal)
+    elif inertia_refused:
+        print(f"\ninertia from the swings: not planned: {inertia_refused}")
     return 0
 
 

@@ -50,8 +50,18 @@ def add_parser(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     from cadcog.cad.stepmass import model_mass_properties
     from cadcog.cad.stepread import read_step
-    from cadcog.mass.materials import MaterialMap
-    from cadcog.spacecraft.setup_draft import DraftPart, draft_materials, draft_setup, part_name
+    from cadcog.cad.surfacepoints import project_grid
+    from cadcog.mass.materials import DENSITY_RANGE_KG_M3, MaterialMap, is_placeholder_material
+    from cadcog.spacecraft.setup_draft import (
+        DRAFT_FACES,
+        DraftPart,
+        DraftPoint,
+        draft_materials,
+        draft_setup,
+        face_grid,
+        part_name,
+        point_label,
+    )
 
     step = Path(args.model)
     out = Path(args.out) if args.out is not None else step.with_name(f"{step.stem}_setup.toml")
@@ -67,16 +77,24 @@ def run(args: argparse.Namespace) -> int:
     result = model_mass_properties(
         model, MaterialMap.uniform(1000.0), units=args.units, overlaps="allow"
     )
-    stamped = {
-        b.path: f"{b.material.name} ({b.material.raw})"
-        for b in model.bodies
-        if b.material is not None
-    }
-    parts = [
-        DraftPart(b.path, b.properties.volume_mm3, stamped.get(b.path))
-        for b in result.bodies
-        if b.kind == "solid"
-    ]
+    stamped = {b.path: b.material for b in model.bodies if b.material is not None}
+    lo_d, hi_d = DENSITY_RANGE_KG_M3
+    parts = []
+    for b in result.bodies:
+        if b.kind != "solid":
+            continue
+        xm = stamped.get(b.path)
+        rho = xm.density_kg_m3 if xm is not None else None
+        usable = rho if rho is not None and lo_d <= rho <= hi_d else None
+        parts.append(
+            DraftPart(
+                b.path,
+                b.properties.volume_mm3,
+                None if xm is None else xm.name,
+                usable,
+                xm is not None and is_placeholder_material(xm.name),
+            )
+        )
     lo, hi = result.bbox_mm
     ov = result.overlaps
     refused = ov.pairs and ov.mass_fraction > tolerances.OVERLAP_REFUSE_MASS_FRACTION
@@ -85,12 +103,24 @@ def run(args: argparse.Namespace) -> int:
         if refused
         else ""
     )
+    shapes = [b.shape for b in model.bodies if b.kind == "solid"]
+    points = [
+        DraftPoint(point_label(face, k), face, tuple(map(float, sp.position_mm)), sp.depth_mm)
+        for face in DRAFT_FACES
+        for k, sp in enumerate(
+            project_grid(
+                shapes, face, face_grid(face, lo, hi), lo, hi, scale_to_mm=result.audit.scale_to_mm
+            ),
+            start=1,
+        )
+    ]
     step_rel = Path(os.path.relpath(step.resolve(), out.resolve().parent)).as_posix()
     with staged_file(materials_path) as tmp:
         tmp.write_text(draft_materials(parts, step.name), encoding="utf-8")
     with staged_file(out) as tmp:
         tmp.write_text(
-            draft_setup(stem, step_rel, materials_path.name, lo, hi, overlaps), encoding="utf-8"
+            draft_setup(stem, step_rel, materials_path.name, lo, hi, overlaps, points),
+            encoding="utf-8",
         )
     print(f"report: {out}", file=sys.stderr)
     print(f"report: {materials_path}", file=sys.stderr)

@@ -7,6 +7,20 @@ Lengths are in mm, relative values are dimensionless. Change a value here, not a
 #: positions to 1e-3 mm at best; 1e-6 mm only absorbs floating-point round-off.
 ON_SURFACE_MM = 1e-6
 
+#: A suspension point this far inside a face of the body's box still sits on that face (mm).
+#: Every file cadcog writes gives positions to 1e-3 mm (a rounding of at most 5e-4 mm), and
+#: OCCT's bounding box of curved faces is ~1e-7 mm larger than the part, so a point the tool
+#: itself produced is never refused as lying inside the body. A point deeper than this needs its
+#: face named (``[[candidates.points]] face = "+x"``): it sits on the model, not on its box.
+SUSPENSION_ON_FACE_MM = 0.01
+
+#: Least angle (degrees) between a hang's vertical and the inclinometer's x-y plane for its
+#: readings to be trusted: the vertical's z component is sqrt(1 - sin²X - sin²Y), whose error
+#: grows as 1/cos of that angle's complement; below 10° a 0.1° reading error moves it by more
+#: than 0.5°, and the readings' noise can push sin²X + sin²Y past 1 (the vertical is then
+#: rescaled onto the plane). ``cadcog plan`` does not use such points.
+MIN_VERTICAL_ELEVATION_DEG = 10.0
+
 #: Overlap depth below which two boxes are considered touching rather than intersecting (mm).
 CONTACT_MM = 1e-6
 

@@ -232,13 +232,16 @@ def plan_inertia(
             return None
         return np.asarray(cov + comp_cov)
 
+    closest = [np.inf]  # the smallest worst-moment σ of a set refused for exceeding the limit
+
     def evaluate(group: Sequence[int]) -> tuple[float, Any] | None:
         cov = _cov(group)
         if cov is None:
             return None
         pr = principal_with_sigma(p_obj, cov)
         rel = pr.moments_sigma_kg_mm2 / pr.moments_kg_mm2
-        if np.max(rel) > 0.3:
+        if not np.max(rel) <= MAX_MOMENT_SIGMA_REL:
+            closest[0] = min(closest[0], float(np.max(rel)))
             return None
         return float(np.max(rel)), pr
 
@@ -273,6 +276,19 @@ def plan_inertia(
         current = list(group)
         best_sets.append(_entry([ids[i] for i in group], merit, pr))
     if not best_sets:
+        if np.isfinite(closest[0]):
+            heavy = sum(x.mass_kg for x in ctx.me_parts) / ctx.object_cad.mass_kg
+            raise DegenerateGeometryError(
+                "no set of these candidates determines the inertia tensor usefully: the best "
+                f"gives a principal moment only to ±{100 * closest[0]:.0f} % at 1 σ (a plan "
+                f"needs ±{100 * MAX_MOMENT_SIGMA_REL:.0f} % or better)"
+                + (
+                    f"; the measurement equipment weighs {heavy:.2f}× the object, and its "
+                    "inertia's uncertainty dominates: a lighter ME is the remedy"
+                    if heavy > 0.5
+                    else ""
+                )
+            )
         raise DegenerateGeometryError(
             "no set of these candidates determines the inertia tensor (each hang gives two "
             "usable frequencies at most: three hangs whose plumb lines point in different "
@@ -281,6 +297,10 @@ def plan_inertia(
     best = min(s["worst_moment_sigma_rel"] for s in best_sets)
     recommended = next(s for s in best_sets if s["worst_moment_sigma_rel"] <= 1.1 * best)
     return InertiaPlan(tuple(best_sets), recommended, weighed)
+
+
+#: A set whose worst principal moment is known to worse than this (1 σ, relative) is not planned.
+MAX_MOMENT_SIGMA_REL = 0.3
 
 
 def _entry(points: list[str], merit: float, pr: Any) -> dict[str, Any]:

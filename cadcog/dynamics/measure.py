@@ -51,7 +51,6 @@ from cadcog.method.errormodel import ErrorModel, wire_shape_factor
 from cadcog.method.estimate import BodyBox, CogEstimate
 from cadcog.method.plumblines import chi2_sf
 from cadcog.method.readings import Suspension
-from cadcog.rig.geometry import face_normal_of_point
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
 
 FloatArray = npt.NDArray[np.float64]
@@ -122,12 +121,11 @@ class InertiaContext:
         """
         model = self.error_model
         prior = model.wire_prior(weight_n)
-        lo, hi = self.body.lo_mm, self.body.hi_mm
         pos = np.asarray(positions_mm, dtype=float).reshape(-1, 3)
         pivots = np.empty_like(pos)
         covs = np.empty((len(pos), 3, 3))
         for i, p in enumerate(pos):
-            n = face_normal_of_point(p, lo, hi)
+            n = self.body.normal_at(p)
             u = p - np.asarray(cog_mm, dtype=float)
             u = u / np.linalg.norm(u)
             f = float(wire_shape_factor(np.array([n @ u]), model.wire_model)[0])

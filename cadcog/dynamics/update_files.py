@@ -12,10 +12,11 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from cadcog.core.errors import CadcogError
+from cadcog.core.errors import CadcogError, DegenerateGeometryError
 from cadcog.method.readings import read_readings
 from cadcog.spacecraft.setup import Setup, update_for_setup
 
@@ -64,19 +65,23 @@ def update_from_files(
     with _naming(readings):
         suspensions = read_readings(readings, setup.rig.inclinometer)
     inertia = None
+    notes: list[str] = []
     if swings is not None:
         from cadcog.dynamics.measure import inertia_observation
 
-        with _naming(swings):
-            inertia = inertia_observation(
-                setup,
-                swings,
-                suspensions,
-                weighed_mass_kg=float(weighed_mass_kg),
-                mass_sigma_kg=float(mass_sigma_kg),
-            )
+        try:
+            with _naming(swings):
+                inertia = inertia_observation(
+                    setup,
+                    swings,
+                    suspensions,
+                    weighed_mass_kg=float(weighed_mass_kg),
+                    mass_sigma_kg=float(mass_sigma_kg),
+                )
+        except DegenerateGeometryError as exc:  # the swings measure no tensor: update without
+            notes.append(f"the swings of {swings} were not used, they give no inertia: {exc}")
     with _naming(readings):
-        return update_for_setup(
+        result, estimate = update_for_setup(
             setup,
             suspensions,
             float(weighed_mass_kg),
@@ -84,6 +89,7 @@ def update_from_files(
             unmodelled=unmodelled,
             inertia=inertia,
         )
+    return replace(result, notes=(*result.notes, *notes)), estimate
 
 
 @contextmanager

@@ -158,6 +158,35 @@ def _first_item(
     return None
 
 
+#: Names exporters give a body that has no material of its own (case-insensitive): Inventor's
+#: "Generic" (1 g/cm³), SolidWorks', Onshape's and FreeCAD's defaults. A STEP material by one
+#: of these names is a placeholder, not the part's material.
+PLACEHOLDER_MATERIAL_NAMES = frozenset(
+    {
+        "generic",
+        "default",
+        "default material",
+        "no material",
+        "none",
+        "not specified",
+        "<not specified>",
+        "material",
+        "unnamed material",
+    }
+)
+
+
+def is_placeholder_material(name: str) -> bool:
+    """Whether a STEP material's name is an exporter's placeholder.
+
+    Examples
+    --------
+    >>> is_placeholder_material("Generic"), is_placeholder_material("Aluminum 6061")
+    (True, False)
+    """
+    return name.strip().lower() in PLACEHOLDER_MATERIAL_NAMES
+
+
 @dataclass(frozen=True)
 class MaterialMap:
     """What a materials file says, as ordered (pattern, value) rules per table.
@@ -176,6 +205,10 @@ class MaterialMap:
         Pattern → mass growth allowance fraction, and the maturity level it came from.
     cog_rules : tuple of (str, (float, float, float))
         Pattern → 1-σ CoG uncertainty of the item along x, y, z (mm).
+    step_first : bool
+        A catch-all rule ``"*"`` gives a default only to solids whose STEP file carries no
+        usable material (True, a materials file); False: it overrides them too (one density for
+        every solid, ``--density-kg-m3``). Named rules always override the STEP's material.
     """
 
     rules: tuple[tuple[str, str | float], ...]
@@ -184,6 +217,7 @@ class MaterialMap:
     uncertainty_rules: tuple[tuple[str, float, str], ...] = ()
     growth_rules: tuple[tuple[str, float, str], ...] = ()
     cog_rules: tuple[tuple[str, tuple[float, float, float]], ...] = ()
+    step_first: bool = True
 
     def assign(self, names: Sequence[str]) -> Assignment | None:
         """Material of a solid known by ``names`` (its own name, then its assemblies')."""
@@ -225,7 +259,7 @@ class MaterialMap:
 
     @classmethod
     def uniform(cls, density_kg_m3: float) -> MaterialMap:
-        return cls((("*", density_kg_m3),), "uniform density")
+        return cls((("*", density_kg_m3),), "uniform density", step_first=False)
 
 
 def _density(t: TableReader, key: str) -> float:

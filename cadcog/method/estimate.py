@@ -82,23 +82,44 @@ class MEData:
 class BodyBox:
     """The box whose faces the suspension points sit on (or above): it gives the bolt axes.
 
-    The paper rig's proof mass ``[0, size]``; a spacecraft's bounding box.
+    The paper rig's proof mass ``[0, size]``; a spacecraft's bounding box, and the points the
+    set-up lists on the model itself with their face (``known``: position and outward normal),
+    which may lie anywhere inside the box.
     """
 
     lo_mm: FloatArray
     hi_mm: FloatArray
     source: str
+    known: tuple[tuple[FloatArray, FloatArray], ...] = ()
+
+    def normal_at(self, position_mm: npt.ArrayLike) -> FloatArray:
+        """Bolt axis (outward normal, shape (3,)) at a suspension point.
+
+        A point the set-up lists (within :data:`~cadcog.core.tolerances.SUSPENSION_ON_FACE_MM`
+        on every axis) takes the face it names; any other point the box face it sits on.
+
+        Raises
+        ------
+        ValueError
+            If the point is neither listed nor on the box's surface.
+        """
+        p = np.asarray(position_mm, dtype=float)
+        for q, n in self.known:
+            if np.max(np.abs(p - q)) <= tolerances.SUSPENSION_ON_FACE_MM:
+                return np.array(n, dtype=float)
+        return face_normal_of_point(p, self.lo_mm, self.hi_mm)
 
     def normals(self, suspensions: Sequence[Suspension]) -> FloatArray:
         """Bolt axis (outward face normal) of each suspension point, shape (k, 3)."""
         out = []
         for s in suspensions:
             try:
-                out.append(face_normal_of_point(s.position_mm, self.lo_mm, self.hi_mm))
+                out.append(self.normal_at(s.position_mm))
             except ValueError:
                 raise ReadingsError(
                     f"line {s.line}: suspension {s.id} at {list(s.position_mm)} mm lies inside "
-                    f"the body ({self.source}): a suspension point must be on its surface"
+                    f"the body ({self.source}) and is none of its listed points: a suspension "
+                    "point must be on its surface"
                 ) from None
         return np.array(out)
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core import tolerances
 from cadcog.core.units import rad_to_deg
 from cadcog.rig.inclinometer import readings_from_verticals
 
@@ -61,26 +62,32 @@ def face_plane_mm(face: str, size_mm: npt.ArrayLike) -> float:
 
 
 def face_normal_of_point(
-    point_mm: npt.ArrayLike, lo_mm: npt.ArrayLike, hi_mm: npt.ArrayLike
+    point_mm: npt.ArrayLike,
+    lo_mm: npt.ArrayLike,
+    hi_mm: npt.ArrayLike,
+    tolerance_mm: float = tolerances.SUSPENSION_ON_FACE_MM,
 ) -> FloatArray:
     """Outward normal of the face of the box ``[lo, hi]`` a point sits on or above.
 
-    The face is the one the point lies furthest outside of.
+    The face is the one the point lies furthest outside of; a point less than ``tolerance_mm``
+    inside a face still sits on it (:data:`cadcog.core.tolerances.SUSPENSION_ON_FACE_MM`).
 
     Raises
     ------
     ValueError
-        If the point is inside the box.
+        If the point is deeper inside the box than ``tolerance_mm``.
 
     Examples
     --------
     >>> face_normal_of_point([45, 20, 82], [0, 0, 0], [200, 75, 78]).tolist()
     [0.0, 0.0, 1.0]
+    >>> face_normal_of_point([45, 20, 77.9995], [0, 0, 0], [200, 75, 78]).tolist()  # rounded
+    [0.0, 0.0, 1.0]
     """
     p = np.asarray(point_mm, dtype=float)
     outside = np.concatenate([p - np.asarray(hi_mm, float), np.asarray(lo_mm, float) - p])
     i = int(np.argmax(outside))
-    if outside[i] < -1e-9:
+    if not outside[i] >= -tolerance_mm:
         raise ValueError(f"point {p.tolist()} lies inside the body, not on a face")
     n = np.zeros(3)
     n[i % 3] = 1.0 if i < 3 else -1.0

@@ -259,7 +259,7 @@ class Model:
         t = np.atleast_2d(theta)
         n = self.n
         d = t[:, :n]
-        s = t[:, n : 4 * n].reshape(-1, n, 3)
+        s = t[:, n : 4 * n].reshape(len(t), n, 3)
         mu = t[:, 4 * n] if self.with_u else np.zeros(len(t))
         h = t[:, 4 * n + 1 : 4 * n + 4] if self.with_u else np.zeros((len(t), 3))
         scale = 1.0 + d
@@ -344,6 +344,28 @@ def parameter_prior(
     return mean, cov
 
 
+def _prior_root(p0: FloatArray, k: int) -> FloatArray:
+    """``L`` with ``P₀ = L Lᵀ``, its zero-variance directions dropped (shape (size, rank)).
+
+    The items' part of the prior (the first ``k`` parameters) is diagonal
+    (:func:`cadcog.spacecraft.items.parameter_prior_cov`): its root is elementwise; only the
+    unmodelled mass's 4 × 4 block is decomposed (no eigendecomposition of the whole prior, once
+    per hypothesis).
+    """
+    size = len(p0)
+    d = np.sqrt(np.clip(np.diag(p0)[:k], 0.0, None))
+    w, v = np.linalg.eigh(0.5 * (p0[k:, k:] + p0[k:, k:].T)) if size > k else (d[:0], None)
+    top = max(float(np.max(d * d, initial=0.0)), float(np.max(w, initial=0.0)), 1e-300)
+    keep_d = d * d > 1e-30 * top
+    cols = [np.eye(size)[:, :k][:, keep_d] * d[keep_d]]
+    if v is not None:
+        keep_w = w > 1e-30 * top
+        block = np.zeros((size, int(keep_w.sum())))
+        block[k:] = v[:, keep_w] * np.sqrt(w[keep_w])
+        cols.append(block)
+    return np.hstack(cols)
+
+
 def _gauss_newton(
     model: Model,
     y: FloatArray,
@@ -353,9 +375,9 @@ def _gauss_newton(
     """MAP and its covariance (inverse Hessian) for a Gaussian prior, by Gauss-Newton in the
     prior's square-root coordinates ``θ = θ₀ + L z`` (``P₀ = L Lᵀ``; zero-variance directions
     stay at the prior)."""
-    w, v = np.linalg.eigh(0.5 * (p0 + p0.T))
-    keep = w > 1e-30 * max(float(w.max()), 1e-300)
-    root = v[:, keep] * np.sqrt(w[keep])
+    if not p0.size:  # nothing is uncertain: the prior is the answer
+        return theta0, np.zeros((0, 0))
+    root = _prior_root(p0, 4 * model.n)
     z = np.zeros(root.shape[1])
     r_inv = model.noise_inv
     for _ in range(MAX_ITERATIONS):
@@ -504,6 +526,8 @@ def numeric_jacobian(f: Any, x: FloatArray, scale: FloatArray) -> FloatArray:
     takes a batch of points (rows) and returns a batch of values. A parameter that cannot
     move (scale 0) has a zero column."""
     moving = np.flatnonzero(scale > 0)
+    if not moving.size:  # nothing can move: every column is zero
+        return np.zeros((np.atleast_2d(f(x[None, :])).shape[1], x.size))
     steps = 1e-4 * scale[moving]
     points = np.repeat(x[None, :], 2 * moving.size, axis=0)
     points[np.arange(moving.size), moving] += steps

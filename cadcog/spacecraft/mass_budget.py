@@ -95,6 +95,9 @@ class BudgetNode(JsonResult):
     surface_area_mm2 : float or None
         Sum of its bodies' face areas (mm²; shared faces counted once per body), when every body
         has one (``massprops --surface-area``); else None, and not in the JSON.
+    product : str
+        The product the node places (the STEP's product name), when its lines say
+        (``products``); copies of one part share it whatever their instance names.
     """
 
     path: str
@@ -111,6 +114,7 @@ class BudgetNode(JsonResult):
     inertia_total_cog_kg_mm2: FloatArray = field(default_factory=lambda: np.zeros((3, 3)))
     item_masses: tuple[tuple[str, float, float], ...] = field(default=(), repr=False)
     surface_area_mm2: float | None = None
+    product: str = ""
 
     @property
     def radii_of_gyration_mm(self) -> FloatArray:
@@ -143,6 +147,8 @@ class BudgetNode(JsonResult):
         }
         if self.surface_area_mm2 is not None:
             out["surface_area_mm2"] = self.surface_area_mm2
+        if self.product:
+            out["product"] = self.product
         out["children"] = [c.to_dict() for c in self.children]
         return out
 
@@ -295,7 +301,16 @@ def _build(
         about,
         _item_masses(lines),
         _area_of([getattr(b, "surface_area_mm2", None) for b in lines]),
+        _product_at(lines, depth - 1),
     )
+
+
+def _product_at(lines: Sequence[BudgetLine], depth: int) -> str:
+    """The product the node at ``depth`` of these lines places, if every line says the same."""
+    if depth < 0:
+        return ""
+    found = {p[depth] if len(p := tuple(getattr(b, "products", ()))) > depth else "" for b in lines}
+    return found.pop() if len(found) == 1 else ""
 
 
 def mass_budget(lines: Sequence[BudgetLine], name: str = "total") -> MassBudget:
@@ -445,11 +460,24 @@ def _merged(nodes: Sequence[BudgetNode], level: int, name: str, collapsed: bool)
 
 
 def _same_part(a: BudgetNode, b: BudgetNode) -> bool:
+    same = (
+        a.product == b.product
+        if a.product and b.product
+        else _INSTANCE_SUFFIX.sub("", a.name) == _INSTANCE_SUFFIX.sub("", b.name)
+    )
     return (
-        _INSTANCE_SUFFIX.sub("", a.name) == _INSTANCE_SUFFIX.sub("", b.name)
+        same
         and a.n_bodies == b.n_bodies
         and abs(a.mass_kg - b.mass_kg) <= IDENTICAL_MASS_RELATIVE * max(a.mass_kg, b.mass_kg)
     )
+
+
+def _group_name(bunch: Sequence[BudgetNode]) -> str:
+    """A group's name: the copies' base name when they share one, else their product's."""
+    bases = {_INSTANCE_SUFFIX.sub("", n.name) for n in bunch}
+    if len(bases) == 1:
+        return bases.pop()
+    return bunch[0].product or _INSTANCE_SUFFIX.sub("", bunch[0].name)
 
 
 def budget_rows(
@@ -470,8 +498,10 @@ def budget_rows(
         Siblings each below this share of the total mass are summed into one ``N others`` row
         (only when there are two or more of them); 0 shows every node.
     group : bool
-        Fold identical sibling nodes (same base name without ``[n]``, same bodies and mass) into
-        one ``name ×count`` row whose children are the first copy's.
+        Fold identical sibling nodes (the same product, or without products the same base name
+        without ``[n]``; the same bodies and mass) into one ``name ×count`` row whose children
+        are the first copy's; the row is named by the copies' base name, or by their product
+        when their names differ (KiCad's R1, R2 ...; Inventor's part:1, part:2 ...).
 
     Examples
     --------
@@ -509,7 +539,7 @@ def budget_rows(
         for bunch in bunches:
             if any(bunch is s for s in small):
                 continue
-            base = _INSTANCE_SUFFIX.sub("", bunch[0].name) if len(bunch) > 1 else bunch[0].name
+            base = _group_name(bunch) if len(bunch) > 1 else bunch[0].name
             rows.append(_merged(bunch, level + 1, base, collapsed=False))
             visit(bunch[0], level + 1)
         if small:

@@ -70,6 +70,7 @@ class Plan(JsonResult):
     mass_kg: float = 0.0
     cad_cog_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)
     me_mass_kg: float = 0.0
+    warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -81,6 +82,7 @@ class Plan(JsonResult):
             "pairs": list(self.pairs),
             "best_sets": list(self.best_sets),
             "recommended": self.recommended,
+            "warnings": list(self.warnings),
             "error_model": None if self.model is None else self.model.describe(),
             "estimator": EstimatorOptions().describe(),
             "prediction": f"Monte Carlo of the estimator of cadcog estimate, {self.trials} "
@@ -91,6 +93,25 @@ class Plan(JsonResult):
 def _masses(setup: Setup) -> tuple[float, tuple[float, float, float], float]:
     c = setup.mass.cog_mm
     return setup.mass.mass_kg, (float(c[0]), float(c[1]), float(c[2])), setup.me_mass_kg
+
+
+#: The ME's mass over the object's above which the plan warns: the compensation multiplies
+#: every error of the hung assembly's CoG by ``1 + m_ME/m`` and the ME's own CoG error by
+#: ``m_ME/m`` (eq. 16).
+ME_HEAVY_RATIO = 0.5
+
+
+def _warnings(setup: Setup, model: ErrorModel) -> tuple[str, ...]:
+    ratio = setup.me_mass_kg / setup.mass.mass_kg
+    if not ratio > ME_HEAVY_RATIO:
+        return ()
+    return (
+        f"the measurement equipment ({setup.me_mass_kg:.3f} kg) weighs {ratio:.2f}× the object "
+        f"({setup.mass.mass_kg:.3f} kg): the compensation multiplies every error of the hung "
+        f"assembly's CoG by {1 + ratio:.2f}, and the ME's own CoG uncertainty "
+        f"({model.me_sigma_mm:.2g} mm per axis) adds {ratio * model.me_sigma_mm:.2g} mm; a "
+        "lighter ME is the remedy",
+    )
 
 
 #: Sets per size that are simulated after the linearised screening.
@@ -147,11 +168,22 @@ def plan_test(
         r = ideal_reading(c.position_mm, g)
         bad = axes_beyond_range(r.inc_x_deg, r.inc_y_deg, rng_deg)
         reason = f"{' and '.join(bad)} beyond the ±{rng_deg:g}° range" if bad else ""
+        elevation = float(np.degrees(np.arcsin(min(1.0, abs(float(r.vertical[2]))))))
+        if not bad and elevation < tolerances.MIN_VERTICAL_ELEVATION_DEG:
+            bad, reason = (
+                ["z"],
+                (
+                    f"the vertical lies {elevation:.1f}° from the inclinometer's plane (below "
+                    f"{tolerances.MIN_VERTICAL_ELEVATION_DEG:g}°): its readings cannot be trusted"
+                ),
+            )
         checks.append(CandidateCheck(c.id, r.inc_x_deg, r.inc_y_deg, not bad, reason))
     usable = tuple(c for c, k in zip(setup.candidates, checks, strict=True) if k.usable)
     model = setup.error_model()
     if len(usable) < 2:
-        return Plan(tuple(checks), (), (), None, model, trials, *_masses(setup))
+        return Plan(
+            tuple(checks), (), (), None, model, trials, *_masses(setup), _warnings(setup, model)
+        )
     scenario = setup.scenario(usable)
     n = len(usable)
     u_nom = np.array([(scenario.points_mm[i] - g) for i in range(n)])
@@ -195,7 +227,9 @@ def plan_test(
     pair_idx = _combinations(n, 2)
     pair_idx = pair_idx[conditioning(pair_idx) >= min_angle_deg]
     if not len(pair_idx):
-        return Plan(tuple(checks), (), (), None, model, trials, *_masses(setup))
+        return Plan(
+            tuple(checks), (), (), None, model, trials, *_masses(setup), _warnings(setup, model)
+        )
     pair_q95 = _linearised_q95(predicted(pair_idx), z)
     pairs = sorted(
         (
@@ -243,5 +277,12 @@ def plan_test(
         )
     recommended = min(best_sets, key=lambda s: float(s["q95_mm"]))
     return Plan(
-        tuple(checks), tuple(pairs), tuple(best_sets), recommended, model, trials, *_masses(setup)
+        tuple(checks),
+        tuple(pairs),
+        tuple(best_sets),
+        recommended,
+        model,
+        trials,
+        *_masses(setup),
+        _warnings(setup, model),
     )

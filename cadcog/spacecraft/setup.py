@@ -52,9 +52,13 @@ FloatArray = npt.NDArray[np.float64]
 
 @dataclass(frozen=True)
 class Candidate:
+    """A candidate suspension point: its id, position (mm), outward normal (the bolt axis), and
+    whether the set-up lists it (``[[candidates.points]]``) rather than gridding it on the box."""
+
     id: str
     position_mm: FloatArray
     normal: FloatArray
+    listed: bool = False
 
 
 @dataclass(frozen=True)
@@ -101,7 +105,8 @@ class Setup:
     def body(self) -> BodyBox:
         """The model's bounding box: the faces the suspension points sit on (bolt axes)."""
         lo, hi = self.bbox_mm
-        return BodyBox(np.asarray(lo), np.asarray(hi), f"setup {self.source}")
+        known = tuple((c.position_mm, c.normal) for c in self.candidates if c.listed)
+        return BodyBox(np.asarray(lo), np.asarray(hi), f"setup {self.source}", known)
 
     def cad_prior(self) -> LinearPrior:
         """The CAD's mass and CoG with their stated uncertainty (:mod:`.items`)."""
@@ -321,21 +326,43 @@ def load_setup(path: str | Path) -> Setup:
     if cand_t.has("points"):
         for t in cand_t.tables("points"):
             pos = np.array(t.vector("position_mm"))
-            try:
-                normal = face_normal_of_point(pos, lo, hi)
-            except ValueError:
-                raise t.error(
-                    "position_mm",
-                    f"{pos.tolist()} is inside the model's bounding box: a "
-                    "suspension point must be on its surface",
-                ) from None
+            if t.has("face"):  # a point on the model itself, anywhere within its box
+                normal = face_normal(t.string("face", choices=list(FACES)))
+                tol = tolerances.SUSPENSION_ON_FACE_MM
+                if np.any(pos < lo - tol) or np.any(pos > hi + tol):
+                    raise t.error(
+                        "position_mm",
+                        f"{pos.tolist()} lies outside the model's bounding box "
+                        f"{np.round(lo, 3).tolist()}..{np.round(hi, 3).tolist()} mm: a point "
+                        "with a face must sit on the model",
+                    )
+            else:
+                try:
+                    normal = face_normal_of_point(pos, lo, hi)
+                except ValueError:
+                    raise t.error(
+                        "position_mm",
+                        f"{pos.tolist()} is inside the model's bounding box: a suspension "
+                        'point must be on its surface (name its face, face = "+x", for a point '
+                        "on the model inside its box)",
+                    ) from None
             pid = t.string("id")
             problem = id_problem(pid)
             if problem is not None:
                 raise t.error("id", f"{pid!r}: {problem}")
             if any(c.id == pid for c in cands):
                 raise t.error("id", f"duplicate candidate id {pid!r}")
-            cands.append(Candidate(pid, pos, normal))
+            twin = next(
+                (
+                    c
+                    for c in cands
+                    if np.max(np.abs(c.position_mm - pos)) <= tolerances.SUSPENSION_ON_FACE_MM
+                ),
+                None,
+            )
+            if twin is not None:
+                raise t.error("position_mm", f"{pid!r} is the point of candidate {twin.id!r}")
+            cands.append(Candidate(pid, pos, normal, listed=True))
             t.finish()
     cand_t.finish()
     swing = swing_options(root.table("swing")) if root.has("swing") else rig.swing
@@ -389,5 +416,17 @@ def _grid(
             pos = np.zeros(3)
             pos[axis] = hi[axis] if sign > 0 else lo[axis]
             pos[others[0]], pos[others[1]] = a, b
-            out.append(Candidate(f"{face}_{a:g}_{b:g}", pos, face_normal(face)))
+            out.append(Candidate(f"{face}_{_label(a)}_{_label(b)}", pos, face_normal(face)))
     return out
+
+
+def _label(v: float) -> str:
+    """A grid coordinate as an id writes it: to 0.1 mm, no exponent, no negative zero
+    (the grid's spacing is at least 5 mm, so ids stay unique; the position stays exact).
+
+    Examples
+    --------
+    >>> _label(-5.68434e-14), _label(10.7874), _label(-30.0)
+    ('0', '10.8', '-30')
+    """
+    return f"{round(float(v), 1) + 0.0:.1f}".removesuffix(".0")

@@ -27,6 +27,10 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.rig.geometry import FACES
+
+FloatArray = npt.NDArray[np.float64]
+
 #: CDS outer envelopes (mm, sorted ascending) by form factor, for the guess.
 CDS_ENVELOPES_MM: dict[str, tuple[float, float, float]] = {
     "1U": (100.0, 100.0, 113.5),
@@ -59,12 +63,23 @@ class DraftPart:
         The body's unique path (``sat/board/C12[3]#2``).
     volume_mm3 : float
     step_material : str or None
-        The material the STEP file carries for it (name and density), if any.
+        The name of the material the STEP file carries for it, if any.
+    step_density_kg_m3 : float or None
+        That material's density, when the file gives a usable one.
+    placeholder : bool
+        The material is an exporter's placeholder (Inventor's "Generic" ...), not the part's.
     """
 
     path: str
     volume_mm3: float
     step_material: str | None = None
+    step_density_kg_m3: float | None = None
+    placeholder: bool = False
+
+    @property
+    def has_material(self) -> bool:
+        """Whether the STEP gives it a material of its own (a density, not a placeholder)."""
+        return self.step_density_kg_m3 is not None and not self.placeholder
 
 
 def part_name(path: str) -> str:
@@ -106,6 +121,11 @@ def _fmt(v: float) -> str:
     return f"{round(float(v), 3) + 0.0:g}"
 
 
+def _stamp(p: DraftPart) -> str:
+    d = f", {p.step_density_kg_m3:g} kg/m³" if p.step_density_kg_m3 is not None else ""
+    return f"{p.step_material!r}{d}"
+
+
 def draft_materials(parts: Sequence[DraftPart], source: str) -> str:
     """The materials file's text: one commented rule per part, heaviest volume first."""
     groups: dict[str, list[DraftPart]] = {}
@@ -118,25 +138,43 @@ def draft_materials(parts: Sequence[DraftPart], source: str) -> str:
         f"# Materials of {source}, drafted by `cadcog setup init`: fill in each part's material",
         "# (a library name, see `cadcog massprops --help`, or a density in kg/m³) and remove the",
         "# '#'. The first matching rule wins; a rule matches a body's own name, any assembly's",
-        "# above it, or its path (docs/spacecraft.md, 'Materials file').",
+        "# above it, or its path (docs/spacecraft.md, 'Materials file'). A material the STEP",
+        '# carries is used unless a named rule overrides it; "*" only fills what it leaves open.',
         "",
         "[materials]",
     ]
     for name, group in ranked:
         vol = sum(p.volume_mm3 for p in group)
-        stamped = sorted({p.step_material for p in group if p.step_material})
-        note = f"; STEP material {', '.join(stamped)}" if stamped else ""
+        size = (
+            f"{len(group)} bod{'y' if len(group) == 1 else 'ies'}, {vol:,.0f} mm³ "
+            f"({vol / total:.1%} of the volume)"
+        )
+        own = sorted({_stamp(p) for p in group if p.has_material})
+        stubs = sorted({_stamp(p) for p in group if p.step_material and not p.has_material})
+        if own and len(own) == 1 and all(p.has_material for p in group):
+            note = f"; the STEP's {own[0]} is used (a rule here overrides it)"
+        elif stubs:
+            note = f"; the STEP gives only the placeholder {', '.join(stubs)}: give its material"
+        else:
+            note = "; the STEP gives no material" + (f" to some ({', '.join(own)})" if own else "")
         rule = f"# {_toml_str(name):<{width}}= ?"
+        lines.append(f"{rule:<{width + 6}}  # {size}{note}")
+    stamped = {_stamp(p) for p in parts}
+    default = len(parts) >= 2 and len(stamped) == 1 and all(p.has_material for p in parts)
+    lacking = len(parts) if default else sum(1 for p in parts if not p.has_material)
+    if default:
         lines.append(
-            f"{rule:<{width + 6}}  # {len(group)} bod{'y' if len(group) == 1 else 'ies'}, "
-            f"{vol:,.0f} mm³ ({vol / total:.1%} of the volume){note}"
+            f"# every solid carries the same STEP material, {next(iter(stamped))}: an exporter's "
+            "default (Fusion 360\n# writes 'Steel' on boards and plastics alike), which the "
+            '"*" rule below replaces: name each part\'s material above'
         )
     lines += [
-        '"*" = "aluminium 6061-T6"   # a default so that the draft runs: replace it, or delete',
-        "                            # it to be told which solids still lack a material",
+        '"*" = "aluminium 6061-T6"   # the default for what the STEP leaves open '
+        f"({lacking} of {len(parts)} solids):",
+        "                            # replace it, or delete it to be told which solids lack one",
         "",
-        "# [mass_uncertainty]        # 1-σ relative mass uncertainty per item",
-        '# "*" = 0.05',
+        "[mass_uncertainty]          # 1-σ relative mass uncertainty per item: 5 % is a guess",
+        '"*" = 0.05                  # so that `cadcog update` can weigh the parts: enter yours',
         "",
         "# [maturity_levels]         # your programme's growth allowances (AIAA S-120A's kind;",
         "# new = 0.20                # these figures are an example, not the standard's)",
@@ -150,6 +188,70 @@ def draft_materials(parts: Sequence[DraftPart], source: str) -> str:
     return "\n".join(lines)
 
 
+#: The faces the draft puts candidate points on (the ME sits on +z).
+DRAFT_FACES = ("+x", "-x", "+y", "-y")
+
+
+@dataclass(frozen=True)
+class DraftPoint:
+    """A candidate point the draft lists: on the model, with its face (bolt axis)."""
+
+    id: str
+    face: str
+    position_mm: tuple[float, float, float]
+    depth_mm: float
+
+
+def grid_spacing(bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -> tuple[float, float]:
+    """The draft's grid spacing and margin (mm): 60 % and 15 % of the box's smallest extent.
+
+    Examples
+    --------
+    >>> grid_spacing([-50, -50, -170], [50, 50, 170])
+    (60.0, 15.0)
+    """
+    ext = np.asarray(bbox_hi_mm, dtype=float) - np.asarray(bbox_lo_mm, dtype=float)
+    side = float(np.min(ext))
+    spacing = max(5.0, round(GRID_SPACING_FRACTION * side / 5.0) * 5.0)
+    margin = max(2.0, float(round(GRID_MARGIN_FRACTION * side)))
+    return spacing, margin
+
+
+def face_grid(face: str, bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -> FloatArray:
+    """The draft's grid of one box face, shape (m, 3): centred, at :func:`grid_spacing`.
+
+    Examples
+    --------
+    >>> face_grid("+x", [-50, -50, -170], [50, 50, 170])[:2].tolist()
+    [[50.0, -30.0, -150.0], [50.0, -30.0, -90.0]]
+    """
+    lo = np.asarray(bbox_lo_mm, dtype=float)
+    hi = np.asarray(bbox_hi_mm, dtype=float)
+    spacing, margin = grid_spacing(lo, hi)
+    axis, sign = FACES[face]
+    others = [j for j in range(3) if j != axis]
+    coords = []
+    for j in others:
+        n = max(int((hi[j] - lo[j] - 2 * margin) // spacing) + 1, 1)
+        coords.append(0.5 * (lo[j] + hi[j]) + spacing * (np.arange(n) - (n - 1) / 2))
+    a, b = np.meshgrid(coords[0], coords[1], indexing="ij")
+    pts = np.empty((a.size, 3))
+    pts[:, axis] = hi[axis] if sign > 0 else lo[axis]
+    pts[:, others[0]], pts[:, others[1]] = a.ravel(), b.ravel()
+    return pts
+
+
+def point_label(face: str, k: int) -> str:
+    """A candidate's id, short enough to write on tape: the face and a number from 1.
+
+    Examples
+    --------
+    >>> point_label("+x", 1), point_label("-y", 12)
+    ('+x1', '-y12')
+    """
+    return f"{face}{k}"
+
+
 def draft_setup(
     name: str,
     model_step: str,
@@ -157,11 +259,14 @@ def draft_setup(
     bbox_lo_mm: npt.ArrayLike,
     bbox_hi_mm: npt.ArrayLike,
     overlaps: str = "",
+    points: Sequence[DraftPoint] = (),
 ) -> str:
     """The set-up file's text for a model with this bounding box (paths relative to it).
 
     ``overlaps``: the overlap summary when the model's solids overlap above the refusal
-    threshold; the draft then resolves them (``overlaps = "resolve"``), saying why.
+    threshold; the draft then resolves them (``overlaps = "resolve"``), saying why. ``points``:
+    candidate points on the model (:func:`cadcog.cad.surfacepoints.project_grid`); without two
+    of them the draft asks for the grid on the bounding box's faces instead.
     """
     lo = np.asarray(bbox_lo_mm, dtype=float)
     hi = np.asarray(bbox_hi_mm, dtype=float)
@@ -171,9 +276,7 @@ def draft_setup(
     if not ident[0].isalpha():
         ident = "sc_" + ident
     form = guess_form_factor(lo, hi)
-    side = float(min(ext[0], ext[1], ext[2]))
-    spacing = max(5.0, round(GRID_SPACING_FRACTION * side / 5.0) * 5.0)
-    margin = max(2.0, round(GRID_MARGIN_FRACTION * side))
+    spacing, margin = grid_spacing(lo, hi)
     form_line = (
         f'form_factor = "{form}"              # guessed from the bounding box: check it'
         if form
@@ -205,14 +308,45 @@ def draft_setup(
             f"base_center_mm = [{', '.join(base)}]   # where the ME base sits: here the centre "
             "of the +z face",
             "",
-            "# Candidate suspension points: a grid on faces of the bounding box "
-            f"({' × '.join(_fmt(v) for v in ext)} mm);",
-            "# `cadcog plan` checks each and recommends a set; add your own points with",
-            "# [[candidates.points]] (id, position_mm).",
-            "[candidates]",
-            'faces = ["+x", "-x", "+y", "-y"]',
-            f"spacing_mm = {_fmt(spacing)}",
-            f"margin_mm = {_fmt(margin)}",
-            "",
+            *(
+                _points_text(points, spacing)
+                if len(points) >= 2
+                else _grid_text(ext, spacing, margin)
+            ),
         ]
     )
+
+
+def _grid_text(ext: FloatArray, spacing: float, margin: float) -> list[str]:
+    return [
+        "# Candidate suspension points: a grid on faces of the bounding box "
+        f"({' × '.join(_fmt(v) for v in ext)} mm);",
+        "# `cadcog plan` checks each and recommends a set; add your own points with",
+        "# [[candidates.points]] (id, position_mm).",
+        "[candidates]",
+        f"faces = [{', '.join(_toml_str(f) for f in DRAFT_FACES)}]",
+        f"spacing_mm = {_fmt(spacing)}",
+        f"margin_mm = {_fmt(margin)}",
+        "",
+    ]
+
+
+def _points_text(points: Sequence[DraftPoint], spacing: float) -> list[str]:
+    lines = [
+        f"# Candidate suspension points on the model: a {_fmt(spacing)} mm grid on the side faces",
+        "# of its bounding box, each moved along the face's inward normal to the first solid it",
+        "# meets (the wire leaves along that normal, the face's bolt axis). Ids are short, to",
+        "# write on tape; `cadcog plan` checks each and recommends a set. Add or remove freely.",
+        "[candidates]",
+    ]
+    for p in points:
+        pos = ", ".join(_fmt(v) for v in p.position_mm)
+        lines += [
+            "",
+            "[[candidates.points]]",
+            f'id = "{p.id}"',
+            f'face = "{p.face}"',
+            f"position_mm = [{pos}]"
+            + (f"   # {_fmt(p.depth_mm)} mm inside the box face" if p.depth_mm > 0.0005 else ""),
+        ]
+    return [*lines, ""]

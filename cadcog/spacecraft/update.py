@@ -69,6 +69,7 @@ from cadcog.mass.inertia import TENSOR_CONVENTION
 from cadcog.mass.properties import MassProperties, combine
 from cadcog.method.plumblines import chi2_sf, compensate_me
 from cadcog.spacecraft.explanations import (
+    Hypothesis,
     Measurement,
     Model,
     Solution,
@@ -258,6 +259,7 @@ class UpdateResult(JsonResult):
     p_value: float
     model_rejected: bool
     dof: int = 4
+    notes: tuple[str, ...] = ()
 
     @property
     def differs(self) -> bool:
@@ -289,11 +291,20 @@ class UpdateResult(JsonResult):
         ]
         if self.model_rejected:
             lines.append("no explanation fits: the updated CoG and mass are the measurement's")
-        return lines
+        return lines + [f"note: {n}" for n in self.notes]
 
     def ranked_items(self) -> list[ItemChange]:
-        """Items by the probability of being the one that changed, then by |pull|."""
-        return sorted(self.items, key=lambda c: (-c.probability, -abs(c.pull)))
+        """Items by the probability of being the one that changed (to 0.01 %), then by how much
+        they can move the mass and the CoG (the stated 1-σ mass of the item), then by |pull|:
+        among items the data cannot tell apart, the heavy ones first, never file order."""
+        return sorted(
+            self.items,
+            key=lambda c: (
+                -round(c.probability, 4),
+                -c.cad_mass_kg * c.prior_sigma_rel,
+                -abs(c.pull),
+            ),
+        )
 
     def to_dict(self) -> dict[str, Any]:
         def props(p: MassProperties) -> dict[str, Any]:
@@ -340,6 +351,7 @@ class UpdateResult(JsonResult):
             },
             "explanations": [e.to_dict() for e in self.explanations],
             "items": [c.to_dict() for c in self.ranked_items()],
+            "notes": list(self.notes),
         }
         if self.unmodelled_mass_kg is not None:
             out["unmodelled"] = {
@@ -405,7 +417,7 @@ def update_budget(
     hyps = hypotheses(items, cad_mass, unmodelled, env)
     if not alternatives:
         hyps = [replace(hyps[0], prior_probability=1.0)]
-    sols = [solve(items, fixed, measurement, y, h) for h in hyps]
+    sols, dropped = _solutions(items, fixed, measurement, y, hyps)
     # Posterior probabilities of the hypotheses.
     logs = np.array([np.log(s.hypothesis.prior_probability) + s.log_evidence for s in sols])
     weights = np.exp(logs - logs.max())
@@ -470,7 +482,7 @@ def update_budget(
             key=lambda e: -e.probability,
         )
     )
-    return UpdateResult(
+    result = UpdateResult(
         cad,
         cad_prior.cog_cov_mm2,
         cad_prior.mass_sigma_kg,
@@ -497,6 +509,36 @@ def update_budget(
         model_rejected,
         dof,
     )
+    notes = list(dropped)
+    if not items:
+        notes.append(
+            "no item states a mass uncertainty ([mass_uncertainty] in the materials file): "
+            "the CAD is taken as exact, and only an unmodelled mass can explain a gap"
+        )
+    return replace(result, notes=tuple(notes))
+
+
+def _solutions(
+    items: Sequence[Item],
+    fixed: MassProperties | None,
+    measurement: Measurement,
+    y: FloatArray,
+    hyps: Sequence[Hypothesis],
+) -> tuple[list[Solution], list[str]]:
+    """Each hypothesis solved; an alternative that is ill-posed (a singular system) is dropped
+    with a note, the others' probabilities renormalised over what remains. ``H₀`` must solve."""
+    sols, notes = [], []
+    for h in hyps:
+        try:
+            sols.append(solve(items, fixed, measurement, y, h))
+        except np.linalg.LinAlgError as exc:
+            if not sols:  # H₀, the CAD as stated
+                raise ValueError(
+                    f"the CAD's own hypothesis cannot be solved ({exc}): the items' stated "
+                    "uncertainties and the measurement leave a singular system"
+                ) from None
+            notes.append(f"explanation '{h.label}' dropped: ill-posed ({exc})")
+    return sols, notes
 
 
 def _unmodelled_position(s: Solution) -> FloatArray:

@@ -93,13 +93,46 @@ def test_step_materials_are_used_and_overridden_by_the_file(tmp_path):
     r = model_mass_properties(model, None)
     assert [b.properties.mass_kg for b in r.bodies] == pytest.approx([2.7e-3, 8.9e-3])
     assert [b.density_source for b in r.bodies] == [
-        "STEP material 'Al' (2700 kg/m^3)",
-        "STEP material 'Cu' (8900 kg/m^3)",
+        "STEP material 'Al' (2700 kg/m³)",
+        "STEP material 'Cu' (8900 kg/m³)",
     ]
     override = _materials(tmp_path, '[materials]\n"cu" = "copper C11000"\n')
     r2 = model_mass_properties(model, override)
     assert r2.bodies[0].density_source.startswith("STEP material")
     assert r2.bodies[1].density_kg_m3 == LIBRARY["copper C11000"].density_kg_m3
+
+
+def test_a_catch_all_rule_fills_only_what_the_step_leaves_open(tmp_path):
+    """The CAD's materials first: a drafted default "*" must not turn steel into aluminium."""
+    top = Assembly("top")
+    top.add(Part("screw", [((2.0, 2.0, 10.0), (0.0, 0.0, 0.0))], 8000.0, "Stainless Steel"))
+    top.add(Part("bracket", [((10.0, 10.0, 10.0), (20.0, 0.0, 0.0))]))
+    model = _model(tmp_path, top)
+    mats = _materials(tmp_path, '[materials]\n"*" = "aluminium 6061-T6"\n')
+    r = model_mass_properties(model, mats)
+    rho = {b.path.rsplit("/", 1)[-1]: b.density_kg_m3 for b in r.bodies}
+    assert rho == {"screw": 8000.0, "bracket": LIBRARY["aluminium 6061-T6"].density_kg_m3}
+    # A named rule still overrides the STEP; one density for all (--density-kg-m3) does too.
+    named = _materials(tmp_path, '[materials]\n"screw" = 7000.0\n"*" = 2700.0\n')
+    assert model_mass_properties(model, named).bodies[0].density_kg_m3 == 7000.0
+    uniform = model_mass_properties(model, MaterialMap.uniform(1234.0))
+    assert {b.density_kg_m3 for b in uniform.bodies} == {1234.0}
+
+
+def test_placeholder_materials_are_called_out_with_their_mass(tmp_path):
+    """Inventor's "Generic" (1 g/cm³) is no material: said by name, with the mass it carries."""
+    top = Assembly("top")
+    top.add(Part("plunger", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))], 1000.0, "Generic"))
+    top.add(Part("frame", [((10.0, 10.0, 10.0), (20.0, 0.0, 0.0))], 2700.0, "Aluminum 6061"))
+    model = _model(tmp_path, top)
+    r = model_mass_properties(model, None)
+    said = [n for n in r.notes if "placeholder material 'Generic'" in n]
+    assert len(said) == 1 and "1 g as counted" in said[0] and "plunger" in said[0], r.notes
+    # A catch-all rule replaces a placeholder (not a real material), and says so.
+    mats = _materials(tmp_path, '[materials]\n"*" = 2000.0\n')
+    r2 = model_mass_properties(model, mats)
+    assert [b.density_kg_m3 for b in r2.bodies] == [2000.0, 2700.0]
+    assert any("catch-all rule gave them" in n for n in r2.notes), r2.notes
 
 
 def test_a_rule_that_matches_nothing_is_a_note_naming_it(tmp_path):

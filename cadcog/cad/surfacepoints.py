@@ -1,0 +1,111 @@
+"""Suspension points on the model itself: a grid on a face of the bounding box, cast onto the
+solids along the face's inward normal (``cadcog setup init``).
+
+A point of the bounding box is usually in the air: a board's face is recessed behind its
+connectors, a structure's side is mostly rail and cut-out. The wire must leave the model along
+the bolt axis with nothing in its way, so each grid point is moved along the face's inward
+normal to the first solid it meets (OCCT's exact line/face intersection, no tessellation);
+a grid point whose ray meets no solid, or meets it deeper than ``max_depth_mm``, is dropped.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+from OCP.BRep import BRep_Builder
+from OCP.gp import gp_Dir, gp_Lin, gp_Pnt
+from OCP.IntCurvesFace import IntCurvesFace_ShapeIntersector
+from OCP.TopoDS import TopoDS_Compound, TopoDS_Shape
+
+from cadcog.rig.geometry import FACES
+
+FloatArray = npt.NDArray[np.float64]
+
+#: OCCT's tolerance for the line/face intersection (file mm).
+_INTERSECT_TOLERANCE_MM = 1e-7
+
+
+@dataclass(frozen=True)
+class SurfacePoint:
+    """A grid point of a box face moved onto the model.
+
+    Attributes
+    ----------
+    face : str
+        The box face (``"+x"`` ...): the point's bolt axis is its outward normal.
+    position_mm : ndarray, shape (3,)
+        Where the ray from the box face first meets a solid (mm).
+    depth_mm : float
+        How far inside the box face that is (mm, >= 0).
+    """
+
+    face: str
+    position_mm: FloatArray
+    depth_mm: float
+
+
+def _compound(shapes: Sequence[TopoDS_Shape]) -> TopoDS_Compound:
+    comp = TopoDS_Compound()
+    builder = BRep_Builder()
+    builder.MakeCompound(comp)
+    for s in shapes:
+        builder.Add(comp, s)
+    return comp
+
+
+def project_grid(
+    shapes: Sequence[TopoDS_Shape],
+    face: str,
+    grid_mm: npt.ArrayLike,
+    bbox_lo_mm: npt.ArrayLike,
+    bbox_hi_mm: npt.ArrayLike,
+    *,
+    scale_to_mm: float = 1.0,
+    max_depth_mm: float | None = None,
+) -> list[SurfacePoint]:
+    """Cast grid points of a box face onto the solids, along the face's inward normal.
+
+    Parameters
+    ----------
+    shapes : sequence of TopoDS_Shape
+        The model's solids at their global placement, in the file's mm.
+    face : str
+        The box face the grid lies on.
+    grid_mm : array_like, shape (m, 3)
+        The grid points (mm, on the face's plane).
+    bbox_lo_mm, bbox_hi_mm : array_like, shape (3,)
+        The model's bounding box (mm).
+    scale_to_mm : float
+        The model's length scale (a ``--units`` override): file mm × scale = mm.
+    max_depth_mm : float, optional
+        Drop points deeper than this inside the face (default: half the box along the axis).
+
+    Returns
+    -------
+    list of SurfacePoint
+        One per grid point whose ray meets a solid within the depth, in grid order.
+    """
+    axis, sign = FACES[face]
+    lo = np.asarray(bbox_lo_mm, dtype=float)
+    hi = np.asarray(bbox_hi_mm, dtype=float)
+    span = float(hi[axis] - lo[axis])
+    depth_max = 0.5 * span if max_depth_mm is None else float(max_depth_mm)
+    inward = np.zeros(3)
+    inward[axis] = -float(sign)
+    inter = IntCurvesFace_ShapeIntersector()
+    inter.Load(_compound(shapes), _INTERSECT_TOLERANCE_MM)
+    out = []
+    for g in np.asarray(grid_mm, dtype=float).reshape(-1, 3):
+        start = (g - inward * 1.0) / scale_to_mm  # 1 mm outside the box: no hit is missed
+        line = gp_Lin(gp_Pnt(*start.tolist()), gp_Dir(*inward.tolist()))
+        inter.PerformNearest(line, 0.0, (span + 2.0) / scale_to_mm)
+        if not inter.IsDone() or inter.NbPnt() < 1:
+            continue
+        w = float(inter.WParameter(1)) * scale_to_mm - 1.0  # depth inside the box face
+        if w > depth_max:
+            continue
+        out.append(SurfacePoint(face, g + inward * max(w, 0.0), max(w, 0.0)))
+    return out
