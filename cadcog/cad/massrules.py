@@ -88,7 +88,7 @@ def assign_densities(
     lo_d, hi_d = DENSITY_RANGE_KG_M3
     # One material stamped on every solid is the exporter's default (Fusion 360's 'Steel'):
     # a catch-all rule replaces it, as it replaces a placeholder.
-    stamps = {(b.step.material.name, b.step.material.density_kg_m3) for b in xcaf_usable}
+    stamps = {(m.name, m.density_kg_m3) for b in xcaf_usable if (m := b.step.material)}
     stamped_default = len(solids) >= 2 and len(xcaf_usable) == len(solids) and len(stamps) == 1
     for b in bodies:
         names = b.step.rule_names
@@ -108,7 +108,12 @@ def assign_densities(
         named_stub = bool(usable and xm is not None and is_placeholder_material(xm.name))
         stub = named_stub or stamped_default
         # A catch-all rule of a materials file is a default: the STEP's own material first.
-        default_only = found is not None and found.rule == "*" and materials.step_first
+        default_only = (
+            found is not None
+            and found.rule == "*"
+            and materials is not None
+            and materials.step_first
+        )
         if found is not None and default_only and usable and not stub:
             found = None
         if found is not None:

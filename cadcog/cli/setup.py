@@ -55,12 +55,11 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.spacecraft.setup_draft import (
         DRAFT_FACES,
         DraftPart,
-        DraftPoint,
+        distinct_points,
         draft_materials,
         draft_setup,
         face_grid,
         part_name,
-        point_label,
     )
 
     step = Path(args.model)
@@ -104,16 +103,15 @@ def run(args: argparse.Namespace) -> int:
         else ""
     )
     shapes = [b.shape for b in model.bodies if b.kind == "solid"]
-    points = [
-        DraftPoint(point_label(face, k), face, tuple(map(float, sp.position_mm)), sp.depth_mm)
-        for face in DRAFT_FACES
-        for k, sp in enumerate(
-            project_grid(
+    points = distinct_points(
+        [
+            (face, sp.position_mm, sp.depth_mm)
+            for face in DRAFT_FACES
+            for sp in project_grid(
                 shapes, face, face_grid(face, lo, hi), lo, hi, scale_to_mm=result.audit.scale_to_mm
-            ),
-            start=1,
-        )
-    ]
+            )
+        ]
+    )
     step_rel = Path(os.path.relpath(step.resolve(), out.resolve().parent)).as_posix()
     with staged_file(materials_path) as tmp:
         tmp.write_text(draft_materials(parts, step.name), encoding="utf-8")

@@ -241,6 +241,32 @@ def face_grid(face: str, bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -
     return pts
 
 
+#: Two drafted points closer than this (mm) are one: the rays of two faces meeting at an edge.
+DRAFT_MIN_SEPARATION_MM = 1.0
+
+
+def distinct_points(found: Sequence[tuple[str, npt.ArrayLike, float]]) -> list[DraftPoint]:
+    """Drafted points from (face, position_mm, depth_mm) in order, without one closer than
+    :data:`DRAFT_MIN_SEPARATION_MM` to an earlier one, labelled per face from 1.
+
+    Examples
+    --------
+    >>> [p.id for p in distinct_points([("+x", [1, 0, 0], 0), ("+x", [1, 5, 0], 0),
+    ...                                 ("+y", [1, 5.2, 0], 2), ("+y", [0, 9, 0], 1)])]
+    ['+x1', '+x2', '+y1']
+    """
+    kept: list[DraftPoint] = []
+    count: dict[str, int] = {}
+    for face, pos, depth in found:
+        p = np.asarray(pos, dtype=float)
+        if any(np.linalg.norm(p - q.position_mm) < DRAFT_MIN_SEPARATION_MM for q in kept):
+            continue
+        count[face] = count.get(face, 0) + 1
+        xyz = (float(p[0]), float(p[1]), float(p[2]))
+        kept.append(DraftPoint(point_label(face, count[face]), face, xyz, float(depth)))
+    return kept
+
+
 def point_label(face: str, k: int) -> str:
     """A candidate's id, short enough to write on tape: the face and a number from 1.
 

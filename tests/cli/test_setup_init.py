@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -46,6 +48,29 @@ def test_the_draft_loads_as_a_set_up_and_lists_every_part(sat_step, tmp_path, ca
     np.testing.assert_allclose(setup.me_volumes[0].center_mm[2] >= hi[2] - 1e-6, True)
     normals = {tuple(np.round(c.normal).astype(int)) for c in setup.candidates}
     assert normals == {(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0)}
+    # Every candidate is a point of the model, not of its box: short ids, the face named, the
+    # grid point moved inward to the first solid (the battery spans 20..80 in x and y, the
+    # boards 5..95; the frame and the lid reach the box).
+    assert all(
+        c.listed and len(c.id) <= 4 and c.id[:2] in ("+x", "-x", "+y", "-y")
+        for c in setup.candidates
+    )
+    for c in setup.candidates:
+        axis = int(np.argmax(np.abs(c.normal)))
+        depth = hi[axis] - c.position_mm[axis] if c.normal[axis] > 0 else c.position_mm[axis]
+        z = c.position_mm[2] - lo[2]
+        solids_here = [  # (depth of the solid's face from the box face, its z span)
+            (0.0, (0.0, 5.0)),
+            (0.0, (335.5, 340.5)),
+            (5.0, (100.0, 101.6)),
+            (5.0, (200.0, 201.6)),
+            (20.0, (20.0, 60.0)),
+        ]
+        assert any(
+            abs(depth - d) < 1e-3 and a - 1e-3 <= z <= b + 1e-3 for d, (a, b) in solids_here
+        ), (c.id, depth, z)
+    ids = [c.id for c in setup.candidates]
+    assert len(ids) == len(set(ids))
     # a draft never replaces a file, unless --force
     assert main(["setup", "init", str(sat_step), "--out", str(out)]) == 2
     assert "--force" in capsys.readouterr().err
@@ -64,3 +89,21 @@ def test_the_draft_loads_as_a_set_up_and_lists_every_part(sat_step, tmp_path, ca
 )
 def test_form_factor_guess(extent, expected):
     assert guess_form_factor([0, 0, 0], extent) == expected
+
+
+def test_the_loop_accepts_the_points_it_drafted(sat_step, tmp_path, capsys):
+    """Points inside the box (on the model) go through campaign and estimate, their positions
+    rounded to the files' 3 decimals, and are never refused as lying inside the body."""
+    out = tmp_path / "loop_setup.toml"
+    assert main(["setup", "init", str(sat_step), "--out", str(out)]) == 0
+    text = out.read_text(encoding="utf-8")
+    deep = [i for i in ("+x", "-x", "+y", "-y") if f'id = "{i}1"' in text]
+    assert len(deep) == 4
+    points = "+x1,-x1,+y1,-y1"
+    readings = tmp_path / "r.csv"
+    args = ["campaign", "--setup", str(out), f"--points={points}", "--out", str(readings)]
+    assert main(args) == 0
+    capsys.readouterr()
+    assert main(["estimate", str(readings), "--setup", str(out), "--json"]) == 0
+    est = json.loads(capsys.readouterr().out)
+    assert len(est["suspensions"]) == 4
