@@ -402,3 +402,24 @@ def test_short_field_texts() -> None:
     assert _short(np.array([1.0, 2.0])) == "[1.0, 2.0]"
     assert _short(list(range(10))) == "<list of 10>"
     assert _short("x" * 100).endswith("...") and len(_short("x" * 100)) == 60
+
+
+def test_every_entry_point_limits_blas_to_one_thread_unless_the_user_set_it(monkeypatch):
+    """From Python as from the command: cadcog's small matrices on a many-thread BLAS pool
+    made ``cadcog.update`` 9× slower than ``cadcog update``."""
+    from threadpoolctl import threadpool_info, threadpool_limits
+
+    from cadcog import api
+    from cadcog.cli import BLAS_THREAD_VARIABLES
+
+    assert all(hasattr(getattr(api, name), "__wrapped__") for name in api.__all__)
+    probe = api._one_blas_thread(
+        lambda: [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+    )
+    for name in BLAS_THREAD_VARIABLES:
+        monkeypatch.delenv(name, raising=False)
+    with threadpool_limits(limits=2, user_api="blas"):
+        inside = probe()
+        assert inside and set(inside) == {1}
+        monkeypatch.setenv("OPENBLAS_NUM_THREADS", "2")  # the user's choice wins
+        assert probe() == [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]

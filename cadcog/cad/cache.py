@@ -227,6 +227,27 @@ def _stamps(files: Iterable[Path]) -> list[tuple[int, int, int, int]] | None:
         return None
 
 
+def model_settings(
+    kind: str,
+    *,
+    total_mass_kg: float | None,
+    units: str | None,
+    exclude: Sequence[str],
+    overlaps: str,
+    strict: bool,
+) -> dict[str, Any]:
+    """The settings of a model's entry (with its files' content, the key): one function, so
+    that ``massprops MODEL --materials M`` and a set-up naming the same two files share it."""
+    return {
+        "kind": kind,
+        "total_mass_kg": total_mass_kg,
+        "units": units,
+        "exclude": list(exclude),
+        "overlaps": overlaps,
+        "strict": bool(strict),
+    }
+
+
 def step_mass_properties(
     step: Path,
     materials: Path | None,
@@ -258,16 +279,16 @@ def step_mass_properties(
     CadcogError
         Any other bad input, computed.
     """
-    settings = {
-        "kind": "massprops",
-        "density_kg_m3": density_kg_m3,
-        "total_mass_kg": total_mass_kg,
-        "units": units,
-        "exclude": list(exclude),
-        "overlaps": overlaps,
-        "strict": bool(strict),
-        "surface_areas": bool(surface_areas),
-    }
+    settings = model_settings(
+        "model_step",
+        total_mass_kg=total_mass_kg,
+        units=units,
+        exclude=exclude,
+        overlaps=overlaps,
+        strict=strict,
+    )  # a set-up's model_step with these materials: the same entry
+    if density_kg_m3 is not None or surface_areas:
+        settings |= {"density_kg_m3": density_kg_m3, "surface_areas": bool(surface_areas)}
 
     def afresh() -> ModelMassProperties:
         from cadcog.cad.stepmass import model_mass_properties

@@ -61,14 +61,14 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
         value = t.string("overlaps", choices=("check", "allow", "resolve", "skip"))
         overlaps = value if value in ("allow", "resolve", "skip") else "check"  # type: ignore[assignment]
     files = [source] if materials_path is None else [source, materials_path]
-    settings = {
-        "kind": "model" if t.has("model") else "model_step",
-        "total_mass_kg": total,
-        "units": units,
-        "exclude": exclude,
-        "overlaps": overlaps,
-        "strict": strict,
-    }
+    settings = cache.model_settings(
+        "model" if t.has("model") else "model_step",
+        total_mass_kg=total,
+        units=units,
+        exclude=exclude,
+        overlaps=overlaps,
+        strict=strict,
+    )
 
     def compute() -> ModelMassProperties:
         model, materials = _read(t, source, materials_path)

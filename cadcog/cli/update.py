@@ -157,7 +157,12 @@ def print_update(r: UpdateResult) -> None:
             f"  {e.label:<{width}}  {e.probability:6.1%}  ({e.prior_probability:.2g})  "
             f"{e.description}"
         )
-    print("\nitems (mass change and CoG shift, ± 1 σ; P: probability it is the one off):")
+    order = (
+        "none implicated: the largest stated mass σ first"
+        if r.consistent
+        else "the most probable first"
+    )
+    print(f"\nitems (mass change and CoG shift, ± 1 σ; P: probability it is the one off; {order}):")
     headers, rows = ut.item_table(r.ranked_items()[:8])
     print(text_table(headers, rows, "lrrrrl", 2))
     if r.unmodelled_mass_kg is not None:

@@ -294,9 +294,18 @@ class UpdateResult(JsonResult):
         return lines + [f"note: {n}" for n in self.notes]
 
     def ranked_items(self) -> list[ItemChange]:
-        """Items by the probability of being the one that changed (to 0.01 %), then by how much
-        they can move the mass and the CoG (the stated 1-σ mass of the item), then by |pull|:
-        among items the data cannot tell apart, the heavy ones first, never file order."""
+        """The items as the table lists them.
+
+        When the gap is beyond the CAD's stated uncertainties, by the probability of being the
+        one that changed (to 0.01 %), then by the item's stated 1-σ mass, then by |pull|. When
+        it is within them, no item is implicated (a washer's "it is off" is as probable as
+        its prior, and the data make a heavy item's less so): by the stated 1-σ mass, what
+        could move the mass and the CoG, then by probability. Never by file order.
+        """
+        if self.consistent:
+            return sorted(
+                self.items, key=lambda c: (-c.cad_mass_kg * c.prior_sigma_rel, -c.probability)
+            )
         return sorted(
             self.items,
             key=lambda c: (

@@ -85,6 +85,51 @@ def test_a_damaged_entry_is_recomputed(setup_file):
     assert _bits(_load(setup_file)) == _bits(first)
 
 
+def test_the_same_bytes_from_another_folder_are_a_hit_named_by_their_new_path(
+    setup_file, monkeypatch, tmp_path
+):
+    """The key is the content: a copy of the model and its files elsewhere (or the same files
+    by another spelling of their path) reads the entry, and the result names the new files."""
+    first = _load(setup_file)
+    copy = tmp_path / "copy"
+    copy.mkdir()
+    for name in ("board.step", "materials.toml", "setup.toml"):
+        (copy / name).write_bytes((setup_file.parent / name).read_bytes())
+    monkeypatch.setattr(modelfile, "_read", lambda *a: pytest.fail("read again"))
+    second = _load(copy / "setup.toml")
+    assert second.total.mass_kg == first.total.mass_kg
+    assert str(copy / "board.step") in second.audit.source
+    assert str(setup_file.parent / "board.step") not in second.audit.source
+
+
+@pytest.mark.parametrize("damage", ["digit", "other entry", "fifo", "link"])
+def test_an_entry_that_is_not_this_keys_result_is_never_read(setup_file, tmp_path, damage):
+    """A flipped digit, another model's entry copied over it, a pipe or a link in its place:
+    each is ignored (the result computed afresh), never returned and never blocks."""
+    import os
+
+    first = _load(setup_file)
+    folder = cache.cache_dir()
+    (entry,) = folder.glob("*.json")
+    text = entry.read_text(encoding="utf-8")
+    mass = repr(first.total.mass_kg)
+    entry.unlink()
+    if damage == "digit":
+        changed = mass[:-1] + ("1" if mass[-1] != "1" else "2")
+        entry.write_text(text.replace(mass, changed), encoding="utf-8")
+    elif damage == "other entry":
+        other = json.loads(text)
+        other["key"] = "0" * 64  # a valid entry of another key, renamed onto this one
+        entry.write_text(json.dumps(other), encoding="utf-8")
+    elif damage == "fifo":
+        os.mkfifo(entry)
+    else:
+        target = tmp_path / "elsewhere.json"
+        target.write_text(text, encoding="utf-8")
+        entry.symlink_to(target)
+    assert _bits(_load(setup_file)) == _bits(first)
+
+
 def test_the_cache_follows_the_environment(setup_file, monkeypatch, tmp_path):
     monkeypatch.setenv("CADCOG_CACHE_DIR", str(tmp_path / "elsewhere"))
     _load(setup_file)

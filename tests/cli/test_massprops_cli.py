@@ -13,6 +13,7 @@ from cadcog.mass.properties import combine
 from tests.cad.stepfixtures import (
     Assembly,
     Part,
+    Place,
     expected_boxes,
     nested_three_levels,
     square_face,
@@ -241,3 +242,31 @@ def _box_sizes(root):
         else:
             out.extend((child.name, size) for size, _ in child.boxes)
     return out
+
+
+@pytest.mark.parametrize(
+    ("instances", "exporter"),
+    [
+        (["48-0381:1", "48-0381:2", "48-0381:3"], "Inventor"),
+        (["R1", "R7", "R12"], "KiCad reference designators"),
+        (["screw-1", "screw-2", "screw-3"], "SolidWorks"),
+        (["screw <1>", "screw <2>", "screw <3>"], "Onshape"),
+    ],
+)
+def test_copies_are_grouped_by_their_product_whatever_their_instance_names(
+    tmp_path, capsys, instances, exporter
+):
+    """Three placements of one product: one row "name ×3" with its mass each, in the text and
+    the JSON's products, whatever names the exporter gave the instances."""
+    screw = Part("48-0381", [((2.0, 2.0, 10.0), (0.0, 0.0, 0.0))])
+    top = Assembly("sat")
+    top.add(Part("plate", [((50.0, 50.0, 2.0), (0.0, 0.0, 0.0))]))
+    for k, name in enumerate(instances):
+        top.add(screw, Place((10.0 * (k + 1), 5.0, 2.0)), name)
+    step = write_step(top, tmp_path / "copies.step")
+    assert main(["massprops", str(step), "--density-kg-m3", "1000"]) == 0
+    out = capsys.readouterr().out
+    rows = [line for line in out.splitlines() if "×3" in line]
+    assert len(rows) == 1, (exporter, out)
+    assert "3 × 0.04" in rows[0]  # 40 mm³ at 1000 kg/m³: 0.04 g each
+    assert not any(name in out for name in instances[1:]), out

@@ -107,3 +107,26 @@ def test_the_loop_accepts_the_points_it_drafted(sat_step, tmp_path, capsys):
     assert main(["estimate", str(readings), "--setup", str(out), "--json"]) == 0
     est = json.loads(capsys.readouterr().out)
     assert len(est["suspensions"]) == 4
+
+
+def test_a_light_object_under_the_me_is_planned_with_its_consequence(tmp_path, capsys):
+    """A 27 g block under the paper's 176 g ME: ``plan`` warns with the factor the compensation
+    multiplies errors by, and ``--for both`` keeps the CoG plan while refusing the inertia, with
+    the reason, exit 0 (``--for inertia`` alone is exit 2)."""
+    top = Assembly("block")
+    top.add(Part("block", [((30.0, 30.0, 30.0), (0.0, 0.0, 0.0))], 1000.0, "ABS"))
+    step = write_step(top, tmp_path / "block.step")
+    out = tmp_path / "block_setup.toml"
+    assert main(["setup", "init", str(step), "--out", str(out)]) == 0
+    capsys.readouterr()
+    args = ["plan", str(out), "--trials", "300", "--max-set", "3", "--json"]
+    assert main([*args, "--for", "both"]) == 0
+    plan = json.loads(capsys.readouterr().out)
+    ratio = plan["me_mass_kg"] / plan["mass_kg"]
+    assert ratio > 5
+    (warning,) = plan["warnings"]
+    assert f"{1 + ratio:.2f}" in warning and "lighter ME" in warning
+    assert plan["recommended"] is not None
+    assert "lighter ME" in plan["inertia"]["refused"]
+    assert main([*args, "--for", "inertia"]) == 2
+    assert "inertia tensor" in capsys.readouterr().err

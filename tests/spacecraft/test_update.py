@@ -318,3 +318,54 @@ def test_the_inertia_tells_which_item_is_off():
     assert p_both >= p_plain and p_both > 0.5
     camera = next(c for c in both.items if c.key == "camera")
     assert camera.delta_rel == pytest.approx(0.4, abs=3 * camera.delta_sigma_rel)
+
+
+def test_a_cad_without_stated_uncertainties_updates_with_a_note():
+    """No item carries a mass uncertainty (a draft's materials file without one): the update
+    still runs on the unmodelled-mass hypothesis in the box, says the CAD was taken as exact,
+    and leaves the CAD's mass and CoG where they are."""
+    env = (np.array([-50.0, -50.0, -170.0]), np.array([50.0, 50.0, 170.0]))
+    r = update_budget([], FIXED, _measure(FIXED, np.eye(3) * 0.04, 0.001), envelope_mm=env)
+    assert any("no item states a mass uncertainty" in n for n in r.notes)
+    assert r.posterior.mass_kg == pytest.approx(FIXED.mass_kg, rel=1e-9)
+    assert "notes" in r.to_dict() and r.to_dict()["notes"] == list(r.notes)
+
+
+def test_an_ill_posed_explanation_is_dropped_with_a_note(monkeypatch):
+    """A singular system in one alternative hypothesis is that hypothesis' problem: it is
+    dropped and named, the others' probabilities still add up to one; in H₀ it is an error."""
+    import cadcog.spacecraft.update as upd
+
+    real = upd.solve
+
+    def singular_for_the_camera(items, fixed, meas, y, hyp):
+        if hyp.item == "camera":
+            raise np.linalg.LinAlgError("Singular matrix")
+        return real(items, fixed, meas, y, hyp)
+
+    monkeypatch.setattr(upd, "solve", singular_for_the_camera)
+    r = update_budget(_items(), FIXED, _measure(_truth(np.zeros(6)), np.eye(3) * 0.04, 0.001))
+    dropped = [n for n in r.notes if "dropped" in n]
+    assert dropped and all("camera" in n for n in dropped)
+    assert not any(e.label.startswith("camera") for e in r.explanations)
+    assert sum(e.probability for e in r.explanations) == pytest.approx(1.0)
+    monkeypatch.setattr(upd, "solve", lambda *a: (_ for _ in ()).throw(np.linalg.LinAlgError("x")))
+    with pytest.raises(ValueError, match="CAD's own hypothesis"):
+        update_budget(_items(), FIXED, _measure(_truth(np.zeros(6)), np.eye(3) * 0.04, 0.001))
+
+
+def test_items_the_data_cannot_tell_apart_are_ranked_heavy_first():
+    """Washers listed first and a 162 g housing last, a measurement that agrees with the CAD:
+    the probabilities tie, and the table leads with what can move the CoG (the housing), not
+    with file order."""
+    box = box_properties
+    washers = [
+        Item.with_default_cog(f"washer{k}", box([3, 3, 0.5], [k, 0, 0], mass_kg=0.00015), 0.05)
+        for k in range(3)
+    ]
+    housing = Item.with_default_cog("housing", box([60, 60, 40], [0, 0, 30], mass_kg=0.162), 0.05)
+    items = [*washers, housing]
+    truth = combine([i.properties for i in items] + [FIXED])
+    r = update_budget(items, FIXED, _measure(truth, np.eye(3) * 0.04, 0.001))
+    ranked = r.ranked_items()
+    assert ranked[0].key == "housing", [(c.key, c.probability) for c in ranked]
