@@ -4,7 +4,9 @@ double-suspension measurement with a dual-axis inclinometer.
 The main entry points are here (:mod:`cadcog.api`): :func:`mass_properties` of a STEP file,
 :func:`estimate` the CoG from readings, :func:`simulate` the method's error, :func:`validate` a
 campaign, :func:`plan` a spacecraft's test, :func:`update` its CAD from the test,
-:func:`inertia` its tensor from the swings, :func:`check` requirements; :func:`load_rig` and
+:func:`inertia` its tensor from the swings, :func:`check` requirements, :func:`campaign` a
+virtual test written as a lab records it, :func:`setup_init` a set-up drafted from a STEP
+model; :func:`load_rig` and
 :func:`load_setup` read parameter files. Each returns the result object the command prints,
 with ``to_dict()`` and ``to_json()``.
 
@@ -26,6 +28,7 @@ from cadcog.core.version import __version__
 
 if TYPE_CHECKING:
     from cadcog.api import (
+        campaign,
         check,
         estimate,
         inertia,
@@ -33,6 +36,7 @@ if TYPE_CHECKING:
         load_setup,
         mass_properties,
         plan,
+        setup_init,
         simulate,
         update,
         validate,
@@ -40,6 +44,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "__version__",
+    "campaign",
     "check",
     "estimate",
     "inertia",
@@ -47,6 +52,7 @@ __all__ = [
     "load_setup",
     "mass_properties",
     "plan",
+    "setup_init",
     "simulate",
     "update",
     "validate",

@@ -38,6 +38,8 @@ if TYPE_CHECKING:
     from cadcog.dynamics.result import InertiaResult
     from cadcog.method.estimate import CogEstimate
     from cadcog.rig.parameters import Rig
+    from cadcog.runs.campaign import CampaignRun
+    from cadcog.runs.setup_init import SetupDraft
     from cadcog.spacecraft.mass_summary import MassReport
     from cadcog.spacecraft.plan import Plan
     from cadcog.spacecraft.requirements import CheckResult
@@ -69,6 +71,7 @@ def _one_blas_thread(function: _F) -> _F:
 
 
 __all__ = [
+    "campaign",
     "check",
     "estimate",
     "inertia",
@@ -76,6 +79,7 @@ __all__ = [
     "load_setup",
     "mass_properties",
     "plan",
+    "setup_init",
     "simulate",
     "update",
     "validate",
@@ -798,3 +802,110 @@ def check(requirements: str | Path, *, strict: bool = False) -> CheckResult:
     from cadcog.spacecraft.requirements import check_requirements
 
     return check_requirements(_path("check", "requirements", requirements), strict=strict)
+
+
+@_one_blas_thread
+def campaign(
+    out: str | Path,
+    *,
+    rig: Rig | str | Path | None = None,
+    setup: Setup | str | Path | None = None,
+    points: Sequence[str] | None = None,
+    seed: int = 0,
+    samples: int | None = None,
+    noise_deg: float | None = None,
+    swings: str | Path | None = None,
+) -> CampaignRun:
+    """Simulate a test campaign and write it as a lab would record it (``cadcog campaign``).
+
+    Parameters
+    ----------
+    out : str or Path
+        The readings CSV to write.
+    rig : Rig, str or Path, optional
+        The rig (or its file): one hang per suspension point (default: the paper's rig).
+    setup : Setup, str or Path, optional
+        A spacecraft's set-up instead, hanging from ``points`` (candidate ids).
+    seed : int
+    samples : int, optional
+        Raw samples per hang (default: the error model's).
+    noise_deg : float, optional
+        Sensor noise of one sample (default: the error model's).
+    swings : str or Path, optional
+        Also write each hang's swing (a swing CSV for :func:`inertia`).
+
+    Returns
+    -------
+    CampaignRun
+        What was written; ``to_dict()`` is the command's ``--json``.
+    """
+    from cadcog.runs.campaign import run_campaign
+
+    _numbers("campaign", seed=seed)
+    out_path = _path("campaign", "out", out)
+    swings_path = None if swings is None else _path("campaign", "swings", swings)
+    if setup is not None and rig is not None:
+        raise _fail("campaign", "rig", rig, "give a rig or a set-up, not both")
+    if points is not None and (
+        isinstance(points, str) or not all(isinstance(p, str) for p in points)
+    ):
+        raise _fail("campaign", "points", points, "expected a sequence of point ids (str)")
+    if setup is not None:
+        return run_campaign(
+            out_path,
+            setup=_setup("campaign", setup),
+            points=points,
+            seed=seed,
+            samples=samples,
+            noise_deg=noise_deg,
+            swings=swings_path,
+        )
+    return run_campaign(
+        out_path,
+        rig=_rig("campaign", rig),
+        points=points,
+        seed=seed,
+        samples=samples,
+        noise_deg=noise_deg,
+        swings=swings_path,
+    )
+
+
+@_one_blas_thread
+def setup_init(
+    model: str | Path,
+    *,
+    out: str | Path | None = None,
+    units: str | None = None,
+    force: bool = False,
+) -> SetupDraft:
+    """Draft a set-up file and its materials file from a STEP model (``cadcog setup init``).
+
+    Parameters
+    ----------
+    model : str or Path
+        The STEP file.
+    out : str or Path, optional
+        The set-up file (default: ``MODEL_setup.toml`` beside the model); the materials file
+        goes beside it.
+    units : str, optional
+        The file's true length unit, when its declared unit is wrong.
+    force : bool
+        Replace existing files.
+
+    Returns
+    -------
+    SetupDraft
+        The files written and what they hold; ``to_dict()`` is the command's ``--json``.
+    """
+    from cadcog.core.units import UNIT_CHOICES
+    from cadcog.runs.setup_init import run_setup_init
+
+    if units is not None:
+        check_choice("setup_init", "units", units, UNIT_CHOICES)
+    return run_setup_init(
+        _path("setup_init", "model", model),
+        out=None if out is None else _path("setup_init", "out", out),
+        units=units,
+        force=bool(force),
+    )

@@ -77,6 +77,7 @@ SAME_DEFAULTS = {
     },
     "estimate": {"self_calibrate_wire": "self_calibrate_wire", "mass_sigma_kg": "mass_sigma_kg"},
     "update": {"mass_sigma_kg": "mass_sigma_kg", "unmodelled_mass_kg": "unmodelled_mass_kg"},
+    "campaign": {"seed": "seed", "samples": "samples", "noise_deg": "noise_deg"},
 }
 COMMAND = {"mass_properties": "massprops"}
 
@@ -225,6 +226,7 @@ def test_update_with_swings_is_what_the_command_prints(tmp_path, capsys) -> None
         ("simulate", "simulate_rig", ("run_simulation", "SimulationSettings", "ErrorModel")),
         ("validate", "validate_readings", ("validate_campaign", "read_readings")),
         ("update", "update_from_files", ("update_for_setup", "inertia_observation")),
+        ("campaign", "run_campaign", ("simulated_readings", "write_campaign", "virtual_swings")),
     ],
 )
 def test_the_command_and_the_api_call_one_composition(command, composition, steps) -> None:
@@ -423,3 +425,65 @@ def test_every_entry_point_limits_blas_to_one_thread_unless_the_user_set_it(monk
         assert inside and set(inside) == {1}
         monkeypatch.setenv("OPENBLAS_NUM_THREADS", "2")  # the user's choice wins
         assert probe() == [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+
+
+def test_campaign_is_what_the_command_writes(tmp_path, capsys) -> None:
+    """The same readings and swings, byte for byte, and the command's --json."""
+    setup = "parts/cubesat_3u_setup.toml"
+    points = "+x_30_90,-x_-30_90,+y_-30_-30"
+    theirs = _cli_json(
+        capsys, "campaign", "--setup", setup, f"--points={points}", "--seed", "3",
+        "--out", str(tmp_path / "a.csv"), "--swings", str(tmp_path / "a_swings.csv"),
+    )  # fmt: skip
+    mine = cadcog.campaign(
+        tmp_path / "b.csv",
+        setup=setup,
+        points=points.split(","),
+        seed=3,
+        swings=tmp_path / "b_swings.csv",
+    )
+    assert mine.to_dict() | {"out": "", "swings": ""} == json.loads(theirs) | {
+        "out": "",
+        "swings": "",
+    }
+    for a, b in (("a.csv", "b.csv"), ("a_swings.csv", "b_swings.csv")):
+        assert (tmp_path / a).read_bytes() == (tmp_path / b).read_bytes()
+
+
+def test_a_campaign_that_cannot_write_its_swings_writes_nothing(tmp_path) -> None:
+    """All outputs or none: the swings' folder is a file, so the readings are not left."""
+    from cadcog.core.errors import CadcogError
+
+    (tmp_path / "blocker").write_text("a file", encoding="utf-8")
+    with pytest.raises(CadcogError):
+        cadcog.campaign(tmp_path / "r.csv", swings=tmp_path / "blocker" / "s.csv")
+    assert not (tmp_path / "r.csv").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["blocker"]
+
+
+def test_setup_init_is_what_the_command_drafts(tmp_path, capsys) -> None:
+    from tests.cad.stepfixtures import Assembly, Part, write_step
+
+    top = Assembly("sat")
+    top.add(Part("frame", [((100.0, 100.0, 5.0), (0.0, 0.0, 0.0))], 2700.0, "Aluminum 6061"))
+    top.add(Part("battery", [((60.0, 60.0, 40.0), (20.0, 20.0, 20.0))]))
+    step = write_step(top, tmp_path / "sat.step")
+    theirs = json.loads(
+        _cli_json(capsys, "setup", "init", str(step), "--out", str(tmp_path / "a_setup.toml"))
+    )
+    draft = cadcog.setup_init(step, out=tmp_path / "b_setup.toml")
+    paths = {"setup": "", "materials": ""}
+    assert draft.to_dict() | paths == theirs | paths
+    init = next(
+        a for a in _subparser("setup")._actions if isinstance(a, argparse._SubParsersAction)
+    ).choices["init"]
+    signature = inspect.signature(api.setup_init)
+    for keyword in ("units", "force"):
+        assert signature.parameters[keyword].default == init.get_default(keyword)
+    assert draft.n_solids == 2 and draft.n_lacking_material == 1  # the battery's
+    assert (tmp_path / "a_materials.toml").read_bytes() == (
+        tmp_path / "b_materials.toml"
+    ).read_bytes()
+    a = (tmp_path / "a_setup.toml").read_text(encoding="utf-8").replace('"a"', '"b"')
+    b = (tmp_path / "b_setup.toml").read_text(encoding="utf-8")
+    assert a.replace("a_materials", "b_materials") == b

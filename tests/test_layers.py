@@ -28,8 +28,9 @@ LAYERS: dict[str, int] = {
     "reports": 7,
     "dynamics": 7,
     "bench": 8,
-    "cli": 9,
-    "api": 10,
+    "runs": 9,
+    "cli": 10,
+    "api": 11,
 }
 
 

@@ -1,22 +1,17 @@
-"""``cadcog campaign``: a virtual test campaign written as a readings CSV."""
+"""``cadcog campaign``: a virtual test campaign written as a readings CSV
+(:func:`cadcog.runs.campaign.run_campaign`)."""
 
 from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import is_stream, refuse_overwriting_inputs
 from cadcog.core.jsontext import dumps_json
-from cadcog.method.errormodel import ErrorModel
-from cadcog.rig.file import default_rig_path, load_rig
-from cadcog.uncertainty.montecarlo import Scenario
-from cadcog.validation.campaign import simulated_readings, write_campaign
+from cadcog.runs.campaign import CampaignRun, check_points, run_campaign, with_overrides
 
 
 def add_parser(sub: Any) -> None:
@@ -56,32 +51,6 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
-def _write_swings(args: argparse.Namespace, context: Any, rows: list[Any], config: Any) -> None:
-    """``--swings``: the campaign's hangs' swings (seeded from ``--seed``)."""
-    if args.swings is None:
-        return
-    from cadcog.dynamics.swingfile import write_swings
-    from cadcog.dynamics.virtual import virtual_swings
-    from cadcog.validation.campaign import campaign_suspensions
-
-    hangs = campaign_suspensions(rows, config)
-    write_swings(args.swings, virtual_swings(context, hangs, seed=args.seed))
-    print(f"report: {args.swings}", file=sys.stderr)
-
-
-def _model(args: argparse.Namespace, model: ErrorModel) -> ErrorModel:
-    """The error model with the command's overrides (the same keys as the rig file's)."""
-    if args.samples is not None:
-        if args.samples < 1:
-            raise CadcogError(f"--samples must be at least 1, got {args.samples}")
-        model = replace(model, samples=args.samples)
-    if args.noise_deg is not None:
-        if not args.noise_deg >= 0:
-            raise CadcogError(f"--noise-deg must be non-negative, got {args.noise_deg}")
-        model = replace(model, sensor_noise_deg=args.noise_deg)
-    return model
-
-
 def run(args: argparse.Namespace) -> int:
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
     if args.swings is not None:
@@ -90,69 +59,43 @@ def run(args: argparse.Namespace) -> int:
             raise CadcogError("--swings and --out name the same file")
     if args.seed < 0:
         raise CadcogError("--seed must be non-negative")
+    options = {"samples": args.samples, "noise_deg": args.noise_deg}
     if args.setup is not None:
-        return run_setup(args)
-    if args.points is not None:
-        raise CadcogError("--points goes with --setup")
-    rig = load_rig(args.rig or default_rig_path())
-    model = _model(args, ErrorModel.from_rig(rig))
-    rows = simulated_readings(Scenario.from_rig(rig), model, rig.inclinometer, args.seed)
-    comment = (
-        f"cadcog virtual campaign: rig {rig.name}, seed {args.seed}, "
-        f"{model.samples} samples per hang; {model.summary()}"
-    )
-    write_campaign(args.out, rows, comment)
-    if args.swings is not None:
-        from cadcog.dynamics.measure import context_for_rig
+        from cadcog.method.errormodel import ErrorModel
+        from cadcog.spacecraft.setup import load_setup
 
-        _write_swings(args, context_for_rig(rig), rows, rig.inclinometer)
-    return _written(args, len(rows), len(rig.suspension_points))
-
-
-def run_setup(args: argparse.Namespace) -> int:
-    from cadcog.spacecraft.setup import load_setup
-
-    if not args.points:
-        raise CadcogError("--setup needs --points ID,ID,... (see cadcog plan)")
-    ids = [i.strip() for i in args.points.split(",")]
-    if len(set(ids)) != len(ids) or len(ids) < 2:  # before the (slow) CAD, as acquire does
-        raise CadcogError("--points: give at least two distinct point ids")
-    _model(args, ErrorModel((1.0,), (0.0,)))  # check the overrides before the (slow) CAD
-    setup = load_setup(args.setup)
-    by_id = {c.id: c for c in setup.candidates}
-    unknown = [i for i in ids if i not in by_id]
-    if unknown:
-        raise CadcogError(f"--points: unknown candidate(s) {', '.join(unknown)} in {args.setup}")
-    scenario = setup.scenario(tuple(by_id[i] for i in ids))
-    model = _model(args, setup.error_model())
-    rows = simulated_readings(scenario, model, setup.rig.inclinometer, args.seed)
-    write_campaign(
-        args.out,
-        rows,
-        f"cadcog virtual campaign: setup {setup.name}, seed {args.seed}; {model.summary()}",
-    )
-    if args.swings is not None:
-        from cadcog.dynamics.measure import context_for_setup
-
-        _write_swings(
-            args, context_for_setup(setup, np.zeros((6, 6))), rows, setup.rig.inclinometer
+        points = check_points(args.points.split(",") if args.points else None)
+        with_overrides(ErrorModel((1.0,), (0.0,)), **options)  # checked before the (slow) CAD
+        run = run_campaign(
+            args.out,
+            setup=load_setup(args.setup),
+            points=points,
+            seed=args.seed,
+            swings=args.swings,
+            **options,
         )
-    return _written(args, len(rows), len(ids))
+    else:
+        if args.points is not None:
+            raise CadcogError("--points goes with --setup")
+        from cadcog.rig.file import default_rig_path, load_rig
+
+        rig = load_rig(args.rig or default_rig_path())
+        run = run_campaign(args.out, rig=rig, seed=args.seed, swings=args.swings, **options)
+    return _written(args, run)
 
 
-def _written(args: argparse.Namespace, n_samples: int, n_hangs: int) -> int:
+def _written(args: argparse.Namespace, run: CampaignRun) -> int:
     """Say what was written: ``report: PATH`` on stderr, then a line or JSON on stdout (both on
     stderr when the CSV itself went to stdout)."""
     out = sys.stderr if is_stream(args.out) else sys.stdout
     if not is_stream(args.out):
         print(f"report: {args.out}", file=sys.stderr)
+    if run.swings is not None:
+        print(f"report: {run.swings}", file=sys.stderr)
     if args.json:
-        data = {"out": str(args.out), "n_samples": n_samples, "n_hangs": n_hangs, "seed": args.seed}
-        if args.swings is not None:
-            data["swings"] = str(args.swings)
-        print(dumps_json(data), end="", file=out)
+        print(dumps_json(run.to_dict()), end="", file=out)
     else:
-        print(f"wrote {n_samples} samples of {n_hangs} hangs to {args.out}", file=out)
-        if args.swings is not None:
-            print(f"wrote the swings of {n_hangs} hangs to {args.swings}", file=out)
+        print(f"wrote {run.n_samples} samples of {run.n_hangs} hangs to {args.out}", file=out)
+        if run.swings is not None:
+            print(f"wrote the swings of {run.n_hangs} hangs to {run.swings}", file=out)
     return 0

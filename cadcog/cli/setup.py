@@ -3,14 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from pathlib import Path
 from typing import Any
 
-from cadcog.core import tolerances
-from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import staged_file
+from cadcog.core.jsontext import dumps_json
 from cadcog.core.units import UNIT_CHOICES
 
 
@@ -44,87 +41,30 @@ def add_parser(sub: Any) -> None:
         help="the file's true length unit, when its declared unit is wrong",
     )
     init.add_argument("--force", action="store_true", help="replace existing files")
+    init.add_argument(
+        "--json", action="store_true", help="print what was drafted as one JSON object"
+    )
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.cad.stepmass import model_mass_properties
-    from cadcog.cad.stepread import read_step
-    from cadcog.cad.surfacepoints import project_grid
-    from cadcog.mass.materials import DENSITY_RANGE_KG_M3, MaterialMap, is_placeholder_material
-    from cadcog.spacecraft.setup_draft import (
-        DRAFT_FACES,
-        DraftPart,
-        distinct_points,
-        draft_materials,
-        draft_setup,
-        face_grid,
-        part_name,
-    )
+    from cadcog.runs.setup_init import run_setup_init
 
-    step = Path(args.model)
-    out = Path(args.out) if args.out is not None else step.with_name(f"{step.stem}_setup.toml")
-    if out.suffix.lower() != ".toml":
-        raise CadcogError(f"--out {out}: expected a file name ending in .toml")
-    stem = out.name[: -len("_setup.toml")] if out.name.endswith("_setup.toml") else out.stem
-    materials_path = out.with_name(f"{stem}_materials.toml")
-    for path in (out, materials_path):
-        if path.exists() and not args.force:
-            raise CadcogError(f"{path}: exists; --force replaces it (a draft never overwrites)")
-    model = read_step(step)
-    # geometry only: one density for all, each solid counted whole
-    result = model_mass_properties(
-        model, MaterialMap.uniform(1000.0), units=args.units, overlaps="allow"
+    draft = run_setup_init(Path(args.model), out=args.out, units=args.units, force=args.force)
+    print(f"report: {draft.setup}", file=sys.stderr)
+    print(f"report: {draft.materials}", file=sys.stderr)
+    if args.json:
+        print(dumps_json(draft.to_dict()), end="")
+        return 0
+    points = (
+        f"{draft.n_points} candidate points on the model"
+        if draft.n_points
+        else "a candidate grid on the bounding box"
     )
-    stamped = {b.path: b.material for b in model.bodies if b.material is not None}
-    lo_d, hi_d = DENSITY_RANGE_KG_M3
-    parts = []
-    for b in result.bodies:
-        if b.kind != "solid":
-            continue
-        xm = stamped.get(b.path)
-        rho = xm.density_kg_m3 if xm is not None else None
-        usable = rho if rho is not None and lo_d <= rho <= hi_d else None
-        parts.append(
-            DraftPart(
-                b.path,
-                b.properties.volume_mm3,
-                None if xm is None else xm.name,
-                usable,
-                xm is not None and is_placeholder_material(xm.name),
-            )
-        )
-    lo, hi = result.bbox_mm
-    ov = result.overlaps
-    refused = ov.pairs and ov.mass_fraction > tolerances.OVERLAP_REFUSE_MASS_FRACTION
-    overlaps = (
-        f"{len(ov.pairs)} overlapping pair(s), {ov.mass_fraction:.2%} of the volume"
-        if refused
-        else ""
-    )
-    shapes = [b.shape for b in model.bodies if b.kind == "solid"]
-    points = distinct_points(
-        [
-            (face, sp.position_mm, sp.depth_mm)
-            for face in DRAFT_FACES
-            for sp in project_grid(
-                shapes, face, face_grid(face, lo, hi), lo, hi, scale_to_mm=result.audit.scale_to_mm
-            )
-        ]
-    )
-    step_rel = Path(os.path.relpath(step.resolve(), out.resolve().parent)).as_posix()
-    with staged_file(materials_path) as tmp:
-        tmp.write_text(draft_materials(parts, step.name), encoding="utf-8")
-    with staged_file(out) as tmp:
-        tmp.write_text(
-            draft_setup(stem, step_rel, materials_path.name, lo, hi, overlaps, points),
-            encoding="utf-8",
-        )
-    print(f"report: {out}", file=sys.stderr)
-    print(f"report: {materials_path}", file=sys.stderr)
     print(
-        f"drafted {out} and {materials_path} ({len(parts)} solids in "
-        f"{len({part_name(p.path) for p in parts})} part names): fill in the materials, "
-        f"check the set-up, then `cadcog plan {out}`"
+        f"drafted {draft.setup} and {draft.materials} ({draft.n_solids} solids in "
+        f"{draft.n_parts} part names, {draft.n_lacking_material} without a material of their "
+        f"own in the STEP; {points}): fill in the materials, check the set-up, then "
+        f"`cadcog plan {draft.setup}`"
     )
     return 0

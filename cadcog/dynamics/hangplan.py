@@ -280,8 +280,12 @@ def plan_inertia(
             heavy = sum(x.mass_kg for x in ctx.me_parts) / ctx.object_cad.mass_kg
             raise DegenerateGeometryError(
                 "no set of these candidates determines the inertia tensor usefully: the best "
-                f"gives a principal moment only to ±{100 * closest[0]:.0f} % at 1 σ (a plan "
-                f"needs ±{100 * MAX_MOMENT_SIGMA_REL:.0f} % or better)"
+                + (
+                    f"gives a principal moment only to ±{100 * closest[0]:.0f} % at 1 σ"
+                    if closest[0] < 10
+                    else "leaves a principal moment undetermined (1 σ above 1000 %)"
+                )
+                + f" (a plan needs ±{100 * MAX_MOMENT_SIGMA_REL:.0f} % or better)"
                 + (
                     f"; the measurement equipment weighs {heavy:.2f}× the object, and its "
                     "inertia's uncertainty dominates: a lighter ME is the remedy"

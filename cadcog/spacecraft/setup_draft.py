@@ -126,6 +126,20 @@ def _stamp(p: DraftPart) -> str:
     return f"{p.step_material!r}{d}"
 
 
+def stamped_default(parts: Sequence[DraftPart]) -> bool:
+    """Every solid carries one and the same STEP material: an exporter's default, which a
+    catch-all rule replaces (as :func:`cadcog.cad.massrules.assign_densities` does)."""
+    stamps = {(p.step_material, p.step_density_kg_m3) for p in parts}
+    return len(parts) >= 2 and len(stamps) == 1 and all(p.has_material for p in parts)
+
+
+def lacking_material(parts: Sequence[DraftPart]) -> int:
+    """Solids the STEP gives no material of their own (none, a placeholder, a default)."""
+    if stamped_default(parts):
+        return len(parts)
+    return sum(1 for p in parts if not p.has_material)
+
+
 def draft_materials(parts: Sequence[DraftPart], source: str) -> str:
     """The materials file's text: one commented rule per part, heaviest volume first."""
     groups: dict[str, list[DraftPart]] = {}
@@ -160,9 +174,8 @@ def draft_materials(parts: Sequence[DraftPart], source: str) -> str:
         rule = f"# {_toml_str(name):<{width}}= ?"
         lines.append(f"{rule:<{width + 6}}  # {size}{note}")
     stamped = {_stamp(p) for p in parts}
-    default = len(parts) >= 2 and len(stamped) == 1 and all(p.has_material for p in parts)
-    lacking = len(parts) if default else sum(1 for p in parts if not p.has_material)
-    if default:
+    lacking = lacking_material(parts)
+    if stamped_default(parts):
         lines.append(
             f"# every solid carries the same STEP material, {next(iter(stamped))}: an exporter's "
             "default (Fusion 360\n# writes 'Steel' on boards and plastics alike), which the "

@@ -91,8 +91,8 @@ def simulated_readings(
     return rows
 
 
-def write_campaign(path: str | Path, rows: list[CampaignRow], comment: str = "") -> None:
-    """Write rows as a readings CSV (counts), atomically."""
+def campaign_text(rows: list[CampaignRow], comment: str = "") -> str:
+    """Rows as the text of a readings CSV (counts), the comment's lines first."""
     lines = [f"# {c}" for c in comment.splitlines()] + [HEADER]
     for r in rows:
         x, y, z = r.position_mm
@@ -100,8 +100,13 @@ def write_campaign(path: str | Path, rows: list[CampaignRow], comment: str = "")
             f"{r.point_id},{x:.3f},{y:.3f},{z:.3f},{r.counts_x},{r.counts_y},"
             f"{format_face(r.top_face_up)}"
         )
+    return "\n".join(lines) + "\n"
+
+
+def write_campaign(path: str | Path, rows: list[CampaignRow], comment: str = "") -> None:
+    """Write rows as a readings CSV (counts), atomically."""
     with staged_file(path) as tmp:
-        tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        tmp.write_text(campaign_text(rows, comment), encoding="utf-8")
 
 
 def campaign_suspensions(

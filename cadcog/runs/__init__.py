@@ -1,0 +1,7 @@
+"""Runs: one composition per command that writes files, shared by the command and the API.
+
+A run takes checked, typed arguments (paths, a rig or a set-up, options), does the work through
+the library below it, writes every output or none, and returns a result whose ``to_dict()`` is
+the command's ``--json``. The command parses and prints; :mod:`cadcog.api` checks Python
+arguments; neither composes the work again.
+"""

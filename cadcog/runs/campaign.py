@@ -1,0 +1,164 @@
+"""A virtual campaign written as a lab would record it: ``cadcog campaign`` and
+:func:`cadcog.campaign`.
+
+One hang per suspension point of the rig (or per listed candidate of a set-up), drawn from the
+error model every command uses (:func:`cadcog.validation.campaign.simulated_readings`), written
+as a readings CSV; with ``swings``, the same hangs' swings too. Both files are computed before
+either is written, and written together: a failure (a full disk, a bad path) leaves neither.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from contextlib import ExitStack
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import staged_file
+from cadcog.core.results import JsonResult
+from cadcog.method.errormodel import ErrorModel
+from cadcog.rig.parameters import Rig
+from cadcog.spacecraft.setup import Setup
+from cadcog.uncertainty.montecarlo import Scenario
+from cadcog.validation.campaign import campaign_suspensions, campaign_text, simulated_readings
+
+
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
+class CampaignRun(JsonResult):
+    """What a campaign wrote.
+
+    Attributes
+    ----------
+    out : str
+        The readings CSV.
+    n_samples, n_hangs : int
+        Rows written, and hangs.
+    seed : int
+    swings : str or None
+        The swing file, when asked for.
+    """
+
+    out: str
+    n_samples: int
+    n_hangs: int
+    seed: int
+    swings: str | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        data: dict[str, Any] = {
+            "out": self.out,
+            "n_samples": self.n_samples,
+            "n_hangs": self.n_hangs,
+            "seed": self.seed,
+        }
+        if self.swings is not None:
+            data["swings"] = self.swings
+        return data
+
+
+def with_overrides(
+    model: ErrorModel, *, samples: int | None = None, noise_deg: float | None = None
+) -> ErrorModel:
+    """The error model with a campaign's overrides (the rig file's keys ``samples`` and
+    ``sensor_noise_deg``), checked.
+
+    Raises
+    ------
+    CadcogError
+        ``samples`` below 1, ``noise_deg`` negative or not a number.
+    """
+    if samples is not None:
+        if samples < 1:
+            raise CadcogError(f"--samples must be at least 1, got {samples}")
+        model = replace(model, samples=samples)
+    if noise_deg is not None:
+        if not noise_deg >= 0:
+            raise CadcogError(f"--noise-deg must be non-negative, got {noise_deg}")
+        model = replace(model, sensor_noise_deg=noise_deg)
+    return model
+
+
+def check_points(points: Sequence[str] | None) -> list[str]:
+    """A set-up campaign's point ids: at least two, distinct (checked before the CAD)."""
+    ids = [i.strip() for i in points or ()]
+    if not ids:
+        raise CadcogError("--setup needs --points ID,ID,... (see cadcog plan)")
+    if len(set(ids)) != len(ids) or len(ids) < 2:
+        raise CadcogError("--points: give at least two distinct point ids")
+    return ids
+
+
+def run_campaign(
+    out: Path,
+    *,
+    rig: Rig | None = None,
+    setup: Setup | None = None,
+    points: Sequence[str] | None = None,
+    seed: int = 0,
+    samples: int | None = None,
+    noise_deg: float | None = None,
+    swings: Path | None = None,
+) -> CampaignRun:
+    """Simulate a campaign of ``rig`` (every suspension point) or of ``setup`` (the candidates
+    ``points``) and write it to ``out`` (and its swings to ``swings``).
+
+    Raises
+    ------
+    CadcogError
+        Neither or both of ``rig`` and ``setup``; ``points`` without a set-up, or unknown ids;
+        a bad override; an output that cannot be written (then neither file is).
+    """
+    if (rig is None) == (setup is None):
+        raise CadcogError("give a rig or a set-up")
+    if seed < 0:
+        raise CadcogError("--seed must be non-negative")
+    if setup is None:
+        assert rig is not None
+        if points is not None:
+            raise CadcogError("--points goes with --setup")
+        model = with_overrides(ErrorModel.from_rig(rig), samples=samples, noise_deg=noise_deg)
+        rows = simulated_readings(Scenario.from_rig(rig), model, rig.inclinometer, seed)
+        comment = (
+            f"cadcog virtual campaign: rig {rig.name}, seed {seed}, "
+            f"{model.samples} samples per hang; {model.summary()}"
+        )
+        inclinometer = rig.inclinometer
+        n_hangs = len(rig.suspension_points)
+    else:
+        ids = check_points(points)
+        by_id = {c.id: c for c in setup.candidates}
+        unknown = [i for i in ids if i not in by_id]
+        if unknown:
+            raise CadcogError(
+                f"--points: unknown candidate(s) {', '.join(unknown)} in {setup.source}"
+            )
+        model = with_overrides(setup.error_model(), samples=samples, noise_deg=noise_deg)
+        scenario = setup.scenario(tuple(by_id[i] for i in ids))
+        rows = simulated_readings(scenario, model, setup.rig.inclinometer, seed)
+        comment = f"cadcog virtual campaign: setup {setup.name}, seed {seed}; {model.summary()}"
+        inclinometer = setup.rig.inclinometer
+        n_hangs = len(ids)
+    swing_text = None
+    if swings is not None:
+        from cadcog.dynamics.measure import context_for_rig, context_for_setup
+        from cadcog.dynamics.swingfile import swings_text
+        from cadcog.dynamics.virtual import virtual_swings
+
+        context = (
+            context_for_setup(setup, np.zeros((6, 6)))
+            if setup is not None
+            else context_for_rig(rig)  # type: ignore[arg-type]  # rig is given (checked above)
+        )
+        hangs = campaign_suspensions(rows, inclinometer)
+        swing_text = swings_text(virtual_swings(context, hangs, seed=seed))
+    with ExitStack() as stack:  # both staged and filled before either is put in place
+        tmp = stack.enter_context(staged_file(out))
+        tmp.write_text(campaign_text(rows, comment), encoding="utf-8")
+        if swings is not None and swing_text is not None:
+            tmp_swings = stack.enter_context(staged_file(swings))
+            tmp_swings.write_text(swing_text, encoding="utf-8")
+    return CampaignRun(str(out), len(rows), n_hangs, seed, None if swings is None else str(swings))

@@ -1,0 +1,157 @@
+"""Draft a set-up file and a materials file from one's STEP model: ``cadcog setup init`` and
+:func:`cadcog.setup_init`.
+
+Reads the model once (geometry at one density; each solid counted whole), lists its parts with
+the materials the STEP carries (:func:`cadcog.spacecraft.setup_draft.draft_materials`), casts
+the candidate grid onto the model (:func:`cadcog.cad.surfacepoints.project_grid`), and writes
+both files together: a failure leaves neither, and neither replaces a file unless ``force``.
+"""
+
+from __future__ import annotations
+
+import os
+from contextlib import ExitStack
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from cadcog.core import tolerances
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import staged_file
+from cadcog.core.results import JsonResult
+
+
+@dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
+class SetupDraft(JsonResult):
+    """What ``setup init`` wrote.
+
+    Attributes
+    ----------
+    setup, materials : str
+        The two files.
+    n_solids, n_parts : int
+        Solids of the model, and part names the materials file lists.
+    n_points : int
+        Candidate points on the model (0: the draft asks for the grid on the box instead).
+    n_lacking_material : int
+        Solids the STEP gives no material of their own (none, or a placeholder).
+    form_factor : str or None
+        The CubeSat form factor guessed from the bounding box.
+    """
+
+    setup: str
+    materials: str
+    n_solids: int
+    n_parts: int
+    n_points: int
+    n_lacking_material: int
+    form_factor: str | None
+
+    def to_dict(self) -> dict[str, Any]:
+        return dict(self.__dict__)
+
+
+def draft_paths(model: Path, out: Path | None) -> tuple[Path, Path, str]:
+    """The set-up file, the materials file beside it, and the set-up's name.
+
+    Examples
+    --------
+    >>> [str(p) for p in draft_paths(Path("cad/sat.step"), None)[:2]]
+    ['cad/sat_setup.toml', 'cad/sat_materials.toml']
+    """
+    setup = Path(out) if out is not None else model.with_name(f"{model.stem}_setup.toml")
+    if setup.suffix.lower() != ".toml":
+        raise CadcogError(f"--out {setup}: expected a file name ending in .toml")
+    stem = setup.name[: -len("_setup.toml")] if setup.name.endswith("_setup.toml") else setup.stem
+    return setup, setup.with_name(f"{stem}_materials.toml"), stem
+
+
+def run_setup_init(
+    model: Path, *, out: Path | None = None, units: str | None = None, force: bool = False
+) -> SetupDraft:
+    """Draft ``out`` (default ``MODEL_setup.toml`` beside the model) and its materials file.
+
+    Raises
+    ------
+    CadcogError
+        A file exists (without ``force``), the model cannot be read, an output cannot be
+        written (then neither is).
+    """
+    from cadcog.cad.stepmass import model_mass_properties
+    from cadcog.cad.stepread import read_step
+    from cadcog.cad.surfacepoints import project_grid
+    from cadcog.mass.materials import DENSITY_RANGE_KG_M3, MaterialMap, is_placeholder_material
+    from cadcog.spacecraft.setup_draft import (
+        DRAFT_FACES,
+        DraftPart,
+        distinct_points,
+        draft_materials,
+        draft_setup,
+        face_grid,
+        guess_form_factor,
+        lacking_material,
+        part_name,
+    )
+
+    setup_path, materials_path, stem = draft_paths(Path(model), out)
+    for path in (setup_path, materials_path):
+        if path.exists() and not force:
+            raise CadcogError(f"{path}: exists; --force replaces it (a draft never overwrites)")
+    step_model = read_step(model)
+    # geometry only: one density for all, each solid counted whole
+    result = model_mass_properties(
+        step_model, MaterialMap.uniform(1000.0), units=units, overlaps="allow"
+    )
+    stamped = {b.path: b.material for b in step_model.bodies if b.material is not None}
+    lo_d, hi_d = DENSITY_RANGE_KG_M3
+    parts = []
+    for b in result.bodies:
+        if b.kind != "solid":
+            continue
+        xm = stamped.get(b.path)
+        rho = xm.density_kg_m3 if xm is not None else None
+        parts.append(
+            DraftPart(
+                b.path,
+                b.properties.volume_mm3,
+                None if xm is None else xm.name,
+                rho if rho is not None and lo_d <= rho <= hi_d else None,
+                xm is not None and is_placeholder_material(xm.name),
+            )
+        )
+    lo, hi = result.bbox_mm
+    ov = result.overlaps
+    refused = ov.pairs and ov.mass_fraction > tolerances.OVERLAP_REFUSE_MASS_FRACTION
+    overlaps = (
+        f"{len(ov.pairs)} overlapping pair(s), {ov.mass_fraction:.2%} of the volume"
+        if refused
+        else ""
+    )
+    shapes = [b.shape for b in step_model.bodies if b.kind == "solid"]
+    scale = result.audit.scale_to_mm
+    points = distinct_points(
+        [
+            (face, sp.position_mm, sp.depth_mm)
+            for face in DRAFT_FACES
+            for sp in project_grid(shapes, face, face_grid(face, lo, hi), lo, hi, scale_to_mm=scale)
+        ]
+    )
+    step_rel = Path(os.path.relpath(Path(model).resolve(), setup_path.resolve().parent))
+    materials_text = draft_materials(parts, Path(model).name)
+    setup_text = draft_setup(
+        stem, step_rel.as_posix(), materials_path.name, lo, hi, overlaps, points
+    )
+    with ExitStack() as stack:  # both filled before either is put in place
+        stack.enter_context(staged_file(materials_path)).write_text(
+            materials_text, encoding="utf-8"
+        )
+        stack.enter_context(staged_file(setup_path)).write_text(setup_text, encoding="utf-8")
+    return SetupDraft(
+        str(setup_path),
+        str(materials_path),
+        len(parts),
+        len({part_name(p.path) for p in parts}),
+        len(points) if len(points) >= 2 else 0,
+        lacking_material(parts),
+        guess_form_factor(lo, hi),
+    )
