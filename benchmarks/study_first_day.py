@@ -96,15 +96,15 @@ def one_file(step: Path, work: Path) -> list[dict[str, object]]:
         if rc:
             return rows
         plan = json.loads(out)
-        if plan.get("recommended") is None:
+        if plan.get("recommended") is None:  # the plan says why: the loop stops there
             rows.append(
                 {
                     "file": step.name,
-                    "step": "plan",
-                    "rc": 0,
-                    "ok": False,
+                    "step": "(stops)",
+                    "rc": "-",
+                    "ok": True,
                     "s": 0,
-                    "said": "no recommended set",
+                    "said": "plan: " + plan.get("reason", "")[:120],
                 }
             )
             return rows
@@ -200,6 +200,33 @@ def main() -> None:
         all_rows.extend(rows)
     bad = [r for r in all_rows if not r["ok"]]
     print(f"\n{len(files)} files, {len(all_rows)} steps, {len(bad)} failed")
+    print("\n| file | exporter | steps passed | inertia | stops | time (s) |")
+    print("|---|---|---|---|---|---|")
+    for f in files:
+        mine = [r for r in all_rows if r["file"] == f.name]
+        ran = [r for r in mine if r["rc"] != "-"]
+        inertia = next((r for r in mine if r["step"] == "inertia"), None)
+        stop = next((str(r["said"]) for r in mine if r["step"] == "(stops)"), "")
+        if inertia is None:
+            how = "-"
+        elif inertia["rc"] == "-":
+            how = "not planned"
+        else:
+            how = "ok" if inertia["ok"] else "FAIL"
+        print(
+            f"| {f.name} | {exporter(f)} | {sum(bool(r['ok']) for r in ran)}/{len(ran)} | "
+            f"{how} | {stop[:60]} | {sum(float(r['s']) for r in mine):.0f} |"
+        )
+
+
+def exporter(path: Path) -> str:
+    """The STEP header's originating system (or preprocessor), shortened."""
+    head = path.read_bytes()[:4000].decode("latin-1")
+    m = re.search(r"FILE_NAME\s*\((.*?)\);", head, re.S)
+    fields = re.findall(r"'([^']*)'", m.group(1)) if m else []
+    system = fields[-2].strip() if len(fields) >= 2 else ""
+    pre = fields[-3].strip() if len(fields) >= 3 else ""
+    return (system or pre or "?")[:40]
 
 
 if __name__ == "__main__":

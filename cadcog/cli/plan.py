@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from cadcog.core import numformat
 from cadcog.core.errors import CadcogError
 from cadcog.core.jsontext import dumps_json
 
@@ -89,8 +90,8 @@ def run(args: argparse.Namespace) -> int:
     m = setup.mass
     cog = ", ".join(f"{c:.3f}" for c in m.cog_mm)
     print(
-        f"{setup.name}: {m.mass_kg:.4f} kg, CAD CoG [{cog}] mm; "
-        f"ME {setup.me_mass_kg:.3f} kg (m_ME/m = {setup.me_mass_kg / m.mass_kg:.3f})"
+        f"{setup.name}: {numformat.mass(m.mass_kg)}, CAD CoG [{cog}] mm; "
+        f"ME {numformat.mass(setup.me_mass_kg)} (m_ME/m = {setup.me_mass_kg / m.mass_kg:.4g})"
     )
     for w in plan.warnings:
         print(f"warning: {w}", file=sys.stderr)
@@ -116,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
             f" (linearised {s['linearised_q95_mm']:.3f})"
         )
     if plan.recommended is None:
-        print("\nno usable pair: add candidates or move the ME")
+        print(f"\nno recommendation: {plan.reason}")
         return 0
     print(
         f"\nrecommended{' for the CoG' if inertia is not None else ''}: hang from "

@@ -57,6 +57,10 @@ class Plan(JsonResult):
         The spacecraft's CAD mass (kg), without the measurement equipment.
     me_mass_kg : float
         The measurement equipment's mass (kg).
+    warnings : tuple of str
+        What the plan's user must know (an ME heavy against the object).
+    reason : str
+        Why nothing is recommended (empty when a set is).
     cad_cog_mm : tuple of 3 floats
         The spacecraft's CAD CoG (mm).
     """
@@ -71,6 +75,7 @@ class Plan(JsonResult):
     cad_cog_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)
     me_mass_kg: float = 0.0
     warnings: tuple[str, ...] = ()
+    reason: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -83,6 +88,7 @@ class Plan(JsonResult):
             "best_sets": list(self.best_sets),
             "recommended": self.recommended,
             "warnings": list(self.warnings),
+            "reason": self.reason,
             "error_model": None if self.model is None else self.model.describe(),
             "estimator": EstimatorOptions().describe(),
             "prediction": f"Monte Carlo of the estimator of cadcog estimate, {self.trials} "
@@ -182,7 +188,16 @@ def plan_test(
     model = setup.error_model()
     if len(usable) < 2:
         return Plan(
-            tuple(checks), (), (), None, model, trials, *_masses(setup), _warnings(setup, model)
+            tuple(checks),
+            (),
+            (),
+            None,
+            model,
+            trials,
+            *_masses(setup),
+            _warnings(setup, model),
+            f"{len(usable)} of {len(checks)} candidates usable, two at least are needed: add "
+            "candidates, or move the ME so that the readings stay in range",
         )
     scenario = setup.scenario(usable)
     n = len(usable)
@@ -228,7 +243,17 @@ def plan_test(
     pair_idx = pair_idx[conditioning(pair_idx) >= min_angle_deg]
     if not len(pair_idx):
         return Plan(
-            tuple(checks), (), (), None, model, trials, *_masses(setup), _warnings(setup, model)
+            tuple(checks),
+            (),
+            (),
+            None,
+            model,
+            trials,
+            *_masses(setup),
+            _warnings(setup, model),
+            f"no two usable candidates' plumb lines meet at {min_angle_deg:g}° or more (the "
+            "object hangs the same way from each: the points lie in line with its CoG, or the ME "
+            "outweighs it): add candidates far apart on other faces",
         )
     pair_q95 = _linearised_q95(predicted(pair_idx), z)
     pairs = sorted(
