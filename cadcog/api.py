@@ -27,6 +27,7 @@ from __future__ import annotations
 import functools
 import numbers
 import os
+import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal, TypeVar
@@ -51,20 +52,49 @@ if TYPE_CHECKING:
 _F = TypeVar("_F", bound=Callable[..., Any])
 
 
+class _BlasLimit:
+    """One BLAS thread while any entry point runs, however many run at once (threads) or
+    inside each other: the limit is process-wide (threadpoolctl), so it is set when the first
+    call enters and restored when the last one leaves, never by a call that ends while another
+    still runs."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._depth = 0
+        self._limiter: Any = None
+
+    def __enter__(self) -> None:
+        with self._lock:
+            if self._depth == 0:
+                from threadpoolctl import threadpool_limits
+
+                self._limiter = threadpool_limits(limits=1, user_api="blas")
+            self._depth += 1
+
+    def __exit__(self, *exc: object) -> None:
+        with self._lock:
+            self._depth -= 1
+            if self._depth == 0 and self._limiter is not None:
+                self._limiter.restore_original_limits()
+                self._limiter = None
+
+
+_BLAS_LIMIT = _BlasLimit()
+
+
 def _one_blas_thread(function: _F) -> _F:
     """Run ``function`` with the BLAS libraries' thread pools limited to one thread, as the
     console command runs (:data:`cadcog.cli.BLAS_THREAD_VARIABLES`): cadcog's matrices are
     small, and a default pool of many threads made ``update`` 9× slower from Python than from
-    the command. A limit the user set in the environment wins, as it does for the command."""
+    the command. The limit holds for the whole process while any entry point runs. A limit the
+    user set in the environment wins, as it does for the command."""
     from cadcog.cli import BLAS_THREAD_VARIABLES
 
     @functools.wraps(function)
     def limited(*args: Any, **kwargs: Any) -> Any:
         if any(name in os.environ for name in BLAS_THREAD_VARIABLES):
             return function(*args, **kwargs)
-        from threadpoolctl import threadpool_limits
-
-        with threadpool_limits(limits=1, user_api="blas"):
+        with _BLAS_LIMIT:
             return function(*args, **kwargs)
 
     return limited  # type: ignore[return-value]
@@ -841,7 +871,7 @@ def campaign(
     """
     from cadcog.runs.campaign import run_campaign
 
-    _numbers("campaign", seed=seed)
+    _numbers("campaign", seed=seed, samples=samples, noise_deg=noise_deg)
     out_path = _path("campaign", "out", out)
     swings_path = None if swings is None else _path("campaign", "swings", swings)
     if setup is not None and rig is not None:

@@ -226,7 +226,8 @@ def test_update_with_swings_is_what_the_command_prints(tmp_path, capsys) -> None
         ("simulate", "simulate_rig", ("run_simulation", "SimulationSettings", "ErrorModel")),
         ("validate", "validate_readings", ("validate_campaign", "read_readings")),
         ("update", "update_from_files", ("update_for_setup", "inertia_observation")),
-        ("campaign", "run_campaign", ("simulated_readings", "write_campaign", "virtual_swings")),
+        ("campaign", "run_campaign", ("simulated_readings", "campaign_text", "virtual_swings")),
+        ("setup", "run_setup_init", ("read_step", "draft_materials", "project_grid")),
     ],
 )
 def test_the_command_and_the_api_call_one_composition(command, composition, steps) -> None:
@@ -238,9 +239,8 @@ def test_the_command_and_the_api_call_one_composition(command, composition, step
     package = Path(cadcog.__file__).parent
     cli = ast.parse((package / "cli" / f"{command}.py").read_text(encoding="utf-8"))
     tree = ast.parse((package / "api.py").read_text(encoding="utf-8"))
-    api_function = next(
-        n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == command
-    )
+    name = {"setup": "setup_init"}.get(command, command)
+    api_function = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == name)
     for node in (cli, api_function):
         names = {n.id for n in ast.walk(node) if isinstance(n, ast.Name)}
         assert composition in names
@@ -487,3 +487,71 @@ def test_setup_init_is_what_the_command_drafts(tmp_path, capsys) -> None:
     a = (tmp_path / "a_setup.toml").read_text(encoding="utf-8").replace('"a"', '"b"')
     b = (tmp_path / "b_setup.toml").read_text(encoding="utf-8")
     assert a.replace("a_materials", "b_materials") == b
+
+
+def test_overlapping_calls_keep_one_blas_thread_until_the_last_returns(monkeypatch):
+    """threadpoolctl's limits are process-wide: a call from another thread that ends while
+    this one runs must not lift the limit; the first call in sets it, the last one out restores
+    it (the limiter is recorded here: OpenBLAS ignores limits set from some threads, so the
+    pools themselves cannot show it)."""
+    import threading
+
+    import threadpoolctl
+
+    from cadcog import api
+    from cadcog.cli import BLAS_THREAD_VARIABLES
+
+    for name in BLAS_THREAD_VARIABLES:
+        monkeypatch.delenv(name, raising=False)
+    events: list[str] = []
+
+    class Limiter:
+        def __init__(self, limits, user_api):
+            assert (limits, user_api) == (1, "blas")
+            events.append("limit")
+
+        def restore_original_limits(self):
+            events.append("restore")
+
+    monkeypatch.setattr(threadpoolctl, "threadpool_limits", Limiter)
+
+    @api._one_blas_thread
+    def other() -> None:
+        events.append("other")
+
+    @api._one_blas_thread
+    def this() -> None:
+        t = threading.Thread(target=other)
+        t.start()
+        t.join(5)  # the other call has come and gone
+        events.append("this")
+
+    this()
+    assert events == ["limit", "other", "this", "restore"]
+    this()  # and again, once the first pair is done
+    assert events[4:] == ["limit", "other", "this", "restore"]
+
+
+def test_swings_that_give_no_inertia_are_a_note_not_a_failure(tmp_path, monkeypatch) -> None:
+    """``update --swings`` on swings the modal fit cannot read (a light object, a release with
+    no twist): the CoG and mass update still runs, and says which file was not used and why;
+    a swing file that cannot be read at all stays an error."""
+    from cadcog.core.errors import CadcogError, DegenerateGeometryError
+    from cadcog.dynamics import measure
+
+    setup = "parts/cubesat_3u_setup.toml"
+    points = ["+x_30_90", "-x_-30_90", "+y_-30_-30", "-y_30_-30"]
+    cadcog.campaign(tmp_path / "r.csv", setup=setup, points=points, swings=tmp_path / "s.csv")
+
+    def no_modes(*args, **kwargs):
+        raise DegenerateGeometryError("hang +x_30_90: no swing mode stands out of the noise")
+
+    monkeypatch.setattr(measure, "inertia_observation", no_modes)
+    r = cadcog.update(tmp_path / "r.csv", setup, 2.583, swings=tmp_path / "s.csv")
+    (note,) = [n for n in r.notes if "swings" in n]
+    assert "s.csv" in note and "no swing mode stands out" in note
+    assert r.dof == 4  # mass and CoG only
+    monkeypatch.undo()
+    (tmp_path / "bad.csv").write_text("point_id,t_s,inc_x_deg,inc_y_deg\nS1,x,1,2\n", "utf-8")
+    with pytest.raises(CadcogError, match=r"bad\.csv"):
+        cadcog.update(tmp_path / "r.csv", setup, 2.583, swings=tmp_path / "bad.csv")

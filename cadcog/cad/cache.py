@@ -339,7 +339,8 @@ def mass_properties(
     settings : dict
         Every option that changes the result (JSON-ready values).
     files : iterable of Path
-        Every file read (paths and contents are hashed).
+        Every file read (their contents are hashed, in order; the paths name them in the
+        result).
     compute : callable
         Computes the result (reading the files).
 
@@ -386,9 +387,18 @@ def mass_properties(
 
 
 def _swap(text: str, old: Sequence[str], new: Sequence[str]) -> str:
+    """``text`` with each whole path of ``old`` replaced by the one of ``new`` at its place: a
+    path inside a longer path or name (a product named like the file) is left alone.
+
+    Examples
+    --------
+    >>> _swap("m.step: note on m.step/part", ["m.step"], ["/b/m.step"])
+    '/b/m.step: note on m.step/part'
+    """
     for a, b in zip(old, new, strict=True):
         if a != b:
-            text = text.replace(a, b)
+            whole = re.compile(r"(?<![\w./\\-])" + re.escape(a) + r"(?![\w/\\-]|\.\w)")
+            text = whole.sub(lambda _m, b=b: b, text)
     return text
 
 
@@ -402,6 +412,9 @@ def _relabelled(
         return result
     return replace(
         result,
+        bodies=tuple(
+            replace(b, density_source=_swap(b.density_source, old, new)) for b in result.bodies
+        ),
         audit=replace(result.audit, source=_swap(result.audit.source, old, new)),
         notes=tuple(_swap(n, old, new) for n in result.notes),
         info=tuple(_swap(n, old, new) for n in result.info),

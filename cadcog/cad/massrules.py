@@ -119,7 +119,7 @@ def assign_densities(
         if found is not None:
             b.material, b.density_kg_m3 = found.material, found.density_kg_m3
             b.source = f"materials rule {found.rule!r} ({origin})"
-            if named_stub and default_only and xm is not None:
+            if stub and default_only and xm is not None:
                 defaulted.setdefault(xm.name, []).append(b)
         elif uniform:
             b.material, b.density_kg_m3 = "uniform", 1000.0
@@ -142,10 +142,15 @@ def assign_densities(
             f"{_listed([g.step.path for g in group])}; give them their material"
         )
     for name, group in sorted(defaulted.items()):
+        what = (
+            "the same STEP material on every solid, taken as the exporter's default"
+            if stamped_default and not is_placeholder_material(name)
+            else "the exporter's placeholder material"
+        )
         notes.append(
-            f"{len(group)} solid(s) carry the exporter's placeholder material {name!r}: the "
-            f"catch-all rule gave them {group[0].material!r}: "
-            f"{_listed([g.step.path for g in group])}; check it"
+            f"{len(group)} solid(s) carry {what} {name!r}: the catch-all rule gave them "
+            f"{group[0].material!r}: {_listed([g.step.path for g in group])}; name a part in "
+            "the materials file to keep the STEP's"
         )
     from_file = [b for b in solids if b.source.startswith("STEP material")]
     if len(from_file) >= 2 and len({(b.material, b.density_kg_m3) for b in from_file}) == 1:

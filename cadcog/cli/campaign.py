@@ -52,11 +52,7 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
-    if args.swings is not None:
-        refuse_overwriting_inputs(args.swings, {"--rig": args.rig, "--setup": args.setup})
-        if args.swings.resolve() == args.out.resolve():
-            raise CadcogError("--swings and --out name the same file")
+    refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})  # early
     if args.seed < 0:
         raise CadcogError("--seed must be non-negative")
     options = {"samples": args.samples, "noise_deg": args.noise_deg}

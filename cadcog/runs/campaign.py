@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import staged_file
+from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
 from cadcog.core.results import JsonResult
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.parameters import Rig
@@ -35,8 +35,10 @@ class CampaignRun(JsonResult):
     ----------
     out : str
         The readings CSV.
-    n_samples, n_hangs : int
-        Rows written, and hangs.
+    n_samples : int
+        Rows written.
+    n_hangs : int
+        Hangs.
     seed : int
     swings : str or None
         The swing file, when asked for.
@@ -116,6 +118,15 @@ def run_campaign(
         raise CadcogError("give a rig or a set-up")
     if seed < 0:
         raise CadcogError("--seed must be non-negative")
+    inputs = {
+        "--rig": None if rig is None else rig.source,
+        "--setup": None if setup is None else setup.source,
+    }
+    refuse_overwriting_inputs(out, inputs)
+    if swings is not None:
+        refuse_overwriting_inputs(swings, inputs)
+        if str(swings) not in ("", "-") and Path(swings).resolve() == Path(out).resolve():
+            raise CadcogError("--swings and --out name the same file")
     if setup is None:
         assert rig is not None
         if points is not None:
@@ -155,10 +166,12 @@ def run_campaign(
         )
         hangs = campaign_suspensions(rows, inclinometer)
         swing_text = swings_text(virtual_swings(context, hangs, seed=seed))
-    with ExitStack() as stack:  # both staged and filled before either is put in place
-        tmp = stack.enter_context(staged_file(out))
-        tmp.write_text(campaign_text(rows, comment), encoding="utf-8")
+    # Both staged and filled before either is put in place (staged files are renamed last
+    # entered first: the readings, then their swings).
+    with ExitStack() as stack:
         if swings is not None and swing_text is not None:
             tmp_swings = stack.enter_context(staged_file(swings))
             tmp_swings.write_text(swing_text, encoding="utf-8")
+        tmp = stack.enter_context(staged_file(out))
+        tmp.write_text(campaign_text(rows, comment), encoding="utf-8")
     return CampaignRun(str(out), len(rows), n_hangs, seed, None if swings is None else str(swings))

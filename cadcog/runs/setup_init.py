@@ -4,7 +4,8 @@
 Reads the model once (geometry at one density; each solid counted whole), lists its parts with
 the materials the STEP carries (:func:`cadcog.spacecraft.setup_draft.draft_materials`), casts
 the candidate grid onto the model (:func:`cadcog.cad.surfacepoints.project_grid`), and writes
-both files together: a failure leaves neither, and neither replaces a file unless ``force``.
+both files together: a failure while writing leaves neither (the materials file is put in place
+first, then the set-up that names it), and neither replaces a file unless ``force``.
 """
 
 from __future__ import annotations
@@ -27,10 +28,14 @@ class SetupDraft(JsonResult):
 
     Attributes
     ----------
-    setup, materials : str
-        The two files.
-    n_solids, n_parts : int
-        Solids of the model, and part names the materials file lists.
+    setup : str
+        The set-up file.
+    materials : str
+        The materials file.
+    n_solids : int
+        Solids of the model.
+    n_parts : int
+        Parts the materials file lists.
     n_points : int
         Candidate points on the model (0: the draft asks for the grid on the box instead).
     n_lacking_material : int
@@ -90,7 +95,7 @@ def run_setup_init(
         face_grid,
         guess_form_factor,
         lacking_material,
-        part_name,
+        part_label,
     )
 
     setup_path, materials_path, stem = draft_paths(Path(model), out)
@@ -103,6 +108,7 @@ def run_setup_init(
         step_model, MaterialMap.uniform(1000.0), units=units, overlaps="allow"
     )
     stamped = {b.path: b.material for b in step_model.bodies if b.material is not None}
+    products = {b.path: [n.product for n in b.nodes] for b in step_model.bodies}
     lo_d, hi_d = DENSITY_RANGE_KG_M3
     parts = []
     for b in result.bodies:
@@ -117,6 +123,7 @@ def run_setup_init(
                 None if xm is None else xm.name,
                 rho if rho is not None and lo_d <= rho <= hi_d else None,
                 xm is not None and is_placeholder_material(xm.name),
+                part_label(products.get(b.path, []), b.path),
             )
         )
     lo, hi = result.bbox_mm
@@ -139,18 +146,20 @@ def run_setup_init(
     step_rel = Path(os.path.relpath(Path(model).resolve(), setup_path.resolve().parent))
     materials_text = draft_materials(parts, Path(model).name)
     setup_text = draft_setup(
-        stem, step_rel.as_posix(), materials_path.name, lo, hi, overlaps, points
+        stem, step_rel.as_posix(), materials_path.name, lo, hi, overlaps, points, units
     )
-    with ExitStack() as stack:  # both filled before either is put in place
+    # Both filled before either is put in place; renamed last entered first: the materials
+    # file, then the set-up that names it.
+    with ExitStack() as stack:
+        stack.enter_context(staged_file(setup_path)).write_text(setup_text, encoding="utf-8")
         stack.enter_context(staged_file(materials_path)).write_text(
             materials_text, encoding="utf-8"
         )
-        stack.enter_context(staged_file(setup_path)).write_text(setup_text, encoding="utf-8")
     return SetupDraft(
         str(setup_path),
         str(materials_path),
         len(parts),
-        len({part_name(p.path) for p in parts}),
+        len({p.name for p in parts}),
         len(points) if len(points) >= 2 else 0,
         lacking_material(parts),
         guess_form_factor(lo, hi),

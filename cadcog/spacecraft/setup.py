@@ -356,7 +356,8 @@ def load_setup(path: str | Path) -> Setup:
                 (
                     c
                     for c in cands
-                    if np.max(np.abs(c.position_mm - pos)) <= tolerances.SUSPENSION_ON_FACE_MM
+                    if c.listed
+                    and np.max(np.abs(c.position_mm - pos)) <= tolerances.SUSPENSION_ON_FACE_MM
                 ),
                 None,
             )
@@ -421,12 +422,13 @@ def _grid(
 
 
 def _label(v: float) -> str:
-    """A grid coordinate as an id writes it: to 0.1 mm, no exponent, no negative zero
-    (the grid's spacing is at least 5 mm, so ids stay unique; the position stays exact).
+    """A grid coordinate as an id writes it: to 0.001 mm (as the files write positions), no
+    exponent, no negative zero; the position itself stays exact. Ids a grid of round
+    coordinates gave before are unchanged.
 
     Examples
     --------
-    >>> _label(-5.68434e-14), _label(10.7874), _label(-30.0)
-    ('0', '10.8', '-30')
+    >>> _label(-5.68434e-14), _label(10.7874), _label(-30.0), _label(12.25), _label(1234.5678)
+    ('0', '10.787', '-30', '12.25', '1234.568')
     """
-    return f"{round(float(v), 1) + 0.0:.1f}".removesuffix(".0")
+    return f"{round(float(v), 3) + 0.0:.3f}".rstrip("0").rstrip(".")

@@ -68,6 +68,8 @@ class DraftPart:
         That material's density, when the file gives a usable one.
     placeholder : bool
         The material is an exporter's placeholder (Inventor's "Generic" ...), not the part's.
+    label : str
+        The part's name for the materials file (:func:`part_label`), '' for its path's.
     """
 
     path: str
@@ -75,6 +77,13 @@ class DraftPart:
     step_material: str | None = None
     step_density_kg_m3: float | None = None
     placeholder: bool = False
+    label: str = ""
+
+    @property
+    def name(self) -> str:
+        """The part it belongs to in the materials file: :attr:`label`, else
+        :func:`part_name` of its path."""
+        return self.label or part_name(self.path)
 
     @property
     def has_material(self) -> bool:
@@ -91,6 +100,33 @@ def part_name(path: str) -> str:
     ('COMPOUND', 'rail_3')
     """
     return _SUFFIX.sub("", path.rsplit("/", 1)[-1]) or path
+
+
+#: Product names exporters give a body that says nothing of the part (KiCad's "COMPOUND" and
+#: "SOLID" below every component, Open CASCADE's root), compared in lower case.
+GENERIC_PRODUCT_NAMES = frozenset({"compound", "solid", "body", "part", "shape", "shell", "mesh"})
+
+
+def part_label(products: Sequence[str], path: str) -> str:
+    """The name of the part a body belongs to, as the materials file lists it: the product of
+    its own node, or of the nearest node above it whose product is not generic, below the top
+    assembly; copies share it whatever the tool named the instances (Inventor ``part:2``,
+    SolidWorks ``part-2``, KiCad reference designators). Without one, :func:`part_name`.
+
+    Examples
+    --------
+    >>> part_label(["Open CASCADE STEP translator 6.9 1", "C_0603_1608Metric", "COMPOUND"], "x")
+    'C_0603_1608Metric'
+    >>> part_label(["Batery Pack v3 v5", "A123 battery v4"], "Batery Pack v3 v5/A123 battery v4:2")
+    'A123 battery v4'
+    >>> part_label(["top", "COMPOUND"], "top/COMPOUND#3")
+    'COMPOUND'
+    """
+    for product in reversed(products[1:] if len(products) > 1 else products):
+        name = product.strip()
+        if name and name.lower() not in GENERIC_PRODUCT_NAMES:
+            return name
+    return part_name(path)
 
 
 def guess_form_factor(bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -> str | None:
@@ -144,7 +180,7 @@ def draft_materials(parts: Sequence[DraftPart], source: str) -> str:
     """The materials file's text: one commented rule per part, heaviest volume first."""
     groups: dict[str, list[DraftPart]] = {}
     for p in parts:
-        groups.setdefault(part_name(p.path), []).append(p)
+        groups.setdefault(p.name, []).append(p)
     total = sum(p.volume_mm3 for p in parts) or 1.0
     ranked = sorted(groups.items(), key=lambda kv: -sum(p.volume_mm3 for p in kv[1]))
     width = max((len(_toml_str(k)) for k in groups), default=8) + 2
@@ -157,6 +193,7 @@ def draft_materials(parts: Sequence[DraftPart], source: str) -> str:
         "",
         "[materials]",
     ]
+    default = stamped_default(parts)
     for name, group in ranked:
         vol = sum(p.volume_mm3 for p in group)
         size = (
@@ -165,7 +202,9 @@ def draft_materials(parts: Sequence[DraftPart], source: str) -> str:
         )
         own = sorted({_stamp(p) for p in group if p.has_material})
         stubs = sorted({_stamp(p) for p in group if p.step_material and not p.has_material})
-        if own and len(own) == 1 and all(p.has_material for p in group):
+        if default:
+            note = f'; the STEP\'s {own[0]} (on every solid) is replaced by the "*" rule'
+        elif own and len(own) == 1 and all(p.has_material for p in group):
             note = f"; the STEP's {own[0]} is used (a rule here overrides it)"
         elif stubs:
             note = f"; the STEP gives only the placeholder {', '.join(stubs)}: give its material"
@@ -175,7 +214,7 @@ def draft_materials(parts: Sequence[DraftPart], source: str) -> str:
         lines.append(f"{rule:<{width + 6}}  # {size}{note}")
     stamped = {_stamp(p) for p in parts}
     lacking = lacking_material(parts)
-    if stamped_default(parts):
+    if default:
         lines.append(
             f"# every solid carries the same STEP material, {next(iter(stamped))}: an exporter's "
             "default (Fusion 360\n# writes 'Steel' on boards and plastics alike), which the "
@@ -299,13 +338,15 @@ def draft_setup(
     bbox_hi_mm: npt.ArrayLike,
     overlaps: str = "",
     points: Sequence[DraftPoint] = (),
+    units: str | None = None,
 ) -> str:
     """The set-up file's text for a model with this bounding box (paths relative to it).
 
     ``overlaps``: the overlap summary when the model's solids overlap above the refusal
     threshold; the draft then resolves them (``overlaps = "resolve"``), saying why. ``points``:
     candidate points on the model (:func:`cadcog.cad.surfacepoints.project_grid`); without two
-    of them the draft asks for the grid on the bounding box's faces instead.
+    of them the draft asks for the grid on the bounding box's faces instead. ``units``: the
+    file's true length unit when the draft was read with one (positions are in its mm).
     """
     lo = np.asarray(bbox_lo_mm, dtype=float)
     hi = np.asarray(bbox_hi_mm, dtype=float)
@@ -331,6 +372,11 @@ def draft_setup(
             f'name = "{ident[:64]}"',
             f"model_step = {_toml_str(model_step)}",
             f"materials = {_toml_str(materials)}",
+            *(
+                [f"units = {_toml_str(units)}               # the file's true unit"]
+                if units
+                else []
+            ),
             form_line,
             *(
                 [

@@ -302,17 +302,14 @@ class UpdateResult(JsonResult):
         its prior, and the data make a heavy item's less so): by the stated 1-σ mass, what
         could move the mass and the CoG, then by probability. Never by file order.
         """
+        def p(c: ItemChange) -> float:  # a NaN probability (a failed weighting) sorts last
+            return float(c.probability) if np.isfinite(c.probability) else -1.0
+
         if self.consistent:
-            return sorted(
-                self.items, key=lambda c: (-c.cad_mass_kg * c.prior_sigma_rel, -c.probability)
-            )
+            return sorted(self.items, key=lambda c: (-c.cad_mass_kg * c.prior_sigma_rel, -p(c)))
         return sorted(
             self.items,
-            key=lambda c: (
-                -round(c.probability, 4),
-                -c.cad_mass_kg * c.prior_sigma_rel,
-                -abs(c.pull),
-            ),
+            key=lambda c: (-round(p(c), 4), -c.cad_mass_kg * c.prior_sigma_rel, -abs(c.pull)),
         )
 
     def to_dict(self) -> dict[str, Any]:

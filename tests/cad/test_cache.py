@@ -100,6 +100,8 @@ def test_the_same_bytes_from_another_folder_are_a_hit_named_by_their_new_path(
     assert second.total.mass_kg == first.total.mass_kg
     assert str(copy / "board.step") in second.audit.source
     assert str(setup_file.parent / "board.step") not in second.audit.source
+    ruled = [b.density_source for b in second.bodies if "materials rule" in b.density_source]
+    assert ruled and all(str(copy / "materials.toml") in d for d in ruled), ruled[:2]
 
 
 @pytest.mark.parametrize("damage", ["digit", "other entry", "fifo", "link"])

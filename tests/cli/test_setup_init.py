@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -130,3 +131,110 @@ def test_a_light_object_under_the_me_is_planned_with_its_consequence(tmp_path, c
     assert "lighter ME" in plan["inertia"]["refused"]
     assert main([*args, "--for", "inertia"]) == 2
     assert "inertia tensor" in capsys.readouterr().err
+
+
+def test_the_draft_names_parts_by_product_and_keeps_the_steps_materials(tmp_path, capsys):
+    """KiCad's components (instances R1, R2, R3 of one product, whose body is a generic
+    'COMPOUND') are one part named by their product; Inventor's copies (part:1, part:2) are one
+    part; a part with its own STEP material is used as it is, a placeholder is named."""
+    resistor = Assembly("R_0603_1608Metric")
+    resistor.add(Part("COMPOUND", [((1.6, 0.8, 0.5), (0.0, 0.0, 0.0))], 3000.0, "Ceramic"))
+    screw = Part("48-0381", [((2.0, 2.0, 8.0), (0.0, 0.0, 0.0))], 8000.0, "Stainless Steel")
+    plunger = Part("plunger", [((3.0, 3.0, 6.0), (0.0, 0.0, 0.0))], 1000.0, "Generic")
+    top = Assembly("board")
+    top.add(Part("PCB", [((50.0, 40.0, 1.6), (0.0, 0.0, -1.6))]))
+    for k, name in enumerate(("R1", "R2", "R3")):
+        top.add(resistor, Place((5.0 + 5 * k, 5.0, 0.0)), name)
+    for k in (1, 2):
+        top.add(screw, Place((30.0 + 5 * k, 30.0, 0.0)), f"48-0381:{k}")
+    top.add(plunger, Place((40.0, 10.0, 0.0)), "plunger:1")
+    step = write_step(top, tmp_path / "kicad.step")
+    assert main(["setup", "init", str(step), "--json"]) == 0
+    draft = json.loads(capsys.readouterr().out)
+    assert draft["n_parts"] == 4 and draft["n_lacking_material"] == 2  # the PCB, the plunger
+    text = (tmp_path / "kicad_materials.toml").read_text(encoding="utf-8")
+    rules = {
+        line.split('"')[1]: line
+        for line in text.splitlines()
+        if line.startswith('# "') and "= ?" in line
+    }
+    assert set(rules) == {"PCB", "R_0603_1608Metric", "48-0381", "plunger"}
+    assert "3 bodies" in rules["R_0603_1608Metric"] and "2 bodies" in rules["48-0381"]
+    assert "'Stainless Steel', 8000 kg/m³ is used" in rules["48-0381"]
+    assert "placeholder 'Generic'" in rules["plunger"]
+    # The draft runs as written: the catch-all default fills the PCB (and the placeholder),
+    # never the screws, and a rule written with a part's listed name matches it.
+    assert (
+        main(
+            [
+                "massprops",
+                str(step),
+                "--materials",
+                str(tmp_path / "kicad_materials.toml"),
+                "--json",
+            ]
+        )
+        == 0
+    )
+    bodies = json.loads(capsys.readouterr().out)["bodies"]
+    rho = {b["path"].split("/")[1]: b["density_kg_m3"] for b in bodies}
+    assert rho["48-0381:1"] == rho["48-0381:2"] == 8000.0 and rho["PCB"] == 2700.0
+    assert rho["plunger:1"] == 2700.0
+    named = text.replace("[materials]\n", '[materials]\n"R_0603_1608Metric" = 4000.0\n', 1)
+    (tmp_path / "named.toml").write_text(named, encoding="utf-8")
+    assert (
+        main(["massprops", str(step), "--materials", str(tmp_path / "named.toml"), "--json"]) == 0
+    )
+    bodies = json.loads(capsys.readouterr().out)["bodies"]
+    assert {b["density_kg_m3"] for b in bodies if "/R" in b["path"]} == {4000.0}
+
+
+def test_a_draft_read_with_units_loads_at_the_same_scale(sat_step, tmp_path, capsys):
+    """``--units cm`` on a file declared in mm: the draft says so, and loads (its points and
+    its ME base are in the scaled mm the set-up's model is read in)."""
+    from cadcog.spacecraft.setup import load_setup
+
+    out = tmp_path / "cm_setup.toml"
+    assert main(["setup", "init", str(sat_step), "--out", str(out), "--units", "cm"]) == 0
+    assert 'units = "cm"' in out.read_text(encoding="utf-8")
+    setup = load_setup(out)
+    lo, hi = setup.bbox_mm
+    np.testing.assert_allclose(hi - lo, [1000.0, 1000.0, 3405.0], rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("point", "message"),
+    [
+        (
+            'id = "a"\nface = "+x"\nposition_mm = [60.0, 0.0, 0.0]',
+            "outside the model's bounding box",
+        ),
+        ('id = "a"\nposition_mm = [40.0, 0.0, 0.0]', 'name its face, face = "+x"'),
+        (
+            'id = "a"\nface = "+q"\nposition_mm = [40.0, 0.0, 0.0]',
+            "key 'candidates.points[0].face': expected one of",
+        ),
+        (
+            'id = "a"\nface = "+x"\nposition_mm = [40.0, 0.0, 0.0]\n\n[[candidates.points]]\n'
+            'id = "b"\nface = "+y"\nposition_mm = [40.005, 0.0, 0.0]',
+            "is the point of candidate 'a'",
+        ),
+    ],
+)
+def test_listed_points_are_checked_naming_the_key(tmp_path, point, message):
+    """A point with a face must lie within the box; one without must sit on a box face; two
+    listed points at one place (their bolt axes would be ambiguous) are refused."""
+    from cadcog.core.errors import ParameterFileError
+    from cadcog.spacecraft.setup import load_setup
+
+    top = Assembly("b")
+    top.add(Part("b", [((100.0, 100.0, 100.0), (-50.0, -50.0, -50.0))], 2700.0, "Al"))
+    write_step(top, tmp_path / "b.step")
+    (tmp_path / "s.toml").write_text(
+        'name = "b"\nmodel_step = "b.step"\n\n[measurement_equipment]\n'
+        "base_center_mm = [0, 0, 50]\n\n[candidates]\n\n[[candidates.points]]\n"
+        f'{point}\n\n[[candidates.points]]\nid = "z"\nposition_mm = [0.0, 50.0, 20.0]\n',
+        encoding="utf-8",
+    )
+    with pytest.raises(ParameterFileError, match=re.escape(message)):
+        load_setup(tmp_path / "s.toml")
