@@ -61,10 +61,12 @@ def run(args: argparse.Namespace) -> int:
         if draft.n_points
         else "a candidate grid on the bounding box"
     )
+    resolve = " --resolve-overlaps" if draft.resolves_overlaps else ""
     print(
         f"drafted {draft.setup} and {draft.materials} ({draft.n_solids} solids in "
-        f"{draft.n_parts} part names, {draft.n_lacking_material} without a material of their "
-        f"own in the STEP; {points}): fill in the materials, check the set-up, then "
-        f"`cadcog plan {draft.setup}`"
+        f"{draft.n_parts} parts, {draft.n_lacking_material} without a material of their own in "
+        f"the STEP; {points}). Next: fill in the materials, check the set-up, then\n"
+        f"  cadcog massprops {args.model} --materials {draft.materials}{resolve}\n"
+        f"  cadcog plan {draft.setup} --for both"
     )
     return 0

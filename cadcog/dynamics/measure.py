@@ -386,11 +386,23 @@ def measure_inertia(
             f"{dof} dof, p = {chi2_sf(chi2, dof):.2g}): check the wire length, that nothing "
             "touched the object, and each hang's residuals"
         )
+    principal = principal_with_sigma(p_obj, cov)
+    moments, moment_sigmas = principal.moments_kg_mm2, principal.moments_sigma_kg_mm2
+    if np.any(moments <= 0) or np.any(moment_sigmas > UNDETERMINED_MOMENT_REL * np.abs(moments)):
+        listed = ", ".join(
+            f"{m:.4g} ± {s:.2g}" for m, s in zip(moments, moment_sigmas, strict=True)
+        )
+        warnings.append(
+            "the swings do not determine the tensor: a principal moment came out "
+            + ("non-positive" if np.any(moments <= 0) else "with a 1-σ above half its value")
+            + f" ({listed} kg·mm²); a light object under a heavy ME, or too few distinct "
+            "hangs: see `cadcog plan --for inertia`"
+        )
     return InertiaResult(
         result_t,
         cov,
         cov_freq,
-        principal_with_sigma(p_obj, cov),
+        principal,
         cog_obj,
         object_mass_kg,
         object_mass_sigma_kg,
@@ -402,6 +414,11 @@ def measure_inertia(
         compare_inertia(result_t, cov, ctx.object_cad.inertia_kg_mm2, ctx.cad_cov_kg2_mm4),
         tuple(warnings),
     )
+
+
+#: A principal moment whose 1 σ exceeds this share of its value is not determined: the result
+#: says so (the tensor is printed all the same, with its σ).
+UNDETERMINED_MOMENT_REL = 0.5
 
 
 def inertia_for_rig(

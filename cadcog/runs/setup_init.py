@@ -42,6 +42,9 @@ class SetupDraft(JsonResult):
         Solids the STEP gives no material of their own (none, or a placeholder).
     form_factor : str or None
         The CubeSat form factor guessed from the bounding box.
+    resolves_overlaps : bool
+        The draft resolves overlapping solids (``overlaps = "resolve"``): ``massprops`` needs
+        ``--resolve-overlaps`` to count the model the same way.
     """
 
     setup: str
@@ -51,6 +54,7 @@ class SetupDraft(JsonResult):
     n_points: int
     n_lacking_material: int
     form_factor: str | None
+    resolves_overlaps: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         return dict(self.__dict__)
@@ -163,4 +167,5 @@ def run_setup_init(
         len(points) if len(points) >= 2 else 0,
         lacking_material(parts),
         guess_form_factor(lo, hi),
+        bool(overlaps),
     )

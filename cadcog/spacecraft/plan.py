@@ -301,6 +301,15 @@ def plan_test(
             }
         )
     recommended = min(best_sets, key=lambda s: float(s["q95_mm"]))
+    warnings = _warnings(setup, model)
+    lo, hi = setup.bbox_mm
+    half = 0.5 * float(np.min(np.asarray(hi) - np.asarray(lo)))
+    if float(recommended["q95_mm"]) > half:
+        warnings += (
+            f"the best test's predicted 95 % error, {float(recommended['q95_mm']):.3g} mm, "
+            f"exceeds half the object's smallest extent ({half:.3g} mm): it cannot place the "
+            "CoG within the object",
+        )
     return Plan(
         tuple(checks),
         tuple(pairs),
@@ -309,5 +318,5 @@ def plan_test(
         model,
         trials,
         *_masses(setup),
-        _warnings(setup, model),
+        warnings,
     )

@@ -302,6 +302,7 @@ class UpdateResult(JsonResult):
         its prior, and the data make a heavy item's less so): by the stated 1-σ mass, what
         could move the mass and the CoG, then by probability. Never by file order.
         """
+
         def p(c: ItemChange) -> float:  # a NaN probability (a failed weighting) sorts last
             return float(c.probability) if np.isfinite(c.probability) else -1.0
 

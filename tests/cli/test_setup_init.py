@@ -125,8 +125,10 @@ def test_a_light_object_under_the_me_is_planned_with_its_consequence(tmp_path, c
     plan = json.loads(capsys.readouterr().out)
     ratio = plan["me_mass_kg"] / plan["mass_kg"]
     assert ratio > 5
-    (warning,) = plan["warnings"]
-    assert f"{1 + ratio:.2f}" in warning and "lighter ME" in warning
+    heavy, useless = plan["warnings"]
+    assert f"{1 + ratio:.2f}" in heavy and "lighter ME" in heavy
+    assert f"{plan['recommended']['q95_mm']:.3g} mm" in useless  # above half the 30 mm block
+    assert plan["recommended"]["q95_mm"] > 15.0 and "within the object" in useless
     assert plan["recommended"] is not None
     assert "lighter ME" in plan["inertia"]["refused"]
     assert main([*args, "--for", "inertia"]) == 2
@@ -238,3 +240,26 @@ def test_listed_points_are_checked_naming_the_key(tmp_path, point, message):
     )
     with pytest.raises(ParameterFileError, match=re.escape(message)):
         load_setup(tmp_path / "s.toml")
+
+
+def test_inertia_of_a_light_object_says_the_swings_do_not_determine_it(tmp_path, capsys):
+    """A 27 g block under the 176 g ME: the tensor's moments come out with σ larger than
+    themselves (some negative); the command says the swings do not determine it."""
+    top = Assembly("block")
+    top.add(Part("block", [((30.0, 30.0, 30.0), (0.0, 0.0, 0.0))], 1000.0, "ABS"))
+    step = write_step(top, tmp_path / "block.step")
+    setup = tmp_path / "block_setup.toml"
+    assert main(["setup", "init", str(step), "--out", str(setup)]) == 0
+    r, s = tmp_path / "r.csv", tmp_path / "s.csv"
+    points = "--points=+x2,+x3,+y4,-y4"
+    assert (
+        main(["campaign", "--setup", str(setup), points, "--out", str(r), "--swings", str(s)]) == 0
+    )
+    capsys.readouterr()
+    args = ["inertia", str(s), "--readings", str(r), "--setup", str(setup)]
+    assert main([*args, "--weighed-mass-kg", "0.027", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    (warning,) = [w for w in result["warnings"] if "do not determine the tensor" in w]
+    moments = result["principal_moments_kg_mm2"]
+    sigmas = result["principal_moments_sigma_kg_mm2"]
+    assert any(m <= 0 or sd > 0.5 * abs(m) for m, sd in zip(moments, sigmas, strict=True))
