@@ -398,7 +398,7 @@ def _swap(text: str, old: Sequence[str], new: Sequence[str]) -> str:
     for a, b in zip(old, new, strict=True):
         if a != b:
             whole = re.compile(r"(?<![\w./\\-])" + re.escape(a) + r"(?![\w/\\-]|\.\w)")
-            text = whole.sub(lambda _m, b=b: b, text)
+            text = whole.sub(b.replace("\\", "\\\\"), text)
     return text
 
 

@@ -75,8 +75,11 @@ def assign_densities(
     total_mass_kg: float | None,
     notes: list[str],
     src: Any,
+    info: list[str] | None = None,
 ) -> None:
-    """Fill each body's material, density and its source; raise for solids without one."""
+    """Fill each body's material, density and its source; raise for solids without one.
+    ``notes`` get what the user should look at (placeholders); ``info`` what was done as the
+    materials file asked (its catch-all rule replacing a material stamped on every solid)."""
     solids = [b for b in bodies if b.step.kind == "solid"]
     xcaf_usable = [b for b in solids if b.step.material and b.step.material.density_kg_m3]
     uniform = materials is None and total_mass_kg is not None and not xcaf_usable
@@ -142,12 +145,13 @@ def assign_densities(
             f"{_listed([g.step.path for g in group])}; give them their material"
         )
     for name, group in sorted(defaulted.items()):
+        stamp = stamped_default and not is_placeholder_material(name)
         what = (
             "the same STEP material on every solid, taken as the exporter's default"
-            if stamped_default and not is_placeholder_material(name)
+            if stamp
             else "the exporter's placeholder material"
         )
-        notes.append(
+        (info if stamp and info is not None else notes).append(
             f"{len(group)} solid(s) carry {what} {name!r}: the catch-all rule gave them "
             f"{group[0].material!r}: {_listed([g.step.path for g in group])}; name a part in "
             "the materials file to keep the STEP's"

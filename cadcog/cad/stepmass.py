@@ -216,7 +216,7 @@ def model_mass_properties(
             f"({model.declared_unit or 'none'}); if that is wrong, pass --units"
         )
 
-    assign_densities(bodies, materials, total_mass_kg, notes, src)
+    assign_densities(bodies, materials, total_mass_kg, notes, src, info)
     summary, resolved_info, in_booleans, refused = handle_overlaps(
         bodies, overlaps, scale, progress, src, workers
     )

@@ -118,7 +118,7 @@ def run_campaign(
         raise CadcogError("give a rig or a set-up")
     if seed < 0:
         raise CadcogError("--seed must be non-negative")
-    inputs = {
+    inputs: dict[str, str | Path | None] = {
         "--rig": None if rig is None else rig.source,
         "--setup": None if setup is None else setup.source,
     }

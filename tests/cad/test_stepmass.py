@@ -536,3 +536,16 @@ def test_cubesat_round_trip_matches_the_spec_closed_form(tmp_path):
             )
     _assert_props(r.total, combine(parts), rtol=1e-9)
     assert {b.path.rsplit("/", 1)[-1] for b in r.bodies} == set(mats)
+
+
+def test_a_catch_all_rule_over_one_stamped_material_is_said(tmp_path):
+    """Every solid carries 'Steel' (Fusion 360's default): the catch-all rule replaces it, as
+    asked, and the info says so, naming the STEP's material (not a note: nothing to fix)."""
+    top = Assembly("top")
+    for k in range(3):
+        top.add(Part(f"p{k}", [((5.0, 5.0, 5.0), (10.0 * k, 0.0, 0.0))], 7850.0, "Steel"))
+    mats = _materials(tmp_path, '[materials]\n"*" = 1850.0\n')
+    r = model_mass_properties(_model(tmp_path, top), mats)
+    assert {b.density_kg_m3 for b in r.bodies} == {1850.0}
+    assert any("same STEP material on every solid" in i and "'Steel'" in i for i in r.info)
+    assert not any("Steel" in n for n in r.notes)
