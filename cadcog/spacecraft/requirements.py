@@ -79,6 +79,7 @@ class Requirements:
     inertia_about: str | tuple[float, float, float] = "cog"
     inertia_axes: str = "+x,+y,+z"
     max_misalignment_deg: float | None = None
+    distinct_moments_rel: float = 1e-6
     max_product_kg_mm2: float | None = None
     ratios: tuple[Ratio, ...] = ()
     baseline_file: Path | None = None
@@ -159,6 +160,13 @@ def load_requirements(root: TableReader, path: Path) -> Requirements:
         kw["inertia_axes"] = _frame_axes(i, "axes")
         if i.has("max_misalignment_deg"):
             kw["max_misalignment_deg"] = i.number("max_misalignment_deg", nonnegative=True)
+        if i.has("distinct_moments_rel"):
+            if not i.has("max_misalignment_deg"):
+                raise i.error("distinct_moments_rel", "goes with max_misalignment_deg")
+            rel = i.number("distinct_moments_rel", nonnegative=True)
+            if not rel < 1:
+                raise i.error("distinct_moments_rel", f"expected a fraction below 1, got {rel:g}")
+            kw["distinct_moments_rel"] = rel
         if i.has("max_product_kg_mm2"):
             kw["max_product_kg_mm2"] = i.number("max_product_kg_mm2", nonnegative=True)
         if i.has("ratio"):
@@ -348,13 +356,20 @@ def _inertia_results(req: Requirements, report: MassReport) -> list[RequirementR
         angles = central.angles_from_frame_deg()
         moments = central.moments_kg_mm2
         scale = max(float(np.max(np.abs(moments))), 1e-300)
+        near = req.distinct_moments_rel
         distinct = [
             k
             for k in range(3)
-            if all(abs(moments[k] - moments[m]) > 1e-6 * scale for m in range(3) if m != k)
+            if all(abs(moments[k] - moments[m]) > near * scale for m in range(3) if m != k)
         ]
         worst = float(max((angles[k] for k in distinct), default=0.0))
-        detail = "" if len(distinct) == 3 else "equal moments: only distinct principal axes count"
+        detail = (
+            ""
+            if len(distinct) == 3
+            else "equal moments: only distinct principal axes count"
+            if near <= 1e-6
+            else f"moments within {100 * near:g} % of each other: only the distinct axes count"
+        )
         out.append(
             RequirementResult(
                 "inertia.misalignment",
