@@ -136,8 +136,17 @@ def _target(args: argparse.Namespace) -> Any:
             if rec is None:
                 raise CadcogError(f"{args.setup}: no usable set of suspension points")
             ids = list(rec["points"])
-        known = {c.id for c in setup.candidates}
-        _check_ids(ids, known, args.setup)
+        known = {c.id: c for c in setup.candidates}
+        _check_ids(ids, set(known), args.setup)
+        from cadcog.spacecraft.plan import check_candidate
+
+        bad = [k for k in (check_candidate(setup, known[i]) for i in ids) if not k.usable]
+        if bad:  # the whole plan is checked before the first hang
+            raise CadcogError(
+                "--points: "
+                + "; ".join(f"{k.id} cannot work: {k.reason}" for k in bad)
+                + " (cadcog plan lists the usable candidates)"
+            )
         return target_from_setup(setup, ids)
     rig = load_rig(args.rig or default_rig_path())
     if ids is not None:

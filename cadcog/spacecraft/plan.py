@@ -19,7 +19,7 @@ from cadcog.core.results import JsonResult
 from cadcog.method import gls
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.geometry import axes_beyond_range, ideal_reading
-from cadcog.spacecraft.setup import FloatArray, Setup
+from cadcog.spacecraft.setup import Candidate, FloatArray, Setup
 from cadcog.uncertainty.montecarlo import EstimatorOptions, simulate
 
 
@@ -96,6 +96,26 @@ class Plan(JsonResult):
         }
 
 
+def check_candidate(setup: Setup, candidate: Candidate) -> CandidateCheck:
+    """Whether a candidate can be hung from: the nominal readings (the ME on, the CAD's CoG)
+    within the inclinometer's range, and the vertical at least
+    :data:`~cadcog.core.tolerances.MIN_VERTICAL_ELEVATION_DEG` from its plane; why not."""
+    rng_deg = setup.rig.inclinometer_range_deg
+    r = ideal_reading(candidate.position_mm, setup.assembly_cog_mm)
+    bad = axes_beyond_range(r.inc_x_deg, r.inc_y_deg, rng_deg)
+    reason = f"{' and '.join(bad)} beyond the ±{rng_deg:g}° range" if bad else ""
+    elevation = float(np.degrees(np.arcsin(min(1.0, abs(float(r.vertical[2]))))))
+    if not bad and elevation < tolerances.MIN_VERTICAL_ELEVATION_DEG:
+        bad, reason = (
+            ["z"],
+            (
+                f"the vertical lies {elevation:.1f}° from the inclinometer's plane (below "
+                f"{tolerances.MIN_VERTICAL_ELEVATION_DEG:g}°): its readings cannot be trusted"
+            ),
+        )
+    return CandidateCheck(candidate.id, r.inc_x_deg, r.inc_y_deg, not bad, reason)
+
+
 def _masses(setup: Setup) -> tuple[float, tuple[float, float, float], float]:
     c = setup.mass.cog_mm
     return setup.mass.mass_kg, (float(c[0]), float(c[1]), float(c[2])), setup.me_mass_kg
@@ -168,22 +188,7 @@ def plan_test(
     recommendation is the set with the smallest simulated 95 % CoG error.
     """
     g = setup.assembly_cog_mm
-    rng_deg = setup.rig.inclinometer_range_deg
-    checks = []
-    for c in setup.candidates:
-        r = ideal_reading(c.position_mm, g)
-        bad = axes_beyond_range(r.inc_x_deg, r.inc_y_deg, rng_deg)
-        reason = f"{' and '.join(bad)} beyond the ±{rng_deg:g}° range" if bad else ""
-        elevation = float(np.degrees(np.arcsin(min(1.0, abs(float(r.vertical[2]))))))
-        if not bad and elevation < tolerances.MIN_VERTICAL_ELEVATION_DEG:
-            bad, reason = (
-                ["z"],
-                (
-                    f"the vertical lies {elevation:.1f}° from the inclinometer's plane (below "
-                    f"{tolerances.MIN_VERTICAL_ELEVATION_DEG:g}°): its readings cannot be trusted"
-                ),
-            )
-        checks.append(CandidateCheck(c.id, r.inc_x_deg, r.inc_y_deg, not bad, reason))
+    checks = [check_candidate(setup, c) for c in setup.candidates]
     usable = tuple(c for c, k in zip(setup.candidates, checks, strict=True) if k.usable)
     model = setup.error_model()
     if len(usable) < 2:

@@ -146,3 +146,14 @@ def test_a_cog_outside_the_model_is_said_to_be_unlocated(cubesat_setup):
     assert _outside_warning(cubesat_setup, np.array([55.0, 0.0, 10.0]), cov) == ""  # 2.5 σ out
     text = _outside_warning(cubesat_setup, np.array([0.0, 57.0, 10.0]), cov)
     assert "outside the model's bounding box along y" in text and "did not locate it" in text
+
+
+def test_acquire_checks_the_whole_plan_before_the_first_hang(tmp_path, capsys):
+    """A point the plan would refuse (its vertical 5° from the sensor's plane) stops the run
+    before anyone hangs anything: exit 2, the point and why, no file."""
+    out = tmp_path / "day.csv"
+    args = ["acquire", "--simulate", "--setup", str(SETUP), "--out", str(out)]
+    assert main([*args, "--points=+x_30_90,+x_30_30", "--non-interactive"]) == 2
+    err = capsys.readouterr().err
+    assert "+x_30_30 cannot work" in err and "+x_30_90 cannot work" not in err
+    assert not out.exists() and not list(tmp_path.iterdir())
