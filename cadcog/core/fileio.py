@@ -207,11 +207,20 @@ def _acquire(lock: Path, target: Path) -> int | None:
     folder is missing or read-only: the write itself will say so)."""
     import fcntl
 
+    flags = os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW | os.O_NONBLOCK
     for _ in range(20):
         try:
-            fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, _new_file_mode())
-        except OSError:
+            fd = os.open(lock, flags, _new_file_mode())
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:  # never write through a link planted as the lock
+                raise CadcogError(
+                    f"{target}: its lock file {lock} is a link; remove it (cadcog only ever "
+                    "makes a plain file there)"
+                ) from None
             return None
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            os.close(fd)
+            raise CadcogError(f"{target}: its lock file {lock} is not a plain file; remove it")
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -225,7 +234,7 @@ def _acquire(lock: Path, target: Path) -> int | None:
             os.close(fd)
             return None
         try:
-            current = os.stat(lock).st_ino
+            current = os.lstat(lock).st_ino
         except OSError:
             current = -1
         if current != os.fstat(fd).st_ino:  # the holder removed it as we opened it: again

@@ -200,3 +200,24 @@ def test_outside_a_command_inputs_are_not_tracked(tmp_path):
     with staged_file(target) as tmp:
         tmp.write_text("new")
     assert target.read_text() == "new"
+
+
+@pytest.mark.parametrize("planted", ["link", "fifo"])
+def test_a_lock_file_that_is_not_a_plain_file_is_refused_untouched(tmp_path, planted):
+    """A link planted where the lock goes would make cadcog write its PID through it (into
+    any file the link names); a pipe could block. Both are refused, the target never written."""
+    from cadcog.core.fileio import output_lock
+
+    outside = tmp_path / "outside.txt"
+    outside.write_text("keep\n", encoding="utf-8")
+    folder = tmp_path / "out"
+    folder.mkdir()
+    lock = folder / ".c.csv.cadcog-lock"
+    if planted == "link":
+        lock.symlink_to(outside)
+    else:
+        os.mkfifo(lock)
+    with pytest.raises(CadcogError, match="lock file"), output_lock(folder / "c.csv"):
+        pass
+    assert outside.read_text(encoding="utf-8") == "keep\n"
+    assert not (folder / "c.csv").exists()
