@@ -125,7 +125,7 @@ def test_a_spacecraft_set_up_dry_run_compares_with_its_cad(tmp_path, capsys):
 
     setup = default_rig_path().parent / "cubesat_3u_setup.toml"
     out = tmp_path / "sat.csv"
-    points = "+x_-30_30,-x_-30_90,-y_-30_-30,Z1"
+    points = "+x_-30_-30,-x_-30_90,-y_-30_-30,Z1"
     args = ["acquire", "--setup", str(setup), "--points", points, "--simulate", "--json"]
     report = tmp_path / "record"
     assert main([*args, "--seed", "1", "--out", str(out), "--report", str(report), *FAST]) == 0
