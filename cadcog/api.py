@@ -880,19 +880,10 @@ def campaign(
         isinstance(points, str) or not all(isinstance(p, str) for p in points)
     ):
         raise _fail("campaign", "points", points, "expected a sequence of point ids (str)")
-    if setup is not None:
-        return run_campaign(
-            out_path,
-            setup=_setup("campaign", setup),
-            points=points,
-            seed=seed,
-            samples=samples,
-            noise_deg=noise_deg,
-            swings=swings_path,
-        )
     return run_campaign(
         out_path,
-        rig=_rig("campaign", rig),
+        rig=None if setup is not None else _rig("campaign", rig),
+        setup=None if setup is None else _setup("campaign", setup),
         points=points,
         seed=seed,
         samples=samples,

@@ -191,18 +191,16 @@ def plan_test(
     checks = [check_candidate(setup, c) for c in setup.candidates]
     usable = tuple(c for c, k in zip(setup.candidates, checks, strict=True) if k.usable)
     model = setup.error_model()
+
+    def nothing(reason: str) -> Plan:
+        """The plan that recommends nothing, and why."""
+        args = (model, trials, *_masses(setup), _warnings(setup, model), reason)
+        return Plan(tuple(checks), (), (), None, *args)
+
     if len(usable) < 2:
-        return Plan(
-            tuple(checks),
-            (),
-            (),
-            None,
-            model,
-            trials,
-            *_masses(setup),
-            _warnings(setup, model),
+        return nothing(
             f"{len(usable)} of {len(checks)} candidates usable, two at least are needed: add "
-            "candidates, or move the ME so that the readings stay in range",
+            "candidates, or move the ME so that the readings stay in range"
         )
     scenario = setup.scenario(usable)
     n = len(usable)
@@ -247,18 +245,10 @@ def plan_test(
     pair_idx = _combinations(n, 2)
     pair_idx = pair_idx[conditioning(pair_idx) >= min_angle_deg]
     if not len(pair_idx):
-        return Plan(
-            tuple(checks),
-            (),
-            (),
-            None,
-            model,
-            trials,
-            *_masses(setup),
-            _warnings(setup, model),
+        return nothing(
             f"no two usable candidates' plumb lines meet at {min_angle_deg:g}° or more (the "
             "object hangs the same way from each: the points lie in line with its CoG, or the ME "
-            "outweighs it): add candidates far apart on other faces",
+            "outweighs it): add candidates far apart on other faces"
         )
     pair_q95 = _linearised_q95(predicted(pair_idx), z)
     pairs = sorted(
