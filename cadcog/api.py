@@ -144,6 +144,14 @@ def _numbers(function: str, **values: object) -> None:
                 raise _fail(function, name, value, problem)
 
 
+def _given(function: str, **values: object) -> None:
+    """Arguments that have no default meaning for None (a mass, a σ): None is refused as the
+    command refuses an empty option, not left to fail as a TypeError deep inside."""
+    for name, value in values.items():
+        if value is None:
+            raise _fail(function, name, value, "expected a number, got None")
+
+
 def _positive(function: str, **values: float | None) -> None:
     """Masses and σ that must be > 0 (the bounds allow 0)."""
     for name, value in values.items():
@@ -415,6 +423,7 @@ def estimate(
     path = _path(f, "readings", readings)
     if setup is not None and rig is not None:
         raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
+    _given(f, mass_sigma_kg=mass_sigma_kg)
     _numbers(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
     _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
     if weighed_mass_kg is not None and setup is None and rig is None:
@@ -521,6 +530,7 @@ def inertia(
     readings_path = _path(f, "readings", readings)
     if setup is not None and rig is not None:
         raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
+    _given(f, mass_sigma_kg=mass_sigma_kg)
     _numbers(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
     _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
     try:
@@ -751,6 +761,12 @@ def update(
 
     f = "update"
     path = _path(f, "readings", readings)
+    _given(
+        f,
+        weighed_mass_kg=weighed_mass_kg,
+        mass_sigma_kg=mass_sigma_kg,
+        unmodelled_mass_kg=unmodelled_mass_kg,
+    )
     _numbers(
         f,
         weighed_mass_kg=weighed_mass_kg,

@@ -337,6 +337,26 @@ BAD_CALLS = [
         lambda: cadcog.update("r.csv", "s.toml", 2.5, unmodelled_sigma_kg=0.1),
         r"update\(unmodelled_region_mm=None\): an unmodelled mass σ needs a region",
     ),
+    (
+        lambda: cadcog.update("r.csv", "s.toml", None),
+        r"update\(weighed_mass_kg=None\): expected a number, got None",
+    ),
+    (
+        lambda: cadcog.update("r.csv", "s.toml", 2.5, mass_sigma_kg=None),
+        r"update\(mass_sigma_kg=None\): expected a number, got None",
+    ),
+    (
+        lambda: cadcog.update("r.csv", "s.toml", 2.5, unmodelled_mass_kg=None),
+        r"update\(unmodelled_mass_kg=None\): expected a number, got None",
+    ),
+    (
+        lambda: cadcog.inertia("s.csv", "r.csv", mass_sigma_kg=None),
+        r"inertia\(mass_sigma_kg=None\): expected a number, got None",
+    ),
+    (
+        lambda: cadcog.campaign("c.csv", samples="10"),
+        r"campaign\(samples='10'\): expected a number, got str",
+    ),
 ]
 
 

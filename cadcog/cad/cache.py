@@ -501,12 +501,14 @@ def store_data(entry: str, data: Any) -> None:
 
 
 def _entries(
-    folder: Path, *, stale_s: float | None = None, listed: bool = False
+    folder: Path, *, stale_s: float | None = None, listed: bool = False, links: bool = False
 ) -> list[tuple[int, str, int]]:
     """The entries of ``folder`` as (modification time in ns, name, size in bytes), oldest
-    first; with ``stale_s``, our temporary files older than that (s) are deleted on the way.
-    Errors ignored (another process may be writing or trimming), but with ``listed`` a folder
-    that exists and cannot be listed raises :class:`CadcogError` (a missing one is empty)."""
+    first; with ``stale_s``, our temporary files older than that (s) are deleted on the way;
+    with ``links``, links named as entries too (never read: :func:`load_data` follows no
+    link; size 0). Errors ignored (another process may be writing or trimming), but with
+    ``listed`` a folder that exists and cannot be listed raises :class:`CadcogError` (a missing
+    one is empty)."""
     import time
 
     entries = []
@@ -528,6 +530,8 @@ def _entries(
                         os.unlink(e.path)
                 elif _ENTRY_NAME.fullmatch(e.name) and e.is_file(follow_symlinks=False):
                     entries.append((st.st_mtime_ns, e.name, st.st_size))
+                elif links and _ENTRY_NAME.fullmatch(e.name) and e.is_symlink():
+                    entries.append((st.st_mtime_ns, e.name, 0))
     return sorted(entries)
 
 
@@ -560,8 +564,9 @@ def usage(folder: Path) -> tuple[int, int]:
 
 
 def clear(folder: Path) -> tuple[int, int]:
-    """Delete every entry of ``folder`` and our temporary files older than a minute (a
-    writer's current one is left to finish); no other file. Returns the number of entries and
+    """Delete every entry of ``folder`` (a link named as one: the link, never what it names)
+    and our temporary files older than a minute (a writer's current one is left to finish); no
+    other file. Returns the number of entries and
     the bytes deleted.
 
     Raises
@@ -570,7 +575,7 @@ def clear(folder: Path) -> tuple[int, int]:
         If the folder cannot be listed or an entry cannot be deleted (naming it and why).
     """
     n, freed = 0, 0
-    for _, name, size in _entries(folder, stale_s=60.0, listed=True):
+    for _, name, size in _entries(folder, stale_s=60.0, listed=True, links=True):
         try:
             (folder / name).unlink()
         except FileNotFoundError:  # another process trimmed it

@@ -8,6 +8,7 @@ arguments and ``run(args)`` does the work by calling the library; no maths happe
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
 import signal
 import sys
@@ -295,7 +296,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.close()
         return 0
     except OSError as exc:  # an output path that cannot be written, a full disk, ...
-        print(f"cadcog: error: {capped(str(exc))}", file=sys.stderr)
+        print(f"cadcog: error: {capped(_os_error_text(exc))}", file=sys.stderr)
         return EXIT_USAGE
     except ImportError as exc:  # a library that cannot be mapped under a memory limit
         if "map segment" not in str(exc) and "allocate memory" not in str(exc):
@@ -321,6 +322,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         # the signal's exception surfaced as another (an import cut short): stopped all the same
         return _stopped(_STOPPED_BY[0])
     return status
+
+
+def _os_error_text(exc: OSError) -> str:
+    """An I/O error in words, naming what could not be written: a file names itself; a full
+    or failing device with no file is the standard output (``--json > /dev/full``), and the
+    files already put in place are named."""
+    if exc.filename is None and exc.errno in (errno.ENOSPC, errno.EIO, errno.EFBIG, errno.EDQUOT):
+        written = ", ".join(str(p) for p in written_outputs())
+        done = f"written whole before that: {written}" if written else "no file was written"
+        return f"standard output: cannot write ({exc.strerror or exc}); {done}"
+    return str(exc)
 
 
 def _stopped(signum: int) -> int:

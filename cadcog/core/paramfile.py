@@ -42,11 +42,52 @@ def read_toml(path: str | Path) -> dict[str, Any]:
         )
     note_input(p, "a parameter file it reads")
     try:
-        return tomllib.loads(data.decode("utf-8-sig"))
+        parsed = tomllib.loads(data.decode("utf-8-sig"))
     except tomllib.TOMLDecodeError as exc:
         raise ParameterFileError(p, "", f"invalid TOML: {exc}") from None
     except UnicodeDecodeError as exc:
         raise ParameterFileError(p, "", f"not UTF-8 text: {exc}") from None
+    except RecursionError:
+        raise ParameterFileError(
+            p,
+            "",
+            f"arrays or tables nested too deep (a parameter file nests {MAX_TOML_DEPTH} "
+            "levels at most)",
+        ) from None
+    except ValueError as exc:  # tomllib's integer of more than 4300 digits
+        raise ParameterFileError(p, "", f"invalid TOML: {exc}") from None
+    _check_values(p, parsed, "", 0)
+    return parsed
+
+
+#: Deepest nesting of tables and arrays in a parameter file (cadcog's own use 3).
+MAX_TOML_DEPTH = 16
+
+#: Largest magnitude of an integer in a parameter file: beyond it, no count or size of cadcog's
+#: means anything, and converting it to a float overflows.
+MAX_TOML_INTEGER = 10**15
+
+
+def _check_values(p: Path, value: Any, key: str, depth: int) -> None:
+    """Refuse nesting deeper than :data:`MAX_TOML_DEPTH` and integers beyond
+    :data:`MAX_TOML_INTEGER`, naming the key."""
+    if depth > MAX_TOML_DEPTH:
+        raise ParameterFileError(
+            p, key, f"nested deeper than {MAX_TOML_DEPTH} levels: not a parameter file"
+        )
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _check_values(p, v, f"{key}.{k}" if key else str(k), depth + 1)
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            _check_values(p, v, f"{key}[{i}]", depth + 1)
+    elif isinstance(value, int) and not isinstance(value, bool) and abs(value) > MAX_TOML_INTEGER:
+        raise ParameterFileError(
+            p,
+            key,
+            f"an integer of {len(str(abs(value)))} digits; expected at most "
+            f"{len(str(MAX_TOML_INTEGER)) - 1} digits",
+        )
 
 
 def toml_string(text: str) -> str:

@@ -388,15 +388,18 @@ def measure_inertia(
         )
     principal = principal_with_sigma(p_obj, cov)
     moments, moment_sigmas = principal.moments_kg_mm2, principal.moments_sigma_kg_mm2
-    if np.any(moments <= 0) or np.any(moment_sigmas > UNDETERMINED_MOMENT_REL * np.abs(moments)):
-        listed = ", ".join(
-            f"{m:.4g} ± {s:.2g}" for m, s in zip(moments, moment_sigmas, strict=True)
+    listed = ", ".join(f"{m:.4g} ± {s:.2g}" for m, s in zip(moments, moment_sigmas, strict=True))
+    if np.any(moments <= 0):  # unphysical: refused, never printed as a result
+        raise DegenerateGeometryError(
+            f"the swings give a principal moment that is not positive ({listed} kg·mm²): they "
+            "do not determine the tensor (a light object under a heavy ME, a wrong weighed "
+            "mass, or too few distinct hangs: see `cadcog plan --for inertia`)"
         )
+    if np.any(moment_sigmas > UNDETERMINED_MOMENT_REL * moments):
         warnings.append(
-            "the swings do not determine the tensor: a principal moment came out "
-            + ("non-positive" if np.any(moments <= 0) else "with a 1-σ above half its value")
-            + f" ({listed} kg·mm²); a light object under a heavy ME, or too few distinct "
-            "hangs: see `cadcog plan --for inertia`"
+            "the swings do not determine the tensor: a principal moment came out with a 1 σ "
+            f"above half its value ({listed} kg·mm²); a light object under a heavy ME, or too "
+            "few distinct hangs: see `cadcog plan --for inertia`"
         )
     return InertiaResult(
         result_t,

@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core import tolerances
-from cadcog.core.errors import DegenerateGeometryError, ReadingsError
+from cadcog.core.errors import CadcogError, DegenerateGeometryError, ReadingsError
 from cadcog.core.results import JsonResult
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.method import gls, sharedfit
@@ -69,13 +69,42 @@ class MEData:
         )
 
     def weighed(self, mass_kg: float, sigma_kg: float) -> MEData:
-        """The same ME with the object's weighed mass and the weighing's 1 σ."""
+        """The same ME with the object's weighed mass and the weighing's 1 σ.
+
+        Raises
+        ------
+        CadcogError
+            A weighed mass beyond :data:`WEIGHED_TO_MODEL` times the model's either way (a
+            weighing in g given as kg, or the wrong object), or a σ below
+            :data:`MIN_WEIGHING_SIGMA_REL` of it (no scale resolves that; the update's
+            matrices would be singular).
+        """
+        lo, hi = 1.0 / WEIGHED_TO_MODEL, WEIGHED_TO_MODEL
+        if not (mass_kg > 0 and lo * self.object_mass_kg <= mass_kg <= hi * self.object_mass_kg):
+            raise CadcogError(
+                f"--weighed-mass-kg {mass_kg:g}: {mass_kg / self.object_mass_kg:.3g}× the "
+                f"model's {self.object_mass_kg:.6g} kg ({self.source}); expected within "
+                f"{lo:g}× to {hi:g}× of it (is the weighing in kg, and of this object?)"
+            )
+        if not sigma_kg >= MIN_WEIGHING_SIGMA_REL * mass_kg:
+            raise CadcogError(
+                f"--mass-sigma-kg {sigma_kg:g}: below {MIN_WEIGHING_SIGMA_REL:g} of the weighed "
+                f"{mass_kg:g} kg; no scale resolves that"
+            )
         return replace(
             self,
             object_mass_kg=mass_kg,
             object_mass_sigma_kg=sigma_kg,
             object_mass_source="weighed",
         )
+
+
+#: A weighed mass more than this factor from the model's (either way) is refused: a unit slip
+#: (g for kg is 1000×) or another object, never a CAD that is merely incomplete.
+WEIGHED_TO_MODEL = 10.0
+
+#: A weighing's 1 σ below this fraction of the mass is refused (0.1 ppm: beyond any balance).
+MIN_WEIGHING_SIGMA_REL = 1e-7
 
 
 @dataclass(frozen=True)

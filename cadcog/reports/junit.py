@@ -7,6 +7,7 @@ not hold. Written with :mod:`xml.etree.ElementTree`, which escapes every name an
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from typing import Protocol
@@ -32,6 +33,23 @@ class Case(Protocol):
     def detail(self) -> str: ...
 
 
+#: Characters XML 1.0 cannot carry at all (control characters but tab, newline and return; the
+#: surrogates; U+FFFE, U+FFFF): shown as ``\\xNN`` / ``\\uNNNN`` instead of making the file
+#: not well-formed (a body name from a STEP file or a baseline can hold any of them).
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+
+
+def xml_text(text: str) -> str:
+    """``text`` with the characters XML 1.0 forbids written as Python escapes.
+
+    Examples
+    --------
+    >>> print(xml_text("bolt" + chr(1) + " ESC" + chr(27) + "[31m ok"))
+    bolt\\x01 ESC\\x1b[31m ok
+    """
+    return _NOT_XML.sub(lambda m: repr(m.group(0))[1:-1], text)
+
+
 def junit_xml(suite: str, cases: Sequence[Case], time_s: float = 0.0) -> str:
     """The JUnit XML text of ``cases`` as one suite named ``suite``.
 
@@ -44,6 +62,7 @@ def junit_xml(suite: str, cases: Sequence[Case], time_s: float = 0.0) -> str:
     True
     """
     failures = sum(1 for c in cases if not c.passed)
+    suite = xml_text(suite)
     root = ET.Element(
         "testsuites", name="cadcog check", tests=str(len(cases)), failures=str(failures)
     )
@@ -58,8 +77,12 @@ def junit_xml(suite: str, cases: Sequence[Case], time_s: float = 0.0) -> str:
         time=f"{time_s:.3f}",
     )
     for c in cases:
-        tc = ET.SubElement(ts, "testcase", classname=f"cadcog.check.{suite}", name=c.id, time="0")
-        text = f"{c.title}: {c.value} (required {c.limit})" + (f"; {c.detail}" if c.detail else "")
+        tc = ET.SubElement(
+            ts, "testcase", classname=f"cadcog.check.{suite}", name=xml_text(c.id), time="0"
+        )
+        text = xml_text(
+            f"{c.title}: {c.value} (required {c.limit})" + (f"; {c.detail}" if c.detail else "")
+        )
         if not c.passed:
             failure = ET.SubElement(tc, "failure", message=text, type="requirement")
             failure.text = text

@@ -228,3 +228,22 @@ def test_a_hit_marks_its_entry_used_so_trimming_spares_it(monkeypatch, tmp_path)
     assert cache.load_data("a" * 64) == {"v": 1}  # now the most recently used
     cache.trim(tmp_path, max_bytes=(tmp_path / f"{'a' * 64}.json").stat().st_size)
     assert [p.name for p in tmp_path.iterdir()] == [f"{'a' * 64}.json"]
+
+
+def test_clear_removes_a_linked_entry_and_never_its_target(setup_file, tmp_path):
+    first = _load(setup_file)
+    folder = cache.cache_dir()
+    (entry,) = folder.glob("*.json")
+    target = tmp_path / "outside.json"
+    target.write_bytes(entry.read_bytes())
+    before = target.stat().st_mtime_ns
+    entry.unlink()
+    entry.symlink_to(target)
+    assert _bits(_load(setup_file)) == _bits(first)  # recomputed: the link is never read
+    assert target.stat().st_mtime_ns == before  # ... nor touched
+    (entry,) = folder.glob("*.json")  # the recomputed result replaced the link
+    assert not entry.is_symlink()
+    entry.unlink()
+    entry.symlink_to(target)
+    n, _ = cache.clear(folder)
+    assert n == 1 and not entry.is_symlink() and not entry.exists() and target.is_file()

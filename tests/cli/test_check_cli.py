@@ -136,3 +136,20 @@ def test_near_equal_moments_can_be_declared_so_for_the_axes_requirement(tmp_path
     )
     assert main(["check", str(tmp_path / "req.toml")]) == 2
     assert "goes with max_misalignment_deg" in capsys.readouterr().err
+
+
+def test_junit_is_well_formed_whatever_characters_a_body_name_holds():
+    """A body name from a STEP file or a baseline may hold control characters (NUL, ESC),
+    U+FFFE: the XML stays well-formed and shows them as escapes."""
+    from types import SimpleNamespace as C
+
+    from cadcog.reports.junit import junit_xml
+
+    odd = "bolt" + "".join(map(chr, (0, 1, 27, 0xFFFE))) + "[31m"
+    xml = junit_xml(
+        odd, [C(id=odd, title=odd, value="1 g", limit="≤ 0 g", passed=False, detail=odd)]
+    )
+    root = ET.fromstring(xml.split("\n", 1)[1])  # parses: well-formed
+    case = root.find("testsuite/testcase")
+    assert case is not None and case.get("name") == "bolt\\x00\\x01\\x1b\\ufffe[31m"
+    assert all(chr(c) not in xml for c in (0, 1, 27, 0xFFFE))

@@ -243,8 +243,8 @@ def test_listed_points_are_checked_naming_the_key(tmp_path, point, message):
 
 
 def test_inertia_of_a_light_object_says_the_swings_do_not_determine_it(tmp_path, capsys):
-    """A 27 g block under the 176 g ME: the tensor's moments come out with σ larger than
-    themselves (some negative); the command says the swings do not determine it."""
+    """A 27 g block under the 176 g ME: the tensor's moments come out negative with σ larger
+    than themselves; the command refuses the unphysical tensor and says why (exit 2)."""
     top = Assembly("block")
     top.add(Part("block", [((30.0, 30.0, 30.0), (0.0, 0.0, 0.0))], 1000.0, "ABS"))
     step = write_step(top, tmp_path / "block.step")
@@ -257,9 +257,8 @@ def test_inertia_of_a_light_object_says_the_swings_do_not_determine_it(tmp_path,
     )
     capsys.readouterr()
     args = ["inertia", str(s), "--readings", str(r), "--setup", str(setup)]
-    assert main([*args, "--weighed-mass-kg", "0.027", "--json"]) == 0
-    result = json.loads(capsys.readouterr().out)
-    assert sum("do not determine the tensor" in w for w in result["warnings"]) == 1
-    moments = result["principal_moments_kg_mm2"]
-    sigmas = result["principal_moments_sigma_kg_mm2"]
-    assert any(m <= 0 or sd > 0.5 * abs(m) for m, sd in zip(moments, sigmas, strict=True))
+    assert main([*args, "--weighed-mass-kg", "0.027", "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "principal moment that is not positive" in err and err.count("\n") == 1
+    moments = re.search(r"\((.*) kg·mm²\)", err).group(1).split(", ")
+    assert any(float(m.split(" ± ")[0]) <= 0 for m in moments)

@@ -292,3 +292,21 @@ def test_after_a_signal_the_message_says_what_was_written_whole(tmp_path, capsys
         f"cadcog: interrupted; written whole before that: {tmp_path / 'a.csv'}\n"
     )
     fileio.reset_written()
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_a_full_standard_output_is_named_with_what_was_written(tmp_path):
+    """``--json > /dev/full``: one line naming standard output (not a bare errno), and the
+    files already in place."""
+    csv = tmp_path / "c.csv"
+    with open("/dev/full", "w") as full:
+        p = subprocess.run(
+            [sys.executable, "-m", "cadcog", "campaign", "--out", str(csv), "--json"],
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+            check=False,
+        )
+    assert p.returncode == 2
+    (line,) = [x for x in p.stderr.splitlines() if x.startswith("cadcog: error:")]
+    assert "standard output: cannot write" in line and str(csv) in line
