@@ -103,6 +103,8 @@ NAMED_BOUNDS: dict[str, Bound] = {
     "offset_deg": Bound(0.0, 5.0, "a sensor's zero offset per channel; datasheets: tenths of °"),
     "scale_error_rel": Bound(0.0, 0.2, "a channel's sensitivity error, a fraction (1 % is 0.01)"),
     "mounting_misalignment_deg": Bound(0.0, 10.0, "the sensor's axes against the object's"),
+    "frequency_model_rel": Bound(0.0, 0.1, "the swing model's relative frequency error (5e-4)"),
+    "me_inertia_rel": Bound(0.0, 1.0, "the ME's inertia uncertainty, a fraction (0.3)"),
 }
 
 

@@ -63,9 +63,10 @@ def read_toml(path: str | Path) -> dict[str, Any]:
 #: Deepest nesting of tables and arrays in a parameter file (cadcog's own use 3).
 MAX_TOML_DEPTH = 16
 
-#: Largest magnitude of an integer in a parameter file: beyond it, no count or size of cadcog's
-#: means anything, and converting it to a float overflows.
-MAX_TOML_INTEGER = 10**15
+#: Largest magnitude of an integer in a parameter file: TOML's own range (64-bit signed, as
+#: the specification requires parsers to handle); beyond it Python parses any length, and
+#: converting such an integer to a float overflows.
+MAX_TOML_INTEGER = 2**63 - 1
 
 
 def _check_values(p: Path, value: Any, key: str, depth: int) -> None:

@@ -277,6 +277,16 @@ def _density(t: TableReader, key: str) -> float:
 def _library_name(t: TableReader, key: str) -> str:
     name = t.string(key)
     if name not in LIBRARY:
+        try:
+            number: float | None = float(name)
+        except ValueError:
+            number = None
+        if number is not None:
+            raise t.error(
+                key,
+                f"{name!r} is a number written as text: write {number:g} without quotes for a "
+                "density in kg/m³",
+            )
         raise t.error(
             key,
             f"unknown material {name!r}; known: {', '.join(sorted(LIBRARY))}, or give a "

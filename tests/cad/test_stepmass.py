@@ -178,6 +178,9 @@ def test_materials_file_errors_name_the_key(tmp_path):
         _materials(tmp_path, '[materials]\n"*" = "unobtainium"\n')
     with pytest.raises(ParameterFileError, match="is it in g/cm³"):
         _materials(tmp_path, '[materials]\n"*" = 2.7\n')
+    with pytest.raises(ParameterFileError, match="'2700' is a number written as text") as info:
+        _materials(tmp_path, '[materials]\n"*" = "2700"\n')
+    assert len(str(info.value)) < 200 + len(str(tmp_path))  # one short line, not the library
     with pytest.raises(ParameterFileError, match=r"key 'growth_allowance\.x'.*unknown maturity"):
         _materials(tmp_path, '[growth_allowance]\n"x" = "new"\n')
     with pytest.raises(ParameterFileError, match=r"key 'mass_uncertainty\.x'.*fraction"):

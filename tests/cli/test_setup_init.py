@@ -262,3 +262,23 @@ def test_inertia_of_a_light_object_says_the_swings_do_not_determine_it(tmp_path,
     assert "principal moment that is not positive" in err and err.count("\n") == 1
     moments = re.search(r"\((.*) kg·mm²\)", err).group(1).split(", ")
     assert any(float(m.split(" ± ")[0]) <= 0 for m in moments)
+
+
+@pytest.mark.parametrize(
+    ("line", "key"),
+    [
+        ("frequency_model_rel = 10.0", "swing.frequency_model_rel"),
+        ("me_inertia_rel = 1e300", "swing.me_inertia_rel"),
+    ],
+)
+def test_swing_figures_are_bounded_naming_the_file_and_key(sat_step, tmp_path, line, key):
+    """A 1000 % frequency model error or a 1e300 ME inertia fraction were a LinAlgError and an
+    OverflowError deep in the swing fit: now the set-up's key, with its accepted range."""
+    from cadcog.core.errors import ParameterFileError
+    from cadcog.spacecraft.setup import load_setup
+
+    out = tmp_path / "b_setup.toml"
+    assert main(["setup", "init", str(sat_step), "--out", str(out)]) == 0
+    out.write_text(out.read_text(encoding="utf-8") + f"\n[swing]\n{line}\n", encoding="utf-8")
+    with pytest.raises(ParameterFileError, match=re.escape(f"key '{key}': expected at most")):
+        load_setup(out)
