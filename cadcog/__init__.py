@@ -5,7 +5,8 @@ The main entry points are here (:mod:`cadcog.api`): :func:`mass_properties` of a
 :func:`estimate` the CoG from readings, :func:`simulate` the method's error, :func:`validate` a
 campaign, :func:`plan` a spacecraft's test, :func:`update` its CAD from the test,
 :func:`inertia` its tensor from the swings, :func:`check` requirements, :func:`campaign` a
-virtual test written as a lab records it, :func:`setup_init` a set-up drafted from a STEP
+virtual test written as a lab records it, :func:`acquire` a test run (a simulated device by
+default), :func:`setup_init` a set-up drafted from a STEP
 model; :func:`load_rig` and
 :func:`load_setup` read parameter files. Each returns the result object the command prints,
 with ``to_dict()`` and ``to_json()``.
@@ -28,6 +29,7 @@ from cadcog.core.version import __version__
 
 if TYPE_CHECKING:
     from cadcog.api import (
+        acquire,
         campaign,
         check,
         estimate,
@@ -44,6 +46,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "__version__",
+    "acquire",
     "campaign",
     "check",
     "estimate",

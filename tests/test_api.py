@@ -78,6 +78,7 @@ SAME_DEFAULTS = {
     "estimate": {"self_calibrate_wire": "self_calibrate_wire", "mass_sigma_kg": "mass_sigma_kg"},
     "update": {"mass_sigma_kg": "mass_sigma_kg", "unmodelled_mass_kg": "unmodelled_mass_kg"},
     "campaign": {"seed": "seed", "samples": "samples", "noise_deg": "noise_deg"},
+    "acquire": {"seed": "seed", "device": "device", "time_scale": "time_scale"},
 }
 COMMAND = {"mass_properties": "massprops"}
 
@@ -228,6 +229,7 @@ def test_update_with_swings_is_what_the_command_prints(tmp_path, capsys) -> None
         ("update", "update_from_files", ("update_for_setup", "inertia_observation")),
         ("campaign", "run_campaign", ("simulated_readings", "campaign_text", "virtual_swings")),
         ("setup", "run_setup_init", ("read_step", "draft_materials", "project_grid")),
+        ("acquire", "run_acquire", ("run_session", "compare_with_cad", "write_run_report")),
     ],
 )
 def test_the_command_and_the_api_call_one_composition(command, composition, steps) -> None:
@@ -575,3 +577,37 @@ def test_swings_that_give_no_inertia_are_a_note_not_a_failure(tmp_path, monkeypa
     (tmp_path / "bad.csv").write_text("point_id,t_s,inc_x_deg,inc_y_deg\nS1,x,1,2\n", "utf-8")
     with pytest.raises(CadcogError, match=r"bad\.csv"):
         cadcog.update(tmp_path / "r.csv", setup, 2.583, swings=tmp_path / "bad.csv")
+
+
+@pytest.mark.slow
+def test_acquire_is_the_command_s_simulated_run(tmp_path, capsys) -> None:
+    """The same summary as ``acquire --simulate --non-interactive --json`` (the simulated
+    device runs in real time, its lost samples vary: the same hangs, keys and verdicts, and
+    estimates that agree within their σ)."""
+    import numpy as np
+
+    setup = "parts/cubesat_3u_setup.toml"
+    points = ["+x_30_90", "-x_-30_90", "+y_-30_-30", "-y_30_-30"]
+    theirs = json.loads(
+        _cli_json(
+            capsys,
+            "acquire",
+            "--simulate",
+            "--non-interactive",
+            "--setup",
+            setup,
+            f"--points={','.join(points)}",
+            "--seed",
+            "2",
+            "--out",
+            str(tmp_path / "a.csv"),
+        )
+    )
+    run = cadcog.acquire(tmp_path / "b.csv", setup=setup, points=points, seed=2)
+    mine = run.to_dict()
+    assert sorted(mine) == sorted(theirs)
+    assert [h["id"] for h in mine["hangs"]] == [h["id"] for h in theirs["hangs"]] == points
+    a, b = (np.array(d["estimate"]["cog_mm"]) for d in (mine, theirs))
+    sa, sb = (np.sqrt(np.diag(np.array(d["estimate"]["cov_mm2"]))) for d in (mine, theirs))
+    assert np.all(np.abs(a - b) <= 5 * np.hypot(sa, sb))
+    assert run.cad is not None and run.truth is not None and run.result.estimate is not None

@@ -11,7 +11,7 @@ import numpy as np
 
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs
-from cadcog.core.jsontext import dumps_json, round_floats
+from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 
 FAULTS = ("none", "slip", "never-settle", "stall", "foreign")
@@ -120,46 +120,20 @@ def add_parser(sub: Any) -> None:
 
 
 def _target(args: argparse.Namespace) -> Any:
-    from cadcog.bench.target import target_from_rig, target_from_setup
+    from cadcog.runs.acquire import acquire_target
 
-    ids = None if args.points is None else [i.strip() for i in args.points.split(",") if i.strip()]
+    ids = None if args.points is None else args.points.split(",")
+
+    def say(text: str) -> None:
+        print(text, file=sys.stderr)
+
     if args.setup is not None:
         if args.rig is not None:
             raise CadcogError("give --rig or --setup, not both")
-        from cadcog.spacecraft.plan import plan_test
         from cadcog.spacecraft.setup import load_setup
 
-        setup = load_setup(args.setup)
-        if ids is None:
-            print("no --points: planning the test (as `cadcog plan` does)", file=sys.stderr)
-            rec = plan_test(setup).recommended
-            if rec is None:
-                raise CadcogError(f"{args.setup}: no usable set of suspension points")
-            ids = list(rec["points"])
-        known = {c.id: c for c in setup.candidates}
-        _check_ids(ids, set(known), args.setup)
-        from cadcog.spacecraft.plan import check_candidate
-
-        bad = [k for k in (check_candidate(setup, known[i]) for i in ids) if not k.usable]
-        if bad:  # the whole plan is checked before the first hang
-            raise CadcogError(
-                "--points: "
-                + "; ".join(f"{k.id} cannot work: {k.reason}" for k in bad)
-                + " (cadcog plan lists the usable candidates)"
-            )
-        return target_from_setup(setup, ids)
-    rig = load_rig(args.rig or default_rig_path())
-    if ids is not None:
-        _check_ids(ids, {p.id for p in rig.suspension_points}, rig.source)
-    return target_from_rig(rig, ids)
-
-
-def _check_ids(ids: list[str], known: set[str], source: Path) -> None:
-    unknown = [i for i in ids if i not in known]
-    if unknown:
-        raise CadcogError(f"--points: unknown point(s) {', '.join(unknown)} in {source}")
-    if len(set(ids)) != len(ids) or len(ids) < 2:
-        raise CadcogError("--points: give at least two distinct point ids")
+        return acquire_target(setup=load_setup(args.setup), points=ids, say=say)
+    return acquire_target(rig=load_rig(args.rig or default_rig_path()), points=ids, say=say)
 
 
 def _check_numbers(args: argparse.Namespace) -> None:
@@ -205,17 +179,9 @@ def default_or(swings: Path | None, out: Path) -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.bench.link import SerialLink
-    from cadcog.bench.recorder import Recorder
-    from cadcog.bench.session import (
-        AutoOperator,
-        ConsoleOperator,
-        Operator,
-        SessionQuit,
-        SimulatedOperator,
-        run_session,
-    )
+    from cadcog.bench.session import ConsoleOperator, SessionQuit
     from cadcog.bench.swing import SettleCriterion
+    from cadcog.runs.acquire import Recording, Simulation, run_acquire
 
     _check_numbers(args)
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
@@ -237,44 +203,27 @@ def run(args: argparse.Namespace) -> int:
         raise CadcogError(f"settle options: {exc}") from None
     live = _Live()
     say = live.say if not args.json else (lambda text: print(text, file=sys.stderr))
-    pty = None
-    operator: Operator
     interactive = not args.non_interactive and sys.stdin.isatty()
-    device = None
-    inertia_target = None
-    if args.simulate:
-        from cadcog.bench.simulator import PtyDevice, SimulatedDevice, as_simulated
-
-        inertia_target = as_simulated(target)  # the simulated object swings about a pivot
-
-        device = SimulatedDevice(target, _spec(args), _faults(args), seed=args.seed)
-        pty = PtyDevice(device, args.time_scale).__enter__()
-        port = pty.port
-        operator = SimulatedOperator(args.max_redo, pty)
-        say(f"dry run: simulated {args.device} device on {port}, {args.time_scale:g}× real time")
-    else:
-        port = args.port
-        operator = ConsoleOperator() if interactive else AutoOperator(args.max_redo)
-    preamble = (
-        f"cadcog acquire: {'set-up' if target.setup is not None else 'rig'} {target.name} "
-        f"({target.source}); points {', '.join(h.id for h in target.hangs)}",
+    simulation = (
+        Simulation(args.device, _faults(args), args.seed, args.time_scale, args.max_redo)
+        if args.simulate
+        else None
     )
     try:
-        link = SerialLink(port, args.baud)
-        try:
-            recorder = Recorder(
-                link,
-                target.inclinometer,
-                criterion,
-                args.average_s,
-                args.timeout_s,
-                progress=None if args.json else live,
-            )
-            result = run_session(
-                target, recorder, args.out, operator, say, preamble, args.swings, inertia_target
-            )
-        finally:
-            link.close()
+        run = run_acquire(
+            target,
+            args.out,
+            swings=args.swings,
+            port=None if args.simulate else args.port,
+            simulation=simulation,
+            recording=Recording(
+                criterion, args.average_s, args.timeout_s, args.baud, args.max_redo
+            ),
+            operator=ConsoleOperator() if interactive and not args.simulate else None,
+            say=say,
+            progress=None if args.json else live,
+            report=args.report,
+        )
     except (KeyboardInterrupt, SessionQuit) as exc:
         why = "stopped" if isinstance(exc, SessionQuit) else "interrupted"
         say(
@@ -282,16 +231,7 @@ def run(args: argparse.Namespace) -> int:
             "finished hang. Run the same command again to resume."
         )
         return 130
-    finally:
-        if pty is not None:
-            pty.close()
-    return _finish(args, target, result, device)
-
-
-def _spec(args: argparse.Namespace) -> Any:
-    from cadcog.bench.simulator import DeviceSpec
-
-    return DeviceSpec(kind=args.device)
+    return _finish(args, run)
 
 
 def _faults(args: argparse.Namespace) -> Any:
@@ -306,28 +246,17 @@ def _faults(args: argparse.Namespace) -> Any:
     )
 
 
-def _finish(args: argparse.Namespace, target: Any, result: Any, device: Any) -> int:
+def _finish(args: argparse.Namespace, run: Any) -> int:
     from cadcog.cli.estimate import print_cad_comparison, print_estimate
 
-    est = result.estimate
-    cad = None
-    truth = None
-    if est is not None and target.setup is not None:
-        from cadcog.spacecraft.compare import compare_with_cad
-
-        cad = compare_with_cad(target.setup, est.cog_mm, est.cov_mm2, est.compensation)
-    if est is not None and device is not None:
-        truth = device.truth_check(est.cog_mm, est.cov_mm2)
-    data = result.to_dict()
-    if cad is not None:
-        data["cad"] = cad
-    if truth is not None:
-        data["simulated_truth"] = truth
-    page = None
-    if args.report is not None and est is not None:
-        from cadcog.bench.runreport import write_run_report
-
-        page = write_run_report(result, target, round_floats(data), args.report)
+    result, est, cad, truth, page, data = (
+        run.result,
+        run.result.estimate,
+        run.cad,
+        run.truth,
+        run.page,
+        run.data,
+    )
     if args.json:
         print(dumps_json(data), end="")
     else:
