@@ -74,8 +74,10 @@ def project_grid(
         The model's solids at their global placement, in the file's mm.
     face : str
         The box face the grid lies on.
-    grid_mm : array_like, shape (m, 3)
-        The grid points (mm, on the face's plane).
+    grid_mm : array_like, shape (m, 3) or (m, k, 3)
+        The grid points (mm, on the face's plane); with ``k`` alternatives each (rows across a
+        thin extent), the alternative that meets a solid nearest the box face is kept (the
+        first of equals): a board's edge, not a part behind it.
     bbox_lo_mm, bbox_hi_mm : array_like, shape (3,)
         The model's bounding box (mm).
     scale_to_mm : float
@@ -86,7 +88,8 @@ def project_grid(
     Returns
     -------
     list of SurfacePoint
-        One per grid point whose ray meets a solid within the depth, in grid order.
+        One per grid point whose ray (one of its alternatives') meets a solid within the
+        depth, in grid order.
     """
     axis, sign = FACES[face]
     lo = np.asarray(bbox_lo_mm, dtype=float)
@@ -97,15 +100,25 @@ def project_grid(
     inward[axis] = -float(sign)
     inter = IntCurvesFace_ShapeIntersector()
     inter.Load(_compound(shapes), _INTERSECT_TOLERANCE_MM)
-    out = []
-    for g in np.asarray(grid_mm, dtype=float).reshape(-1, 3):
+
+    def depth(g: FloatArray) -> float | None:
         start = (g - inward * 1.0) / scale_to_mm  # 1 mm outside the box: no hit is missed
         line = gp_Lin(gp_Pnt(*start.tolist()), gp_Dir(*inward.tolist()))
         inter.PerformNearest(line, 0.0, (span + 2.0) / scale_to_mm)
         if not inter.IsDone() or inter.NbPnt() < 1:
-            continue
-        w = float(inter.WParameter(1)) * scale_to_mm - 1.0  # depth inside the box face
-        if w > depth_max:
-            continue
-        out.append(SurfacePoint(face, g + inward * max(w, 0.0), max(w, 0.0)))
+            return None
+        w = max(float(inter.WParameter(1)) * scale_to_mm - 1.0, 0.0)  # depth inside the box
+        return w if w <= depth_max else None
+
+    grid = np.asarray(grid_mm, dtype=float)
+    groups = grid.reshape(-1, 1, 3) if grid.ndim == 2 else grid.reshape(len(grid), -1, 3)
+    out = []
+    for alternatives in groups:
+        best: tuple[float, FloatArray] | None = None
+        for g in alternatives:
+            w = depth(g)
+            if w is not None and (best is None or w < best[0] - 1e-6):
+                best = (w, g)
+        if best is not None:
+            out.append(SurfacePoint(face, best[1] + inward * best[0], best[0]))
     return out

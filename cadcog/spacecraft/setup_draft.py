@@ -269,28 +269,51 @@ def grid_spacing(bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -> tuple[
     return spacing, margin
 
 
+#: An extent the grid crosses in this many rows or fewer is thin (a board with its parts, whose
+#: middle may fall between the board and a part): each row is cast at several heights within
+#: its band, at these fractions of it, and the ray that meets a solid nearest the box face is
+#: kept (the board's edge, not a part behind it).
+THIN_ROWS = 1
+THIN_ROW_FRACTIONS = (0.5, 0.3, 0.7, 0.1, 0.9)
+
+
 def face_grid(face: str, bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -> FloatArray:
-    """The draft's grid of one box face, shape (m, 3): centred, at :func:`grid_spacing`.
+    """The draft's grid of one box face, shape (m, k, 3): centred, at :func:`grid_spacing`,
+    each point with ``k`` alternatives across a thin extent (:data:`THIN_ROWS`; at
+    :data:`THIN_ROW_FRACTIONS` of its row's band, the middle first; ``k`` = 1 when none is).
 
     Examples
     --------
-    >>> face_grid("+x", [-50, -50, -170], [50, 50, 170])[:2].tolist()
+    >>> face_grid("+x", [-50, -50, -170], [50, 50, 170])[:2, 0].tolist()
     [[50.0, -30.0, -150.0], [50.0, -30.0, -90.0]]
+    >>> g = face_grid("+x", [-50, -40, -5], [50, 40, 1.6])  # a board, a part below it
+    >>> g.shape, g[0, :, 2].round(2).tolist()  # one row in z: its heights, the middle first
+    ((16, 5, 3), [-1.7, -3.02, -0.38, -4.34, 0.94])
     """
     lo = np.asarray(bbox_lo_mm, dtype=float)
     hi = np.asarray(bbox_hi_mm, dtype=float)
     spacing, margin = grid_spacing(lo, hi)
     axis, sign = FACES[face]
     others = [j for j in range(3) if j != axis]
-    coords = []
+    lines: list[list[FloatArray]] = []  # per in-face axis: its grid lines, each as alternatives
     for j in others:
         n = max(int((hi[j] - lo[j] - 2 * margin) // spacing) + 1, 1)
-        coords.append(0.5 * (lo[j] + hi[j]) + spacing * (np.arange(n) - (n - 1) / 2))
-    a, b = np.meshgrid(coords[0], coords[1], indexing="ij")
-    pts = np.empty((a.size, 3))
-    pts[:, axis] = hi[axis] if sign > 0 else lo[axis]
-    pts[:, others[0]], pts[:, others[1]] = a.ravel(), b.ravel()
-    return pts
+        if n <= THIN_ROWS:  # few rows across: each tried at several heights within its band
+            band = (hi[j] - lo[j]) / n
+            fractions = np.asarray(THIN_ROW_FRACTIONS)
+            lines.append([lo[j] + band * (k + fractions) for k in range(n)])
+        else:
+            centres = 0.5 * (lo[j] + hi[j]) + spacing * (np.arange(n) - (n - 1) / 2)
+            lines.append([np.array([c]) for c in centres])
+    points = []
+    for alts_a in lines[0]:
+        for alts_b in lines[1]:
+            a, b = np.meshgrid(alts_a, alts_b, indexing="ij")
+            p = np.empty((a.size, 3))
+            p[:, axis] = hi[axis] if sign > 0 else lo[axis]
+            p[:, others[0]], p[:, others[1]] = a.ravel(), b.ravel()
+            points.append(p)
+    return np.asarray(points)
 
 
 #: Two drafted points closer than this (mm) are one: the rays of two faces meeting at an edge.

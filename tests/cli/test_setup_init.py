@@ -282,3 +282,24 @@ def test_swing_figures_are_bounded_naming_the_file_and_key(sat_step, tmp_path, l
     out.write_text(out.read_text(encoding="utf-8") + f"\n[swing]\n{line}\n", encoding="utf-8")
     with pytest.raises(ParameterFileError, match=re.escape(f"key '{key}': expected at most")):
         load_setup(out)
+
+
+def test_a_board_s_points_land_on_its_edge_not_on_the_parts_behind_it(tmp_path):
+    """A 1.6 mm board with a 5 mm part under it: the box's mid-height misses the board, so
+    each row is also cast at other heights and the ray meeting a solid nearest the box face
+    wins: the points sit on the board's edge (depth 0), none on the part 20 mm in."""
+    from cadcog.spacecraft.setup import load_setup
+
+    top = Assembly("board")
+    top.add(Part("PCB", [((50.0, 40.0, 1.6), (-25.0, -20.0, 0.0))], 1850.0, "FR4"))
+    top.add(Part("can", [((10.0, 10.0, 5.0), (-5.0, -5.0, -5.0))], 2700.0, "Al"))
+    step = write_step(top, tmp_path / "board.step")
+    out = tmp_path / "board_setup.toml"
+    assert main(["setup", "init", str(step), "--out", str(out)]) == 0
+    setup = load_setup(out)
+    assert len(setup.candidates) >= 8
+    for c in setup.candidates:
+        assert 0.0 <= c.position_mm[2] <= 1.6, (c.id, c.position_mm)
+        axis = int(np.argmax(np.abs(c.normal)))
+        edge = 25.0 if axis == 0 else 20.0
+        assert abs(abs(c.position_mm[axis]) - edge) < 1e-3, (c.id, c.position_mm)
