@@ -804,7 +804,14 @@ def update(
 
 @_one_blas_thread
 def plan(
-    setup: Setup | str | Path, *, trials: int = 10_000, max_set: int = 4, seed: int = 0
+    setup: Setup | str | Path,
+    *,
+    trials: int = 10_000,
+    max_set: int = 4,
+    seed: int = 0,
+    goal: Literal["cog", "inertia", "both"] = "cog",
+    weighing: bool = True,
+    max_inertia_set: int = 8,
 ) -> Plan:
     """Which candidate points to hang a spacecraft from (``cadcog plan``).
 
@@ -818,17 +825,35 @@ def plan(
         Largest set of hangs considered (2 to 8).
     seed : int
         Seed of the Monte Carlo of the finalists.
+    goal : "cog", "inertia" or "both"
+        What the hangs should determine best (``--for``): the CoG, the inertia tensor from
+        their swings, or both (the CoG's set, grown for the inertia).
+    weighing : bool
+        Plan the inertia with a 1 g weighing (else the CAD's mass uncertainty).
+    max_inertia_set : int
+        Largest set of hangs for the inertia.
 
     Returns
     -------
     Plan
         The recommended set, the finalists with their predicted errors, and the candidates
-        that cannot be used (with why).
+        that cannot be used (with why); with a ``goal`` other than the CoG, ``inertia`` (the
+        hangs for the tensor) or ``inertia_refused`` (why none, with ``"both"``).
     """
-    from cadcog.spacecraft.plan import plan_test
+    from cadcog.runs.plan import run_plan
 
-    _numbers("plan", trials=trials, max_set=max_set, seed=seed)
-    return plan_test(_setup("plan", setup), trials=trials, max_set=max_set, seed=seed)
+    f = "plan"
+    _numbers(f, trials=trials, max_set=max_set, seed=seed, max_inertia_set=max_inertia_set)
+    check_choice(f, "goal", goal, ("cog", "inertia", "both"))
+    return run_plan(
+        _setup(f, setup),
+        trials=trials,
+        max_set=max_set,
+        seed=seed,
+        goal=goal,
+        weighed=bool(weighing),
+        max_inertia_set=max_inertia_set,
+    )
 
 
 @_one_blas_thread

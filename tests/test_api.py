@@ -67,7 +67,13 @@ SAME_DEFAULTS = {
         "workers": "workers",
     },
     "validate": {"campaigns": "campaigns", "seed": "seed", "level": "level"},
-    "plan": {"trials": "trials", "max_set": "max_set", "seed": "seed"},
+    "plan": {
+        "trials": "trials",
+        "max_set": "max_set",
+        "seed": "seed",
+        "goal": "goal",
+        "max_inertia_set": "max_inertia_set",
+    },
     "mass_properties": {
         "axes": "axes",
         "about": "about",
@@ -230,6 +236,7 @@ def test_update_with_swings_is_what_the_command_prints(tmp_path, capsys) -> None
         ("campaign", "run_campaign", ("simulated_readings", "campaign_text", "virtual_swings")),
         ("setup", "run_setup_init", ("read_step", "draft_materials", "project_grid")),
         ("acquire", "run_acquire", ("run_session", "compare_with_cad", "write_run_report")),
+        ("plan", "run_plan", ("plan_test", "plan_inertia_for_setup")),
     ],
 )
 def test_the_command_and_the_api_call_one_composition(command, composition, steps) -> None:
@@ -611,3 +618,13 @@ def test_acquire_is_the_command_s_simulated_run(tmp_path, capsys) -> None:
     sa, sb = (np.sqrt(np.diag(np.array(d["estimate"]["cov_mm2"]))) for d in (mine, theirs))
     assert np.all(np.abs(a - b) <= 5 * np.hypot(sa, sb))
     assert run.cad is not None and run.truth is not None and run.result.estimate is not None
+
+
+def test_plan_for_both_is_what_the_command_prints(tmp_path, capsys) -> None:
+    """``cadcog.plan(goal="both")`` is ``plan --for both --json``: the CoG's set and the hangs
+    grown for the inertia, or why none."""
+    setup = "parts/cubesat_3u_setup.toml"
+    theirs = _cli_json(capsys, "plan", setup, "--for", "both", "--trials", "300")
+    mine = cadcog.plan(setup, trials=300, goal="both")
+    assert mine.to_json() == theirs
+    assert mine.inertia is not None and json.loads(theirs)["goal"] == "both"

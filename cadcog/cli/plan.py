@@ -47,45 +47,29 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from cadcog.cli._warn import monte_carlo_caveat
-    from cadcog.spacecraft.plan import plan_test
+    from cadcog.runs.plan import run_plan
     from cadcog.spacecraft.setup import load_setup
 
     if args.trials < 2 or args.max_set < 2 or args.seed < 0:
-        raise CadcogError("--trials ≥ 2, --max-set ≥ 2, --seed ≥ 0")
+        raise CadcogError("--trials ≥ 2, --max-set ≥ 2, --seed ≥ 0")  # before the CAD
     if args.max_inertia_set < 3:
         raise CadcogError(
             "--max-inertia-set must be at least 3 (six entries, two frequencies a hang)"
         )
     setup = load_setup(args.setup)
     monte_carlo_caveat(setup.error_model())
-    plan = plan_test(setup, trials=args.trials, max_set=args.max_set, seed=args.seed)
-    inertia = None
-    inertia_refused = ""
-    if args.goal != "cog":
-        from cadcog.core.errors import DegenerateGeometryError
-        from cadcog.dynamics.hangplan import plan_inertia_for_setup
-
-        try:
-            inertia = plan_inertia_for_setup(
-                setup,
-                plan,
-                weighed=not args.no_weighing,
-                max_set=args.max_inertia_set,
-                both=args.goal == "both",
-            )
-        except DegenerateGeometryError as e:
-            if args.goal == "inertia":
-                raise
-            inertia_refused = str(e)  # --for both: the CoG plan stands, the inertia is refused
+    plan = run_plan(
+        setup,
+        trials=args.trials,
+        max_set=args.max_set,
+        seed=args.seed,
+        goal=args.goal,
+        weighed=not args.no_weighing,
+        max_inertia_set=args.max_inertia_set,
+    )
+    inertia, inertia_refused = plan.inertia, plan.inertia_refused
     if args.json:
-        data = plan.to_dict()
-        if inertia is not None:
-            data["inertia"] = inertia.to_dict()
-        elif inertia_refused:
-            data["inertia"] = {"refused": inertia_refused}
-        if args.goal != "cog":
-            data["goal"] = args.goal
-        print(dumps_json(data).rstrip("\n"))
+        print(dumps_json(plan.to_dict()).rstrip("\n"))
         return 0
     m = setup.mass
     cog = ", ".join(f"{c:.3f}" for c in m.cog_mm)

@@ -1,4 +1,5 @@
-"""Runs: one composition per command that writes files, shared by the command and the API.
+"""Runs: one composition per command, shared by the command and the API (campaign, setup init,
+acquire, plan; the others still compose one layer down).
 
 A run takes checked, typed arguments (paths, a rig or a set-up, options), does the work through
 the library below it, writes every output or none, and returns a result whose ``to_dict()`` is

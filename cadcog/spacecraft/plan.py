@@ -61,6 +61,12 @@ class Plan(JsonResult):
         What the plan's user must know (an ME heavy against the object).
     reason : str
         Why nothing is recommended (empty when a set is).
+    goal : str
+        ``"cog"``, ``"inertia"`` or ``"both"`` (:func:`cadcog.runs.plan.run_plan`).
+    inertia : InertiaPlan or None
+        The hangs for the inertia tensor (:mod:`cadcog.dynamics.hangplan`), when planned.
+    inertia_refused : str
+        Why no set determines the tensor (``goal="both"``), else empty.
     cad_cog_mm : tuple of 3 floats
         The spacecraft's CAD CoG (mm).
     """
@@ -76,6 +82,9 @@ class Plan(JsonResult):
     me_mass_kg: float = 0.0
     warnings: tuple[str, ...] = ()
     reason: str = ""
+    goal: str = "cog"
+    inertia: Any = None
+    inertia_refused: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -93,7 +102,18 @@ class Plan(JsonResult):
             "estimator": EstimatorOptions().describe(),
             "prediction": f"Monte Carlo of the estimator of cadcog estimate, {self.trials} "
             "trials per finalist set; pairs and sets screened by their linearised covariance",
+            **self._inertia_dict(),
         }
+
+    def _inertia_dict(self) -> dict[str, Any]:
+        if self.goal == "cog":
+            return {}
+        inertia = (
+            self.inertia.to_dict()
+            if self.inertia is not None
+            else {"refused": self.inertia_refused}
+        )
+        return {"inertia": inertia, "goal": self.goal}
 
 
 def check_candidate(setup: Setup, candidate: Candidate) -> CandidateCheck:
