@@ -11,7 +11,7 @@ in chosen axes (:mod:`cadcog.mass.inertia`), and the CubeSat CoG envelope
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -37,6 +37,7 @@ from cadcog.spacecraft.envelope import (
     source_for,
 )
 from cadcog.spacecraft.mass_budget import MassBudget, mass_budget
+from cadcog.spacecraft.setup_draft import CDS_ENVELOPES_MM, guess_form_factor
 
 if TYPE_CHECKING:
     from cadcog.cad.stepmass import ModelMassProperties
@@ -257,6 +258,18 @@ def build_mass_report(
             axes=frame.axes,
             form_factor=form_factor,
             source=source,
+        )
+    if form_factor is not None and guess_form_factor(lo, hi) != form_factor:
+        ext = " × ".join(f"{v:.4g}" for v in hi - lo)
+        env = " × ".join(f"{v:g}" for v in CDS_ENVELOPES_MM[form_factor])
+        result = replace(
+            result,
+            notes=(
+                *result.notes,
+                f"--form-factor {form_factor}: the model's box ({ext} mm) is not a "
+                f"{form_factor}'s ({env} mm within 8 %, z the long axis): the envelope check "
+                "assumes it is one",
+            ),
         )
     return MassReport(
         result,

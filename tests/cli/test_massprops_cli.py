@@ -270,3 +270,15 @@ def test_copies_are_grouped_by_their_product_whatever_their_instance_names(
     assert len(rows) == 1, (exporter, out)
     assert "3 × 0.04" in rows[0]  # 40 mm³ at 1000 kg/m³: 0.04 g each
     assert not any(name in out for name in instances[1:]), out
+
+
+def test_a_form_factor_the_box_does_not_match_is_a_note(tmp_path, capsys):
+    """``--form-factor 3U`` on a 30 mm block: the envelope check runs as asked, and a note says
+    the box is not a 3U's (it passed silently before)."""
+    top = Assembly("block")
+    top.add(Part("block", [((30.0, 30.0, 30.0), (0.0, 0.0, 0.0))], 1000.0, "ABS"))
+    step = write_step(top, tmp_path / "block.step")
+    assert main(["massprops", str(step), "--form-factor", "3U", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    (note,) = [n for n in data["notes"] if "--form-factor 3U" in n]
+    assert "30 × 30 × 30 mm" in note and "is not a 3U's" in note
