@@ -470,6 +470,7 @@ def update_budget(
         post_mass_sigma = float(np.sqrt(max(cov_d[0, 0], 0.0)))
         post_cog_cov = cov_d[1:4, 1:4]
     items_out = _item_changes(items, sols, weights)
+    weight_of = {c.key: c.cad_mass_kg * c.prior_sigma_rel for c in items_out}
     u_mass, u_sigma, u_cog, u_cov, u_negative, u_prob = _unmodelled_mixture(sols, weights)
     explanations = tuple(
         sorted(
@@ -486,7 +487,9 @@ def update_budget(
                 )
                 for s, w, p in zip(sols, weights, p_values, strict=True)
             ),
-            key=lambda e: -e.probability,
+            # Equally probable explanations (to 0.01 %): the item that can move the mass and
+            # the CoG most first (its stated 1-σ mass), never a washer by file order.
+            key=lambda e: (-round(e.probability, 4), -weight_of.get(e.item, np.inf)),
         )
     )
     result = UpdateResult(
