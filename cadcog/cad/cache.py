@@ -227,6 +227,32 @@ def _stamps(files: Iterable[Path]) -> list[tuple[int, int, int, int]] | None:
         return None
 
 
+def cached_data(
+    settings: dict[str, Any],
+    files: Sequence[Path],
+    compute: Callable[[], Any],
+    *,
+    code: tuple[str, ...] = _CODE,
+) -> tuple[Any, bool]:
+    """``compute()``'s JSON data, kept under :func:`key` ``(settings, files, code)``: read back
+    if an entry exists, else computed and stored, unless a file changed while it ran (as
+    :func:`mass_properties`). Returns the data and whether the cache gave it. ``code`` names
+    every sub-package whose sources the computation depends on."""
+    before = _stamps(files)
+    try:
+        entry: str | None = key(settings, files, code=code)
+    except OSError:
+        entry = None
+    if entry is not None:
+        data = load_data(entry)
+        if data is not None:
+            return data, True
+    data = compute()
+    if entry is not None and before is not None and _stamps(files) == before:
+        store_data(entry, data)
+    return data, False
+
+
 def model_settings(
     kind: str,
     *,

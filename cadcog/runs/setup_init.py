@@ -10,11 +10,14 @@ first, then the set-up that names it), and neither replaces a file unless ``forc
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
@@ -86,6 +89,66 @@ def run_setup_init(
         A file exists (without ``force``), the model cannot be read, an output cannot be
         written (then neither is).
     """
+    from cadcog.cad import cache
+    from cadcog.spacecraft.setup_draft import (
+        DraftPart,
+        DraftPoint,
+        draft_materials,
+        draft_setup,
+        guess_form_factor,
+        lacking_material,
+    )
+
+    setup_path, materials_path, stem = draft_paths(Path(model), out)
+    for path in (setup_path, materials_path):
+        if path.exists() and not force:
+            raise CadcogError(f"{path}: exists; --force replaces it (a draft never overwrites)")
+    survey, _ = cache.cached_data(
+        {"kind": "setup init", "units": units},
+        [Path(model)],
+        lambda: _survey(Path(model), units),
+        code=("cad", "mass", "core", "rig", "spacecraft", "runs"),
+    )
+    try:
+        parts = [DraftPart(**p) for p in survey["parts"]]
+        points = [
+            DraftPoint(p["id"], p["face"], tuple(p["position_mm"]), p["depth_mm"])
+            for p in survey["points"]
+        ]
+        lo, hi = np.array(survey["lo_mm"]), np.array(survey["hi_mm"])
+        overlaps = str(survey["overlaps"])
+    except (KeyError, TypeError, ValueError):  # a damaged entry that passed its digest
+        raise CadcogError(
+            f"{model}: the cached survey cannot be read; cadcog cache --clear"
+        ) from None
+    step_rel = Path(os.path.relpath(Path(model).resolve(), setup_path.resolve().parent))
+    materials_text = draft_materials(parts, Path(model).name)
+    setup_text = draft_setup(
+        stem, step_rel.as_posix(), materials_path.name, lo, hi, overlaps, points, units
+    )
+    # Both filled before either is put in place; renamed last entered first: the materials
+    # file, then the set-up that names it.
+    with ExitStack() as stack:
+        stack.enter_context(staged_file(setup_path)).write_text(setup_text, encoding="utf-8")
+        stack.enter_context(staged_file(materials_path)).write_text(
+            materials_text, encoding="utf-8"
+        )
+    return SetupDraft(
+        str(setup_path),
+        str(materials_path),
+        len(parts),
+        len({p.name for p in parts}),
+        len(points) if len(points) >= 2 else 0,
+        lacking_material(parts),
+        guess_form_factor(lo, hi),
+        bool(overlaps),
+    )
+
+
+def _survey(model: Path, units: str | None) -> dict[str, Any]:
+    """What a draft needs of the model, as JSON data (cached by the model's content): every
+    solid with its STEP material and part label, the candidate points cast onto the model,
+    the box, and the overlaps summary when they would be refused."""
     from cadcog.cad.stepmass import model_mass_properties
     from cadcog.cad.stepread import read_step
     from cadcog.cad.surfacepoints import project_grid
@@ -94,18 +157,10 @@ def run_setup_init(
         DRAFT_FACES,
         DraftPart,
         distinct_points,
-        draft_materials,
-        draft_setup,
         face_grid,
-        guess_form_factor,
-        lacking_material,
         part_label,
     )
 
-    setup_path, materials_path, stem = draft_paths(Path(model), out)
-    for path in (setup_path, materials_path):
-        if path.exists() and not force:
-            raise CadcogError(f"{path}: exists; --force replaces it (a draft never overwrites)")
     step_model = read_step(model)
     # geometry only: one density for all, each solid counted whole
     result = model_mass_properties(
@@ -147,25 +202,10 @@ def run_setup_init(
             for sp in project_grid(shapes, face, face_grid(face, lo, hi), lo, hi, scale_to_mm=scale)
         ]
     )
-    step_rel = Path(os.path.relpath(Path(model).resolve(), setup_path.resolve().parent))
-    materials_text = draft_materials(parts, Path(model).name)
-    setup_text = draft_setup(
-        stem, step_rel.as_posix(), materials_path.name, lo, hi, overlaps, points, units
-    )
-    # Both filled before either is put in place; renamed last entered first: the materials
-    # file, then the set-up that names it.
-    with ExitStack() as stack:
-        stack.enter_context(staged_file(setup_path)).write_text(setup_text, encoding="utf-8")
-        stack.enter_context(staged_file(materials_path)).write_text(
-            materials_text, encoding="utf-8"
-        )
-    return SetupDraft(
-        str(setup_path),
-        str(materials_path),
-        len(parts),
-        len({p.name for p in parts}),
-        len(points) if len(points) >= 2 else 0,
-        lacking_material(parts),
-        guess_form_factor(lo, hi),
-        bool(overlaps),
-    )
+    return {
+        "parts": [dataclasses.asdict(p) for p in parts],
+        "points": [dataclasses.asdict(p) for p in points],
+        "lo_mm": [float(v) for v in lo],
+        "hi_mm": [float(v) for v in hi],
+        "overlaps": overlaps,
+    }

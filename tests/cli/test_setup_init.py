@@ -303,3 +303,33 @@ def test_a_board_s_points_land_on_its_edge_not_on_the_parts_behind_it(tmp_path):
         axis = int(np.argmax(np.abs(c.normal)))
         edge = 25.0 if axis == 0 else 20.0
         assert abs(abs(c.position_mm[axis]) - edge) < 1e-3, (c.id, c.position_mm)
+
+
+def test_a_second_draft_of_the_same_model_reads_no_cad(sat_step, tmp_path, monkeypatch):
+    """The survey (solids, materials, points cast onto the model) is cached by the model's
+    content: a second `setup init` (elsewhere, another name) reads no CAD and drafts the same."""
+    import shutil
+
+    from cadcog.cad import stepread
+
+    a = tmp_path / "a_setup.toml"
+    assert main(["setup", "init", str(sat_step), "--out", str(a)]) == 0
+    copy = tmp_path / "elsewhere" / "sat.step"
+    copy.parent.mkdir()
+    shutil.copyfile(sat_step, copy)
+    monkeypatch.setattr(stepread, "read_step", lambda *a, **k: pytest.fail("read again"))
+    b = tmp_path / "b_setup.toml"
+    assert main(["setup", "init", str(copy), "--out", str(b)]) == 0
+    assert (tmp_path / "a_materials.toml").read_text(encoding="utf-8") == (
+        tmp_path / "b_materials.toml"
+    ).read_text(encoding="utf-8")
+    strip = [
+        line
+        for line in a.read_text(encoding="utf-8").splitlines()
+        if not line.startswith(("model_step", "materials", "name", "# Test set-up of"))
+    ]
+    assert strip == [
+        line
+        for line in b.read_text(encoding="utf-8").splitlines()
+        if not line.startswith(("model_step", "materials", "name", "# Test set-up of"))
+    ]
