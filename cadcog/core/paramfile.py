@@ -82,12 +82,16 @@ def _check_values(p: Path, value: Any, key: str, depth: int) -> None:
     elif isinstance(value, list):
         for i, v in enumerate(value):
             _check_values(p, v, f"{key}[{i}]", depth + 1)
-    elif isinstance(value, int) and not isinstance(value, bool) and abs(value) > MAX_TOML_INTEGER:
+    elif (
+        isinstance(value, int)
+        and not isinstance(value, bool)
+        and not -MAX_TOML_INTEGER - 1 <= value <= MAX_TOML_INTEGER
+    ):
         raise ParameterFileError(
             p,
             key,
-            f"an integer of {len(str(abs(value)))} digits; expected at most "
-            f"{len(str(MAX_TOML_INTEGER)) - 1} digits",
+            f"an integer of {len(str(abs(value)))} digits; expected one within TOML's 64-bit "
+            "range (±9.2e18)",
         )
 
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import staged_file
+from cadcog.core.fileio import note_input, staged_file
 from cadcog.core.results import JsonResult
 
 
@@ -103,12 +103,14 @@ def run_setup_init(
     for path in (setup_path, materials_path):
         if path.exists() and not force:
             raise CadcogError(f"{path}: exists; --force replaces it (a draft never overwrites)")
-    survey, _ = cache.cached_data(
+    survey, hit = cache.cached_data(
         {"kind": "setup init", "units": units},
         [Path(model)],
         lambda: _survey(Path(model), units),
         code=("cad", "mass", "core", "rig", "spacecraft", "runs"),
     )
+    if hit:  # read from the cache: the model is still this command's input
+        note_input(Path(model), "the STEP model it reads")
     try:
         parts = [DraftPart(**p) for p in survey["parts"]]
         points = [

@@ -259,18 +259,20 @@ def build_mass_report(
             form_factor=form_factor,
             source=source,
         )
-    if form_factor is not None and guess_form_factor(lo, hi) != form_factor:
-        ext = " × ".join(f"{v:.4g}" for v in hi - lo)
-        env = " × ".join(f"{v:g}" for v in CDS_ENVELOPES_MM[form_factor])
-        result = replace(
-            result,
-            notes=(
-                *result.notes,
-                f"--form-factor {form_factor}: the model's box ({ext} mm) is not a "
-                f"{form_factor}'s ({env} mm within 8 %, z the long axis): the envelope check "
-                "assumes it is one",
-            ),
-        )
+    if form_factor in CDS_ENVELOPES_MM:  # a CubeSat's box, in the envelope's axes
+        ext = np.abs(frame.axes) @ (hi - lo)
+        if guess_form_factor(np.zeros(3), ext) != form_factor:
+            shown = " × ".join(f"{v:.4g}" for v in ext)
+            env = " × ".join(f"{v:g}" for v in CDS_ENVELOPES_MM[form_factor])
+            result = replace(
+                result,
+                notes=(
+                    *result.notes,
+                    f"form factor {form_factor}: the model's box ({shown} mm in the envelope's "
+                    f"axes) is not a {form_factor}'s ({env} mm within 8 %, z the long axis): "
+                    "the envelope check assumes it is one",
+                ),
+            )
     return MassReport(
         result,
         budget,

@@ -280,5 +280,14 @@ def test_a_form_factor_the_box_does_not_match_is_a_note(tmp_path, capsys):
     step = write_step(top, tmp_path / "block.step")
     assert main(["massprops", str(step), "--form-factor", "3U", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    (note,) = [n for n in data["notes"] if "--form-factor 3U" in n]
+    (note,) = [n for n in data["notes"] if "form factor 3U" in n]
     assert "30 × 30 × 30 mm" in note and "is not a 3U's" in note
+    # A 3U whose rails run along the model's x, checked in its CDS axes: no note. A PocketQube
+    # form factor (no CubeSat box to compare): the check runs, no note, no crash.
+    top = Assembly("sat")
+    top.add(Part("sat", [((340.5, 100.0, 100.0), (0.0, 0.0, 0.0))], 1000.0, "Al"))
+    sat = write_step(top, tmp_path / "sat.step")
+    assert main(["massprops", str(sat), "--form-factor", "3U", "--axes", "+y,+z,+x", "--json"]) == 0
+    assert not [n for n in json.loads(capsys.readouterr().out)["notes"] if "form factor" in n]
+    assert main(["massprops", str(step), "--form-factor", "1p", "--json"]) == 0
+    assert not [n for n in json.loads(capsys.readouterr().out)["notes"] if "form factor" in n]

@@ -157,3 +157,19 @@ def test_acquire_checks_the_whole_plan_before_the_first_hang(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "+x_30_30 cannot work" in err and "+x_30_90 cannot work" not in err
     assert not out.exists() and not list(tmp_path.iterdir())
+
+
+def test_a_weighing_in_grams_given_as_kilograms_is_refused(tmp_path, capsys):
+    """2583 for a 2.58 kg CAD (1000×: grams as kg) and a σ of 1e-300 are refused naming the
+    option; a weighing 20× the CAD (a structure-only model: the gap `update` is for) passes."""
+    csv = tmp_path / "r.csv"
+    points = "--points=+x_30_90,-x_-30_90,+y_-30_-30,-y_30_-30"
+    assert main(["campaign", "--setup", str(SETUP), points, "--out", str(csv)]) == 0
+    base = ["estimate", str(csv), "--setup", str(SETUP)]
+    capsys.readouterr()
+    assert main([*base, "--weighed-mass-kg", "2583"]) == 2
+    err = capsys.readouterr().err
+    assert "--weighed-mass-kg 2583" in err and "is the weighing in kg" in err
+    assert main([*base, "--weighed-mass-kg", "2.583", "--mass-sigma-kg", "1e-300"]) == 2
+    assert "--mass-sigma-kg 1e-300" in capsys.readouterr().err
+    assert main([*base, "--weighed-mass-kg", "51.6", "--json"]) == 0
