@@ -14,8 +14,9 @@ def add_parser(sub: Any) -> None:
         "cache",
         help="where the mass-properties cache is, its size, and --clear",
         description="massprops, plan, estimate --setup, update, check and report keep models' "
-        "mass properties (and a rig's CAD parts) in a cache, by the content of every input, so "
-        "that a second run on unchanged files reads no CAD. This shows its folder "
+        "mass properties (and a rig's CAD parts, and setup init its survey of a model) in a "
+        "cache, by the content of every input, so that a second run on unchanged files reads "
+        "no CAD. This shows its folder "
         "(CADCOG_CACHE_DIR, else XDG_CACHE_HOME/cadcog, else ~/.cache/cadcog), whether it is "
         f"on (CADCOG_NO_CACHE=1 turns it off), its entries and size (at most "
         f"{cache.MAX_BYTES / 1e9:g} GB: the entries used least recently go first). "

@@ -102,7 +102,10 @@ def run_setup_init(
     setup_path, materials_path, stem = draft_paths(Path(model), out)
     for path in (setup_path, materials_path):
         if path.exists() and not force:
-            raise CadcogError(f"{path}: exists; --force replaces it (a draft never overwrites)")
+            raise CadcogError(
+                f"{path}: exists; --force (force=True from Python) replaces it (a draft never "
+                "overwrites)"
+            )
     survey, hit = cache.cached_data(
         {"kind": "setup init", "units": units},
         [Path(model)],

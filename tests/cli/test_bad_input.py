@@ -686,7 +686,7 @@ CASES = [
     Case(
         "setup-init-refuses-to-overwrite",
         ["setup", "init", "none.step", "--out", "s_setup.toml"],
-        r"s_setup\.toml: exists; --force replaces it",
+        r"s_setup\.toml: exists; --force \(force=True from Python\) replaces it",
         {"s_setup.toml": "name = 'x'\n"},
     ),
     Case(
