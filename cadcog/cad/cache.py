@@ -37,7 +37,7 @@ import stat
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
 from contextlib import suppress
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -227,6 +227,36 @@ def _stamps(files: Iterable[Path]) -> list[tuple[int, int, int, int]] | None:
         return None
 
 
+@dataclass(frozen=True)
+class _Slot:
+    """Where a computation's result is kept: its entry (None when the key cannot see every
+    input) and its files' stamps before it ran, so that a result is only kept under the
+    content it was computed from."""
+
+    entry: str | None
+    files: tuple[Path, ...]
+    before: list[tuple[int, int, int, int]] | None
+
+    @classmethod
+    def of(cls, settings: dict[str, Any], files: Sequence[Path], code: tuple[str, ...]) -> _Slot:
+        before = _stamps(files)
+        try:
+            entry: str | None = key(settings, files, code=code)
+        except OSError:
+            entry = None
+        return cls(entry, tuple(files), before)
+
+    def load(self) -> Any:
+        """The kept data, or None."""
+        return None if self.entry is None else load_data(self.entry)
+
+    def keep(self, data: Any) -> None:
+        """Store ``data``, unless a file changed since the slot was made (or no key)."""
+        if self.entry is not None and self.before is not None:
+            if _stamps(self.files) == self.before:
+                store_data(self.entry, data)
+
+
 def cached_data(
     settings: dict[str, Any],
     files: Sequence[Path],
@@ -238,18 +268,12 @@ def cached_data(
     if an entry exists, else computed and stored, unless a file changed while it ran (as
     :func:`mass_properties`). Returns the data and whether the cache gave it. ``code`` names
     every sub-package whose sources the computation depends on."""
-    before = _stamps(files)
-    try:
-        entry: str | None = key(settings, files, code=code)
-    except OSError:
-        entry = None
-    if entry is not None:
-        data = load_data(entry)
-        if data is not None:
-            return data, True
+    slot = _Slot.of(settings, files, code)
+    data = slot.load()
+    if data is not None:
+        return data, True
     data = compute()
-    if entry is not None and before is not None and _stamps(files) == before:
-        store_data(entry, data)
+    slot.keep(data)
     return data, False
 
 
@@ -382,33 +406,20 @@ def mass_properties(
         What ``compute()`` raises, or the refusal kept under the key.
     """
     files = list(files)
-    before = _stamps(files)
-    try:
-        entry: str | None = key(settings, files)
-    except OSError:
-        entry = None
+    slot = _Slot.of(settings, files, _CODE)
     paths = [str(f) for f in files]
-    if entry is not None:
-        data = load_data(entry)
-        if isinstance(data, dict) and isinstance(data.get("refused"), str):
-            _raise_kept(data, paths)
-        if data is not None:
-            with suppress(ValueError, KeyError, TypeError, IndexError, AttributeError):
-                return _relabelled(from_data(data), data["paths"], paths), True
-
-    def unchanged() -> bool:
-        return entry is not None and before is not None and _stamps(files) == before
-
+    data = slot.load()
+    if isinstance(data, dict) and isinstance(data.get("refused"), str):
+        _raise_kept(data, paths)
+    if data is not None:
+        with suppress(ValueError, KeyError, TypeError, IndexError, AttributeError):
+            return _relabelled(from_data(data), data["paths"], paths), True
     try:
         result = compute()
     except Refusal as exc:
-        if unchanged():
-            assert entry is not None
-            store_data(entry, {"refused": str(exc), "as_is": to_data(exc.as_is), "paths": paths})
+        slot.keep({"refused": str(exc), "as_is": to_data(exc.as_is), "paths": paths})
         raise
-    if unchanged():
-        assert entry is not None
-        store_data(entry, {**to_data(result), "paths": paths})
+    slot.keep({**to_data(result), "paths": paths})
     return result, False
 
 
