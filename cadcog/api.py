@@ -154,6 +154,15 @@ def _given(function: str, **values: object) -> None:
             raise _fail(function, name, value, "expected a number, got None")
 
 
+def _point_ids(function: str, points: Sequence[str] | None) -> None:
+    """``points``: None, or a sequence of point ids (a string alone is refused: its letters
+    are not ids)."""
+    if points is not None and (
+        isinstance(points, str) or not all(isinstance(p, str) for p in points)
+    ):
+        raise _fail(function, "points", points, "expected a sequence of point ids (str)")
+
+
 def _positive(function: str, **values: float | None) -> None:
     """Masses and σ that must be > 0 (the bounds allow 0)."""
     for name, value in values.items():
@@ -919,10 +928,7 @@ def campaign(
     swings_path = None if swings is None else _path("campaign", "swings", swings)
     if setup is not None and rig is not None:
         raise _fail("campaign", "rig", rig, "give a rig or a set-up, not both")
-    if points is not None and (
-        isinstance(points, str) or not all(isinstance(p, str) for p in points)
-    ):
-        raise _fail("campaign", "points", points, "expected a sequence of point ids (str)")
+    _point_ids("campaign", points)
     return run_campaign(
         out_path,
         rig=None if setup is not None else _rig("campaign", rig),
@@ -1031,10 +1037,7 @@ def acquire(
     out_path = _path(f, "out", out)
     if setup is not None and rig is not None:
         raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
-    if points is not None and (
-        isinstance(points, str) or not all(isinstance(p, str) for p in points)
-    ):
-        raise _fail(f, "points", points, "expected a sequence of point ids (str)")
+    _point_ids(f, points)
     target = acquire_target(
         rig=None if setup is not None else _rig(f, rig),
         setup=None if setup is None else _setup(f, setup),

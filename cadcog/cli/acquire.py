@@ -181,7 +181,7 @@ def default_or(swings: Path | None, out: Path) -> Path:
 def run(args: argparse.Namespace) -> int:
     from cadcog.bench.session import ConsoleOperator, SessionQuit
     from cadcog.bench.swing import SettleCriterion
-    from cadcog.runs.acquire import Recording, Simulation, run_acquire
+    from cadcog.runs.acquire import Recording, Simulation, check_report_folder, run_acquire
 
     _check_numbers(args)
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
@@ -189,8 +189,7 @@ def run(args: argparse.Namespace) -> int:
         refuse_overwriting_inputs(
             args.swings, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
         )
-    if args.report is not None and args.report.exists() and not args.report.is_dir():
-        raise CadcogError(f"--report {args.report}: exists and is not a directory")
+    check_report_folder(args.report)  # before the CAD
     target = _target(args)
     try:
         criterion = SettleCriterion(

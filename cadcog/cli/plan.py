@@ -8,7 +8,6 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.core import numformat
-from cadcog.core.errors import CadcogError
 from cadcog.core.jsontext import dumps_json
 
 
@@ -47,15 +46,10 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from cadcog.cli._warn import monte_carlo_caveat
-    from cadcog.runs.plan import run_plan
+    from cadcog.runs.plan import check_plan_options, run_plan
     from cadcog.spacecraft.setup import load_setup
 
-    if args.trials < 2 or args.max_set < 2 or args.seed < 0:
-        raise CadcogError("--trials ≥ 2, --max-set ≥ 2, --seed ≥ 0")  # before the CAD
-    if args.max_inertia_set < 3:
-        raise CadcogError(
-            "--max-inertia-set must be at least 3 (six entries, two frequencies a hang)"
-        )
+    check_plan_options(args.trials, args.max_set, args.seed, args.max_inertia_set)  # before CAD
     setup = load_setup(args.setup)
     monte_carlo_caveat(setup.error_model())
     plan = run_plan(

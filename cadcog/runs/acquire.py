@@ -160,6 +160,12 @@ class Recording:
     max_redo: int = 1
 
 
+def check_report_folder(report: Path | None) -> None:
+    """Refuse a record folder that cannot be one (the command calls it before the CAD)."""
+    if report is not None and report.exists() and not report.is_dir():
+        raise CadcogError(f"--report {report}: exists and is not a directory")
+
+
 def run_acquire(
     target: Any,
     out: Path,
@@ -188,8 +194,7 @@ def run_acquire(
 
     rec = recording or Recording()
     criterion = rec.criterion if rec.criterion is not None else SettleCriterion()
-    if report is not None and report.exists() and not report.is_dir():
-        raise CadcogError(f"--report {report}: exists and is not a directory")
+    check_report_folder(report)
     pty = None
     device = None
     inertia_target = None

@@ -20,6 +20,23 @@ from cadcog.spacecraft.setup import Setup
 Goal = Literal["cog", "inertia", "both"]
 
 
+def check_plan_options(trials: int, max_set: int, seed: int, max_inertia_set: int) -> None:
+    """The plan's counts, checked (the command calls it before reading the CAD).
+
+    Raises
+    ------
+    CadcogError
+        Fewer than 2 trials or hangs a set, a negative seed, fewer than 3 hangs for the
+        inertia.
+    """
+    if trials < 2 or max_set < 2 or seed < 0:
+        raise CadcogError("--trials ≥ 2, --max-set ≥ 2, --seed ≥ 0")
+    if max_inertia_set < 3:
+        raise CadcogError(
+            "--max-inertia-set must be at least 3 (six entries, two frequencies a hang)"
+        )
+
+
 def run_plan(
     setup: Setup,
     *,
@@ -38,12 +55,7 @@ def run_plan(
     CadcogError
         Bad options; with ``goal="inertia"``, no set of candidates determines the tensor.
     """
-    if trials < 2 or max_set < 2 or seed < 0:
-        raise CadcogError("--trials ≥ 2, --max-set ≥ 2, --seed ≥ 0")
-    if max_inertia_set < 3:
-        raise CadcogError(
-            "--max-inertia-set must be at least 3 (six entries, two frequencies a hang)"
-        )
+    check_plan_options(trials, max_set, seed, max_inertia_set)
     if goal not in ("cog", "inertia", "both"):
         raise CadcogError(f"--for {goal}: expected cog, inertia or both")
     plan = plan_test(setup, trials=trials, max_set=max_set, seed=seed)
