@@ -30,7 +30,7 @@ from cadcog.method.plumblines import (
     pair_diagnostics,
 )
 from cadcog.method.readings import Suspension, suspension_verticals
-from cadcog.rig.geometry import FloatArray, axes_beyond_range, face_normal_of_point
+from cadcog.rig.geometry import FloatArray, axes_beyond_range, face_normal_of_point, same_point
 from cadcog.rig.inclinometer import SHARED_SENSOR_PARAMETERS, InclinometerConfig
 from cadcog.rig.parameters import Rig
 
@@ -135,7 +135,7 @@ class BodyBox:
         """
         p = np.asarray(position_mm, dtype=float)
         for q, n in self.known:
-            if np.max(np.abs(p - q)) <= tolerances.SUSPENSION_ON_FACE_MM:
+            if same_point(p, q):
                 return np.array(n, dtype=float)
         return face_normal_of_point(p, self.lo_mm, self.hi_mm)
 

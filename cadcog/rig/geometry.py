@@ -61,6 +61,21 @@ def face_plane_mm(face: str, size_mm: npt.ArrayLike) -> float:
     return float(np.asarray(size_mm, dtype=float)[axis]) if sign > 0 else 0.0
 
 
+def same_point(
+    a_mm: npt.ArrayLike, b_mm: npt.ArrayLike, tolerance_mm: float = tolerances.SUSPENSION_ON_FACE_MM
+) -> bool:
+    """Whether two suspension points are one: within ``tolerance_mm`` on every axis (a file's
+    rounding to 1e-3 mm never separates a point from itself).
+
+    Examples
+    --------
+    >>> same_point([38.5254, 0, 1], [38.525, 0, 1]), same_point([38.5, 0, 1], [38.52, 0, 1])
+    (True, False)
+    """
+    d = np.asarray(a_mm, dtype=float) - np.asarray(b_mm, dtype=float)
+    return bool(np.max(np.abs(d)) <= tolerance_mm)
+
+
 def face_normal_of_point(
     point_mm: npt.ArrayLike,
     lo_mm: npt.ArrayLike,

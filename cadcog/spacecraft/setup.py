@@ -31,6 +31,7 @@ from cadcog.rig.geometry import (
     FACES,
     face_normal,
     face_normal_of_point,
+    same_point,
 )
 from cadcog.rig.mounting import me_base_problem
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions, me_cog_cov_mm2
@@ -353,12 +354,7 @@ def load_setup(path: str | Path) -> Setup:
             if any(c.id == pid for c in cands):
                 raise t.error("id", f"duplicate candidate id {pid!r}")
             twin = next(
-                (
-                    c
-                    for c in cands
-                    if c.listed
-                    and np.max(np.abs(c.position_mm - pos)) <= tolerances.SUSPENSION_ON_FACE_MM
-                ),
+                (c for c in cands if c.listed and same_point(c.position_mm, pos)),
                 None,
             )
             if twin is not None:

@@ -142,6 +142,11 @@ class ItemChange(JsonResult):
         return self.cad_mass_kg * self.delta_rel
 
     @property
+    def mass_sigma_kg(self) -> float:
+        """The item's stated 1-σ mass (kg): how much it could move the mass and the CoG."""
+        return self.cad_mass_kg * self.prior_sigma_rel
+
+    @property
     def pull(self) -> float:
         """The mass change in prior sigmas: how much the data moved the item."""
         return self.delta_rel / self.prior_sigma_rel if self.prior_sigma_rel > 0 else 0.0
@@ -307,10 +312,10 @@ class UpdateResult(JsonResult):
             return float(c.probability) if np.isfinite(c.probability) else -1.0
 
         if self.consistent:
-            return sorted(self.items, key=lambda c: (-c.cad_mass_kg * c.prior_sigma_rel, -p(c)))
+            return sorted(self.items, key=lambda c: (-c.mass_sigma_kg, -p(c)))
         return sorted(
             self.items,
-            key=lambda c: (-round(p(c), 4), -c.cad_mass_kg * c.prior_sigma_rel, -abs(c.pull)),
+            key=lambda c: (-round(p(c), 4), -c.mass_sigma_kg, -abs(c.pull)),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -470,7 +475,7 @@ def update_budget(
         post_mass_sigma = float(np.sqrt(max(cov_d[0, 0], 0.0)))
         post_cog_cov = cov_d[1:4, 1:4]
     items_out = _item_changes(items, sols, weights)
-    weight_of = {c.key: c.cad_mass_kg * c.prior_sigma_rel for c in items_out}
+    weight_of = {c.key: c.mass_sigma_kg for c in items_out}
     u_mass, u_sigma, u_cog, u_cov, u_negative, u_prob = _unmodelled_mixture(sols, weights)
     explanations = tuple(
         sorted(
