@@ -6,3 +6,22 @@ the library below it, stages its outputs and puts them in place together, and re
 whose ``to_dict()`` is the command's ``--json``. The command parses and prints;
 :mod:`cadcog.api` checks Python arguments; neither composes the work again.
 """
+
+from collections.abc import Sequence
+
+from cadcog.core.errors import CadcogError
+
+
+def check_distinct_ids(ids: Sequence[str]) -> None:
+    """A run's hangs: at least two point ids, none twice (``--points``).
+
+    Examples
+    --------
+    >>> check_distinct_ids(["S1", "S2"])
+    >>> check_distinct_ids(["S1", "S1"])
+    Traceback (most recent call last):
+    ...
+    cadcog.core.errors.CadcogError: --points: give at least two distinct point ids
+    """
+    if len(set(ids)) != len(ids) or len(ids) < 2:
+        raise CadcogError("--points: give at least two distinct point ids")

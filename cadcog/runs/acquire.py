@@ -21,6 +21,7 @@ from cadcog.core.errors import CadcogError
 from cadcog.core.jsontext import round_floats
 from cadcog.core.results import JsonResult
 from cadcog.rig.parameters import Rig
+from cadcog.runs import check_distinct_ids
 from cadcog.spacecraft.setup import Setup
 
 
@@ -107,8 +108,7 @@ def _check_ids(ids: list[str], known: set[str], source: Path) -> None:
     unknown = [i for i in ids if i not in known]
     if unknown:
         raise CadcogError(f"--points: unknown point(s) {', '.join(unknown)} in {source}")
-    if len(set(ids)) != len(ids) or len(ids) < 2:
-        raise CadcogError("--points: give at least two distinct point ids")
+    check_distinct_ids(ids)
 
 
 @dataclass(frozen=True)

@@ -22,6 +22,7 @@ from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
 from cadcog.core.results import JsonResult
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.parameters import Rig
+from cadcog.runs import check_distinct_ids
 from cadcog.spacecraft.setup import Setup
 from cadcog.uncertainty.montecarlo import Scenario
 from cadcog.validation.campaign import campaign_suspensions, campaign_text, simulated_readings
@@ -89,8 +90,7 @@ def check_points(points: Sequence[str] | None) -> list[str]:
     ids = [i.strip() for i in points or ()]
     if not ids:
         raise CadcogError("--setup needs --points ID,ID,... (see cadcog plan)")
-    if len(set(ids)) != len(ids) or len(ids) < 2:
-        raise CadcogError("--points: give at least two distinct point ids")
+    check_distinct_ids(ids)
     return ids
 
 
