@@ -6,7 +6,6 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from cadcog.cli._warn import monte_carlo_caveat
 from cadcog.core.jsontext import dumps_json
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
@@ -30,7 +29,6 @@ def add_parser(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     rig = load_rig(args.rig or default_rig_path())
     model = ErrorModel.from_rig(rig)
-    monte_carlo_caveat(model)
     budget = error_budget(Scenario.from_rig(rig), model)
     if args.json:
         print(dumps_json(budget.to_dict()), end="")

@@ -45,13 +45,11 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.cli._warn import monte_carlo_caveat
     from cadcog.runs.plan import check_plan_options, run_plan
     from cadcog.spacecraft.setup import load_setup
 
     check_plan_options(args.trials, args.max_set, args.seed, args.max_inertia_set)  # before CAD
     setup = load_setup(args.setup)
-    monte_carlo_caveat(setup.error_model())
     plan = run_plan(
         setup,
         trials=args.trials,

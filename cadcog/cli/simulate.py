@@ -8,7 +8,6 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from cadcog.cli._warn import monte_carlo_caveat
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
 from cadcog.core.jsontext import dumps_json
@@ -137,7 +136,6 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
-    monte_carlo_caveat(report.model)  # the model the simulation ran (the paper's has no caveat)
     if args.plot is not None:
         from cadcog.reports.plots import error_histogram
 

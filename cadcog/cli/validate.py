@@ -6,10 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from cadcog.cli._warn import monte_carlo_caveat
 from cadcog.core.errors import CadcogError
 from cadcog.core.jsontext import dumps_json
-from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.validation.validate_readings import validate_readings
 from cadcog.validation.verification import DEFAULT_WINDOWS_MM, CampaignValidation
@@ -66,7 +64,6 @@ def run(args: argparse.Namespace) -> int:
     if args.campaigns < 20 or args.seed < 0 or not 0 < args.level < 1:
         raise CadcogError("--campaigns must be ≥ 20, --seed ≥ 0 and --level in (0, 1)")
     rig = load_rig(args.rig or default_rig_path())
-    monte_carlo_caveat(ErrorModel.from_rig(rig))
     result = validate_readings(
         rig,
         args.campaign,

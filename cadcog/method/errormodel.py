@@ -459,18 +459,6 @@ class ErrorModel:
         """Whether any shared sensor figure is declared (and the inclinometer source is on)."""
         return bool(np.any(self.shared_sensor_sigmas > 0.0))
 
-    def monte_carlo_caveat(self) -> str | None:
-        """What the Monte Carlo leaves out of this model (None: nothing), for the commands
-        built on it (``budget``, ``simulate``, ``plan``, ``validate``) to say."""
-        if not self.has_shared_sensor:
-            return None
-        return (
-            "the Monte Carlo does not draw the sensor's errors shared by the hangs declared in "
-            f"[inclinometer] (offset ±{self.sensor_offset_deg:g}°, scale "
-            f"±{self.sensor_scale_rel:g}, mounting {self.mounting_misalignment_deg:g}°): these "
-            "numbers leave them out; `cadcog estimate` accounts for them"
-        )
-
     def sample_shared_sensor(self, rng: np.random.Generator, n: int) -> FloatArray:
         """Shared sensor parameters of ``n`` tests (one sensor each), shape (7, n).
 

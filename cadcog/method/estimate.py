@@ -512,6 +512,7 @@ def _joint_with_shared_sensor(
         mdl.shared_sensor_sigmas,
         cfg,
         [s.id for s in suspensions],
+        sensor_turned=[s.sensor_turned for s in suspensions],
     )
     _check_normal_matrix(np.asarray(np.linalg.inv(fit.cov_mm2), dtype=float))
     wire_scale = None

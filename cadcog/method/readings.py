@@ -9,7 +9,10 @@ Format (``docs/estimate.md``)::
 frame. Instead of ``inc_x_deg, inc_y_deg`` a file may give raw ADC readings
 ``inc_x_counts, inc_y_counts``, converted by the configured
 :class:`~cadcog.rig.inclinometer.SensorModel`.
-``top_face_up`` is true/false/1/0. Rows with the same ``point_id`` are samples of one suspension
+``top_face_up`` is true/false/1/0. An optional column ``sensor_turned`` (true/false/1/0, false
+when absent) marks a hang read with the sensor turned 180° on its mount (a reversal, which
+cancels the sensor's zero offset: docs/bench.md); a reversal is its own ``point_id`` at the
+same position. Rows with the same ``point_id`` are samples of one suspension
 and are averaged. Blank lines and lines starting with ``#`` are skipped; extra columns are
 ignored. Every error names the file and the line.
 
@@ -41,6 +44,8 @@ POSITION_COLUMNS = ("point_id", "x_mm", "y_mm", "z_mm")
 FACE_COLUMN = "top_face_up"
 #: The columns every readings file has.
 BASE_COLUMNS = (*POSITION_COLUMNS, FACE_COLUMN)
+#: Optional: whether the hang was read with the sensor turned 180° on its mount.
+TURNED_COLUMN = "sensor_turned"
 #: The two readings: angles in degrees, or raw ADC counts.
 DEG_COLUMNS = ("inc_x_deg", "inc_y_deg")
 COUNT_COLUMNS = ("inc_x_counts", "inc_y_counts")
@@ -83,6 +88,8 @@ class Suspension:
         Sample standard deviations (None for a single sample).
     line : int
         Line of the file where the suspension first appears.
+    sensor_turned : bool
+        Read with the sensor turned 180° on its mount (a reversal; default False).
     """
 
     id: str
@@ -94,6 +101,7 @@ class Suspension:
     std_x_deg: float | None
     std_y_deg: float | None
     line: int
+    sensor_turned: bool = False
 
 
 #: Longest line read (characters): a readings row is under 200.
@@ -130,6 +138,8 @@ class _Group:
     y: _Running
     raw_position: tuple[str, str, str] = ("", "", "")  # as written in the point's first row
     raw_flag: str = ""
+    turned: bool = False
+    raw_turned: str = ""
 
 
 def _number(fields: list[str], col: dict[str, int], column: str, line: int, fail: Any) -> float:
@@ -208,8 +218,9 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
     ------
     ReadingsError
         Naming the file and line: missing columns, a non-numeric, NaN or infinite value, an
-        angle beyond ±90°, counts outside the ADC's range, a bad ``top_face_up``, one
-        ``point_id`` at two positions or with two orientations, fewer than two suspensions.
+        angle beyond ±90°, counts outside the ADC's range, a bad ``top_face_up`` or
+        ``sensor_turned``, one ``point_id`` at two positions or with two orientations, fewer
+        than two suspensions.
     """
     cfg = config or InclinometerConfig()
     p = Path(path)
@@ -293,14 +304,22 @@ def _read_groups(
             angle_cols = DEG_COLUMNS if has_deg else COUNT_COLUMNS
             counts = not has_deg
             col = {name: header.index(name) for name in (*BASE_COLUMNS, *angle_cols)}
+            if TURNED_COLUMN in header:
+                col[TURNED_COLUMN] = header.index(TURNED_COLUMN)
             continue
         if len(fields) != len(header):
             raise fail(line, f"expected {len(header)} fields as in the header, got {len(fields)}")
         pid = fields[col["point_id"]].strip()
         raw_position = (fields[col["x_mm"]], fields[col["y_mm"]], fields[col["z_mm"]])
         raw_flag = fields[col["top_face_up"]]
+        raw_turned = fields[col[TURNED_COLUMN]] if TURNED_COLUMN in col else ""
         group = groups.get(pid)
-        if group is None or raw_position != group.raw_position or raw_flag != group.raw_flag:
+        if (
+            group is None
+            or raw_position != group.raw_position
+            or raw_flag != group.raw_flag
+            or raw_turned != group.raw_turned
+        ):
             # a new point, or a row that differs from its point's first: check it in full
             problem = id_problem(pid)
             if problem is not None:
@@ -316,10 +335,18 @@ def _read_groups(
                     line,
                     f"column top_face_up: expected true, false, 1 or 0, got {raw_flag.strip()!r}",
                 )
+            turned = _BOOLS.get(raw_turned.strip().lower()) if raw_turned.strip() else False
+            if turned is None:
+                raise fail(
+                    line,
+                    f"column {TURNED_COLUMN}: expected true, false, 1 or 0, got "
+                    f"{raw_turned.strip()!r}",
+                )
             if group is None:
                 group = groups[pid] = _Group(
-                    position, flag, line, _Running(), _Running(), raw_position, raw_flag
-                )
+                    position, flag, line, _Running(), _Running(), raw_position, raw_flag,
+                    turned, raw_turned,
+                )  # fmt: skip
             elif position != group.position:
                 raise fail(
                     line,
@@ -328,6 +355,12 @@ def _read_groups(
                 )
             elif flag != group.top_face_up:
                 raise fail(line, f"point {pid}: top_face_up differs from line {group.line}")
+            elif turned != group.turned:
+                raise fail(
+                    line,
+                    f"point {pid}: {TURNED_COLUMN} differs from line {group.line} (a reversal "
+                    "is its own point_id at the same position)",
+                )
         for column, running in zip(angle_cols, (group.x, group.y), strict=True):
             value = _number(fields, col, column, line, fail)
             if counts:
@@ -372,16 +405,19 @@ def _average(pid: str, g: _Group) -> Suspension:
         std_x_deg=g.x.std(),
         std_y_deg=g.y.std(),
         line=g.line,
+        sensor_turned=g.turned,
     )
 
 
 def suspension_verticals(
     suspensions: Sequence[Suspension], config: InclinometerConfig | None = None
 ) -> Verticals:
-    """Upward verticals (eq. 2) of averaged suspensions, in their order."""
+    """Upward verticals (eq. 2) of averaged suspensions, in their order (a hang read with the
+    sensor turned has its angles negated first: :func:`cadcog.rig.inclinometer.sensor_readings`)."""
+    flip = [-1.0 if s.sensor_turned else 1.0 for s in suspensions]
     return verticals_from_readings(
-        [s.inc_x_deg for s in suspensions],
-        [s.inc_y_deg for s in suspensions],
+        [f * s.inc_x_deg for f, s in zip(flip, suspensions, strict=True)],
+        [f * s.inc_y_deg for f, s in zip(flip, suspensions, strict=True)],
         [s.top_face_up for s in suspensions],
         config,
     )

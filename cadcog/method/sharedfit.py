@@ -142,6 +142,7 @@ class _Lines:
     wire: gls.WireTerm
     prior_sigma: FloatArray  # (7,)
     config: InclinometerConfig
+    turned: npt.NDArray[np.bool_]  # (k,) read with the sensor turned 180° on its mount
 
     def take(self, rows: Sequence[int]) -> _Lines:
         idx = np.asarray(rows)
@@ -157,7 +158,7 @@ class _Lines:
             errors = self.errors
         return _Lines(
             self.p[idx], self.x_deg[idx], self.y_deg[idx], self.top[idx], self.n[idx], errors,
-            self.wire, self.prior_sigma, self.config,
+            self.wire, self.prior_sigma, self.config, self.turned[idx],
         )  # fmt: skip
 
 
@@ -183,7 +184,9 @@ def _layout(lines: _Lines) -> tuple[bool, npt.NDArray[np.intp]]:
 
 
 def _verticals(lines: _Lines, theta: FloatArray) -> FloatArray:
-    return corrected_verticals(lines.x_deg, lines.y_deg, lines.top, theta, lines.config).u
+    return corrected_verticals(
+        lines.x_deg, lines.y_deg, lines.top, theta, lines.config, lines.turned
+    ).u
 
 
 def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _State:
@@ -339,6 +342,7 @@ def fit_shared(
     config: InclinometerConfig | None = None,
     ids: Sequence[str] | None = None,
     outlier_probability: float = tolerances.OUTLIER_PROBABILITY,
+    sensor_turned: npt.ArrayLike | None = None,
 ) -> SharedFit:
     """The CoG of one test's hangs with the shared sensor parameters (and λ) estimated jointly.
 
@@ -359,6 +363,10 @@ def fit_shared(
     config : InclinometerConfig, optional
     ids : sequence of str, optional
         Names of the hangs for the residuals (default their indices).
+    outlier_probability : float
+    sensor_turned : array_like of bool, shape (k,), optional
+        Hangs read with the sensor turned 180° on its mount (reversals; default none): with
+        the same point hung both ways, the zero offsets are determined.
 
     Raises
     ------
@@ -396,6 +404,9 @@ def fit_shared(
         wire,
         np.asarray(prior_sigma, dtype=float).reshape(7),
         config or InclinometerConfig(),
+        np.zeros(k, dtype=bool)
+        if sensor_turned is None
+        else np.asarray(sensor_turned, dtype=bool).reshape(k),
     )
     if np.any(lines.prior_sigma < 0):
         raise ValueError("prior σ of the shared sensor parameters must be non-negative")

@@ -223,14 +223,19 @@ def _turn(v: FloatArray, rotation: FloatArray) -> FloatArray:
 
 
 def sensor_readings(
-    u: npt.ArrayLike, shared: npt.ArrayLike, config: InclinometerConfig | None = None
+    u: npt.ArrayLike,
+    shared: npt.ArrayLike,
+    config: InclinometerConfig | None = None,
+    turned: npt.ArrayLike | None = None,
 ) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_]]:
     """What a sensor with the shared errors ``shared`` reports for upward verticals ``u``.
 
     The definition of the shared parameters (:data:`SHARED_SENSOR_PARAMETERS`): the sensor
     sees ``v = R u`` (``R`` :func:`rotation_matrix` of the mounting), each channel's ideal
     report is ``A = sign · asin(v)`` and it reports ``(1 + s) A + b``. Per-hang errors (bias,
-    noise, ADC) come on top.
+    noise, ADC) come on top. A hang read with the sensor **turned** 180° on its mount (about
+    its own z axis: a reversal) sees ``(−vₓ, −v_y, v_z)``, with the same offsets and
+    sensitivities: the two readings' mean is the zero offset.
 
     Parameters
     ----------
@@ -238,6 +243,8 @@ def sensor_readings(
         Unit upward verticals, body components.
     shared : array_like, shape (7,)
     config : InclinometerConfig, optional
+    turned : array_like of bool, shape (n,), optional
+        Which hangs were read with the sensor turned (default none).
 
     Returns
     -------
@@ -247,14 +254,20 @@ def sensor_readings(
 
     Examples
     --------
-    >>> x, y, _ = sensor_readings([[0.5, 0.0, 0.75**0.5]], [0.2, 0, 0.01, 0, 0, 0, 0])
+    >>> u, shared = [[0.5, 0.0, 0.75**0.5]], [0.2, 0, 0.01, 0, 0, 0, 0]
+    >>> x, y, _ = sensor_readings(u, shared)
     >>> round(float(x[0]), 9)  # 30° read 1 % high, plus 0.2°
     30.5
+    >>> x, y, _ = sensor_readings(u, shared, turned=[True])
+    >>> round(float(x[0]), 9)  # turned: −30° read 1 % high, plus the same 0.2°
+    -30.1
     """
     cfg = config or InclinometerConfig()
     b = np.asarray(shared, dtype=float)
     v = np.atleast_2d(np.asarray(u, dtype=float))
     seen = _turn(v, rotation_matrix(b[4:7]))
+    if turned is not None:
+        seen[:, :2] *= np.where(np.asarray(turned, dtype=bool), -1.0, 1.0)[:, None]
     x, y, _ = readings_from_verticals(seen, cfg)
     return (1.0 + b[2]) * x + b[0], (1.0 + b[3]) * y + b[1], v[:, 2] > 0.0
 
@@ -265,25 +278,30 @@ def corrected_verticals(
     top_face_up: npt.ArrayLike,
     shared: npt.ArrayLike,
     config: InclinometerConfig | None = None,
+    turned: npt.ArrayLike | None = None,
 ) -> Verticals:
     """Body-frame upward verticals from readings of a sensor with shared errors ``shared``.
 
-    The inverse of :func:`sensor_readings`: offsets and sensitivities removed, eq. 2 in the
-    sensor's axes (the sign of its z from ``top_face_up``), then turned into the object's. Within
-    the mounting angle of the horizontal (the object's z and the sensor's of opposite signs) two
-    verticals read alike and the one whose sensor z has the flag's sign is returned: such a hang
-    is ambiguous (``cadcog estimate`` warns).
+    The inverse of :func:`sensor_readings`: offsets and sensitivities removed, a turned hang's
+    angles negated, eq. 2 in the sensor's axes (the sign of its z from ``top_face_up``), then
+    turned into the object's. Within the mounting angle of the horizontal (the object's z and
+    the sensor's of opposite signs) two verticals read alike and the one whose sensor z has the
+    flag's sign is returned: such a hang is ambiguous (``cadcog estimate`` warns).
 
     Examples
     --------
     >>> shared = [0.2, -0.1, 0.01, -0.02, 0.3, -0.4, 0.5]
-    >>> u = np.array([[0.3, -0.2, (1 - 0.13) ** 0.5]])
-    >>> x, y, top = sensor_readings(u, shared)
-    >>> bool(np.allclose(corrected_verticals(x, y, top, shared).u, u, atol=1e-12))
+    >>> u = np.array([[0.3, -0.2, (1 - 0.13) ** 0.5]] * 2)
+    >>> x, y, top = sensor_readings(u, shared, turned=[False, True])
+    >>> back = corrected_verticals(x, y, top, shared, turned=[False, True]).u
+    >>> bool(np.allclose(back, u, atol=1e-12))
     True
     """
     b = np.asarray(shared, dtype=float)
     x = (np.atleast_1d(np.asarray(inc_x_deg, dtype=float)) - b[0]) / (1.0 + b[2])
     y = (np.atleast_1d(np.asarray(inc_y_deg, dtype=float)) - b[1]) / (1.0 + b[3])
+    if turned is not None:
+        flip = np.where(np.asarray(turned, dtype=bool), -1.0, 1.0)
+        x, y = x * flip, y * flip
     seen = verticals_from_readings(x, y, top_face_up, config)
     return Verticals(_turn(seen.u, rotation_matrix(b[4:7]).T), seen.normalized)

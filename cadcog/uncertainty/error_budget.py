@@ -4,11 +4,16 @@ Shares are for one representative pair, by linear propagation: the pair's CoG er
 differentiated (central differences of :func:`cadcog.uncertainty.montecarlo.propagate`) with respect
 to every random parameter, and each source contributes ``Σ var_i J_i J_iᵀ`` over its parameters. The
 tests check this against a Monte Carlo run with that source alone.
+
+The sensor's errors shared by the hangs (``[inclinometer]`` ``offset_deg``, ``scale_error_rel``,
+``mounting_misalignment_deg``) are a row of their own, :data:`SHARED_SENSOR_ROW`, part of the
+``inclinometer`` source (turned off with it): a pair cannot calibrate them, so their row is what
+they cost a test that does not.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -26,6 +31,9 @@ from cadcog.uncertainty.montecarlo import (
 )
 
 FloatArray = npt.NDArray[np.float64]
+
+#: The budget's row of the sensor's shared errors (of the ``inclinometer`` source).
+SHARED_SENSOR_ROW = "sensor_shared"
 
 
 @dataclass(frozen=True)
@@ -106,6 +114,9 @@ def _parameters(model: ErrorModel) -> list[tuple[str, str, tuple[int, ...], floa
             out.append(("wire_offset", "wire", (j, 0), 0.5 * m, m * m / 12.0))
         for axis in range(2):
             out.append(("inclinometer", "reading_deg", (axis, j, 0), 0.0, model.reading_var_deg2()))
+    for j, sigma in enumerate(model.shared_sensor_sigmas):
+        if sigma > 0:
+            out.append((SHARED_SENSOR_ROW, "shared", (j, 0), 0.0, float(sigma) ** 2))
     return out
 
 
@@ -123,7 +134,8 @@ def _nominal(model: ErrorModel) -> Perturbations:
         wire0 = np.full((1, 1), 0.5 * model.wire_offset_max_mm)
     else:
         wire0 = np.full((1, 1), _wire_factor_moments(model)[0])
-    return Perturbations(np.zeros((3, 1)), np.zeros((2, 2, 1)), wire0, np.zeros((2, 2, 1)))
+    shared = np.zeros((7, 1)) if model.has_shared_sensor else None
+    return Perturbations(np.zeros((3, 1)), np.zeros((2, 2, 1)), wire0, np.zeros((2, 2, 1)), shared)
 
 
 def _wire_row(model: ErrorModel, lam: float, w: float, weight_n: float) -> tuple[str, float, str]:
@@ -158,21 +170,25 @@ def linearised_covariance(
     full = model.only(*SOURCES)
     base = _nominal(full)
     bias = propagate(scenario, full, pair, base, options)[0]
-    covs = {s: np.zeros((3, 3)) for s in SOURCES}
+    covs = {s: np.zeros((3, 3)) for s in _rows(model)}
     for source, name, index, _, var in _parameters(full):
-        if var == 0.0 or source not in model.sources:
+        gate = "inclinometer" if source == SHARED_SENSOR_ROW else source
+        if var == 0.0 or gate not in model.sources:
             continue
         step = 1e-4 * max(np.sqrt(var), 1e-3)
         cols = []
         for sign in (1.0, -1.0):
-            arrays = {
-                f: getattr(base, f).copy() for f in ("me_mm", "play_mm", "wire", "reading_deg")
-            }
-            arrays[name][index] += sign * step
-            cols.append(propagate(scenario, full, pair, Perturbations(**arrays), options)[0])
+            moved = getattr(base, name).copy()
+            moved[index] += sign * step
+            cols.append(propagate(scenario, full, pair, replace(base, **{name: moved}), options)[0])
         jac = (cols[0] - cols[1]) / (2 * step)
         covs[source] += var * np.outer(jac, jac)
     return np.asarray(bias), covs
+
+
+def _rows(model: ErrorModel) -> tuple[str, ...]:
+    """The budget's rows: every source, and the sensor's shared errors when declared."""
+    return SOURCES + ((SHARED_SENSOR_ROW,) if model.has_shared_sensor else ())
 
 
 def error_budget(
@@ -212,9 +228,16 @@ def error_budget(
             "mm per axis",
         ),
         "wire_offset": _wire_row(model, lam, w, scenario.weight_n),
+        SHARED_SENSOR_ROW: (
+            f"one sensor for all hangs: zero offset U(±{model.sensor_offset_deg:g}°) and "
+            f"sensitivity U(±{model.sensor_scale_rel:g}) per channel, mounting within "
+            f"{model.mounting_misalignment_deg:g}° (σ: the offset's)",
+            model.sensor_offset_deg / np.sqrt(3.0),
+            "deg per axis",
+        ),
     }
     rows = []
-    for s in SOURCES:
+    for s in _rows(model):
         desc, sigma, unit = descriptions[s]
         var = float(np.trace(covs[s]))
         rows.append(

@@ -145,13 +145,15 @@ def campaign_perturbations(
 
 
 def _hangs_subset(pert: Perturbations, cols: Sequence[int], per_hang_wire: bool) -> Perturbations:
-    """The draws of some hangs of the campaigns (the ME error and an elastica wire are shared)."""
+    """The draws of some hangs of the campaigns (the ME error, one wire and one sensor are
+    shared)."""
     idx = np.asarray(cols)
     return Perturbations(
         pert.me_mm,
         pert.play_mm[:, idx],
         pert.wire[idx] if per_hang_wire else pert.wire,
         pert.reading_deg[:, idx],
+        pert.shared,
     )
 
 
@@ -181,7 +183,9 @@ def _estimate_slice(
     """Every group's estimate from the readings ``u`` (3, len(used), n) of campaigns ``lo`` on."""
     sc, model, options = task.scenario, task.model, task.options
     col = {h: j for j, h in enumerate(used)}
-    if not wire.fixed:  # the wire scale is estimated: the full estimator, group by group
+    if not wire.fixed or (model.has_shared_sensor and options.weighted):
+        # the wire scale or the sensor's shared errors are estimated: the full estimator,
+        # group by group
         for j, group in enumerate(task.groups):
             e = group_errors(sc, model, group, u[:, [col[h] for h in group]], options)
             _add_errors(j, lo, e, *stats)

@@ -27,6 +27,7 @@ from cadcog.method.gls import (
     cog_only,
     plumb_gls,
 )
+from cadcog.method.sharedbatch import fit_shared_cog, sensor_errors_deg
 from cadcog.rig.parameters import Rig
 
 FloatArray = npt.NDArray[np.float64]
@@ -160,12 +161,15 @@ def _unit(v: FloatArray) -> FloatArray:
     return np.asarray(v / np.sqrt(_dot(v, v)))
 
 
-def _measured_verticals(u_true: FloatArray, err_x: FloatArray, err_y: FloatArray) -> FloatArray:
+def _measured_verticals(
+    u_true: FloatArray, err_x: FloatArray, err_y: FloatArray, up: FloatArray | None = None
+) -> FloatArray:
     """Readings of the true verticals plus errors (degrees), back through eq. 2.
 
     ``u_true`` is component-first, shape (3, ...). ``sin(asin(u) + e)`` is evaluated as
     ``u cos e + √(1 − u²) sin e`` with ``cos e = √(1 − sin² e)`` (|e| < 90°), which avoids the
-    arcsine and the cosine.
+    arcsine and the cosine. The z component takes the sign of ``up`` (default ``u_true``'s own):
+    the top-face-up flag is the object's, when ``u_true`` is what a turned sensor sees.
     """
     ex = np.sin(np.deg2rad(err_x))
     ey = np.sin(np.deg2rad(err_y))
@@ -178,7 +182,7 @@ def _measured_verticals(u_true: FloatArray, err_x: FloatArray, err_y: FloatArray
         scale = np.where(over, 1.0 / np.sqrt(np.where(over, r2, 1.0)), 1.0)
         sx, sy = sx * scale, sy * scale
         r2 = np.where(over, 1.0, r2)
-    sz = np.copysign(np.sqrt(np.maximum(1.0 - r2, 0.0)), u_true[2])
+    sz = np.copysign(np.sqrt(np.maximum(1.0 - r2, 0.0)), u_true[2] if up is None else up)
     return np.stack([sx, sy, sz])
 
 
@@ -196,13 +200,17 @@ class Perturbations:
         Paper wire model: the offset of each hang along its bolt axis (mm). One wire: λ (mm),
         one per trial. Elastica: the factor on λ, one per trial (the campaign's one wire).
     reading_deg : ndarray, shape (2, k, n)
-        X and Y reading errors.
+        X and Y reading errors of each hang.
+    shared : ndarray, shape (7, n), optional
+        The sensor's errors shared by the hangs of a campaign
+        (:data:`cadcog.rig.inclinometer.SHARED_SENSOR_PARAMETERS`); None: none.
     """
 
     me_mm: FloatArray
     play_mm: FloatArray
     wire: FloatArray
     reading_deg: FloatArray
+    shared: FloatArray | None = None
 
 
 def draw_perturbations(
@@ -212,12 +220,16 @@ def draw_perturbations(
 
     Draws are single precision (an error needs no more than 7 digits; it halves their cost).
     What is computed from them is double precision, but for the sine of a reading error and its
-    cosine (:func:`_measured_verticals`), single precision like the error itself.
+    cosine (:func:`_measured_verticals`), single precision like the error itself. The sensor's
+    shared errors, when the model declares them, are drawn last (one sensor per campaign), so a
+    model without them draws the same numbers as before they existed.
     """
     me = model.sample_me_errors(rng, n)
     play = model.sample_play(rng, n, k)
     wire = model.sample_wire(rng, n, k)
-    return Perturbations(me, play, wire, model.sample_reading_errors(rng, (2, k, n)))
+    reading = model.sample_reading_errors(rng, (2, k, n))
+    shared = model.sample_shared_sensor(rng, n) if model.has_shared_sensor else None
+    return Perturbations(me, play, wire, reading, shared)
 
 
 def hang(
@@ -263,7 +275,19 @@ def estimate_trials(
 
     Deterministic: the physics (:func:`hang`), the readings with their errors, and the same
     estimator as ``cadcog estimate`` (:func:`cadcog.method.gls.plumb_gls`) on the nominal points.
+    The per-hang estimator with its covariances: a model with the sensor's shared errors is
+    estimated by :func:`group_errors` (the joint fit gives the CoG only here).
+
+    Raises
+    ------
+    ValueError
+        If ``model`` declares shared sensor errors.
     """
+    if model.has_shared_sensor:
+        raise ValueError(
+            "estimate_trials is the per-hang estimator: a model with shared sensor errors is "
+            "estimated by group_errors"
+        )
     idx = np.asarray(group)
     p = scenario.points_mm[idx].T[:, :, None]  # (3, k, 1)
     nrm = scenario.normals[idx].T[:, :, None]
@@ -291,10 +315,19 @@ def measured_verticals(
 ) -> FloatArray:
     """What the inclinometer reads hanging from each point of ``group``: unit verticals (3, k, n).
 
-    The physics (:func:`hang`) and the reading errors of ``pert`` back through eq. 2.
+    The physics (:func:`hang`) and the reading errors of ``pert`` back through eq. 2. With shared
+    sensor errors the sensor sees each vertical turned by its mounting and adds its offsets and
+    sensitivity errors (:func:`cadcog.method.sharedbatch.sensor_errors_deg`) to each hang's
+    errors; what is returned is then eq. 2 of the readings as the device reports them (not
+    corrected: the estimator does that), its z sign the object's.
     """
     u_true = hang(scenario, model, group, pert)
-    return _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
+    if pert.shared is None or not np.any(pert.shared):
+        return _measured_verticals(u_true, pert.reading_deg[0], pert.reading_deg[1])
+    err, seen = sensor_errors_deg(u_true, np.asarray(pert.shared, dtype=float))
+    return _measured_verticals(
+        seen, pert.reading_deg[0] + err[0], pert.reading_deg[1] + err[1], up=u_true[2]
+    )
 
 
 def group_errors(
@@ -308,7 +341,10 @@ def group_errors(
 
     The estimator of ``cadcog estimate`` on the nominal points and the measured verticals ``u``
     (3, k, n), through its CoG-only path :func:`cadcog.method.gls.cog_only`, then the ME
-    compensation with the ME's CAD CoG.
+    compensation with the ME's CAD CoG. When the model declares the sensor's shared errors,
+    ``cadcog estimate`` fits them with the CoG, and so does this
+    (:func:`cadcog.method.sharedbatch.fit_shared_cog` of the readings ``u`` gives back); the
+    paper's equal-weight estimator (``options.weighted`` False) knows nothing of them.
     """
     idx = np.asarray(group)
     p = scenario.points_mm[idx].T[:, :, None]
@@ -316,7 +352,14 @@ def group_errors(
     wire = WireTerm.from_model(
         model, scenario.weight_n, correct=options.wire_correction, estimate=options.self_calibrate
     )
-    cog = cog_only(p, u, nrm, LineErrors.from_model(model), wire, weighted=options.weighted)
+    errors = LineErrors.from_model(model)
+    if options.weighted and model.has_shared_sensor:
+        x_deg = np.rad2deg(np.arcsin(np.clip(u[0], -1.0, 1.0)))
+        y_deg = np.rad2deg(np.arcsin(np.clip(u[1], -1.0, 1.0)))
+        up = np.where(np.signbit(u[2]), -1.0, 1.0)
+        cog = fit_shared_cog(p, x_deg, y_deg, up, nrm, errors, wire, model.shared_sensor_sigmas)
+    else:
+        cog = cog_only(p, u, nrm, errors, wire, weighted=options.weighted)
     return compensated_errors(scenario, cog)
 
 

@@ -86,16 +86,22 @@ def test_simulate_bad_options(capsys):
     assert "no group" in capsys.readouterr().err
 
 
-def test_monte_carlo_commands_say_they_leave_the_shared_sensor_out(tmp_path, capsys):
-    """A rig declaring a sensor's shared errors: the Monte Carlo does not draw them yet, and
-    the commands built on it say so (on stderr: the JSON stays clean); without them, nothing."""
+def test_monte_carlo_commands_draw_the_shared_sensor(tmp_path, capsys):
+    """A rig declaring a sensor's shared errors: the budget has their row and the simulation
+    draws one sensor per campaign (its 95 % error grows); nothing on stderr (the JSON stays
+    clean); without them, no row."""
     data = paper_rig_dict()
     data["inclinometer"]["offset_deg"] = 0.3
     rig = str(write_rig(tmp_path / "mems.toml", data))
     assert main(["budget", "--rig", rig, "--json"]) == 0
     captured = capsys.readouterr()
-    json.loads(captured.out)
-    assert "does not draw the sensor's errors shared by the hangs" in captured.err
-    assert "offset ±0.3°" in captured.err
+    rows = {r["source"]: r for r in json.loads(captured.out)["sources"]}
+    assert rows["sensor_shared"]["share"] > 0.2
+    assert captured.err == ""
     assert main(["budget", "--json"]) == 0
-    assert "does not draw" not in capsys.readouterr().err
+    assert "sensor_shared" not in capsys.readouterr().out
+    base = ["simulate", "--points", "0", "--trials-per-pair", "2000", "--seed", "1", "--json"]
+    assert main([*base, "--rig", rig]) == 0
+    shared = json.loads(capsys.readouterr().out)["q95_mm"]
+    assert main(base) == 0
+    assert shared > 1.2 * json.loads(capsys.readouterr().out)["q95_mm"]
