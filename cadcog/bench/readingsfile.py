@@ -33,6 +33,7 @@ from cadcog.core.fileio import staged_file
 from cadcog.method.readings import (
     FACE_COLUMN,
     POSITION_COLUMNS,
+    TURNED_COLUMN,
     Suspension,
     format_face,
     header_columns,
@@ -49,9 +50,10 @@ TAIL_COLUMNS = (FACE_COLUMN, "t_s")  # t_s: the sample's time, which readers ign
 MAX_RESUME_BYTES = 200_000_000
 
 
-def columns(value_columns: tuple[str, str]) -> tuple[str, ...]:
-    """The CSV header for a device's value columns."""
-    return header_columns(value_columns, ("t_s",))
+def columns(value_columns: tuple[str, str], turned: bool = False) -> tuple[str, ...]:
+    """The CSV header for a device's value columns (and the ``sensor_turned`` column when the
+    run has a reversal)."""
+    return header_columns(value_columns, ("t_s", TURNED_COLUMN) if turned else ("t_s",))
 
 
 @dataclass(frozen=True)
@@ -69,6 +71,8 @@ class HangBlock:
         The ``begin`` line's record (attempt, settle time, period, decay, ...).
     line : int
         Line of the ``begin`` marker (1-based).
+    sensor_turned : bool
+        Read with the sensor turned on its mount (False in a file without the column).
     """
 
     point_id: str
@@ -77,6 +81,7 @@ class HangBlock:
     values: np.ndarray
     info: str
     line: int
+    sensor_turned: bool = False
 
 
 def _fmt_value(v: float, counts: bool) -> str:
@@ -90,15 +95,18 @@ def block_text(
     data: HangData,
     units: DeviceUnits,
     info: str,
+    sensor_turned: bool | None = None,
 ) -> str:
-    """The text of one hang block (begin marker, one row per averaged sample, end marker)."""
+    """The text of one hang block (begin marker, one row per averaged sample, end marker);
+    ``sensor_turned`` None: a file without that column."""
     x, y, z = (f"{float(c):.3f}" for c in position_mm)
     face = format_face(top_face_up)
+    turned = "" if sensor_turned is None else "," + format_face(sensor_turned)
     lines = [f"# hang {point_id} begin {info}"]
     for t, (vx, vy) in zip(data.t_s, data.values, strict=True):
         lines.append(
             f"{point_id},{x},{y},{z},{_fmt_value(vx, units.counts)},"
-            f"{_fmt_value(vy, units.counts)},{face},{t:.3f}"
+            f"{_fmt_value(vy, units.counts)},{face},{t:.3f}{turned}"
         )
     lines.append(f"# hang {point_id} end samples={len(data.t_s)}")
     return "\n".join(lines) + "\n"
@@ -132,6 +140,7 @@ def suspension_of(block: HangBlock, units: DeviceUnits) -> Suspension:
         None if std[0] is None else float(std[0]),
         None if std[1] is None else float(std[1]),
         block.line,
+        block.sensor_turned,
     )
 
 
@@ -180,9 +189,10 @@ def _block(current: tuple[str, str, int], rows: list[list[str]], path: Path) -> 
         position = (float(first[1]), float(first[2]), float(first[3]))
         values = np.array([[float(r[4]), float(r[5])] for r in rows])
         face = first[6].strip() == "true"
+        turned = len(first) > 8 and first[8].strip() == "true"
     except (IndexError, ValueError):
         raise CadcogError(f"{path}, line {line}: hang {pid} has malformed rows") from None
-    return HangBlock(pid, position, face, values, info, line)
+    return HangBlock(pid, position, face, values, info, line, turned)
 
 
 class ReadingsFile:
@@ -197,7 +207,11 @@ class ReadingsFile:
 
     @classmethod
     def open(
-        cls, path: str | Path, units: DeviceUnits, preamble: Sequence[str] = ()
+        cls,
+        path: str | Path,
+        units: DeviceUnits,
+        preamble: Sequence[str] = (),
+        turned: bool = False,
     ) -> tuple[ReadingsFile, list[HangBlock], int]:
         """Create the file, or take up an existing one.
 
@@ -215,7 +229,7 @@ class ReadingsFile:
             If the file was written for another kind of device, or not by ``cadcog acquire``.
         """
         p = Path(path)
-        header = columns(units.value_columns)
+        header = columns(units.value_columns, turned)
         if str(path) in ("", "-"):
             raise CadcogError(
                 f"{str(path)!r}: a recording is resumed and appended hang by hang, which "

@@ -206,7 +206,8 @@ def run_session(
     """
     units = recorder.open()
     say(f"device: {units.header.describe()} on {recorder.link.name}")
-    rfile, blocks, repaired = ReadingsFile.open(out, units, preamble)
+    reversal = any(h.sensor_turned for h in target.hangs)  # the file gets sensor_turned
+    rfile, blocks, repaired = ReadingsFile.open(out, units, preamble, turned=reversal)
     swings = SwingLog.open(default_swing_path(out) if swings_out is None else swings_out)
     result = SessionResult(Path(out), units.header.describe(), repaired_lines=repaired)
     planned = {h.id: h for h in target.hangs}
@@ -232,9 +233,14 @@ def run_session(
         while True:
             attempt += 1
             face = "UP" if h.top_face_up else "DOWN"
+            turn = (
+                ", the sensor TURNED 180° on its mount (a reversal: docs/bench.md)"
+                if h.sensor_turned
+                else ""
+            )
             say(
                 f"\n[{len(done) + n}/{len(target.hangs)}] hang from {h.id} at "
-                f"({h.position_mm[0]:g}, {h.position_mm[1]:g}, {h.position_mm[2]:g}) mm, "
+                f"({h.position_mm[0]:g}, {h.position_mm[1]:g}, {h.position_mm[2]:g}) mm{turn}, "
                 f"inclinometer top face {face}; expect X ≈ {h.expected_x_deg:.1f}°, "
                 f"Y ≈ {h.expected_y_deg:.1f}°" + (f" (attempt {attempt})" if attempt > 1 else "")
             )
@@ -261,6 +267,7 @@ def run_session(
                 data,
                 units,
                 _info(attempt, data, recorder.average_s, recorder.stats.summary()),
+                h.sensor_turned if reversal else None,
             )
             # The new suspension is read back from the very text the file gets, so the running
             # estimate sees exactly what `cadcog estimate` will read.

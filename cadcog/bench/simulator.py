@@ -164,6 +164,7 @@ class SimulatedDevice:
         self._next_sample_s = self.time_s
         self._next_header_s = self.time_s
         self._attempts = 0
+        self._turned = False
         self.truth: HangTruth | None = None
         sensor = self.config.sensor
         if spec.kind == "analog":
@@ -216,6 +217,7 @@ class SimulatedDevice:
             t1 = scenario.tangents[0][index]
             pts[index] = pts[index] + s.slip_mm * t1
             scenario = scenario.with_points(scenario.ids, pts, scenario.normals)
+        self._turned = self.target.hangs[index].sensor_turned
         u = hang(scenario, model, [index], pert)[:, 0, 0]
         ratio = scenario.me_mass_kg / scenario.total_mass_kg
         g_true = scenario.assembly_cog_mm + ratio * self.me_error_mm[:, 0]
@@ -247,8 +249,10 @@ class SimulatedDevice:
 
     def _angles(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Device readings (degrees, configured signs) of upward verticals (n, 3), with the
-        sensor's shared errors (zeros when the model declares none)."""
-        x, y, _ = sensor_readings(u, self.shared_sensor, self.config)
+        sensor's shared errors (zeros when the model declares none), turned on its mount for a
+        reversal."""
+        turned = np.full(len(u), self._turned)
+        x, y, _ = sensor_readings(u, self.shared_sensor, self.config, turned)
         return x, y
 
     def _readings(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -7,7 +7,7 @@ change, re-point these two functions and nothing else.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -42,6 +42,9 @@ class PlannedHang:
         Whether the inclinometer's top face points up when hanging (from the CAD CoG).
     expected_x_deg, expected_y_deg : float
         Device readings expected from the CAD CoG (signs of the configuration applied).
+    sensor_turned : bool
+        Read with the sensor turned 180° on its mount (a reversal: the point's id followed by
+        :data:`REVERSAL_SUFFIX`); the expected readings are then negated.
     """
 
     id: str
@@ -50,6 +53,27 @@ class PlannedHang:
     top_face_up: bool
     expected_x_deg: float
     expected_y_deg: float
+    sensor_turned: bool = False
+
+
+#: A hang's id ending in this names the point before it, read with the sensor turned 180° on
+#: its mount (a reversal, docs/bench.md): ``S1~`` is S1 hung again with the sensor turned.
+REVERSAL_SUFFIX = "~"
+
+
+def point_of(hang_id: str, known: Iterable[str]) -> tuple[str, bool]:
+    """The point a hang id names and whether it is a reversal: ``S1~`` → ``("S1", True)``
+    unless ``S1~`` is itself a known point.
+
+    Examples
+    --------
+    >>> point_of("S1~", ["S1", "S2"]), point_of("S2", ["S1", "S2"])
+    (('S1', True), ('S2', False))
+    """
+    names = set(known)
+    if hang_id in names or not hang_id.endswith(REVERSAL_SUFFIX):
+        return hang_id, False
+    return hang_id[: -len(REVERSAL_SUFFIX)], True
 
 
 @dataclass(frozen=True)
@@ -105,18 +129,21 @@ def _planned(
     normals: Sequence[FloatArray],
     assembly_cog_mm: FloatArray,
     config: InclinometerConfig,
+    turned: Sequence[bool],
 ) -> tuple[PlannedHang, ...]:
     out = []
-    for pid, p, n in zip(ids, positions, normals, strict=True):
+    for pid, p, n, t in zip(ids, positions, normals, turned, strict=True):
         r = ideal_reading(p, assembly_cog_mm)
+        flip = -1.0 if t else 1.0
         out.append(
             PlannedHang(
                 pid,
                 (float(p[0]), float(p[1]), float(p[2])),
                 (float(n[0]), float(n[1]), float(n[2])),
                 r.top_face_up,
-                r.inc_x_deg * config.sign_x,
-                r.inc_y_deg * config.sign_y,
+                flip * r.inc_x_deg * config.sign_x,
+                flip * r.inc_y_deg * config.sign_y,
+                t,
             )
         )
     return tuple(out)
@@ -126,13 +153,15 @@ def target_from_rig(rig: Rig, ids: Sequence[str] | None = None) -> BenchTarget:
     """The rig's suspension points (all, or ``ids`` in that order), wire exits as positions."""
     by_id = {p.id: p for p in rig.suspension_points}
     chosen = [p.id for p in rig.suspension_points] if ids is None else list(ids)
-    points = [by_id[i] for i in chosen]
+    named = [point_of(i, by_id) for i in chosen]
+    points = [by_id[i] for i, _ in named]
     hangs = _planned(
         chosen,
         [rig.wire_exit_mm(p) for p in points],
         [p.normal for p in points],
         rig.analytic_assembly.cog_mm,
         rig.inclinometer,
+        [t for _, t in named],
     )
     return BenchTarget(rig.name, rig.source, rig, hangs)
 
@@ -140,13 +169,15 @@ def target_from_rig(rig: Rig, ids: Sequence[str] | None = None) -> BenchTarget:
 def target_from_setup(setup: Setup, ids: Sequence[str]) -> BenchTarget:
     """A spacecraft set-up's candidates ``ids``, in that order."""
     by_id = {c.id: c for c in setup.candidates}
-    cands = [by_id[i] for i in ids]
+    named = [point_of(i, by_id) for i in ids]
+    cands = [by_id[i] for i, _ in named]
     hangs = _planned(
         list(ids),
         [c.position_mm for c in cands],
         [c.normal for c in cands],
         setup.assembly_cog_mm,
         setup.rig.inclinometer,
+        [t for _, t in named],
     )
     return BenchTarget(setup.name, setup.source, setup.rig, hangs, setup)
 

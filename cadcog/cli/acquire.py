@@ -41,8 +41,9 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--setup", type=Path, help="spacecraft set-up file instead of a rig")
     p.add_argument(
         "--points",
-        help="comma-separated point ids, in hanging order (default: every rig point; for a "
-        "set-up, the set `cadcog plan` recommends)",
+        help="comma-separated point ids, in hanging order; ID~ hangs ID again with the sensor "
+        "turned 180° on its mount (a reversal) (default: every rig point; for a set-up, the "
+        "set `cadcog plan` recommends, with its reversal)",
     )
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--port", help="serial port of the device (e.g. /dev/ttyACM0, COM3)")

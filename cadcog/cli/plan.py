@@ -100,6 +100,14 @@ def run(args: argparse.Namespace) -> int:
         f"{', '.join(plan.recommended['points'])} "
         f"(predicted 95 % error {plan.recommended['q95_mm']:.3f} mm)"
     )
+    rev = plan.reversal
+    if rev is not None and rev.advised:
+        print(
+            f"then hang {rev.point} once more with the sensor turned 180° on its mount (a "
+            f"reversal, docs/bench.md): the CoG's σ {rev.sigma_mm:.3f} → {rev.sigma_with_mm:.3f}"
+            f" mm, the zero offsets' σ {rev.offset_sigma_deg[0]:.2f}° → "
+            f"{rev.offset_sigma_with_deg[0]:.2f}° (linearised)"
+        )
     if inertia is not None:
         _print_inertia_plan(inertia, args.goal)
     elif inertia_refused:

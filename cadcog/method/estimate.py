@@ -399,7 +399,15 @@ def estimate_cog(
         joint = _joint(suspensions, p, u, nrm, errors, wire, body is not None, min_angle_deg,
                        warnings)  # fmt: skip
         verticals = v.u
+    reversal_pairs = {
+        frozenset((s.id, t.id))
+        for s in suspensions
+        for t in suspensions
+        if s.sensor_turned != t.sensor_turned and s.position_mm == t.position_mm
+    }
     for a, b, angle in joint.skipped_pairs:
+        if frozenset((a, b)) in reversal_pairs:
+            continue  # a point and its reversal hang alike: that is the point of a reversal
         warnings.append(
             f"pair {a}-{b}: plumb lines meet at {angle:.2f}° (< {min_angle_deg:g}°), "
             "ill-conditioned; left out of the pair table"
@@ -549,17 +557,18 @@ def _joint_with_shared_sensor(
         wire_scale,
     )  # fmt: skip
     carried = [
-        name
-        for name, c, prior in zip(
-            SHARED_SENSOR_PARAMETERS, fit.calibrated, fit.prior_sigma, strict=True
+        f"{name} (σ {sigma:.2g} of {prior:.2g})"
+        for name, c, sigma, prior in zip(
+            SHARED_SENSOR_PARAMETERS, fit.calibrated, fit.shared_sigma, fit.prior_sigma, strict=True
         )
         if prior > 0 and not c
     ]
     if carried:
         warnings.append(
             "these hangs do not calibrate the sensor's shared "
-            f"{', '.join(carried)}: their declared figures are carried into the CoG's σ "
-            "(docs/estimate.md: what one sensor shares across the hangs)"
+            f"{', '.join(carried)}: what is left of their declared figures is carried into "
+            "the CoG's σ (docs/estimate.md: what one sensor shares across the hangs; a "
+            "reversal calibrates the offsets: docs/bench.md)"
         )
     return joint, fit.verticals, fit.to_dict()
 

@@ -67,13 +67,17 @@ def acquire_target(
 ) -> Any:
     """The hangs of a run: ``points`` of the rig or the set-up, checked before any is hung.
 
+    A point's id followed by ``~`` is that point hung again with the sensor turned 180° on its
+    mount (a reversal: :data:`cadcog.bench.target.REVERSAL_SUFFIX`). Without ``points`` a
+    set-up's test is planned, with the reversal the plan advises.
+
     Raises
     ------
     CadcogError
         Unknown or repeated ids, fewer than two, or a set-up point ``plan`` would not use
         (its readings out of range or untrustworthy), naming each and why.
     """
-    from cadcog.bench.target import target_from_rig, target_from_setup
+    from cadcog.bench.target import REVERSAL_SUFFIX, point_of, target_from_rig, target_from_setup
 
     ids = None if points is None else [i.strip() for i in points if i.strip()]
     if setup is not None:
@@ -83,13 +87,22 @@ def acquire_target(
 
         if ids is None:
             say("no --points: planning the test (as `cadcog plan` does)")
-            rec = plan_test(setup).recommended
+            planned = plan_test(setup)
+            rec = planned.recommended
             if rec is None:
                 raise CadcogError(f"{setup.source}: no usable set of suspension points")
             ids = list(rec["points"])
+            rev = planned.reversal
+            if rev is not None and rev.advised:
+                ids.append(rev.point + REVERSAL_SUFFIX)
+                say(
+                    f"and {rev.point} once more with the sensor turned (a reversal: the CoG's σ "
+                    f"{rev.sigma_mm:.3f} → {rev.sigma_with_mm:.3f} mm, linearised)"
+                )
         known = {c.id: c for c in setup.candidates}
         _check_ids(ids, set(known), setup.source)
-        bad = [k for k in (check_candidate(setup, known[i]) for i in ids) if not k.usable]
+        hung = list(dict.fromkeys(point_of(i, known)[0] for i in ids))  # in order, once each
+        bad = [k for k in (check_candidate(setup, known[i]) for i in hung) if not k.usable]
         if bad:  # the whole plan is checked before the first hang
             raise CadcogError(
                 "--points: "
@@ -105,7 +118,9 @@ def acquire_target(
 
 
 def _check_ids(ids: list[str], known: set[str], source: Path) -> None:
-    unknown = [i for i in ids if i not in known]
+    from cadcog.bench.target import point_of
+
+    unknown = [i for i in ids if point_of(i, known)[0] not in known]
     if unknown:
         raise CadcogError(f"--points: unknown point(s) {', '.join(unknown)} in {source}")
     check_distinct_ids(ids)

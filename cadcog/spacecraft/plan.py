@@ -18,6 +18,7 @@ from cadcog.core import tolerances
 from cadcog.core.results import JsonResult
 from cadcog.method import gls
 from cadcog.method.errormodel import ErrorModel
+from cadcog.method.reversal import ReversalAdvice, best_reversal
 from cadcog.rig.geometry import axes_beyond_range, ideal_reading
 from cadcog.spacecraft.setup import Candidate, FloatArray, Setup
 from cadcog.uncertainty.montecarlo import EstimatorOptions, simulate
@@ -69,6 +70,10 @@ class Plan(JsonResult):
         Why no set determines the tensor (``goal="both"``), else empty.
     cad_cog_mm : tuple of 3 floats
         The spacecraft's CAD CoG (mm).
+    reversal : ReversalAdvice or None
+        When the rig declares the sensor's zero offset: the point of the recommended set whose
+        re-hang with the sensor turned 180° on its mount helps most, and by how much
+        (:func:`cadcog.method.reversal.best_reversal`).
     """
 
     checks: tuple[CandidateCheck, ...]
@@ -85,6 +90,7 @@ class Plan(JsonResult):
     goal: str = "cog"
     inertia: Any = None
     inertia_refused: str = ""
+    reversal: ReversalAdvice | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -96,6 +102,7 @@ class Plan(JsonResult):
             "pairs": list(self.pairs),
             "best_sets": list(self.best_sets),
             "recommended": self.recommended,
+            "reversal": None if self.reversal is None else self.reversal.to_dict(),
             "warnings": list(self.warnings),
             "reason": self.reason,
             "error_model": None if self.model is None else self.model.describe(),
@@ -316,6 +323,19 @@ def plan_test(
             }
         )
     recommended = min(best_sets, key=lambda s: float(s["q95_mm"]))
+    chosen = [next(j for j, c in enumerate(usable) if c.id == pid) for pid in recommended["points"]]
+    reversal = best_reversal(
+        [usable[j].id for j in chosen],
+        scenario.points_mm[chosen],
+        scenario.normals[chosen],
+        g,
+        gls.LineErrors.from_model(model),
+        wire,
+        model.shared_sensor_sigmas,
+        setup.rig.inclinometer,
+        me_ratio=ratio,
+        me_sigma_mm=model.me_sigma_mm,
+    )
     warnings = _warnings(setup, model)
     lo, hi = setup.bbox_mm
     half = 0.5 * float(np.min(np.asarray(hi) - np.asarray(lo)))
@@ -334,4 +354,5 @@ def plan_test(
         trials,
         *_masses(setup),
         warnings,
+        reversal=reversal,
     )

@@ -268,3 +268,47 @@ def test_the_device_hangs_every_hang_from_one_wire(paper_rig, wire_model, same):
     first = device.truth.vertical.copy()
     device.hang(0)
     assert np.allclose(device.truth.vertical, first, atol=1e-12) is same
+
+
+def test_a_reversal_is_guided_recorded_and_read_back(paper_rig, tmp_path):
+    """``S3~``: the operator is told to turn the sensor, the device reads through the turned
+    sensor (its readings negated, its zero offset not), the file gets ``sensor_turned``, a
+    resumed run keeps it, and the estimate reads the hang as a reversal."""
+    from dataclasses import replace
+
+    from cadcog.bench.target import target_from_rig
+
+    rig = replace(paper_rig, inclinometer=replace(paper_rig.inclinometer, offset_deg=0.3))
+    target = target_from_rig(rig, ["S1", "S2", "S3", "S3~"])
+    assert [h.sensor_turned for h in target.hangs] == [False, False, False, True]
+    assert target.hangs[3].expected_x_deg == -target.hangs[2].expected_x_deg
+    device = SimulatedDevice(target, DeviceSpec(), FAST, seed=12)
+    out = tmp_path / "readings.csv"
+    lines: list[str] = []
+    result = _run(target, out, device, lines=lines)
+    assert all(h.outcome == "recorded" for h in result.hangs)
+    assert any("[4/4] hang from S3~" in t and "TURNED 180°" in t for t in lines)
+    header = next(ln for ln in out.read_text().splitlines() if ln.startswith("point_id"))
+    assert header.split(",")[-1] == "sensor_turned"
+    sus = {s.id: s for s in read_readings(out, rig.inclinometer)}
+    assert [s.sensor_turned for s in sus.values()] == [False, False, False, True]
+    # The two readings of S3 differ in sign but share the sensor's zero offset: their mean is
+    # that offset, to the per-hang bias (±0.1°), noise and the re-hang's play (~0.2°).
+    offset = device.shared_sensor[0:2]
+    mean = np.array(
+        [
+            (sus["S3"].inc_x_deg + sus["S3~"].inc_x_deg) / 2,
+            (sus["S3"].inc_y_deg + sus["S3~"].inc_y_deg) / 2,
+        ]
+    )
+    np.testing.assert_allclose(mean, offset, atol=0.3)
+    assert abs(sus["S3"].inc_x_deg - sus["S3~"].inc_x_deg) > 10.0
+    again = estimate_hangs(target, list(sus.values()))
+    np.testing.assert_allclose(again.cog_mm, result.estimate.cog_mm, atol=1e-12)
+    assert not any(
+        "S3-S3~" in w for w in again.warnings
+    )  # a reversal pair is not "ill-conditioned"
+    assert _mahalanobis(again, device.true_object_cog_mm) < MAHALANOBIS_999
+    # Resumed: the recorded hangs come back with their flag.
+    resumed = _run(target, out, device)
+    assert resumed.resumed == ["S1", "S2", "S3", "S3~"]

@@ -34,6 +34,19 @@ def test_comments_blank_lines_and_extra_columns_are_ignored(tmp_path):
     assert [s.id for s in read_readings(path)] == ["S1", "S2"]
 
 
+def test_a_reversal_is_read_as_a_hang_of_its_own_with_its_angles_negated(tmp_path):
+    """``sensor_turned``: optional (false when absent or empty); a turned hang's vertical is
+    that of the negated angles (no shared figures: the offset is not modelled)."""
+    from cadcog.method.readings import suspension_verticals
+
+    rows = [f"{r},0" for r in ROWS] + ["S2~,100,0,0,30.0,0.0,false,1"]
+    sus = read_readings(write_csv(tmp_path / "r.csv", rows, HEADER + ",sensor_turned"))
+    assert [(s.id, s.sensor_turned) for s in sus] == [("S1", False), ("S2", False), ("S2~", True)]
+    v = suspension_verticals(sus).u
+    np.testing.assert_allclose(v[2], v[1], atol=1e-15)
+    assert all(not s.sensor_turned for s in read_readings(write_csv(tmp_path / "o.csv", ROWS)))
+
+
 def test_raw_counts_go_through_the_sensor_model(tmp_path):
     cfg = InclinometerConfig()
     counts = float(np.round(cfg.sensor.deg_to_counts(30.0)))
@@ -87,6 +100,18 @@ BAD = [
         "line 6: point S2: top_face_up differs from line 5",
     ),
     ("one point", HEADER, ROWS[:3], "1 distinct suspension point"),
+    (
+        "bad turn flag",
+        HEADER + ",sensor_turned",
+        [f"{r},false" for r in ROWS] + ["S2~,100,0,0,30,0,false,half"],
+        "line 6: column sensor_turned: expected true, false, 1 or 0, got 'half'",
+    ),
+    (
+        "turned and not",
+        HEADER + ",sensor_turned",
+        [f"{r},false" for r in ROWS] + ["S2,100,0,0,30,0,false,true"],
+        "line 6: point S2: sensor_turned differs from line 5 .*its own point_id",
+    ),
     ("empty id", HEADER, [*ROWS, ",1,1,1,5,1,true"], "line 6: column point_id: empty"),
 ]
 

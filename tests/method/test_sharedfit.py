@@ -36,17 +36,48 @@ def test_rotation_matrix_is_scipys_rotation_of_the_same_vector(r_deg):
     st.lists(st.floats(-0.05, 0.05), min_size=2, max_size=2),
     st.lists(angles, min_size=3, max_size=3),
     st.sampled_from([1, -1]),
+    st.booleans(),
 )
-def test_corrected_verticals_invert_the_sensor(ux, uy, up, offset, scale, mount, sign):
-    """Readings of a sensor with any shared errors, corrected with the same errors, give the
-    vertical back (within the sensor's range, away from the horizontal)."""
+def test_corrected_verticals_invert_the_sensor(ux, uy, up, offset, scale, mount, sign, turned):
+    """Readings of a sensor with any shared errors, turned on its mount or not, corrected with
+    the same errors, give the vertical back (within the sensor's range, away from the
+    horizontal); a turned sensor reads the other sign of the angle with the same offset."""
     uz = np.sqrt(max(1.0 - ux * ux - uy * uy, 0.09)) * (1 if up else -1)
     u = np.array([[ux, uy, uz]])
     u /= np.linalg.norm(u)
     shared = [*offset, *scale, *mount]
     cfg = InclinometerConfig(sign_x=sign)
-    x, y, top = sensor_readings(u, shared, cfg)
-    np.testing.assert_allclose(corrected_verticals(x, y, top, shared, cfg).u, u, atol=1e-10)
+    x, y, top = sensor_readings(u, shared, cfg, [turned])
+    back = corrected_verticals(x, y, top, shared, cfg, [turned]).u
+    np.testing.assert_allclose(back, u, atol=1e-10)
+    if turned:
+        x0, y0, _ = sensor_readings(u, shared, cfg)
+        np.testing.assert_allclose([x + x0, y + y0], [[2 * offset[0]], [2 * offset[1]]], atol=1e-9)
+
+
+def test_a_reversal_calibrates_the_zero_offset_a_plain_set_cannot():
+    """Noise-free hangs of a 100 mm cube with a ±0.3° offset only: two plain hangs leave the
+    offsets at their prior (four readings, three coordinates and two offsets); hanging one
+    point again with the sensor turned determines them (the two readings' mean is the offset:
+    only the play and reading errors of the re-hang blur it)."""
+    g = np.array([50.0, 50.0, 40.0])
+    p = np.array([[20.0, 50, 100], [100, 30, 80], [20.0, 50, 100]])
+    n = np.array([[0, 0, 1.0], [1, 0, 0], [0, 0, 1.0]])
+    u = (p - g) / np.linalg.norm(p - g, axis=1)[:, None]
+    shared = [0.25, -0.2, 0, 0, 0, 0, 0]
+    turned = [False, False, True]
+    x, y, top = sensor_readings(u, shared, turned=turned)
+    prior = [0.3 / np.sqrt(3)] * 2 + [0.0] * 5
+    errors = gls.LineErrors(1e-4, 1e-4, np.radians(0.01) ** 2)
+    plain = fit_shared(p[:2], x[:2], y[:2], top[:2], n[:2], errors, gls.WireTerm(), prior)
+    rev = fit_shared(p, x, y, top, n, errors, gls.WireTerm(), prior, sensor_turned=turned)
+    assert plain.shared_sigma[1] > 0.9 * prior[1]  # two lines leave Y's offset at its prior
+    assert rev.shared_sigma[:2].max() < 0.1 * prior[0]
+    # Noise-free: what is left is the prior's pull, well within the posterior σ.
+    np.testing.assert_allclose(rev.shared[:2], shared[:2], atol=3 * rev.shared_sigma[:2].max())
+    np.testing.assert_allclose(rev.cog_mm, g, atol=3 * np.sqrt(np.trace(rev.cov_mm2)))
+    assert np.trace(rev.cov_mm2) < 0.05 * np.trace(plain.cov_mm2)
+    assert rev.calibrated[:2].all() and not plain.calibrated[1]
 
 
 def test_the_sensor_reads_its_errors_as_defined():

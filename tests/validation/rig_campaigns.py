@@ -34,6 +34,12 @@ What one rig shares across its hangs (issue 31), drawn once per campaign when as
   (:class:`scipy.spatial.transform.Rotation`): the sensor sees the vertical in its own axes and
   reports ``(1 + s)·asin(v) + b`` per channel before its per-hang bias and noise.
 
+A reversal (``reversals``): after the campaign's hangs, the object hangs again from a listed
+point with the sensor turned 180° about its own z axis on its mount (the mount's tilt stays, the
+sensor's x and y axes reverse: it sees ``diag(−1, −1, 1)·R·u``); a hang of its own, with its own
+play, bias and noise, the same wire and the same sensor. It is written as point ``<id>~`` with
+``sensor_turned`` true.
+
 Campaign ``i`` of a seed draws from ``SeedSequence(seed, spawn_key=(i,))`` alone.
 """
 
@@ -186,6 +192,9 @@ class Campaign:
 
     u_true: FloatArray
     samples_deg: FloatArray
+    ids: tuple[str, ...] = ()
+    turned: tuple[bool, ...] = ()
+    exits_mm: FloatArray | None = None
 
 
 def _tangents(normal: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -237,6 +246,7 @@ def generate(
     sensor_offset_deg: float = 0.0,
     sensor_scale_rel: float = 0.0,
     mounting_deg: float = 0.0,
+    reversals: tuple[str, ...] = (),
 ) -> Campaign:
     """Campaign ``index`` of ``seed``: one hang per suspension point.
 
@@ -253,6 +263,8 @@ def generate(
         ``wire_offset_max_mm``, once per campaign. Default: the rig file's ``wire_model``.
     sensor_offset_deg, sensor_scale_rel, mounting_deg : float
         The sensor's shared errors' figures (0: none).
+    reversals : tuple of str
+        Points hung once more at the end with the sensor turned on its mount.
     """
     wire = rig.wire_model if wire is None else wire
     if wire not in ("paper", "one-wire", "flexible", "stiff"):
@@ -284,10 +296,12 @@ def generate(
         lam = math.sqrt(bending_stiffness_n_mm2 / (mass * G0_M_S2))
     elif wire == "one-wire":
         lam = rng.random() * rig.wire_offset_max_mm
-    k = len(rig.ids)
+    order = [*range(len(rig.ids)), *(rig.ids.index(r) for r in reversals)]
+    turned = [False] * len(rig.ids) + [True] * len(reversals)
+    k = len(order)
     u = np.empty((k, 3))
     out = np.empty((k, n, 2))
-    for j in range(k):
+    for at, j in enumerate(order):
         nrm = rig.normals[j]
         t1, t2 = _tangents(nrm)
         play = (rng.random(2) - 0.5) * rig.play_mm
@@ -304,12 +318,15 @@ def generate(
                     break
                 q = q_new
         d = q - g
-        u[j] = d / np.linalg.norm(d)
-        seen = mount @ u[j]
+        u[at] = d / np.linalg.norm(d)
+        seen = mount @ u[at]
+        if turned[at]:
+            seen = np.array([-seen[0], -seen[1], seen[2]])
         ideal = (1.0 + scale) * np.degrees(np.arcsin(seen[:2])) * (rig.sign_x, rig.sign_y)
         bias = (rng.random(2) - 0.5) * 2.0 * rig.accuracy_deg
-        out[j] = ideal + offset + bias + rng.normal(0.0, 1.0, (n, 2)) * noise
-    return Campaign(u, out)
+        out[at] = ideal + offset + bias + rng.normal(0.0, 1.0, (n, 2)) * noise
+    ids = tuple(rig.ids[j] + ("~" if t else "") for j, t in zip(order, turned, strict=True))
+    return Campaign(u, out, ids, tuple(turned), rig.exits_mm[order])
 
 
 def write_csv(
@@ -322,11 +339,16 @@ def write_csv(
 ) -> None:
     """The campaign as a readings CSV: ADC counts when ``quantise``, else degrees."""
     cols = "inc_x_counts,inc_y_counts" if quantise else "inc_x_deg,inc_y_deg"
-    lines = [f"point_id,x_mm,y_mm,z_mm,{cols},top_face_up"]
-    for j, pid in enumerate(rig.ids):
-        x, y, z = rig.exits_mm[j]
+    ids = campaign.ids or rig.ids
+    exits = rig.exits_mm if campaign.exits_mm is None else campaign.exits_mm
+    extra = any(campaign.turned)
+    lines = [f"point_id,x_mm,y_mm,z_mm,{cols},top_face_up" + (",sensor_turned" if extra else "")]
+    for j, pid in enumerate(ids):
+        x, y, z = exits[j]
         head = f"{pid},{x:.3f},{y:.3f},{z:.3f}"
         up = "true" if campaign.u_true[j, 2] > 0 else "false"
+        if extra:
+            up += ",true" if campaign.turned[j] else ",false"
         s = campaign.samples_deg[j]
         if quantise:
             c = rig.counts(s, rounding)
