@@ -47,6 +47,31 @@ def test_planar_double_pendulum_closed_form(wire_mm, d_mm, i_kg_mm2, mass):
     np.testing.assert_allclose(modes.frequencies_hz, expected, rtol=1e-9)
 
 
+@settings(max_examples=30, deadline=None)
+@given(SIZES, POINTS, st.floats(0.5, 20.0), st.floats(5.0, 500.0), st.floats(1.1, 4.0))
+def test_a_shorter_wire_raises_the_body_modes_and_the_wire_modes_rise_to_the_pivots(
+    size, direction, mass, wire_mm, factor
+):
+    """The physics docs/inertia.md states: shortening the wire raises both the body's rocking
+    modes (the fast pair, which carry the inertia) and the wire's own pair, the latter towards
+    the pivot's compound-pendulum modes and never beyond them (for a double pendulum the slow
+    frequency is bounded by the pivot's, the fast one grows without bound as L → 0)."""
+    box = box_properties(size, [0.0, 0.0, 0.0], mass_kg=mass)
+    pivot = 0.6 * np.asarray(direction) * np.asarray(size)
+    long, short = (
+        hang_modes(box.inertia_kg_mm2, mass, [0, 0, 0], HangGeometry(pivot, pivot, wl),
+                   with_shapes=False).frequencies_hz
+        for wl in (wire_mm * factor, wire_mm)
+    )  # fmt: skip
+    on_pivot = hang_modes(
+        box.inertia_kg_mm2, mass, [0, 0, 0], HangGeometry(pivot, pivot, 0.0), with_shapes=False
+    ).frequencies_hz
+    assert np.all(short[2:] > long[2:])
+    assert np.all(short[:2] >= long[:2] * (1 - 1e-12))
+    assert np.all(short[:2] <= on_pivot * (1 + 1e-9))
+    assert np.all(short[2:] > on_pivot * (1 - 1e-9))
+
+
 def test_the_top_hinge_shortens_the_wire():
     inertia = np.diag([3e4, 3e4, 1e4])
     g1 = HangGeometry(np.array([0, 0, 60.0]), np.zeros(3), 300.0, top_hinge_mm=2.0)
