@@ -380,11 +380,19 @@ def measure_inertia(
     result_t = tensor(p_obj)
     warnings = []
     dof = n_freq - 6
+    # The frequencies scatter more than their σ say: the σ the fit states cannot be trusted
+    # as they are. The Birge ratio √(χ²/dof) (the Particle Data Group's scale factor) grows
+    # every σ of the result to what the scatter supports; never shrinks them.
+    scale = float(np.sqrt(chi2 / dof)) if dof > 0 and chi2 > dof else 1.0
+    shares = _budget(nuis, jac, cov_freq, p_obj)  # a common scale leaves the shares as they are
+    cov = cov * scale**2
+    cov_freq = cov_freq * scale**2
     if dof > 0 and chi2_sf(chi2, dof) < 0.01:
         warnings.append(
             f"the frequencies do not agree with one rigid body on a wire (χ² {chi2:.1f} for "
-            f"{dof} dof, p = {chi2_sf(chi2, dof):.2g}): check the wire length, that nothing "
-            "touched the object, and each hang's residuals"
+            f"{dof} dof, p = {chi2_sf(chi2, dof):.2g}): every σ of the tensor is multiplied "
+            f"by √(χ²/dof) = {scale:.2f}; check the wire length, that nothing touched the "
+            "object, and each hang's residuals"
         )
     principal = principal_with_sigma(p_obj, cov)
     moments, moment_sigmas = principal.moments_kg_mm2, principal.moments_sigma_kg_mm2
@@ -413,9 +421,10 @@ def measure_inertia(
         tuple(hangs),
         chi2,
         dof,
-        _budget(nuis, jac, cov_freq, p_obj),
+        shares,
         compare_inertia(result_t, cov, ctx.object_cad.inertia_kg_mm2, ctx.cad_cov_kg2_mm4),
         tuple(warnings),
+        scale,
     )
 
 

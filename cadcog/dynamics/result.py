@@ -125,6 +125,9 @@ class InertiaResult(JsonResult):
     cad : dict or None
         The CAD's tensor and the difference in σ (:func:`cadcog.dynamics.measure.compare_inertia`).
     warnings : tuple of str
+    sigma_scale : float
+        The factor the covariance's σ were multiplied by because the frequencies fit worse than
+        their σ say: ``√(χ²/dof)`` when above 1 (the Birge ratio), else 1.
     """
 
     inertia_kg_mm2: FloatArray
@@ -141,6 +144,7 @@ class InertiaResult(JsonResult):
     budget: tuple[tuple[str, float], ...]
     cad: dict[str, Any] | None
     warnings: tuple[str, ...] = ()
+    sigma_scale: float = 1.0
 
     @property
     def sigma_kg_mm2(self) -> FloatArray:
@@ -170,7 +174,12 @@ class InertiaResult(JsonResult):
             "mass_kg": self.mass_kg,
             "mass_sigma_kg": self.mass_sigma_kg,
             "mass_source": self.mass_source,
-            "consistency": {"chi2": self.chi2, "dof": self.dof, "p": self.consistency_p},
+            "consistency": {
+                "chi2": self.chi2,
+                "dof": self.dof,
+                "p": self.consistency_p,
+                "sigma_scale": self.sigma_scale,
+            },
             "hangs": [
                 {
                     "point_id": h.point_id,

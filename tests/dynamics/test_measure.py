@@ -29,9 +29,10 @@ RIG = cadcog.load_rig()
 CTX = context_for_rig(RIG)
 
 
-def _campaign(seed: int, truth_object: MassProperties, ids=None):
+def _campaign(seed: int, truth_object: MassProperties, ids=None, ctx_fit=None, odd=None):
     """Hangs of the rig with the true object: exits off by the rig's play, noise-free settled
-    readings, swings from the truth."""
+    readings, swings from the truth; estimated with ``ctx_fit`` (default the truth's). ``odd``
+    ``(i, factor)``: hang ``i`` swings with its inertia times ``factor`` (something moved)."""
     rng = np.random.default_rng(seed)
     truth = combine([truth_object, *CTX.me_parts])
     weight = truth.mass_kg * 9.80665
@@ -50,9 +51,10 @@ def _campaign(seed: int, truth_object: MassProperties, ids=None):
             )
         )
         geo = HangGeometry(actual, CTX.sensor_mm, CTX.swing.wire_length_mm, top)
+        inertia = truth.inertia_kg_mm2 * (odd[1] if odd is not None and odd[0] == i else 1.0)
         swings.append(
             virtual_swing(
-                p.id, [r.inc_x_deg, r.inc_y_deg], truth.inertia_kg_mm2, truth.mass_kg,
+                p.id, [r.inc_x_deg, r.inc_y_deg], inertia, truth.mass_kg,
                 truth.cog_mm, geo, rng, duration_s=40.0, rate_hz=25.0,
             )
         )  # fmt: skip
@@ -64,8 +66,8 @@ def _campaign(seed: int, truth_object: MassProperties, ids=None):
         body=BodyBox.of_rig(RIG),
     )
     return measure_inertia(
-        swings, est, CTX, object_mass_kg=truth_object.mass_kg, object_mass_sigma_kg=0.001,
-        mass_source="test",
+        swings, est, CTX if ctx_fit is None else ctx_fit, object_mass_kg=truth_object.mass_kg,
+        object_mass_sigma_kg=0.001, mass_source="test",
     )  # fmt: skip
 
 
@@ -110,3 +112,36 @@ def test_hangs_that_do_not_determine_the_tensor_are_refused():
     # plane leave a combination of entries free.
     with pytest.raises(DegenerateGeometryError, match="do not determine the whole inertia tensor"):
         _campaign(1, RIG.analytic_proof_mass, ids={"S1", "S2", "S3"})
+
+
+def test_a_misfit_grows_the_sigma_by_the_birge_ratio_not_the_cads_verdict():
+    """One hang swings with its inertia 6 % off (something moved on it): the frequencies' χ²
+    is far above its dof, every σ grows by √(χ²/dof), and the truth (the CAD here) stays
+    within the grown uncertainty instead of being declared different. Unscaled, the same
+    results put the truth 27-35 on a χ²₆ (p ~ 10⁻⁵)."""
+    cad = RIG.analytic_proof_mass
+    for seed in (1, 2, 3):
+        r = _campaign(seed, cad, odd=(2, 1.06))
+        assert r.dof == 6 and r.chi2 > 30.0
+        assert r.sigma_scale == pytest.approx(np.sqrt(r.chi2 / r.dof), rel=1e-12)
+        assert any("multiplied by √(χ²/dof)" in w for w in r.warnings)
+        d = entries(r.inertia_kg_mm2) - entries(cad.inertia_kg_mm2)
+        z2 = float(d @ np.linalg.solve(r.cov_kg2_mm4, d))
+        assert z2 < 12.59 < z2 * r.sigma_scale**2  # χ²₆'s 95 % quantile
+        assert r.cad is not None and r.cad["p"] > 0.05
+    # A fit within its σ is left as it is.
+    r = _campaign(2, cad)
+    assert r.chi2 < r.dof and r.sigma_scale == 1.0
+
+
+def test_a_wrong_wire_length_is_absorbed_by_the_tensor_not_seen_by_the_chi2():
+    """The limit docs/inertia.md states: swings on a 300 mm wire estimated as if it were 250 mm
+    keep a consistent χ² (the six entries absorb the error) while the tensor is many σ off:
+    only the wire's measured length and its σ protect the result."""
+    wrong = replace(CTX, swing=replace(CTX.swing, wire_length_mm=250.0))
+    cad = RIG.analytic_proof_mass
+    for seed in (1, 2):
+        r = _campaign(seed, cad, ctx_fit=wrong)
+        assert r.consistency_p > 0.05 and r.sigma_scale < 1.2
+        d = entries(r.inertia_kg_mm2) - entries(cad.inertia_kg_mm2)
+        assert float(d @ np.linalg.solve(r.cov_kg2_mm4, d)) > 100.0

@@ -96,7 +96,8 @@ def score(result: dict[str, Any], truth: sf.Truth) -> dict[str, Any]:
     """Errors of one estimate against the truth, principal quantities sorted by moment:
     ``rel`` (relative errors of the moments), ``z`` (errors over the reported σ), ``chi2`` (the
     tensor's 6 entries against the reported covariance), ``axis_deg`` (angle between estimated
-    and true principal axes, sign-free)."""
+    and true principal axes, sign-free), ``sigma_scale`` (the Birge ratio the result applied
+    to its σ: ``z·scale`` and ``chi2·scale²`` are what the σ would have given before it)."""
     true_t = truth.object_inertia_kg_mm2
     tw, tv = np.linalg.eigh(true_t)
     est_t = np.asarray(result["inertia_kg_mm2"], float)
@@ -114,4 +115,5 @@ def score(result: dict[str, Any], truth: sf.Truth) -> dict[str, Any]:
         "z": ((w - tw) / sw).tolist(),
         "chi2": chi2,
         "axis_deg": ang.tolist(),
+        "sigma_scale": float(result.get("consistency", {}).get("sigma_scale", 1.0)),
     }
