@@ -198,12 +198,14 @@ def _block(current: tuple[str, str, int], rows: list[list[str]], path: Path) -> 
 class ReadingsFile:
     """A readings CSV being recorded into.
 
-    Use :meth:`open`; then :meth:`append` each finished hang.
+    Use :meth:`open`; then :meth:`append` each finished hang. ``turned_column``: whether its
+    rows carry ``sensor_turned`` (a run with a reversal, or a file that already had it).
     """
 
-    def __init__(self, path: Path, units: DeviceUnits) -> None:
+    def __init__(self, path: Path, units: DeviceUnits, turned_column: bool = False) -> None:
         self.path = path
         self.units = units
+        self.turned_column = turned_column
 
     @classmethod
     def open(
@@ -222,6 +224,9 @@ class ReadingsFile:
             Hangs already recorded, in file order.
         repaired : int
             Lines of an uncommitted tail turned into comments (0 normally).
+
+        A file recorded without ``sensor_turned`` that a run with a reversal resumes gets the
+        column (every earlier row ``false``) by one atomic rewrite; a file with it keeps it.
 
         Raises
         ------
@@ -243,7 +248,7 @@ class ReadingsFile:
             with staged_file(p) as tmp:
                 _write_durably(tmp, text, "w")
             _sync_dir(p.parent)
-            return cls(p, units), [], 0
+            return cls(p, units, turned), [], 0
         if not p.is_file():  # /dev/zero, a FIFO: nothing to resume, nothing to append to
             raise CadcogError(f"{p}: exists and is not a regular file: give another --out")
         if p.stat().st_size > MAX_RESUME_BYTES:
@@ -256,20 +261,34 @@ class ReadingsFile:
         except (OSError, UnicodeDecodeError) as exc:
             raise CadcogError(f"{p}: cannot read it to resume ({exc})") from None
         lines = text.splitlines()
-        found = next((ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")), None)
-        if found is None or tuple(f.strip() for f in next(csv.reader([found]))) != header:
+        at = next(
+            (i for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#")),
+            None,
+        )
+        found = None if at is None else tuple(f.strip() for f in next(csv.reader([lines[at]])))
+        plain, with_turn = columns(units.value_columns), columns(units.value_columns, True)
+        if at is None or found not in (plain, with_turn):
+            shown = None if at is None else lines[at]
             raise CadcogError(
-                f"{p}: exists with columns {found!r}, but this device records "
+                f"{p}: exists with columns {shown!r}, but this device records "
                 f"{','.join(header)}: give another --out"
             )
+        upgrade = turned and found == plain
+        if upgrade:  # the run adds a reversal: every row so far was read unturned
+            lines = [
+                ln if i < at or not ln.strip() or ln.lstrip().startswith("#") else ln + ",false"
+                for i, ln in enumerate(lines)
+            ]
+            lines[at] = ",".join(with_turn)
+        header = with_turn if upgrade or found == with_turn else plain
         blocks, commit = _scan(lines, p, header)
         tail = [ln for ln in lines[commit:] if ln.strip()]
-        if tail:
+        if tail or upgrade:
             kept = lines[:commit] + [f"# incomplete hang, not used: {ln}" for ln in lines[commit:]]
             with staged_file(p) as tmp:
                 _write_durably(tmp, "\n".join(kept) + "\n", "w")
             _sync_dir(p.parent)
-        return cls(p, units), blocks, len(tail)
+        return cls(p, units, header == with_turn), blocks, len(tail)
 
     def append(self, text: str) -> None:
         """Append a block durably: one write, flush, fsync."""

@@ -267,7 +267,7 @@ def run_session(
                 data,
                 units,
                 _info(attempt, data, recorder.average_s, recorder.stats.summary()),
-                h.sensor_turned if reversal else None,
+                h.sensor_turned if rfile.turned_column else None,
             )
             # The new suspension is read back from the very text the file gets, so the running
             # estimate sees exactly what `cadcog estimate` will read.

@@ -65,15 +65,26 @@ def point_of(hang_id: str, known: Iterable[str]) -> tuple[str, bool]:
     """The point a hang id names and whether it is a reversal: ``S1~`` → ``("S1", True)``
     unless ``S1~`` is itself a known point.
 
+    Raises
+    ------
+    ValueError
+        If both ``S1~`` and ``S1`` are known points (which one is meant cannot be told).
+
     Examples
     --------
     >>> point_of("S1~", ["S1", "S2"]), point_of("S2", ["S1", "S2"])
     (('S1', True), ('S2', False))
     """
     names = set(known)
-    if hang_id in names or not hang_id.endswith(REVERSAL_SUFFIX):
+    if not hang_id.endswith(REVERSAL_SUFFIX):
         return hang_id, False
-    return hang_id[: -len(REVERSAL_SUFFIX)], True
+    base = hang_id[: -len(REVERSAL_SUFFIX)]
+    if hang_id in names and base in names:
+        raise ValueError(
+            f"{hang_id!r} is both a point and the reversal of point {base!r}: rename the point "
+            f"(ids ending in {REVERSAL_SUFFIX!r} name reversals)"
+        )
+    return (hang_id, False) if hang_id in names else (base, True)
 
 
 @dataclass(frozen=True)

@@ -205,10 +205,14 @@ def fit_shared_cog(
         design = _sym_apply(proj, cols)  # every column on the plane ⊥ uᵢ
         r = np.stack(gls.sym_matvec(proj, d))
         wd = _sym_apply(w, design)  # (3, m, k, n)
+        # Sums over the hangs row by row (gls._rows_sum): numpy's reduction would add eight or
+        # more hangs in another order for a lone campaign than in a batch.
         normal = np.empty((len(todo), m, m))
         for c in range(m):
-            normal[:, c, :] = np.sum(design[:, c][:, None] * wd, axis=0).sum(axis=1).T
-        grad = np.sum(wd * r[:, None], axis=0).sum(axis=1) + prec[:, None] * (xs - mean[:, None])
+            per_hang = np.sum(design[:, c][:, None] * wd, axis=0)  # (m, k, n)
+            normal[:, c, :] = gls._rows_sum(np.moveaxis(per_hang, 1, 0)).T
+        grad = gls._rows_sum(np.moveaxis(np.sum(wd * r[:, None], axis=0), 1, 0))
+        grad = grad + prec[:, None] * (xs - mean[:, None])
         normal[:, np.arange(m), np.arange(m)] += prec
         try:
             step = -np.linalg.solve(normal, grad.T[:, :, None])[:, :, 0].T

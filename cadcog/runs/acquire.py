@@ -119,11 +119,24 @@ def acquire_target(
 
 def _check_ids(ids: list[str], known: set[str], source: Path) -> None:
     from cadcog.bench.target import point_of
+    from cadcog.method.readings import id_problem
 
-    unknown = [i for i in ids if point_of(i, known)[0] not in known]
+    for i in ids:
+        problem = id_problem(i)  # what the readings file will be read back with
+        if problem is not None:
+            raise CadcogError(f"--points: {i[:40]!r}: {problem}")
+    try:
+        points = [point_of(i, known)[0] for i in ids]
+    except ValueError as exc:
+        raise CadcogError(f"--points: {exc} in {source}") from None
+    unknown = [i for i, p in zip(ids, points, strict=True) if p not in known]
     if unknown:
         raise CadcogError(f"--points: unknown point(s) {', '.join(unknown)} in {source}")
     check_distinct_ids(ids)
+    if len(set(points)) < 2:
+        raise CadcogError(
+            "--points: a point and its reversal hang alike: give at least two distinct points"
+        )
 
 
 @dataclass(frozen=True)

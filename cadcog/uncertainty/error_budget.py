@@ -186,6 +186,43 @@ def linearised_covariance(
     return np.asarray(bias), covs
 
 
+def _shared_row(model: ErrorModel) -> tuple[str, float, str]:
+    """The shared sensor row's description, and the σ of its first declared figure (offset,
+    else mounting, else sensitivity) with that figure's unit."""
+    terms = [
+        (name, text, sigma, unit)
+        for name, text, sigma, unit, declared in (
+            (
+                "zero offset",
+                f"zero offset U(±{model.sensor_offset_deg:g}°) per channel",
+                model.sensor_offset_deg / np.sqrt(3.0),
+                "deg per axis",
+                model.sensor_offset_deg,
+            ),
+            (
+                "mounting",
+                f"mounting within {model.mounting_misalignment_deg:g}°",
+                model.mounting_misalignment_deg / 3.0,
+                "deg per axis",
+                model.mounting_misalignment_deg,
+            ),
+            (
+                "sensitivity",
+                f"sensitivity U(±{model.sensor_scale_rel:g}) per channel",
+                model.sensor_scale_rel / np.sqrt(3.0),
+                "relative",
+                model.sensor_scale_rel,
+            ),
+        )
+        if declared
+    ]
+    if not terms:
+        return "none declared", 0.0, ""
+    name, _, sigma, unit = terms[0]
+    listed = ", ".join(t[1] for t in terms)
+    return f"one sensor for all hangs: {listed} (σ: the {name}'s)", float(sigma), unit
+
+
 def _rows(model: ErrorModel) -> tuple[str, ...]:
     """The budget's rows: every source, and the sensor's shared errors when declared."""
     return SOURCES + ((SHARED_SENSOR_ROW,) if model.has_shared_sensor else ())
@@ -228,13 +265,7 @@ def error_budget(
             "mm per axis",
         ),
         "wire_offset": _wire_row(model, lam, w, scenario.weight_n),
-        SHARED_SENSOR_ROW: (
-            f"one sensor for all hangs: zero offset U(±{model.sensor_offset_deg:g}°) and "
-            f"sensitivity U(±{model.sensor_scale_rel:g}) per channel, mounting within "
-            f"{model.mounting_misalignment_deg:g}° (σ: the offset's)",
-            model.sensor_offset_deg / np.sqrt(3.0),
-            "deg per axis",
-        ),
+        SHARED_SENSOR_ROW: _shared_row(model),
     }
     rows = []
     for s in _rows(model):

@@ -284,8 +284,15 @@ def test_a_reversal_is_guided_recorded_and_read_back(paper_rig, tmp_path):
     assert target.hangs[3].expected_x_deg == -target.hangs[2].expected_x_deg
     device = SimulatedDevice(target, DeviceSpec(), FAST, seed=12)
     out = tmp_path / "readings.csv"
+    # The plain hangs first (a file without the column), then the run with the reversal
+    # resumes it: the file gains the column, its earlier rows false.
+    plain = target_from_rig(rig, ["S1", "S2", "S3"])
+    _run(plain, out, SimulatedDevice(plain, DeviceSpec(), FAST, seed=12))
+    assert "sensor_turned" not in out.read_text()
     lines: list[str] = []
     result = _run(target, out, device, lines=lines)
+    assert result.resumed == ["S1", "S2", "S3"]
+    assert [h.id for h in result.hangs] == ["S3~"]
     assert all(h.outcome == "recorded" for h in result.hangs)
     assert any("[4/4] hang from S3~" in t and "TURNED 180°" in t for t in lines)
     header = next(ln for ln in out.read_text().splitlines() if ln.startswith("point_id"))

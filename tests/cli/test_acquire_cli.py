@@ -6,6 +6,7 @@ import json
 import os
 import threading
 import tty
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -117,6 +118,23 @@ def test_bad_options_are_refused(tmp_path, capsys):
     assert "--average-s must be positive" in capsys.readouterr().err
     assert main(["acquire", "--simulate", "--out", out, "--points", "S1,S9"]) == 2
     assert "unknown point(s) S9" in capsys.readouterr().err
+    # A reversal: of a known point only, and it does not count as a second point.
+    assert main(["acquire", "--simulate", "--out", out, "--points", "S1,S9~"]) == 2
+    assert "unknown point(s) S9~" in capsys.readouterr().err
+    assert main(["acquire", "--simulate", "--out", out, "--points", "S1,S1~"]) == 2
+    assert "a point and its reversal hang alike" in capsys.readouterr().err
+    assert main(["acquire", "--simulate", "--out", out, "--points", "S1,S2," + "x" * 200 + "~"]) == 2
+    assert "longer than 200 characters" in capsys.readouterr().err
+    assert not Path(out).exists()
+
+
+def test_an_id_that_is_both_a_point_and_a_reversal_is_refused(tmp_path):
+    from cadcog.bench.target import point_of
+
+    assert point_of("S1~", ["S1", "S2"]) == ("S1", True)
+    assert point_of("S1~", ["S1~", "S2"]) == ("S1~", False)
+    with pytest.raises(ValueError, match="both a point and the reversal of point 'S1'"):
+        point_of("S1~", ["S1", "S1~"])
 
 
 @pytest.mark.slow

@@ -80,7 +80,13 @@ def test_the_simulated_sensor_reads_what_its_definition_says(scenario, mems):
 
 
 @pytest.mark.parametrize(
-    ("hangs", "estimate_wire"), [((0, 1, 2, 3, 4, 5), False), ((0, 3), False), ((0, 2, 4, 5), True)]
+    ("hangs", "estimate_wire"),
+    [
+        ((0, 1, 2, 3, 4, 5), False),
+        ((0, 3), False),
+        ((0, 2, 4, 5), True),
+        ((0, 1, 2, 3, 4, 5, 0, 2, 4), False),  # nine: numpy's reductions reorder from eight
+    ],
 )
 def test_the_batch_fit_is_estimates_fit_test_by_test(scenario, mems, hangs, estimate_wire):
     """:func:`fit_shared_cog` over many campaigns gives each campaign's
@@ -108,11 +114,12 @@ def test_the_batch_fit_is_estimates_fit_test_by_test(scenario, mems, hangs, esti
         )  # fmt: skip
         np.testing.assert_allclose(batch[:, j], one.cog_mm, atol=1e-8)
     # Alone or in a batch, a campaign's estimate is the same to the bit.
-    alone = fit_shared_cog(
-        sub.points_mm.T[:, :, None], x_deg[:, :3], y_deg[:, :3], up[:, :3],
-        sub.normals.T[:, :, None], errors, wire, prior,
-    )  # fmt: skip
-    assert np.array_equal(alone, batch[:, :3])
+    for lo, hi in ((0, 3), (5, 6)):
+        alone = fit_shared_cog(
+            sub.points_mm.T[:, :, None], x_deg[:, lo:hi], y_deg[:, lo:hi], up[:, lo:hi],
+            sub.normals.T[:, :, None], errors, wire, prior,
+        )  # fmt: skip
+        assert np.array_equal(alone, batch[:, lo:hi])
 
 
 def test_shared_errors_widen_the_simulated_error_and_the_fit_recovers_part_of_it(scenario, mems):
@@ -150,6 +157,11 @@ def test_the_budget_row_of_the_shared_sensor_matches_a_simulation_of_it_alone(sc
         np.trace(covs[SHARED_SENSOR_ROW]) / np.trace(budget.cov_mm2)
     )
     assert SHARED_SENSOR_ROW not in {s.source for s in error_budget(scenario, mems.only()).sources}
+    # A mounting alone: its row says so and gives the mounting's σ (m/3 per component).
+    mount = replace(mems, sensor_offset_deg=0.0, sensor_scale_rel=0.0)
+    row = next(s for s in error_budget(scenario, mount).sources if s.source == SHARED_SENSOR_ROW)
+    assert row.sigma == pytest.approx(0.5 / 3) and row.share > 0.1
+    assert "mounting within 0.5°" in row.distribution and "offset" not in row.distribution
 
 
 def test_one_sensor_per_campaign_whatever_the_chunking_or_workers(scenario, mems):
