@@ -314,15 +314,29 @@ def measure_inertia(
     top, top_sigma = ctx.top_hinge_mm(weight_n)
     positions = np.array([s.position_mm for _, s in pairs], dtype=float)
     pivots, pivot_covs = ctx.pivots(positions, estimate.assembly_cog_mm, weight_n)
-    fits, records = [], []
-    for (sw, _), pivot in zip(pairs, pivots, strict=True):
+    fits, records, kept, dropped = [], [], [], []
+    for i, ((sw, _), pivot) in enumerate(zip(pairs, pivots, strict=True)):
         geo = HangGeometry(pivot, ctx.sensor_mm, ctx.swing.wire_length_mm, top, *ctx.signs)
         predicted = hang_modes(
             cad_assembly.inertia_kg_mm2, cad_assembly.mass_kg, cad_assembly.cog_mm, geo
         )
         n_modes = len(predicted.frequencies_hz)
-        fits.append(body_modes(fit_swing(sw, predicted.frequencies_hz), n_modes, sw.point_id))
+        try:  # a hang whose swing shows no body mode is left out, not the whole run
+            fit = body_modes(fit_swing(sw, predicted.frequencies_hz), n_modes, sw.point_id)
+        except DegenerateGeometryError as exc:
+            dropped.append(str(exc))
+            continue
+        fits.append(fit)
         records.append(sw.duration_s)
+        kept.append(i)
+    if len(kept) < 3:
+        raise DegenerateGeometryError(
+            f"{len(kept)} of {len(pairs)} hangs have a body mode to use, the whole tensor needs "
+            "three: " + "; ".join(dropped)
+        )
+    if dropped:
+        pairs = [pairs[i] for i in kept]
+        pivots, pivot_covs = pivots[kept], pivot_covs[kept]
     data = swing_data(fits, records, ctx.swing.frequency_model_rel)
     nuis = nuisances(
         object_mass_kg=object_mass_kg,
@@ -378,7 +392,7 @@ def measure_inertia(
     n_freq = len(data.frequencies_hz)
     chi2 = fit_chi2
     result_t = tensor(p_obj)
-    warnings = []
+    warnings = [f"{d}: this hang is left out of the tensor" for d in dropped]
     dof = n_freq - 6
     # The frequencies scatter more than their σ say: the σ the fit states cannot be trusted
     # as they are. The Birge ratio √(χ²/dof) (the Particle Data Group's scale factor) grows

@@ -123,7 +123,9 @@ def test_bad_options_are_refused(tmp_path, capsys):
     assert "unknown point(s) S9~" in capsys.readouterr().err
     assert main(["acquire", "--simulate", "--out", out, "--points", "S1,S1~"]) == 2
     assert "a point and its reversal hang alike" in capsys.readouterr().err
-    assert main(["acquire", "--simulate", "--out", out, "--points", "S1,S2," + "x" * 200 + "~"]) == 2
+    assert (
+        main(["acquire", "--simulate", "--out", out, "--points", "S1,S2," + "x" * 200 + "~"]) == 2
+    )
     assert "longer than 200 characters" in capsys.readouterr().err
     assert not Path(out).exists()
 

@@ -29,10 +29,12 @@ RIG = cadcog.load_rig()
 CTX = context_for_rig(RIG)
 
 
-def _campaign(seed: int, truth_object: MassProperties, ids=None, ctx_fit=None, odd=None):
+def _campaign(seed: int, truth_object: MassProperties, ids=None, ctx_fit=None, odd=None, still=()):
     """Hangs of the rig with the true object: exits off by the rig's play, noise-free settled
     readings, swings from the truth; estimated with ``ctx_fit`` (default the truth's). ``odd``
-    ``(i, factor)``: hang ``i`` swings with its inertia times ``factor`` (something moved)."""
+    ``(i, factor)``: hang ``i`` swings with its inertia times ``factor`` (something moved);
+    the hangs in ``still`` were not released swinging (their records: the settled readings and
+    0.02° of noise)."""
     rng = np.random.default_rng(seed)
     truth = combine([truth_object, *CTX.me_parts])
     weight = truth.mass_kg * 9.80665
@@ -52,12 +54,14 @@ def _campaign(seed: int, truth_object: MassProperties, ids=None, ctx_fit=None, o
         )
         geo = HangGeometry(actual, CTX.sensor_mm, CTX.swing.wire_length_mm, top)
         inertia = truth.inertia_kg_mm2 * (odd[1] if odd is not None and odd[0] == i else 1.0)
-        swings.append(
-            virtual_swing(
-                p.id, [r.inc_x_deg, r.inc_y_deg], inertia, truth.mass_kg,
-                truth.cog_mm, geo, rng, duration_s=40.0, rate_hz=25.0,
-            )
+        sw = virtual_swing(
+            p.id, [r.inc_x_deg, r.inc_y_deg], inertia, truth.mass_kg,
+            truth.cog_mm, geo, rng, duration_s=40.0, rate_hz=25.0,
         )  # fmt: skip
+        if i in still:
+            flat = np.array([r.inc_x_deg, r.inc_y_deg]) + rng.normal(0, 0.02, sw.inc_deg.shape)
+            sw = replace(sw, inc_deg=flat)
+        swings.append(sw)
     est = estimate_cog(
         sus,
         RIG.inclinometer,
@@ -145,3 +149,19 @@ def test_a_wrong_wire_length_is_absorbed_by_the_tensor_not_seen_by_the_chi2():
         assert r.consistency_p > 0.05 and r.sigma_scale < 1.2
         d = entries(r.inertia_kg_mm2) - entries(cad.inertia_kg_mm2)
         assert float(d @ np.linalg.solve(r.cov_kg2_mm4, d)) > 100.0
+
+
+def test_a_hang_without_a_swing_is_left_out_not_the_run():
+    """One hang released without a swing: the run goes on with the other five, says which
+    hang it left out and why; the tensor still covers the truth. With four such hangs the
+    tensor is refused, naming every one."""
+    cad = RIG.analytic_proof_mass
+    r = _campaign(4, cad, still=(1,))
+    assert [h.point_id for h in r.hangs] == ["S1", "S3", "S4", "S5", "S6"]
+    assert any(w.startswith("hang S2: no swing mode stands out") and "left out" in w
+               for w in r.warnings)  # fmt: skip
+    d = entries(r.inertia_kg_mm2) - entries(cad.inertia_kg_mm2)
+    assert float(d @ np.linalg.solve(r.cov_kg2_mm4, d)) < 22.5  # χ²₆'s 99.9 % quantile
+    with pytest.raises(DegenerateGeometryError, match="2 of 6 hangs have a body mode") as info:
+        _campaign(4, cad, still=(0, 1, 2, 3))
+    assert all(f"hang S{i}" in str(info.value) for i in (1, 2, 3, 4))
