@@ -75,6 +75,21 @@ ROWS = {
     r.name: r
     for r in (
         Row("rig6h", "paper rig S1-S6, L = 300 mm, ≤ 10°", "rig", RIG6, BASE),
+        # one wire per campaign (issue 31): an ideal string, or a stiff wire (EI 30 N·mm²)
+        Row(
+            "rig6h_flex",
+            "paper rig S1-S6, one flexible wire, L = 300 mm, ≤ 10°",
+            "rig",
+            RIG6,
+            replace(BASE, one_wire="flexible"),
+        ),
+        Row(
+            "rig6h_stiff",
+            "paper rig S1-S6, one stiff wire (EI 30 N·mm²), L = 300 mm, ≤ 10°",
+            "rig",
+            RIG6,
+            replace(BASE, one_wire="stiff"),
+        ),
         Row(
             "rig6h_small",
             "paper rig S1-S6, L = 300 mm, ≤ 2°",

@@ -115,8 +115,8 @@ def nuisances(
     me_cog_sigma_mm: Sequence[float],
     me_inertia_rel: float,
 ) -> Nuisances:
-    """Assemble the nuisance vector and its (block-diagonal) covariance; ``exit_cov_mm2`` is
-    each pivot's 3 × 3 covariance, shape (k, 3, 3)."""
+    """Assemble the nuisance vector and its covariance; ``exit_cov_mm2`` is each pivot's 3 × 3
+    covariance, shape (k, 3, 3), or the pivots' joint one, (3k, 3k) (a shared wire offset)."""
     exits = np.asarray(exits_mm, dtype=float).reshape(-1, 3)
     k, e = len(exits), len(me_parts)
     values = np.concatenate(
@@ -138,9 +138,13 @@ def nuisances(
     cov[5, 5] = top_hinge_sigma_mm**2
     cov[6:9, 6:9] = sensor_sigma_mm**2 * np.eye(3)
     i = 9
-    exit_cov = np.asarray(exit_cov_mm2, dtype=float).reshape(k, 3, 3)
-    for h in range(k):
-        cov[i + 3 * h : i + 3 * h + 3, i + 3 * h : i + 3 * h + 3] = exit_cov[h]
+    exit_cov = np.asarray(exit_cov_mm2, dtype=float)
+    if exit_cov.shape == (3 * k, 3 * k) and k:
+        cov[i : i + 3 * k, i : i + 3 * k] = exit_cov
+    else:
+        exit_cov = exit_cov.reshape(k, 3, 3)
+        for h in range(k):
+            cov[i + 3 * h : i + 3 * h + 3, i + 3 * h : i + 3 * h + 3] = exit_cov[h]
     i += 3 * k
     for j in range(e):
         cov[i + 3 * j : i + 3 * j + 3, i + 3 * j : i + 3 * j + 3] = me_cog_sigma_mm[

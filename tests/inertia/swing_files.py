@@ -15,7 +15,13 @@ hung body, each released, recorded and let settle:
   wire's hinge on the body is not the nominal exit but lies, per hang, uniformly in a
   ``play_mm`` square in the face plane around it and ``U(0, wire_offset_max_mm)`` out along the
   bolt axis (the rig's error model: bolt play, and the paper's wire model of the bending
-  stiffness as an outward hinge offset); the files give the nominal exit;
+  stiffness as an outward hinge offset); the files give the nominal exit. With ``one_wire``
+  ``"flexible"`` or ``"stiff"`` (issue 31: one wire hangs every hang) the campaign has **one**
+  wire: one free length ``N(L, σ_L)`` for all its hangs, and its hinge on the body at the exit
+  itself (an ideal string turns there) or, for a stiff wire of ``bending_stiffness_n_mm2``
+  under the hung weight, where its straight part's line meets the bolt axis, found by
+  integrating the elastica numerically (:func:`tests.validation.rig_campaigns.
+  elastica_virtual_offset_mm`, written without cadcog's wire model); the play stays per hang;
 - **sensor** (the rig's ``[inclinometer]`` and ``[error_model]``): the true angle
   ``asin(f_x/|f|)`` (:func:`swing_truth.inclinations_deg`), saturated at ±``range_deg``, plus a
   bias per hang and axis ``U(±accuracy_deg)``, plus white noise ``N(0, sensor_noise_deg)`` per
@@ -59,6 +65,8 @@ class SwingConfig:
     settled_samples: int = 15
     dt_s: float | None = None  # RK4 step; None: min(4 ms, 0.15/ω_max)
     hinge_errors: bool = True  # the rig error model's play and wire offset move the hinge
+    one_wire: str = ""  # "", "flexible" or "stiff": one wire per campaign (module docstring)
+    bending_stiffness_n_mm2: float = 30.0  # the stiff wire's EI
 
 
 @dataclass(frozen=True)
@@ -257,8 +265,11 @@ def simulate_campaigns(
     ids = list(point_ids if hang_ids is None else hang_ids)
     n_s = round(cfg.duration_s * cfg.sample_rate_hz)
     bodies, lengths, taus, y0, t_true, t0s = [], [], [], [], [], []
+    if cfg.one_wire not in ("", "flexible", "stiff"):
+        raise ValueError(f"one_wire must be '', 'flexible' or 'stiff', got {cfg.one_wire!r}")
     for rng in rngs:
         start_s = rng.uniform(5, 60)
+        campaign_length = max(rng.normal(cfg.wire_length_mm, cfg.wire_length_sigma_mm), 1.0)
         for pid in point_ids:
             hinge = truth.exit_of(pid)
             if cfg.hinge_errors:
@@ -267,16 +278,21 @@ def simulate_campaigns(
                 t1 /= np.linalg.norm(t1)
                 t2 = np.cross(n, t1)
                 a, b = rng.uniform(-0.5, 0.5, 2) * truth.play_mm
-                hinge = hinge + a * t1 + b * t2 + rng.uniform(0, truth.wire_offset_max_mm) * n
+                hinge = hinge + a * t1 + b * t2
+                if not cfg.one_wire:
+                    hinge = hinge + rng.uniform(0, truth.wire_offset_max_mm) * n
+                elif cfg.one_wire == "stiff":
+                    hinge = hinge + _stiff_offset_mm(truth, hinge, n, cfg) * n
             body = st.HungBody(
                 truth.body.mass_kg, truth.body.cog_mm, truth.body.inertia_kg_mm2, hinge,
                 truth.body.sensor_mm,
             )  # fmt: skip
-            length = (
-                0.0
-                if cfg.wire_length_mm == 0
-                else max(rng.normal(cfg.wire_length_mm, cfg.wire_length_sigma_mm), 1.0)
-            )
+            if cfg.wire_length_mm == 0:
+                length = 0.0
+            elif cfg.one_wire:
+                length = campaign_length
+            else:
+                length = max(rng.normal(cfg.wire_length_mm, cfg.wire_length_sigma_mm), 1.0)
             bodies.append(body)
             lengths.append(length)
             taus.append(rng.uniform(*cfg.decay_time_range_s))
@@ -354,3 +370,25 @@ def write_campaign(campaign: Sequence[HangRecord], swings: Path, readings: Path)
     """Write a campaign's swing file and readings CSV."""
     swings.write_text(swing_text(campaign), encoding="utf-8")
     readings.write_text(readings_text(campaign), encoding="utf-8")
+
+
+def _stiff_offset_mm(truth: Truth, exit_mm: FloatArray, n: FloatArray, cfg: SwingConfig) -> float:
+    """How far out along the bolt axis a stiff wire's straight part meets it: the elastica of
+    EI under the hung weight, integrated numerically, at this hang's equilibrium angle."""
+    import math
+
+    from tests.validation.rig_campaigns import elastica_virtual_offset_mm
+
+    g = truth.body.cog_mm
+    lam = math.sqrt(cfg.bending_stiffness_n_mm2 / (truth.body.mass_kg * 9.80665))
+    q = np.asarray(exit_mm, dtype=float)
+    off = 0.0
+    for _ in range(50):  # the hang's equilibrium: the angle and the offset agree
+        up = (q - g) / np.linalg.norm(q - g)
+        theta = math.acos(float(np.clip(up @ n, -1.0, 1.0)))
+        new = elastica_virtual_offset_mm(theta, lam)
+        if abs(new - off) < 1e-12:
+            break
+        off = new
+        q = np.asarray(exit_mm, dtype=float) + off * n
+    return off
