@@ -228,6 +228,8 @@ def run_session(
         say(f"resuming {out}: already recorded {', '.join(result.resumed)}")
     done = set(result.resumed)
     todo = [(i, h) for i, h in enumerate(target.hangs) if h.id not in done]
+    already = sum(h.id in done for h in target.hangs)  # of this plan (the file may hold others)
+    turned_before = bool(blocks) and blocks[-1].sensor_turned
     for n, (index, h) in enumerate(todo, 1):
         attempt = 0
         while True:
@@ -236,10 +238,10 @@ def run_session(
             turn = (
                 ", the sensor TURNED 180° on its mount (a reversal: docs/bench.md)"
                 if h.sensor_turned
-                else ""
+                else (", the sensor turned BACK to its normal orientation" if turned_before else "")
             )
             say(
-                f"\n[{len(done) + n}/{len(target.hangs)}] hang from {h.id} at "
+                f"\n[{already + n}/{len(target.hangs)}] hang from {h.id} at "
                 f"({h.position_mm[0]:g}, {h.position_mm[1]:g}, {h.position_mm[2]:g}) mm{turn}, "
                 f"inclinometer top face {face}; expect X ≈ {h.expected_x_deg:.1f}°, "
                 f"Y ≈ {h.expected_y_deg:.1f}°" + (f" (attempt {attempt})" if attempt > 1 else "")
@@ -292,6 +294,7 @@ def run_session(
             suspensions.append(new)
             result.hangs.append(report)
             say(f"  {h.id}: recorded {report.samples} samples in {out}")
+            turned_before = h.sensor_turned
             break
     result.link = recorder.stats.summary()
     if len(suspensions) >= 2:

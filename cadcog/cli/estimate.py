@@ -12,8 +12,7 @@ import numpy as np
 from cadcog.cli._table import text_table
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
-from cadcog.method.errormodel import ErrorModel
-from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
+from cadcog.method.estimate import CogEstimate, MEData, estimate_cog, estimate_for_rig
 from cadcog.method.readings import Suspension, read_readings
 from cadcog.rig.file import load_rig
 from cadcog.rig.inclinometer import InclinometerConfig
@@ -113,10 +112,7 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
         if any(v is not None for v in direct):
             raise CadcogError("give either --rig or --object-mass-kg/--me-mass-kg/--me-cog-mm")
         rig = load_rig(args.rig)
-        me = MEData.from_rig(rig)
-        if args.weighed_mass_kg is not None:
-            me = me.weighed(args.weighed_mass_kg, args.mass_sigma_kg)
-        return me, rig.inclinometer, rig
+        return None, rig.inclinometer, rig  # the rig's estimate composes its own ME data
     if args.weighed_mass_kg is not None:
         raise CadcogError(
             "--weighed-mass-kg goes with --setup or --rig (with the ME given on the command "
@@ -161,11 +157,22 @@ def run(args: argparse.Namespace) -> int:
     me, config, rig = _me_data(args)
     suspensions = read_readings(args.readings, config)
     if rig is None:
-        result = _estimate(args, suspensions, config, me, None, None)
+        result = _estimate(args, suspensions, config, me)
     else:
-        result = _estimate(
-            args, suspensions, config, me, ErrorModel.from_rig(rig), BodyBox.of_rig(rig)
-        )
+        try:
+            result = estimate_for_rig(
+                rig,
+                suspensions,
+                weighed_mass_kg=args.weighed_mass_kg,
+                mass_sigma_kg=args.mass_sigma_kg,
+                wire_correction=args.wire_correction is not False,
+                self_calibrate=args.self_calibrate_wire,
+                angle_sigma_deg=args.angle_sigma_deg,
+                point_sigma_mm=args.point_sigma_mm,
+                min_angle_deg=args.min_angle_deg,
+            )
+        except ValueError as exc:  # bad combinations of options and data
+            raise CadcogError(f"{args.readings}: {exc}") from None
     return _emit(result, args.json)
 
 
@@ -174,17 +181,14 @@ def _estimate(
     suspensions: list[Suspension],
     config: InclinometerConfig,
     me: MEData | None,
-    model: ErrorModel | None,
-    body: BodyBox | None,
 ) -> CogEstimate:
-    """:func:`estimate_cog` with the command's options; its refusals become user errors."""
+    """:func:`estimate_cog` without a rig or a set-up (the ME, if any, from the command line),
+    with the command's options; its refusals become user errors."""
     try:
         return estimate_cog(
             suspensions,
             config,
             me,
-            model=model,
-            body=body,
             wire_correction=args.wire_correction is not False,
             self_calibrate=args.self_calibrate_wire,
             angle_sigma_deg=args.angle_sigma_deg,

@@ -575,14 +575,13 @@ class ErrorModel:
                 f"elastica wire (EI {self.wire_bending_stiffness_n_mm2:g} N·mm² "
                 f"±{self.wire_stiffness_rel_uncertainty:.0%})"
             )
+        incl += f", mean of {self.samples}"
         if self.has_shared_sensor:
             incl += (
-                f"; shared by the hangs: offset ±{self.sensor_offset_deg:g}°, "
+                f"; one sensor for every hang: offset ±{self.sensor_offset_deg:g}°, "
                 f"scale ±{self.sensor_scale_rel:.1%}, mounting {self.mounting_misalignment_deg:g}°"
             )
         off = [s for s in SOURCES if s not in self.sources]
         tail = f"; off: {', '.join(off)}" if off else ""
-        return (
-            f"{self.inclinometer_model} model: {incl}, mean of {self.samples}; "
-            f"play {self.play_mm:g} mm square; {wire}{tail}"
-        )
+        play = f"play {self.play_mm:g} mm square"
+        return f"{self.inclinometer_model} model: {incl}; {play}; {wire}{tail}"

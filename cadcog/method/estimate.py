@@ -351,6 +351,14 @@ def estimate_cog(
         raise ValueError("self-calibration of the wire needs the bolt axes (a rig or a set-up)")
     v = suspension_verticals(suspensions, cfg)
     warnings = _reading_warnings(suspensions, v.normalized, cfg)
+    ids = {s.id for s in suspensions}
+    for s in suspensions:
+        if s.id.endswith("~") and s.id[:-1] in ids and not s.sensor_turned:
+            warnings.append(
+                f"suspension {s.id} is named as the reversal of {s.id[:-1]} but is read as a "
+                "plain hang: give the readings a sensor_turned column, true on its rows "
+                "(docs/estimate.md)"
+            )
     weight_n = None if me is None else (me.object_mass_kg + me.me_mass_kg) * STANDARD_GRAVITY_M_S2
     if body is not None:
         normals = body.normals(suspensions)
@@ -564,11 +572,15 @@ def _joint_with_shared_sensor(
         if prior > 0 and not c
     ]
     if carried:
+        hint = (
+            ""
+            if any(s.sensor_turned for s in suspensions)
+            else "; a reversal calibrates the offsets: docs/bench.md"
+        )
         warnings.append(
             "these hangs do not calibrate the sensor's shared "
             f"{', '.join(carried)}: what is left of their declared figures is carried into "
-            "the CoG's σ (docs/estimate.md: what one sensor shares across the hangs; a "
-            "reversal calibrates the offsets: docs/bench.md)"
+            f"the CoG's σ (docs/estimate.md: what one sensor shares across the hangs{hint})"
         )
     return joint, fit.verticals, fit.to_dict()
 
@@ -624,14 +636,19 @@ def estimate_for_rig(
     mass_sigma_kg: float = 0.001,
     wire_correction: bool = True,
     self_calibrate: bool = False,
+    angle_sigma_deg: float | None = None,
+    point_sigma_mm: float | None = None,
+    min_angle_deg: float = tolerances.MIN_PAIR_ANGLE_DEG,
 ) -> CogEstimate:
     """The rig's compensated CoG, as ``cadcog estimate --rig`` computes it: its inclinometer,
     error model, bolt axes and measurement equipment, the object's weighed mass
-    (± ``mass_sigma_kg``) when given, else the rig's."""
+    (± ``mass_sigma_kg``) when given, else the rig's; a warning when a hang is from none of the
+    rig's suspension points (readings of another object). The other options are
+    :func:`estimate_cog`'s."""
     me = MEData.from_rig(rig)
     if weighed_mass_kg is not None:
         me = me.weighed(weighed_mass_kg, mass_sigma_kg)
-    return estimate_cog(
+    result = estimate_cog(
         suspensions,
         rig.inclinometer,
         me,
@@ -639,4 +656,20 @@ def estimate_for_rig(
         body=BodyBox.of_rig(rig),
         wire_correction=wire_correction,
         self_calibrate=self_calibrate,
+        angle_sigma_deg=angle_sigma_deg,
+        point_sigma_mm=point_sigma_mm,
+        min_angle_deg=min_angle_deg,
+    )
+    exits = [rig.wire_exit_mm(p) for p in rig.suspension_points]
+    foreign = [s.id for s in suspensions if not any(same_point(s.position_mm, e) for e in exits)]
+    if not foreign:
+        return result
+    return replace(
+        result,
+        warnings=(
+            *result.warnings,
+            f"suspension(s) {', '.join(foreign)} hang from none of rig {rig.name!r}'s "
+            "suspension points (their wire exits): is this the rig these readings were taken "
+            "on? (a spacecraft's readings take --setup)",
+        ),
     )

@@ -9,12 +9,12 @@ Format (``docs/estimate.md``)::
 frame. Instead of ``inc_x_deg, inc_y_deg`` a file may give raw ADC readings
 ``inc_x_counts, inc_y_counts``, converted by the configured
 :class:`~cadcog.rig.inclinometer.SensorModel`.
-``top_face_up`` is true/false/1/0. An optional column ``sensor_turned`` (true/false/1/0, false
-when absent) marks a hang read with the sensor turned 180° on its mount (a reversal, which
-cancels the sensor's zero offset: docs/bench.md); a reversal is its own ``point_id`` at the
-same position. Rows with the same ``point_id`` are samples of one suspension
-and are averaged. Blank lines and lines starting with ``#`` are skipped; extra columns are
-ignored. Every error names the file and the line.
+``top_face_up`` is true/false/1/0. An optional column ``sensor_turned`` (true/false/1/0 on
+every row when present; false for every hang when absent) marks a hang read with the sensor
+turned 180° on its mount (a reversal, which cancels the sensor's zero offset: docs/bench.md); a
+reversal is its own ``point_id`` at the same position. Rows with the same ``point_id`` are
+samples of one suspension and are averaged. Blank lines and lines starting with ``#`` are
+skipped; extra columns are ignored. Every error names the file and the line.
 
 The file is read row by row and each suspension is kept as running sums (Welford's mean and
 variance), so memory does not grow with the number of samples; a line longer than
@@ -335,7 +335,7 @@ def _read_groups(
                     line,
                     f"column top_face_up: expected true, false, 1 or 0, got {raw_flag.strip()!r}",
                 )
-            turned = _BOOLS.get(raw_turned.strip().lower()) if raw_turned.strip() else False
+            turned = _BOOLS.get(raw_turned.strip().lower()) if TURNED_COLUMN in col else False
             if turned is None:
                 raise fail(
                     line,

@@ -18,10 +18,13 @@ def check_distinct_ids(ids: Sequence[str]) -> None:
     Examples
     --------
     >>> check_distinct_ids(["S1", "S2"])
-    >>> check_distinct_ids(["S1", "S1"])
+    >>> check_distinct_ids(["S1"])
     Traceback (most recent call last):
     ...
     cadcog.core.errors.CadcogError: --points: give at least two distinct point ids
     """
-    if len(set(ids)) != len(ids) or len(ids) < 2:
+    twice = sorted({i for i in ids if list(ids).count(i) > 1})
+    if twice:
+        raise CadcogError(f"--points: {', '.join(twice)} given more than once: each point once")
+    if len(ids) < 2:
         raise CadcogError("--points: give at least two distinct point ids")

@@ -92,6 +92,10 @@ def acquire_target(
             if rec is None:
                 raise CadcogError(f"{setup.source}: no usable set of suspension points")
             ids = list(rec["points"])
+            say(
+                f"planned: hang from {', '.join(ids)} (predicted 95 % error "
+                f"{float(rec['q95_mm']):.3f} mm)"
+            )
             rev = planned.reversal
             if rev is not None and rev.advised:
                 ids.append(rev.point + REVERSAL_SUFFIX)

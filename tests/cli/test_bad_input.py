@@ -641,7 +641,7 @@ CASES = [
     Case(
         "campaign-setup-repeated-point",
         ["campaign", "--setup", "s.toml", "--points", "Z1,Z1", "--out", "o.csv"],
-        r"--points: give at least two distinct point ids",
+        r"--points: Z1 given more than once: each point once",
         {"s.toml": SETUP},
     ),
     Case(

@@ -36,6 +36,21 @@ def test_rig_compensation_recovers_the_proof_mass_cog(tmp_path, capsys, paper_ri
     assert np.all(np.diag(cov) > np.diag(out["assembly_cov_mm2"]))
 
 
+def test_readings_of_another_object_under_a_rig_are_warned_about(capsys, paper_rig):
+    """The example spacecraft's readings estimated with the paper rig (a wrong --rig): the
+    numbers are the rig's object's, and the command says the hangs are none of its points."""
+    from cadcog.rig.file import default_rig_path
+
+    examples = default_rig_path().parents[1] / "docs" / "examples"
+    out, err = _run_json(capsys, str(examples / "cubesat_3u_readings.csv"), "--rig",
+                         str(paper_rig.source))  # fmt: skip
+    assert any("hang from none of rig 'paper_rig'" in w for w in out["warnings"])
+    assert "--setup" in err
+    out, _ = _run_json(capsys, str(examples / "paper_rig_readings.csv"), "--rig",
+                       str(paper_rig.source))  # fmt: skip
+    assert not any("none of rig" in w for w in out["warnings"])
+
+
 def test_direct_me_values_equal_the_rig_path(tmp_path, capsys, paper_rig):
     csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig, wire_offset_mm=0.0))
     me = paper_rig.analytic_me

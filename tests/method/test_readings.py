@@ -35,7 +35,7 @@ def test_comments_blank_lines_and_extra_columns_are_ignored(tmp_path):
 
 
 def test_a_reversal_is_read_as_a_hang_of_its_own_with_its_angles_negated(tmp_path):
-    """``sensor_turned``: optional (false when absent or empty); a turned hang's vertical is
+    """``sensor_turned``: optional (false when absent); a turned hang's vertical is
     that of the negated angles (no shared figures: the offset is not modelled)."""
     from cadcog.method.readings import suspension_verticals
 
@@ -107,6 +107,12 @@ BAD = [
         "line 6: column sensor_turned: expected true, false, 1 or 0, got 'half'",
     ),
     (
+        "empty turn flag",
+        HEADER + ",sensor_turned",
+        [f"{r},false" for r in ROWS] + ["S2~,100,0,0,30,0,false,"],
+        "line 6: column sensor_turned: expected true, false, 1 or 0, got ''",
+    ),
+    (
         "turned and not",
         HEADER + ",sensor_turned",
         [f"{r},false" for r in ROWS] + ["S2,100,0,0,30,0,false,true"],
@@ -148,3 +154,20 @@ def test_a_fifo_is_refused_without_waiting_for_a_writer(tmp_path):
     os.mkfifo(fifo)  # opening it for reading would block until a writer comes
     with pytest.raises(ReadingsError, match=r"pipe\.csv: is a FIFO \(named pipe\), expected"):
         read_readings(fifo)
+
+
+def test_a_reversal_id_without_its_flag_is_warned_about(tmp_path):
+    """``S2~`` at S2's position with no ``sensor_turned`` column is read as a plain hang, as the
+    format says, and the estimate says what is missing."""
+    from cadcog.method.estimate import estimate_cog
+
+    rows = [*ROWS, "S2~,100,0,0,30.0,0.0,false", "S3,0,100,0,0.0,-30.0,false"]
+    est = estimate_cog(read_readings(write_csv(tmp_path / "r.csv", rows)))
+    assert any("S2~ is named as the reversal of S2 but is read as a plain hang" in w
+               for w in est.warnings)  # fmt: skip
+    flagged = rows[:4] + [f"{r},true" if r.startswith("S2~") else f"{r},false" for r in rows[4:]]
+    flagged = [f"{r},false" for r in rows[:4]] + flagged[4:]
+    est = estimate_cog(
+        read_readings(write_csv(tmp_path / "f.csv", flagged, HEADER + ",sensor_turned"))
+    )
+    assert not any("named as the reversal" in w for w in est.warnings)

@@ -242,7 +242,7 @@ def test_shared_sensor_figures_reach_the_error_model(tmp_path):
     np.testing.assert_allclose(
         m.shared_sensor_sigmas, [0.3 / 3**0.5] * 2 + [0.01 / 3**0.5] * 2 + [0.2] * 3
     )
-    assert "shared by the hangs: offset ±0.3°" in m.summary()
+    assert "mean of 10; one sensor for every hang: offset ±0.3°" in m.summary()
     assert m.paper().has_shared_sensor is False
 
 
