@@ -494,9 +494,10 @@ def _loo_statistic(
 ) -> float:
     """χ²₂ statistic of line ``i`` against the estimate of the other ``active`` lines."""
     o = [j for j in active if j != i]
-    x, cov, lam, var, cxl, _ = gls.solve_lines(
-        points_mm[:, o], u[:, o], normals[:, o], shape[o], weights[:, o], wire
-    )
+    with np.errstate(divide="ignore", invalid="ignore"):  # parallel others: checked below
+        x, cov, lam, var, cxl, _ = gls.solve_lines(
+            points_mm[:, o], u[:, o], normals[:, o], shape[o], weights[:, o], wire
+        )
     if not np.all(np.isfinite(x)) or (not wire.fixed and not np.isfinite(var[0])):
         return 0.0  # the others do not determine an estimate: nothing to test against
     n, f = normals[:, i, 0], float(shape[i, 0])

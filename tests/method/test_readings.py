@@ -156,6 +156,7 @@ def test_a_fifo_is_refused_without_waiting_for_a_writer(tmp_path):
         read_readings(fifo)
 
 
+@pytest.mark.filterwarnings("error")  # a point and its reversal hang alike: no numpy warning
 def test_a_reversal_id_without_its_flag_is_warned_about(tmp_path):
     """``S2~`` at S2's position with no ``sensor_turned`` column is read as a plain hang, as the
     format says, and the estimate says what is missing."""
