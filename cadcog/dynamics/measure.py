@@ -30,7 +30,7 @@ from cadcog.dynamics.result import (
     bilinear_gradient,
     principal_with_sigma,
 )
-from cadcog.dynamics.swingfile import Swing
+from cadcog.dynamics.swingfile import MIN_SAMPLES, Swing
 from cadcog.dynamics.tensorfit import (
     ENTRIES,
     Nuisances,
@@ -363,6 +363,12 @@ def measure_inertia(
             cad_assembly.inertia_kg_mm2, cad_assembly.mass_kg, cad_assembly.cog_mm, geo
         )
         n_modes = len(predicted.frequencies_hz)
+        if len(sw.t_s) < MIN_SAMPLES:
+            dropped.append(
+                f"hang {sw.point_id}: {len(sw.t_s)} swing samples, the fit needs "
+                f"{MIN_SAMPLES} (record from the release until it settles)"
+            )
+            continue
         try:  # a hang whose swing shows no body mode is left out, not the whole run
             fit = body_modes(fit_swing(sw, predicted.frequencies_hz), n_modes, sw.point_id)
         except DegenerateGeometryError as exc:

@@ -79,7 +79,8 @@ def read_swings(path: str | Path) -> list[Swing]:
     ReadingsError
         Naming the file and line: missing columns, a non-numeric or non-finite value, an angle
         beyond ±90°, time not increasing within a hang, a hang's rows split in two blocks, a
-        hang with fewer than :data:`MIN_SAMPLES` samples, an empty file.
+        hang of a single sample, an empty file. (A hang with fewer than :data:`MIN_SAMPLES` is
+        read: ``cadcog inertia`` leaves it out of the tensor and says so.)
     """
     p = Path(path)
     if not p.is_file():
@@ -155,11 +156,11 @@ def read_swings(path: str | Path) -> list[Swing]:
         raise ReadingsError(f"{p}: no samples after the header")
     out = []
     for pid, (first, ts, xs, ys) in blocks.items():
-        if len(ts) < MIN_SAMPLES:
+        if len(ts) < 2:
             raise fail(
                 first,
-                f"hang {quote(pid)} has {len(ts)} samples, expected at least {MIN_SAMPLES} "
-                "(record the swing from release to settle)",
+                f"hang {quote(pid)} has 1 sample, expected a swing (at least {MIN_SAMPLES} "
+                "samples from release to settle)",
             )
         out.append(Swing(pid, np.array(ts), np.column_stack([xs, ys]), first))
     return out

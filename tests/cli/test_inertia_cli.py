@@ -57,7 +57,7 @@ def test_text_names_the_convention_and_the_budget(campaign, capsys):
     ("edit", "match"),
     [
         (lambda s: s.replace("point_id,t_s", "point,t_s"), r"s\.csv, line 1: missing column"),
-        (lambda s: s.replace("S2,", "S9,", 1), r"hang 'S9' has 1 samples"),
+        (lambda s: s.replace("S2,", "S9,", 1), r"hang 'S9' has 1 sample, expected a swing"),
     ],
 )
 def test_bad_swing_files_exit_2_naming_file_and_line(campaign, tmp_path, capsys, edit, match):

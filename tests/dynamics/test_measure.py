@@ -29,12 +29,14 @@ RIG = cadcog.load_rig()
 CTX = context_for_rig(RIG)
 
 
-def _campaign(seed: int, truth_object: MassProperties, ids=None, ctx_fit=None, odd=None, still=()):
+def _campaign(
+    seed: int, truth_object: MassProperties, ids=None, ctx_fit=None, odd=None, still=(), short=()
+):
     """Hangs of the rig with the true object: exits off by the rig's play, noise-free settled
     readings, swings from the truth; estimated with ``ctx_fit`` (default the truth's). ``odd``
     ``(i, factor)``: hang ``i`` swings with its inertia times ``factor`` (something moved);
     the hangs in ``still`` were not released swinging (their records: the settled readings and
-    0.02° of noise)."""
+    0.02° of noise); those in ``short`` stopped after 150 samples."""
     rng = np.random.default_rng(seed)
     truth = combine([truth_object, *CTX.me_parts])
     weight = truth.mass_kg * 9.80665
@@ -63,6 +65,8 @@ def _campaign(seed: int, truth_object: MassProperties, ids=None, ctx_fit=None, o
         if i in still:
             flat = np.array([r.inc_x_deg, r.inc_y_deg]) + rng.normal(0, 0.02, sw.inc_deg.shape)
             sw = replace(sw, inc_deg=flat)
+        if i in short:  # the record stopped early
+            sw = replace(sw, t_s=sw.t_s[:150], inc_deg=sw.inc_deg[:150])
         swings.append(sw)
     est = estimate_cog(
         sus,
@@ -170,6 +174,10 @@ def test_a_hang_without_a_swing_is_left_out_not_the_run():
                for w in r.warnings)  # fmt: skip
     d = entries(r.inertia_kg_mm2) - entries(cad.inertia_kg_mm2)
     assert float(d @ np.linalg.solve(r.cov_kg2_mm4, d)) < 22.5  # χ²₆'s 99.9 % quantile
+    # A hang cut short (a record that stopped after 150 samples) is left out the same way.
+    r = _campaign(4, cad, short=(4,))
+    assert [h.point_id for h in r.hangs] == ["S1", "S2", "S3", "S4", "S6"]
+    assert any(w.startswith("hang S5: 150 swing samples, the fit needs 200") for w in r.warnings)
     with pytest.raises(DegenerateGeometryError, match="2 of 6 hangs have a body mode") as info:
         _campaign(4, cad, still=(0, 1, 2, 3))
     assert all(f"hang S{i}" in str(info.value) for i in (1, 2, 3, 4))

@@ -55,7 +55,7 @@ def test_extra_columns_and_comments_are_allowed(tmp_path):
         ),
         (
             "point_id,t_s,inc_x_deg,inc_y_deg\nS1,0,1,2\n",
-            r"line 2: hang 'S1' has 1 samples, expected at least",
+            r"line 2: hang 'S1' has 1 sample, expected a swing",
         ),
         ("", r"empty file"),
         ("point_id,t_s,inc_x_deg,inc_y_deg\n,0,1,2\n", r"line 2: column point_id: '' is empty"),
