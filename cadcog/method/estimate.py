@@ -417,7 +417,7 @@ def estimate_cog(
         if frozenset((a, b)) in reversal_pairs:
             continue  # a point and its reversal hang alike: that is the point of a reversal
         warnings.append(
-            f"pair {a}-{b}: plumb lines meet at {angle:.2f}° (< {min_angle_deg:g}°), "
+            f"pair {a} & {b}: plumb lines meet at {angle:.2f}° (< {min_angle_deg:g}°), "
             "ill-conditioned; left out of the pair table"
         )
     for r in joint.residuals:

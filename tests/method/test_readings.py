@@ -172,3 +172,8 @@ def test_a_reversal_id_without_its_flag_is_warned_about(tmp_path):
         read_readings(write_csv(tmp_path / "f.csv", flagged, HEADER + ",sensor_turned"))
     )
     assert not any("named as the reversal" in w for w in est.warnings)
+    assert not any("S2 & S2~" in w for w in est.warnings)  # a reversal pair hangs alike
+    # Two plain hangs alike are an ill-conditioned pair, and the warning says which.
+    twice = [*ROWS, "S2b,100,0,0,-30.0,0.0,false", "S3,0,100,0,0.0,-30.0,false"]
+    est = estimate_cog(read_readings(write_csv(tmp_path / "t.csv", twice)))
+    assert any(w.startswith("pair S2 & S2b: plumb lines meet at 0.00°") for w in est.warnings)
