@@ -56,6 +56,10 @@ RIG6 = ("S1", "S2", "S3", "S4", "S5", "S6")
 CUBESAT_PLAN = ("+x_-30_-30", "-x_30_-30", "+y_30_-30", "-y_-30_-30")
 #: `cadcog plan parts/cubesat_3u_setup.toml --for inertia` (default seed; 2026-11-23, main 7ca6abd).
 CUBESAT_INERTIA_PLAN = ("+x_-30_90", "+x_30_-150", "-x_-30_-150", "+y_30_-150", "-y_30_-90")
+#: What `cadcog plan parts/cubesat_3u_setup.toml --for inertia` recommends on 2026-11-26.
+CUBESAT_INERTIA_PLAN6 = (
+    "+x_-30_-150", "+x_-30_90", "+y_-30_-150", "+y_30_-30", "-y_-30_-150", "-y_-30_-30",
+)  # fmt: skip
 CHI2_6_95 = float(stats.chi2.ppf(0.95, 6))
 
 
@@ -67,6 +71,7 @@ class Row:
     points: tuple[str, ...]
     config: sf.SwingConfig
     hang_ids: tuple[str, ...] | None = None
+    weighed: bool = False  # the object weighed (its true mass, a 1 g scale error per campaign)
 
 
 BASE = sf.SwingConfig()
@@ -82,6 +87,21 @@ ROWS = {
             "rig",
             RIG6,
             replace(BASE, one_wire="flexible"),
+        ),
+        Row(
+            "rig6h_L100_flex",
+            "paper rig S1-S6, one flexible wire, L = 100 mm, ≤ 10°",
+            "rig",
+            RIG6,
+            replace(BASE, one_wire="flexible", wire_length_mm=100.0),
+        ),
+        Row(
+            "cubesat_ih_flex",
+            "3U CubeSat, plan --for inertia's 6 hangs, one flexible wire, weighed, ≤ 10°",
+            "setup",
+            CUBESAT_INERTIA_PLAN6,
+            replace(BASE, one_wire="flexible"),
+            weighed=True,
         ),
         Row(
             "rig6h_stiff",
@@ -277,7 +297,12 @@ def estimate_row(row: Row, use_placeholder: bool, limit: int | None) -> None:
                 if use_placeholder:
                     res = er.placeholder(truth, rng)
                 else:
-                    res = er.run_estimator(sw, rd, params, row.source)
+                    extra: tuple[str, ...] = ()
+                    if row.weighed:  # a scale of 1 g: the true mass plus its error
+                        scale_rng = np.random.default_rng([7, seed])  # the same on a resume
+                        mass = truth.object_mass_kg + scale_rng.normal(0.0, 0.001)
+                        extra = ("--weighed-mass-kg", f"{mass:.6f}", "--mass-sigma-kg", "0.001")
+                    res = er.run_estimator(sw, rd, params, row.source, extra)
                 entry: dict[str, Any] = {"seed": seed, **er.score(res, truth)}
             except (RuntimeError, SystemExit, ValueError) as exc:
                 entry = {"seed": seed, "error": str(exc) or type(exc).__name__}

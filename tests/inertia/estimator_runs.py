@@ -55,13 +55,17 @@ def parameter_file(
     return out
 
 
-def run_estimator(swings: Path, readings: Path, params: Path, kind: str) -> dict[str, Any]:
-    """``cadcog inertia SWINGS --readings READINGS (--rig|--setup) PARAMS --json``, in-process."""
+def run_estimator(
+    swings: Path, readings: Path, params: Path, kind: str, extra: tuple[str, ...] = ()
+) -> dict[str, Any]:
+    """``cadcog inertia SWINGS --readings READINGS (--rig|--setup) PARAMS --json [EXTRA]``,
+    in-process."""
     from cadcog.cli._main import main
 
     option = "--rig" if kind == "rig" else "--setup"
     buf, err = io.StringIO(), io.StringIO()
     argv = ["inertia", str(swings), "--readings", str(readings), option, str(params), "--json"]
+    argv += list(extra)
     with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(err):
         code = main(argv)
     if code not in (0, None):
