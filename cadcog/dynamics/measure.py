@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
+from scipy.stats import chi2 as chi2_dist
 
 from cadcog.core.errors import DegenerateGeometryError, ReadingsError
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
@@ -33,8 +34,11 @@ from cadcog.dynamics.result import (
 from cadcog.dynamics.swingfile import MIN_SAMPLES, Swing
 from cadcog.dynamics.tensorfit import (
     ENTRIES,
+    Geometry,
     Nuisances,
+    SwingData,
     compensate,
+    deleted_chi2,
     direct_jacobian,
     entries,
     fit_tensor,
@@ -386,31 +390,105 @@ def measure_inertia(
         pairs = [pairs[i] for i in kept]
         rows = np.array([3 * i + a for i in kept for a in range(3)])
         pivots, pivot_cov = pivots[kept], pivot_cov[np.ix_(rows, rows)]
-    data = swing_data(fits, records, ctx.swing.frequency_model_rel)
-    nuis = nuisances(
-        object_mass_kg=object_mass_kg,
-        object_mass_sigma_kg=object_mass_sigma_kg,
-        cog_mm=estimate.assembly_cog_mm,
-        cog_cov_mm2=estimate.joint.cov_mm2,
-        wire_length_mm=ctx.swing.wire_length_mm,
-        wire_length_sigma_mm=ctx.swing.wire_length_sigma_mm,
-        top_hinge_mm=top,
-        top_hinge_sigma_mm=top_sigma,
-        sensor_mm=ctx.sensor_mm,
-        sensor_sigma_mm=ctx.swing.sensor_position_sigma_mm,
-        exits_mm=pivots,
-        exit_cov_mm2=pivot_cov,
-        me_parts=ctx.me_parts,
-        me_cog_sigma_mm=ctx.me_cog_sigma_mm,
-        me_inertia_rel=ctx.swing.me_inertia_rel,
-    )
-    geo0 = hang_geometry(nuis, nuis.values, me_mass, ctx.signs)
-    # Two steps: weighed by the frequencies' own covariance, then by that plus what the
-    # nuisances do to the modelled frequencies (efficient weights; the χ²'s reference).
-    p_first, _ = fit_tensor(data, geo0, start)
-    m_v = model_nuisance_jacobian(p_first, data, nuis, me_mass, ctx.signs)
-    data = reweighted(data, m_v, nuis.cov)
-    p_asm, gain = fit_tensor(data, geo0, p_first)
+
+    def fit_all(
+        fits: list[ModalFit], records: list[float], pivots: FloatArray, pivot_cov: FloatArray
+    ) -> tuple[SwingData, Nuisances, Geometry, FloatArray, FloatArray]:
+        data = swing_data(fits, records, ctx.swing.frequency_model_rel)
+        nuis = nuisances(
+            object_mass_kg=object_mass_kg,
+            object_mass_sigma_kg=object_mass_sigma_kg,
+            cog_mm=estimate.assembly_cog_mm,
+            cog_cov_mm2=estimate.joint.cov_mm2,
+            wire_length_mm=ctx.swing.wire_length_mm,
+            wire_length_sigma_mm=ctx.swing.wire_length_sigma_mm,
+            top_hinge_mm=top,
+            top_hinge_sigma_mm=top_sigma,
+            sensor_mm=ctx.sensor_mm,
+            sensor_sigma_mm=ctx.swing.sensor_position_sigma_mm,
+            exits_mm=pivots,
+            exit_cov_mm2=pivot_cov,
+            me_parts=ctx.me_parts,
+            me_cog_sigma_mm=ctx.me_cog_sigma_mm,
+            me_inertia_rel=ctx.swing.me_inertia_rel,
+        )
+        geo0 = hang_geometry(nuis, nuis.values, me_mass, ctx.signs)
+        # Two steps: weighed by the frequencies' own covariance, then by that plus what the
+        # nuisances do to the modelled frequencies (efficient weights; the χ²'s reference).
+        p_first, _ = fit_tensor(data, geo0, start)
+        m_v = model_nuisance_jacobian(p_first, data, nuis, me_mass, ctx.signs)
+        data = reweighted(data, m_v, nuis.cov)
+        p_asm, gain = fit_tensor(data, geo0, p_first)
+        return data, nuis, geo0, p_asm, gain
+
+    state = fit_all(fits, records, pivots, pivot_cov)
+    mode_notes: list[str] = []
+    # Frequencies the others contradict are left out, the least likely first, while that is
+    # beyond the Bonferroni quantile and a check remains (one dof or more after it, three
+    # hangs): a single mode (a weak mode fitted off: docs/inertia.md) or a whole hang (its
+    # swing off as a whole: something moved), whichever the data reject more strongly.
+    while True:
+        data, _, geo0, p_asm, _ = state
+        n = len(data.frequencies_hz)
+        starts = np.cumsum([0] + [len(f.frequencies_hz) for f in fits])
+        candidates: list[tuple[tuple[int, int], ...]] = [
+            ((hi, j),) for hi in range(len(fits)) for j in range(len(fits[hi].frequencies_hz))
+        ]
+        candidates += [
+            tuple((hi, j) for j in range(len(fits[hi].frequencies_hz)))
+            for hi in range(len(fits))
+            if len(fits[hi].frequencies_hz) > 1
+        ]
+        candidates = [
+            c for c in candidates
+            if n - len(c) - 6 >= 1 and (len(c) < len(fits[c[0][0]].frequencies_hz) or len(fits) > 3)
+        ]  # fmt: skip
+        if not candidates:
+            break
+        d = deleted_chi2(
+            p_asm, data, geo0, [[int(starts[h]) + j for h, j in c] for c in candidates]
+        )
+        pv = np.array([chi2_dist.sf(x, len(c)) for x, c in zip(d, candidates, strict=True)])
+        best = int(np.argmin(pv))
+        if not pv[best] < MODE_OUTLIER_P / len(candidates):
+            break
+        hi = candidates[best][0][0]
+        drop = {j for _, j in candidates[best]}
+        fit = fits[hi]
+        what = (
+            "its swing"
+            if len(drop) == len(fit.frequencies_hz)
+            else f"its mode at {fit.frequencies_hz[min(drop)]:.3f} Hz "
+            f"({fit.amplitudes_deg[min(drop)]:.2g}°)"
+        )
+        note = (
+            f"hang {pairs[hi][0].point_id}: {what} disagrees with the other frequencies (the χ² "
+            f"falls by {d[best]:.3g} without it, p = {pv[best]:.2g}): left out of the tensor"
+        )
+        t_fits, t_records, t_pairs = list(fits), list(records), list(pairs)
+        t_pivots, t_cov = pivots, pivot_cov
+        if len(drop) == len(fit.frequencies_hz):
+            others = [i for i in range(len(fits)) if i != hi]
+            del t_fits[hi], t_records[hi], t_pairs[hi]
+            rows = np.array([3 * i + a for i in others for a in range(3)])
+            t_pivots, t_cov = pivots[others], pivot_cov[np.ix_(rows, rows)]
+        else:
+            keep = np.array([j not in drop for j in range(len(fit.frequencies_hz))])
+            t_fits[hi] = replace(
+                fit,
+                mode_index=fit.mode_index[keep],
+                frequencies_hz=fit.frequencies_hz[keep],
+                frequency_cov_hz2=fit.frequency_cov_hz2[np.ix_(keep, keep)],
+                decay_per_s=fit.decay_per_s[keep],
+                amplitudes_deg=fit.amplitudes_deg[keep],
+            )
+        try:
+            state = fit_all(t_fits, t_records, t_pivots, t_cov)
+        except DegenerateGeometryError:
+            break  # the others alone do not determine the tensor: keep what was to go
+        fits, records, pairs, pivots, pivot_cov = t_fits, t_records, t_pairs, t_pivots, t_cov
+        mode_notes.append(note)
+    data, nuis, geo0, p_asm, gain = state
     fit_chi2 = weighted_chi2(p_asm, data, geo0)
     p_obj, cog_obj = compensate(p_asm, nuis, nuis.values, ctx.me_parts)
     # The object's entries move with a nuisance through the fit (−A M) and through the
@@ -441,7 +519,7 @@ def measure_inertia(
     n_freq = len(data.frequencies_hz)
     chi2 = fit_chi2
     result_t = tensor(p_obj)
-    warnings = [f"{d}: this hang is left out of the tensor" for d in dropped]
+    warnings = [f"{d}: this hang is left out of the tensor" for d in dropped] + mode_notes
     dof = n_freq - 6
     # The frequencies scatter more than their σ say (the χ² beyond its 95 % quantile): the σ
     # the fit states cannot be trusted as they are. The Birge ratio √(χ²/dof) grows every σ of
@@ -493,6 +571,11 @@ def measure_inertia(
         scale,
     )
 
+
+#: A frequency, or a hang's frequencies, whose deleted-residual χ² has a p-value below this
+#: over the number of candidates (Bonferroni: a campaign loses a good mode or hang with
+#: probability below this) is left out.
+MODE_OUTLIER_P = 0.01
 
 #: The frequencies' χ² beyond its (1 − this) quantile is a misfit: every σ then grows by the
 #: Birge ratio √(χ²/dof).

@@ -358,6 +358,33 @@ def _check_determined(jac: FloatArray, p: FloatArray) -> None:
         )
 
 
+def deleted_chi2(
+    p: FloatArray, data: SwingData, geo: Geometry, groups: Sequence[Sequence[int]]
+) -> FloatArray:
+    """How much the fit's χ² falls if each group of frequencies is left out, shape (len(groups),):
+    the deleted residuals of generalised least squares with correlated errors,
+    ``u_gᵀ (P_gg)⁻¹ u_g``, ``u = P r``, ``P = C⁻¹ − C⁻¹J(JᵀC⁻¹J)⁻¹JᵀC⁻¹`` (``C`` the covariance
+    the fit weighs by, ``r`` the residuals at the fit ``p``, ``J = ∂f_model/∂p``): exact for the
+    linearised fit, χ² with ``len(g)`` dof when the group agrees with the others. A group is one
+    frequency, or every frequency of a hang (a hang whose swing is off as a whole).
+    """
+    w = data.whitening
+    c_inv = w.T @ w
+    jac = _model_jacobian(p, data, geo, float(np.trace(tensor(p))))
+    cj = c_inv @ jac
+    proj = c_inv - cj @ np.linalg.solve(jac.T @ cj, cj.T)
+    u = proj @ (data.frequencies_hz - model_frequencies(p, data, geo))
+    out = np.zeros(len(groups))
+    for i, g in enumerate(groups):
+        idx = np.asarray(g)
+        block = proj[np.ix_(idx, idx)]
+        try:
+            out[i] = max(float(u[idx] @ np.linalg.solve(block, u[idx])), 0.0)
+        except np.linalg.LinAlgError:
+            out[i] = 0.0  # the others do not determine these: nothing to test against
+    return out
+
+
 def weighted_chi2(p: FloatArray, data: SwingData, geo: Geometry) -> float:
     """Weighted squared residuals at ``p``."""
     r = _residuals(p, data, geo)
