@@ -13,7 +13,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -309,15 +309,49 @@ def body_modes(fit: ModalFit, n_modes: int, point_id: str) -> ModalFit:
             "pendulum was seen): release the object with a twist of a few degrees about its "
             "wire exit"
         )
-    idx = np.flatnonzero(keep)
-    return replace(
-        fit,
-        mode_index=fit.mode_index[idx],
-        frequencies_hz=fit.frequencies_hz[idx],
-        frequency_cov_hz2=fit.frequency_cov_hz2[np.ix_(idx, idx)],
-        decay_per_s=fit.decay_per_s[idx],
-        amplitudes_deg=fit.amplitudes_deg[idx],
-    )
+    return fit.take(keep)
+
+
+def _pivots_of(
+    pivots: FloatArray, pivot_cov: FloatArray, hangs: Sequence[int]
+) -> tuple[FloatArray, FloatArray]:
+    """Some hangs' pivots (k, 3) and their joint covariance (3k, 3k)."""
+    rows = np.array([3 * i + a for i in hangs for a in range(3)])
+    return pivots[list(hangs)], pivot_cov[np.ix_(rows, rows)]
+
+
+def _worst_contradiction(
+    fits: Sequence[ModalFit], p_asm: FloatArray, data: SwingData, geo: Geometry
+) -> tuple[int, set[int], float, float] | None:
+    """The frequencies the others contradict most, when beyond the Bonferroni threshold: their
+    hang, which of its modes, the χ² they add and its p-value; None when none is, or when no
+    check would remain (one dof and three hangs).
+
+    The candidates are every single mode and every hang's whole swing (a weak mode fitted off,
+    or a swing off as a whole: something moved), compared by the p-value of their
+    deleted-residual χ² (:func:`cadcog.dynamics.tensorfit.deleted_chi2`).
+    """
+    n = len(data.frequencies_hz)
+    counts = [len(f.frequencies_hz) for f in fits]
+    starts = np.cumsum([0, *counts])
+    candidates: list[tuple[tuple[int, int], ...]] = [
+        ((h, j),) for h in range(len(fits)) for j in range(counts[h])
+    ]
+    candidates += [
+        tuple((h, j) for j in range(counts[h])) for h in range(len(fits)) if counts[h] > 1
+    ]
+    candidates = [
+        c for c in candidates
+        if n - len(c) - 6 >= 1 and (len(c) < counts[c[0][0]] or len(fits) > 3)
+    ]  # fmt: skip
+    if not candidates:
+        return None
+    d = deleted_chi2(p_asm, data, geo, [[int(starts[h]) + j for h, j in c] for c in candidates])
+    pv = np.array([chi2_dist.sf(x, len(c)) for x, c in zip(d, candidates, strict=True)])
+    best = int(np.argmin(pv))
+    if not pv[best] < MODE_OUTLIER_P / len(candidates):
+        return None
+    return candidates[best][0][0], {j for _, j in candidates[best]}, float(d[best]), float(pv[best])
 
 
 def measure_inertia(
@@ -388,8 +422,7 @@ def measure_inertia(
         )
     if dropped:
         pairs = [pairs[i] for i in kept]
-        rows = np.array([3 * i + a for i in kept for a in range(3)])
-        pivots, pivot_cov = pivots[kept], pivot_cov[np.ix_(rows, rows)]
+        pivots, pivot_cov = _pivots_of(pivots, pivot_cov, kept)
 
     def fit_all(
         fits: list[ModalFit], records: list[float], pivots: FloatArray, pivot_cov: FloatArray
@@ -423,37 +456,10 @@ def measure_inertia(
 
     state = fit_all(fits, records, pivots, pivot_cov)
     mode_notes: list[str] = []
-    # Frequencies the others contradict are left out, the least likely first, while that is
-    # beyond the Bonferroni quantile and a check remains (one dof or more after it, three
-    # hangs): a single mode (a weak mode fitted off: docs/inertia.md) or a whole hang (its
-    # swing off as a whole: something moved), whichever the data reject more strongly.
-    while True:
-        data, _, geo0, p_asm, _ = state
-        n = len(data.frequencies_hz)
-        starts = np.cumsum([0] + [len(f.frequencies_hz) for f in fits])
-        candidates: list[tuple[tuple[int, int], ...]] = [
-            ((hi, j),) for hi in range(len(fits)) for j in range(len(fits[hi].frequencies_hz))
-        ]
-        candidates += [
-            tuple((hi, j) for j in range(len(fits[hi].frequencies_hz)))
-            for hi in range(len(fits))
-            if len(fits[hi].frequencies_hz) > 1
-        ]
-        candidates = [
-            c for c in candidates
-            if n - len(c) - 6 >= 1 and (len(c) < len(fits[c[0][0]].frequencies_hz) or len(fits) > 3)
-        ]  # fmt: skip
-        if not candidates:
-            break
-        d = deleted_chi2(
-            p_asm, data, geo0, [[int(starts[h]) + j for h, j in c] for c in candidates]
-        )
-        pv = np.array([chi2_dist.sf(x, len(c)) for x, c in zip(d, candidates, strict=True)])
-        best = int(np.argmin(pv))
-        if not pv[best] < MODE_OUTLIER_P / len(candidates):
-            break
-        hi = candidates[best][0][0]
-        drop = {j for _, j in candidates[best]}
+    # Frequencies the others contradict are left out, the least likely first (a single mode or
+    # a hang's whole swing: _worst_contradiction), while a check remains.
+    while (worst := _worst_contradiction(fits, state[3], state[0], state[2])) is not None:
+        hi, drop, d_chi2, p_value = worst
         fit = fits[hi]
         what = (
             "its swing"
@@ -463,25 +469,17 @@ def measure_inertia(
         )
         note = (
             f"hang {pairs[hi][0].point_id}: {what} disagrees with the other frequencies (the χ² "
-            f"falls by {d[best]:.3g} without it, p = {pv[best]:.2g}): left out of the tensor"
+            f"falls by {d_chi2:.3g} without it, p = {p_value:.2g}): left out of the tensor"
         )
-        t_fits, t_records, t_pairs = list(fits), list(records), list(pairs)
-        t_pivots, t_cov = pivots, pivot_cov
         if len(drop) == len(fit.frequencies_hz):
             others = [i for i in range(len(fits)) if i != hi]
-            del t_fits[hi], t_records[hi], t_pairs[hi]
-            rows = np.array([3 * i + a for i in others for a in range(3)])
-            t_pivots, t_cov = pivots[others], pivot_cov[np.ix_(rows, rows)]
+            t_fits, t_records = [fits[i] for i in others], [records[i] for i in others]
+            t_pairs = [pairs[i] for i in others]
+            t_pivots, t_cov = _pivots_of(pivots, pivot_cov, others)
         else:
-            keep = np.array([j not in drop for j in range(len(fit.frequencies_hz))])
-            t_fits[hi] = replace(
-                fit,
-                mode_index=fit.mode_index[keep],
-                frequencies_hz=fit.frequencies_hz[keep],
-                frequency_cov_hz2=fit.frequency_cov_hz2[np.ix_(keep, keep)],
-                decay_per_s=fit.decay_per_s[keep],
-                amplitudes_deg=fit.amplitudes_deg[keep],
-            )
+            t_fits, t_records, t_pairs = list(fits), records, pairs
+            t_fits[hi] = fit.take(np.array([j not in drop for j in range(len(fit.frequencies_hz))]))
+            t_pivots, t_cov = pivots, pivot_cov
         try:
             state = fit_all(t_fits, t_records, t_pivots, t_cov)
         except DegenerateGeometryError:

@@ -15,7 +15,7 @@ the sensor) and the fit repeated without it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -79,6 +79,18 @@ class ModalFit:
     amplitudes_deg: FloatArray
     noise_deg: FloatArray
     correlation_inflation: float
+
+    def take(self, keep: npt.NDArray[np.bool_]) -> ModalFit:
+        """The fit with only the modes the mask ``keep`` (k,) selects."""
+        idx = np.flatnonzero(keep)
+        return replace(
+            self,
+            mode_index=self.mode_index[idx],
+            frequencies_hz=self.frequencies_hz[idx],
+            frequency_cov_hz2=self.frequency_cov_hz2[np.ix_(idx, idx)],
+            decay_per_s=self.decay_per_s[idx],
+            amplitudes_deg=self.amplitudes_deg[idx],
+        )
 
 
 _Waves = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
