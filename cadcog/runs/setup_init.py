@@ -122,6 +122,7 @@ def run_setup_init(
         ]
         lo, hi = np.array(survey["lo_mm"]), np.array(survey["hi_mm"])
         overlaps = str(survey["overlaps"])
+        refine = int(survey["refine"])
     except (KeyError, TypeError, ValueError):  # a damaged entry that passed its digest
         raise CadcogError(
             f"{model}: the cached survey cannot be read; cadcog cache --clear"
@@ -129,7 +130,7 @@ def run_setup_init(
     step_rel = Path(os.path.relpath(Path(model).resolve(), setup_path.resolve().parent))
     materials_text = draft_materials(parts, Path(model).name)
     setup_text = draft_setup(
-        stem, step_rel.as_posix(), materials_path.name, lo, hi, overlaps, points, units
+        stem, step_rel.as_posix(), materials_path.name, lo, hi, overlaps, points, units, refine
     )
     # Both filled before either is put in place; renamed last entered first: the materials
     # file, then the set-up that names it.
@@ -160,6 +161,9 @@ def _survey(model: Path, units: str | None) -> dict[str, Any]:
     from cadcog.mass.materials import DENSITY_RANGE_KG_M3, MaterialMap, is_placeholder_material
     from cadcog.spacecraft.setup_draft import (
         DRAFT_FACES,
+        DRAFT_MAX_POINTS,
+        DRAFT_MAX_REFINE,
+        DRAFT_MIN_POINTS,
         DraftPart,
         distinct_points,
         face_grid,
@@ -200,17 +204,25 @@ def _survey(model: Path, units: str | None) -> dict[str, Any]:
     )
     shapes = [b.shape for b in step_model.bodies if b.kind == "solid"]
     scale = result.audit.scale_to_mm
-    points = distinct_points(
-        [
-            (face, sp.position_mm, sp.depth_mm)
-            for face in DRAFT_FACES
-            for sp in project_grid(shapes, face, face_grid(face, lo, hi), lo, hi, scale_to_mm=scale)
-        ]
-    )
+    points: list[DraftPoint] = []
+    for refine in range(DRAFT_MAX_REFINE + 1):  # a finer grid while too few rays meet the model
+        points = distinct_points(
+            [
+                (face, sp.position_mm, sp.depth_mm)
+                for face in DRAFT_FACES
+                for sp in project_grid(
+                    shapes, face, face_grid(face, lo, hi, refine), lo, hi, scale_to_mm=scale
+                )
+            ],
+            keep=DRAFT_MAX_POINTS if refine else None,
+        )
+        if len(points) >= DRAFT_MIN_POINTS:
+            break
     return {
         "parts": [dataclasses.asdict(p) for p in parts],
         "points": [dataclasses.asdict(p) for p in points],
         "lo_mm": [float(v) for v in lo],
         "hi_mm": [float(v) for v in hi],
         "overlaps": overlaps,
+        "refine": refine,
     }

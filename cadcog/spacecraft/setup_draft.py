@@ -277,10 +277,13 @@ THIN_ROWS = 1
 THIN_ROW_FRACTIONS = (0.5, 0.3, 0.7, 0.1, 0.9)
 
 
-def face_grid(face: str, bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -> FloatArray:
-    """The draft's grid of one box face, shape (m, k, 3): centred, at :func:`grid_spacing`,
-    each point with ``k`` alternatives across a thin extent (:data:`THIN_ROWS`; at
-    :data:`THIN_ROW_FRACTIONS` of its row's band, the middle first; ``k`` = 1 when none is).
+def face_grid(
+    face: str, bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike, refine: int = 0
+) -> FloatArray:
+    """The draft's grid of one box face, shape (m, k, 3): centred, at :func:`grid_spacing`
+    halved ``refine`` times (its margin too), each point with ``k`` alternatives across a thin
+    extent (:data:`THIN_ROWS`; at :data:`THIN_ROW_FRACTIONS` of its row's band, the middle
+    first; ``k`` = 1 when none is).
 
     Examples
     --------
@@ -289,10 +292,12 @@ def face_grid(face: str, bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -
     >>> g = face_grid("+x", [-50, -40, -5], [50, 40, 1.6])  # a board, a part below it
     >>> g.shape, g[0, :, 2].round(2).tolist()  # one row in z: its heights, the middle first
     ((16, 5, 3), [-1.7, -3.02, -0.38, -4.34, 0.94])
+    >>> face_grid("+x", [-50, -50, -170], [50, 50, 170], refine=1).shape  # 30 mm apart
+    (33, 1, 3)
     """
     lo = np.asarray(bbox_lo_mm, dtype=float)
     hi = np.asarray(bbox_hi_mm, dtype=float)
-    spacing, margin = grid_spacing(lo, hi)
+    spacing, margin = (v / 2**refine for v in grid_spacing(lo, hi))
     axis, sign = FACES[face]
     others = [j for j in range(3) if j != axis]
     lines: list[list[FloatArray]] = []  # per in-face axis: its grid lines, each as alternatives
@@ -319,27 +324,68 @@ def face_grid(face: str, bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -
 #: Two drafted points closer than this (mm) are one: the rays of two faces meeting at an edge.
 DRAFT_MIN_SEPARATION_MM = 1.0
 
+#: A draft wants at least this many points on the model: with fewer (a thin part, a bent pipe,
+#: a frame whose grid rays pass between its members) the grid is halved, up to
+#: :data:`DRAFT_MAX_REFINE` times, and at most :data:`DRAFT_MAX_POINTS` of the points the finer
+#: grid finds are kept, spread over the model (each the farthest from those kept before it).
+DRAFT_MIN_POINTS = 6
+DRAFT_MAX_REFINE = 4
+DRAFT_MAX_POINTS = 24
 
-def distinct_points(found: Sequence[tuple[str, npt.ArrayLike, float]]) -> list[DraftPoint]:
+
+def distinct_points(
+    found: Sequence[tuple[str, npt.ArrayLike, float]], keep: int | None = None
+) -> list[DraftPoint]:
     """Drafted points from (face, position_mm, depth_mm) in order, without one closer than
-    :data:`DRAFT_MIN_SEPARATION_MM` to an earlier one, labelled per face from 1.
+    :data:`DRAFT_MIN_SEPARATION_MM` to an earlier one, at most ``keep`` of them spread over
+    the model (:func:`spread`), labelled per face from 1.
 
     Examples
     --------
     >>> [p.id for p in distinct_points([("+x", [1, 0, 0], 0), ("+x", [1, 5, 0], 0),
     ...                                 ("+y", [1, 5.2, 0], 2), ("+y", [0, 9, 0], 1)])]
     ['+x1', '+x2', '+y1']
+    >>> [p.position_mm for p in distinct_points([("+x", [0, 0, 0], 0), ("+x", [0, 1, 0], 0),
+    ...                                          ("+x", [0, 9, 0], 0)], keep=2)]
+    [(0.0, 0.0, 0.0), (0.0, 9.0, 0.0)]
     """
-    kept: list[DraftPoint] = []
-    count: dict[str, int] = {}
+    apart: list[tuple[str, FloatArray, float]] = []
     for face, pos, depth in found:
         p = np.asarray(pos, dtype=float)
-        if any(np.linalg.norm(p - q.position_mm) < DRAFT_MIN_SEPARATION_MM for q in kept):
+        if any(np.linalg.norm(p - q) < DRAFT_MIN_SEPARATION_MM for _, q, _ in apart):
             continue
+        apart.append((face, p, float(depth)))
+    if keep is not None and len(apart) > keep:
+        chosen = spread(np.array([q for _, q, _ in apart]), keep)
+        apart = [apart[i] for i in chosen]
+    kept: list[DraftPoint] = []
+    count: dict[str, int] = {}
+    for face, p, depth in apart:
         count[face] = count.get(face, 0) + 1
         xyz = (float(p[0]), float(p[1]), float(p[2]))
-        kept.append(DraftPoint(point_label(face, count[face]), face, xyz, float(depth)))
+        kept.append(DraftPoint(point_label(face, count[face]), face, xyz, depth))
     return kept
+
+
+def spread(points_mm: npt.ArrayLike, n: int) -> list[int]:
+    """Indices of ``n`` of the points spread over them, in their order: the first point, then
+    each time the point farthest from those chosen (the first of equals).
+
+    Examples
+    --------
+    >>> spread([[0, 0, 0], [1, 0, 0], [10, 0, 0], [5, 0, 0]], 3)
+    [0, 2, 3]
+    """
+    pts = np.asarray(points_mm, dtype=float)
+    if n >= len(pts):
+        return list(range(len(pts)))
+    chosen = [0]
+    dist = np.linalg.norm(pts - pts[0], axis=1)
+    while len(chosen) < n:
+        i = int(np.argmax(dist))
+        chosen.append(i)
+        dist = np.minimum(dist, np.linalg.norm(pts - pts[i], axis=1))
+    return sorted(chosen)
 
 
 def point_label(face: str, k: int) -> str:
@@ -362,6 +408,7 @@ def draft_setup(
     overlaps: str = "",
     points: Sequence[DraftPoint] = (),
     units: str | None = None,
+    refine: int = 0,
 ) -> str:
     """The set-up file's text for a model with this bounding box (paths relative to it).
 
@@ -370,6 +417,7 @@ def draft_setup(
     candidate points on the model (:func:`cadcog.cad.surfacepoints.project_grid`); without two
     of them the draft asks for the grid on the bounding box's faces instead. ``units``: the
     file's true length unit when the draft was read with one (positions are in its mm).
+    ``refine``: how many times the points' grid was halved (:data:`DRAFT_MIN_POINTS`).
     """
     lo = np.asarray(bbox_lo_mm, dtype=float)
     hi = np.asarray(bbox_hi_mm, dtype=float)
@@ -417,7 +465,7 @@ def draft_setup(
             "of the +z face",
             "",
             *(
-                _points_text(points, spacing)
+                _points_text(points, spacing / 2**refine)
                 if len(points) >= 2
                 else _grid_text(ext, spacing, margin)
             ),

@@ -333,3 +333,38 @@ def test_a_second_draft_of_the_same_model_reads_no_cad(sat_step, tmp_path, monke
         for line in b.read_text(encoding="utf-8").splitlines()
         if not line.startswith(("model_step", "materials", "name", "# Test set-up of"))
     ]
+
+
+def test_a_frame_the_coarse_grid_misses_gets_its_points_on_the_model(tmp_path):
+    """Three 4 mm bars bent through space (a frame, a pipe): the draft's 70 mm grid passes
+    between them, so the grid is halved until enough rays meet the model (the box grid in the
+    air was the old draft); every point lies on a bar's surface, its bolt axis leaving the
+    model with no bar in the way, and no more than DRAFT_MAX_POINTS are kept."""
+    from cadcog.spacecraft.setup import load_setup
+    from cadcog.spacecraft.setup_draft import DRAFT_MAX_POINTS, DRAFT_MIN_POINTS
+
+    bars = [
+        ((150.0, 4.0, 4.0), (0.0, 0.0, 0.0)),
+        ((4.0, 120.0, 4.0), (146.0, 0.0, 0.0)),
+        ((4.0, 4.0, 204.0), (146.0, 116.0, 0.0)),
+    ]
+    top = Assembly("frame")
+    top.add(Part("bars", bars, 2700.0, "Al"))
+    step = write_step(top, tmp_path / "frame.step")
+    out = tmp_path / "frame_setup.toml"
+    assert main(["setup", "init", str(step), "--out", str(out)]) == 0
+    assert "[[candidates.points]]" in out.read_text(encoding="utf-8")
+    setup = load_setup(out)
+    assert DRAFT_MIN_POINTS <= len(setup.candidates) <= DRAFT_MAX_POINTS
+    lo = np.array([c for _, c in bars])
+    hi = lo + np.array([s for s, _ in bars])
+
+    def inside(p, eps):
+        return np.all((p >= lo - eps) & (p <= hi + eps), axis=1)
+
+    for c in setup.candidates:
+        p = np.asarray(c.position_mm)
+        assert inside(p, 2e-3).any(), (c.id, p)  # on a bar (the file rounds to 0.001 mm)
+        n = np.asarray(c.normal)
+        ray = p + np.outer(np.linspace(0.01, 300.0, 3000), n)
+        assert not any(inside(q, -1e-6).any() for q in ray), (c.id, p)  # nothing in the way
