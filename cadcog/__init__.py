@@ -30,6 +30,7 @@ from cadcog.core.version import __version__
 if TYPE_CHECKING:
     from cadcog.api import (
         acquire,
+        balance,
         campaign,
         check,
         estimate,
@@ -47,6 +48,7 @@ if TYPE_CHECKING:
 __all__ = [
     "__version__",
     "acquire",
+    "balance",
     "campaign",
     "check",
     "estimate",

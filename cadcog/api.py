@@ -42,6 +42,7 @@ if TYPE_CHECKING:
     from cadcog.runs.acquire import AcquireRun
     from cadcog.runs.campaign import CampaignRun
     from cadcog.runs.setup_init import SetupDraft
+    from cadcog.spacecraft.balance import BalanceResult
     from cadcog.spacecraft.mass_summary import MassReport
     from cadcog.spacecraft.plan import Plan
     from cadcog.spacecraft.requirements import CheckResult
@@ -103,6 +104,7 @@ def _one_blas_thread(function: _F) -> _F:
 
 __all__ = [
     "acquire",
+    "balance",
     "campaign",
     "check",
     "estimate",
@@ -938,6 +940,91 @@ def campaign(
         samples=samples,
         noise_deg=noise_deg,
         swings=swings_path,
+    )
+
+
+@_one_blas_thread
+def balance(
+    ballast: str | Path,
+    model: str | Path | None = None,
+    materials: str | Path | None = None,
+    *,
+    setup: str | Path | None = None,
+    units: str | None = None,
+    form_factor: str | None = None,
+    cog_limits_mm: Sequence[float] | None = None,
+    confidence: float = 0.95,
+    readings: str | Path | None = None,
+    weighed_mass_kg: float | None = None,
+    mass_sigma_kg: float = 0.001,
+    workers: int | None = None,
+) -> BalanceResult:
+    """The least ballast that puts the CoG inside its envelope with at least ``confidence``
+    (``cadcog balance``; :mod:`cadcog.spacecraft.balance` says how).
+
+    Parameters
+    ----------
+    ballast : str or Path
+        The ballast file (TOML: ``[[points]]`` with ``id``, ``position_mm``, optional
+        ``max_mass_kg``; optional ``sizes_kg`` and ``max_total_mass_kg``).
+    model, materials : str or Path, optional
+        A STEP model and its materials file (the CAD's mass, CoG and stated uncertainty).
+    setup : str or Path, optional
+        A set-up file instead of a model (its envelope is the default).
+    units : str, optional
+        The model's true length unit.
+    form_factor : str, optional
+        The envelope of a CubeSat or PocketQube form factor (``'1U'`` ... ``'3p'``).
+    cog_limits_mm : sequence of 3 floats, optional
+        Envelope half-widths (mm).
+    confidence : float
+        Least probability that the CoG is inside the whole envelope, in (0, 1).
+    readings : str or Path, optional
+        With ``setup`` and ``weighed_mass_kg``: balance what ``update`` makes of the test.
+    weighed_mass_kg, mass_sigma_kg : float
+        The weighing and its 1 σ (kg).
+    workers : int, optional
+        Processes for the mass properties (default: the CPUs available).
+
+    Returns
+    -------
+    BalanceResult
+        ``to_dict()`` is the command's ``--json``; ``feasible`` False with ``shortfall`` when no
+        ballast within the file's limits meets the envelope.
+    """
+    from cadcog.core.parallel import available_workers
+    from cadcog.runs.balance import run_balance
+
+    f = "balance"
+    _numbers(
+        f,
+        confidence=confidence,
+        weighed_mass_kg=weighed_mass_kg,
+        mass_sigma_kg=mass_sigma_kg,
+        workers=workers,
+    )
+    _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
+    limits = None
+    if cog_limits_mm is not None:
+        _numbers(f, cog_limits_mm=list(cog_limits_mm))
+        if len(cog_limits_mm) != 3 or min(cog_limits_mm) <= 0:
+            raise _fail(f, "cog_limits_mm", cog_limits_mm, "expected three positive half-widths")
+        limits = (float(cog_limits_mm[0]), float(cog_limits_mm[1]), float(cog_limits_mm[2]))
+    if model is not None and setup is not None:
+        raise _fail(f, "setup", setup, "give a model or a set-up, not both")
+    return run_balance(
+        _path(f, "ballast", ballast),
+        model=None if model is None else _path(f, "model", model),
+        materials=None if materials is None else _path(f, "materials", materials),
+        units=units,
+        setup=None if setup is None else _path(f, "setup", setup),
+        form_factor=form_factor,
+        cog_limits_mm=limits,
+        confidence=float(confidence),
+        readings=None if readings is None else _path(f, "readings", readings),
+        weighed_mass_kg=weighed_mass_kg,
+        mass_sigma_kg=mass_sigma_kg,
+        workers=workers or available_workers(),
     )
 
 

@@ -138,3 +138,16 @@ def _read(
             extra.growth_rules,
         )
     return model, materials
+
+
+def named_model(path: Path) -> tuple[StepModel, Path, str | None]:
+    """The model a set-up or requirements file names, read (a spec built and read back), the
+    file it came from, and the ``units`` override: for what needs the solids themselves, not
+    their mass properties (a ballast location checked against them)."""
+    from cadcog.core.paramfile import read_toml
+
+    t = TableReader(read_toml(path), path)
+    source = path.parent / (t.string("model") if t.has("model") else t.string("model_step"))
+    units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
+    model, _ = _read(t, source, None)
+    return model, source, units

@@ -84,7 +84,7 @@ PLAUSIBLE_MEAN_DENSITY_KG_M3 = (100.0, 25_000.0)
 WORST_PAIRS_SHOWN = 10
 
 
-def _unit_scale(model: StepModel, units: str | None) -> tuple[float, list[str], list[str]]:
+def unit_scale(model: StepModel, units: str | None) -> tuple[float, list[str], list[str]]:
     """mm per file unit on top of the reader's conversion, with notes and info."""
     notes: list[str] = []
     info: list[str] = []
@@ -183,7 +183,7 @@ def model_mass_properties(
         )
     if units is not None and units not in LENGTH_UNIT_MM:
         raise CadcogError(f"--units: unknown unit {units!r}; expected {', '.join(UNIT_CHOICES)}")
-    scale, notes, info = _unit_scale(model, units)
+    scale, notes, info = unit_scale(model, units)
 
     kept = [b for b in model.bodies if not matches_any(exclude, b)]
     excluded = tuple(b.path for b in model.bodies if matches_any(exclude, b))

@@ -73,6 +73,7 @@ COMMANDS: dict[str, str] = {
     "massprops": "cadcog.cli.massprops",
     "plan": "cadcog.cli.plan",
     "check": "cadcog.cli.check",
+    "balance": "cadcog.cli.balance",
     "acquire": "cadcog.cli.acquire",
     "update": "cadcog.cli.update",
     "inertia": "cadcog.cli.inertia",

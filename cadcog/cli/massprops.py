@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from cadcog.cad.massresults import Refusal
+from cadcog.cli._types import positive_triple
 from cadcog.cli.massprops_text import print_report
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import note_input
@@ -32,16 +33,6 @@ def _point(text: str) -> str | tuple[float, float, float]:
         return parse_point(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(str(exc)) from None
-
-
-def _limits(text: str) -> tuple[float, float, float]:
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        values = []
-    if len(values) != 3 or not all(np.isfinite(values)) or min(values) <= 0:
-        raise argparse.ArgumentTypeError(f"expected three positive numbers X,Y,Z, got {text!r}")
-    return values[0], values[1], values[2]
 
 
 def add_parser(sub: Any) -> None:
@@ -134,7 +125,7 @@ def add_parser(sub: Any) -> None:
         "provisional limits, ±10 mm)",
     )
     p.add_argument(
-        "--cog-limits-mm", type=_limits, help="custom CoG envelope half-widths X,Y,Z (mm)"
+        "--cog-limits-mm", type=positive_triple, help="custom CoG envelope half-widths X,Y,Z (mm)"
     )
     p.add_argument("--depth", type=int, default=2, help="budget tree levels shown (default 2)")
     p.add_argument(

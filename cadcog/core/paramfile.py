@@ -222,17 +222,17 @@ class TableReader:
     def vector(
         self,
         name: str,
-        length: int = 3,
+        length: int | None = 3,
         *,
         positive: bool = False,
         at_least: float | None = None,
     ) -> tuple[float, ...]:
-        """An array of ``length`` finite numbers (each at least ``at_least`` if given)."""
+        """An array of ``length`` finite numbers (any length from 1 when None; each at least
+        ``at_least`` if given)."""
         value = self._get(name)
-        if not isinstance(value, list) or len(value) != length:
-            raise self.error(
-                name, f"expected an array of {length} numbers, got {_type_name(value)}"
-            )
+        if not isinstance(value, list) or (len(value) != length if length else not value):
+            count = f"{length} " if length else ""
+            raise self.error(name, f"expected an array of {count}numbers, got {_type_name(value)}")
         out = []
         for i, item in enumerate(value):
             if isinstance(item, bool) or not isinstance(item, (int, float)):

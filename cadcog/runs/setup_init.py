@@ -165,6 +165,7 @@ def _survey(model: Path, units: str | None) -> dict[str, Any]:
         DRAFT_MAX_REFINE,
         DRAFT_MIN_POINTS,
         DraftPart,
+        DraftPoint,
         distinct_points,
         face_grid,
         part_label,

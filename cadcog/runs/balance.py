@@ -1,0 +1,226 @@
+"""The least ballast for a spacecraft's CoG envelope: ``cadcog balance`` and
+:func:`cadcog.balance`, one composition.
+
+What is balanced: the CAD's mass and CoG with the uncertainty its materials file states (a
+STEP model with its materials, or a set-up's model), or, with a test's readings and the
+weighed mass, what ``cadcog update`` makes of the test and the CAD together (its posterior mass
+and CoG). The envelope: a CubeSat or PocketQube form factor's, or half-widths given, around the
+model's geometric centre (its bounding box's). The ballast file's locations are checked
+against the model's solids (none may lie inside one); that check is cached by the content of
+the model and the locations, like the mass properties. The optimisation is
+:func:`cadcog.spacecraft.balance.least_ballast`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from cadcog.core.errors import CadcogError, ParameterFileError
+from cadcog.spacecraft.balance import BalanceResult, BallastSpec, UncertainMass, least_ballast
+from cadcog.spacecraft.ballast_file import load_ballast
+from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
+from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG, items_from_bodies, linear_prior
+
+
+def run_balance(
+    ballast: Path,
+    *,
+    model: Path | None = None,
+    materials: Path | None = None,
+    units: str | None = None,
+    setup: Path | None = None,
+    form_factor: str | None = None,
+    cog_limits_mm: tuple[float, float, float] | None = None,
+    confidence: float = 0.95,
+    readings: Path | None = None,
+    weighed_mass_kg: float | None = None,
+    mass_sigma_kg: float = DEFAULT_WEIGHING_SIGMA_KG,
+    workers: int = 1,
+) -> BalanceResult:
+    """The least ballast (module docstring), from checked arguments: a ``model`` or a
+    ``setup``; ``readings`` with ``weighed_mass_kg`` (a set-up's) for the measured figures.
+
+    Raises
+    ------
+    CadcogError
+        Bad or missing options (naming them), a bad ballast file (naming its key), a location
+        inside a solid (naming both), an envelope not given.
+    """
+    if (model is None) == (setup is None):
+        raise CadcogError("give a MODEL or --setup (one of them)")
+    if not 0.0 < confidence < 1.0:
+        raise CadcogError(f"--confidence {confidence!r}: expected a probability in (0, 1)")
+    if readings is not None and setup is None:
+        raise CadcogError("--readings needs --setup (its measurement equipment to remove)")
+    if (readings is None) != (weighed_mass_kg is None):
+        raise CadcogError("--readings and --weighed-mass-kg go together (a test is weighed)")
+    if form_factor is not None and cog_limits_mm is not None:
+        raise CadcogError("give --form-factor or --cog-limits-mm, not both")
+    spec = load_ballast(ballast)
+    notes: list[str] = []
+    if setup is not None:
+        state, centre, limits, label = _from_setup(
+            setup, readings, weighed_mass_kg, mass_sigma_kg, notes
+        )
+    else:
+        assert model is not None
+        state, centre, label = _from_model(model, materials, units, workers)
+        limits = None
+    if cog_limits_mm is not None:
+        limits = np.array(cog_limits_mm, dtype=float)
+    elif form_factor is not None:
+        if form_factor not in CDS_COG_LIMITS_MM:
+            raise CadcogError(
+                f"--form-factor {form_factor!r}: expected one of {', '.join(CDS_COG_LIMITS_MM)}"
+            )
+        limits = np.array(CDS_COG_LIMITS_MM[form_factor])
+    if limits is None:
+        raise CadcogError(
+            f"{label}: no envelope: give --form-factor or --cog-limits-mm (or form_factor in "
+            "the set-up)"
+        )
+    _refuse_inside(spec, model, setup, units)
+    if not np.any(np.diag(state.cog_cov_mm2) > 0.0):
+        notes.append(
+            "the CoG carries no uncertainty (no [mass_uncertainty] in the materials file): the "
+            "ballast meets the envelope only as the CAD stands"
+        )
+    result = least_ballast(state, spec, centre, limits, confidence)
+    if result.feasible and result.total_ballast_kg > state.mass_kg:
+        notes.append(
+            f"the ballast ({result.total_ballast_kg:.3g} kg) outweighs the spacecraft "
+            f"({state.mass_kg:.3g} kg): move mass inside it instead"
+        )
+    return replace(result, notes=(*result.notes, *notes))
+
+
+def _from_model(
+    model: Path, materials: Path | None, units: str | None, workers: int
+) -> tuple[UncertainMass, np.ndarray, str]:
+    from cadcog.cad.cache import step_mass_properties
+
+    result, _ = step_mass_properties(
+        model,
+        materials,
+        density_kg_m3=None,
+        total_mass_kg=None,
+        units=units,
+        exclude=[],
+        overlaps="check",
+        strict=False,
+        surface_areas=False,
+        workers=workers,
+    )
+    items, fixed = items_from_bodies(result.bodies)
+    prior = linear_prior(items, fixed)
+    lo, hi = result.bbox_mm
+    state = UncertainMass(
+        prior.mass_kg,
+        prior.mass_sigma_kg,
+        np.asarray(prior.cog_mm),
+        prior.cog_cov_mm2,
+        prior.cog_mass_cov_mm_kg,
+        "CAD",
+    )
+    return state, 0.5 * (np.asarray(lo) + np.asarray(hi)), str(model)
+
+
+def _from_setup(
+    path: Path,
+    readings: Path | None,
+    weighed_mass_kg: float | None,
+    mass_sigma_kg: float,
+    notes: list[str],
+) -> tuple[UncertainMass, np.ndarray, np.ndarray | None, str]:
+    from cadcog.spacecraft.setup import load_setup
+
+    s = load_setup(path)
+    if readings is None:
+        prior = s.cad_prior()
+        state = UncertainMass(
+            prior.mass_kg,
+            prior.mass_sigma_kg,
+            np.asarray(prior.cog_mm),
+            prior.cog_cov_mm2,
+            prior.cog_mass_cov_mm_kg,
+            "CAD",
+        )
+    else:
+        from cadcog.dynamics.update_files import update_from_files
+
+        assert weighed_mass_kg is not None
+        upd, _ = update_from_files(
+            s,
+            readings,
+            weighed_mass_kg,
+            mass_sigma_kg=mass_sigma_kg,
+            unmodelled=None,
+            swings=None,
+        )
+        state = UncertainMass(
+            upd.posterior.mass_kg,
+            upd.posterior_mass_sigma_kg,
+            np.asarray(upd.posterior.cog_mm),
+            np.asarray(upd.posterior_cog_cov_mm2),
+            np.zeros(3),
+            "update (test and CAD)",
+        )
+        if upd.model_rejected:
+            notes.append(
+                "the CAD does not explain the test (update rejects it): the figures balanced "
+                "are the measurement's"
+            )
+    limits = None if s.cog_limits_mm is None else np.asarray(s.cog_limits_mm)
+    return state, s.geometric_center_mm, limits, str(path)
+
+
+def _refuse_inside(
+    spec: BallastSpec, model: Path | None, setup: Path | None, units: str | None
+) -> None:
+    """Refuse a ballast location inside a solid of the model (cached by content)."""
+    from cadcog.cad import cache
+
+    files = [model] if model is not None else [setup]
+    settings: dict[str, Any] = {
+        "kind": "ballast locations",
+        "points": [np.asarray(p.position_mm).tolist() for p in spec.points],
+        "units": units,
+    }
+
+    def compute() -> dict[str, Any]:
+        from cadcog.cad.pointclass import solids_holding
+        from cadcog.cad.stepmass import unit_scale
+
+        if model is not None:
+            from cadcog.cad.stepread import read_step
+
+            step, override = read_step(model), units
+        else:
+            from cadcog.cad.modelfile import named_model
+
+            assert setup is not None
+            step, _, override = named_model(setup)
+        scale, _, _ = unit_scale(step, override)
+        solids = [(b.path, b.shape) for b in step.solids]
+        return {"inside": solids_holding(solids, settings["points"], scale_to_mm=scale)}
+
+    if setup is not None:  # the set-up names its model: both files are the key
+        from cadcog.core.paramfile import read_toml
+
+        data = read_toml(setup)
+        named = data.get("model", data.get("model_step"))
+        if isinstance(named, str):
+            files.append(setup.parent / named)
+    data, _ = cache.cached_data(settings, [f for f in files if f is not None], compute)
+    for i, (point, inside) in enumerate(zip(spec.points, data["inside"], strict=True)):
+        if inside is not None:
+            raise ParameterFileError(
+                Path(spec.source),
+                f"points[{i}].position_mm",
+                f"{point.id!r} at {np.asarray(point.position_mm).tolist()} mm lies inside the "
+                f"solid {inside!r}: ballast sits on a face or in free space",
+            )

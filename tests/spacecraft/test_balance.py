@@ -1,0 +1,231 @@
+"""The least ballast (``cadcog.spacecraft.balance``): closed forms, an independent linear
+programme, brute force over discrete pieces, infeasible cases, and the confidence checked by
+drawing the spacecraft from its stated uncertainty."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.optimize import linprog
+from scipy.stats import norm
+
+from cadcog.spacecraft.balance import (
+    BallastPoint,
+    BallastSpec,
+    UncertainMass,
+    face_quantile,
+    least_ballast,
+    with_ballast,
+)
+
+
+def state(mass=1.0, cog=(0.0, 0.0, 0.0), sigma=(0.0, 0.0, 0.0), mass_sigma=0.0, cross=None):
+    return UncertainMass(
+        mass,
+        mass_sigma,
+        np.asarray(cog, dtype=float),
+        np.diag(np.square(sigma)).astype(float),
+        np.zeros(3) if cross is None else np.asarray(cross, dtype=float),
+        "test",
+    )
+
+
+def spec(*points, sizes=None, total=None):
+    return BallastSpec(
+        tuple(BallastPoint(f"p{i}", np.asarray(p[0], float), p[1]) for i, p in enumerate(points)),
+        sizes,
+        total,
+        "test",
+    )
+
+
+def test_one_location_closed_form_with_the_binding_face_s_quantile():
+    """x: M c + m p over M + m, plus z σ' (σ' = M σ / (M + m)), equals L at the least m:
+    m = M (c + z σ - L) / (L - p); the reported P(inside) is at least the confidence."""
+    s = state(2.0, (15.0, 0, 0), (1.5, 0.0, 0.0))
+    sp = spec(((-60.0, 0.0, 0.0), None))
+    r = least_ballast(s, sp, np.zeros(3), [10.0, 20.0, 20.0], 0.95)
+    z = r.face_quantiles[0]  # the +x face binds
+    expected = 2.0 * (15.0 + z * 1.5 - 10.0) / (10.0 + 60.0)
+    assert r.total_ballast_kg == pytest.approx(expected, rel=1e-9)
+    assert r.cog_mm[0] + z * np.sqrt(r.cog_cov_mm2[0, 0]) == pytest.approx(10.0, abs=1e-9)
+    assert r.probability_inside >= 0.95 - 1e-6
+    assert r.optimal and r.feasible
+
+
+def test_the_union_bound_budgets_sum_to_the_miss_probability():
+    """Whatever the allocation, the six faces' budgets sum to 1 - P (the guarantee)."""
+    s = state(2.0, (15.0, -4.0, 30.0), (1.5, 2.0, 3.0))
+    sp = spec(((-60.0, 0.0, 0.0), None), ((0.0, 0.0, -100.0), None))
+    for confidence in (0.9, 0.95, 0.99):
+        r = least_ballast(s, sp, np.zeros(3), [10.0, 20.0, 20.0], confidence)
+        assert norm.sf(r.face_quantiles).sum() == pytest.approx(1 - confidence, rel=1e-9)
+
+
+def test_nothing_needed_when_inside_already():
+    r = least_ballast(
+        state(1.0, (1.0, 0, 0), (0.5, 0.5, 0.5)),
+        spec(((50.0, 0, 0), None)),
+        np.zeros(3),
+        [20.0, 20.0, 20.0],
+    )
+    assert r.feasible and r.total_ballast_kg == 0.0 and r.probability_inside > 0.99
+
+
+def _independent_lp(s, positions, caps, total, centre, limits, z):
+    """The multiplied-out programme written again from its definition, for linprog."""
+    a, b = [], []
+    sd = np.sqrt(np.diag(s.cog_cov_mm2))
+    for k in range(3):
+        for sign in (1, -1):
+            # sign (c'_k - o_k) + z σ'_k <= L_k, times (M + Σm), σ' = M σ / (M + Σm)
+            a.append([sign * (p[k] - centre[k]) - limits[k] for p in positions])
+            b.append(
+                limits[k] * s.mass_kg
+                - sign * s.mass_kg * (s.cog_mm[k] - centre[k])
+                - z * s.mass_kg * sd[k]
+            )
+    a_ub, b_ub = np.array(a), np.array(b)
+    if total is not None:
+        a_ub = np.vstack([a_ub, np.ones(len(positions))])
+        b_ub = np.append(b_ub, total)
+    return linprog(
+        np.ones(len(positions)),
+        A_ub=a_ub,
+        b_ub=b_ub,
+        bounds=[(0, c) for c in caps],
+        method="highs-ipm",
+    )
+
+
+def test_the_programme_agrees_with_an_independent_linprog_on_random_problems():
+    """200 random problems (equal shares, exact mass): the same feasibility and the same least
+    total as linprog on the programme written out again; every solution meets the envelope
+    when checked directly (not multiplied out)."""
+    rng = np.random.default_rng(7)
+    agreed = 0
+    for _ in range(200):
+        n = int(rng.integers(1, 6))
+        s = state(rng.uniform(0.5, 5), rng.normal(0, 15, 3), rng.uniform(0, 3, 3))
+        positions = rng.uniform(-120, 120, (n, 3))
+        caps = [None if rng.random() < 0.3 else float(rng.uniform(0.01, 2)) for _ in range(n)]
+        total = None if rng.random() < 0.5 else float(rng.uniform(0.05, 3))
+        limits = rng.uniform(5, 40, 3)
+        sp = spec(*zip(positions, caps, strict=True), total=total)
+        r = least_ballast(s, sp, np.zeros(3), limits, 0.95, allocate=False)
+        z = face_quantile(0.95)
+        ref = _independent_lp(s, positions, caps, total, np.zeros(3), limits, z)
+        assert r.feasible == (ref.status == 0), ref.message
+        if r.feasible:
+            agreed += 1
+            assert r.total_ballast_kg == pytest.approx(ref.fun, rel=1e-6, abs=1e-9)
+            _, _, cog, cov = with_ballast(s, positions, r.masses_kg)
+            margin = limits - np.abs(cog) - z * np.sqrt(np.diag(cov))
+            assert np.all(margin >= -1e-7), margin
+    assert agreed > 40  # the draw holds feasible problems, not only refusals
+
+
+def test_discrete_pieces_match_brute_force():
+    """Two locations, pieces of 3 g and 7 g, up to 12 of each: the integer programme finds
+    the least total that meets the envelope, as enumerating every combination does."""
+    rng = np.random.default_rng(3)
+    for _ in range(15):
+        s = state(0.4, (rng.uniform(8, 14), rng.uniform(-3, 3), 0.0), (0.3, 0.3, 0.3))
+        positions = np.array([[-45.0, rng.uniform(-10, 10), 5.0], [-30.0, 20.0, -5.0]])
+        sizes = (0.003, 0.007)
+        sp = spec((positions[0], 12 * 0.007 + 12 * 0.003), (positions[1], None), sizes=sizes)
+        limits = np.array([6.0, 20.0, 20.0])
+        r = least_ballast(s, sp, np.zeros(3), limits, 0.9, allocate=False)
+        z = face_quantile(0.9)
+        counts = np.array(list(itertools.product(range(13), repeat=4)), dtype=float)
+        m = np.c_[
+            counts[:, 0] * 0.003 + counts[:, 1] * 0.007, counts[:, 2] * 0.003 + counts[:, 3] * 0.007
+        ]
+        total = s.mass_kg + m.sum(axis=1, keepdims=True)
+        cog = (s.mass_kg * s.cog_mm + m @ positions) / total  # every combination at once
+        sd = s.mass_kg * np.sqrt(np.diag(s.cog_cov_mm2)) / total  # exact mass
+        ok = np.all(limits - np.abs(cog) - z * sd >= -1e-12, axis=1)
+        best = m.sum(axis=1)[ok].min() if ok.any() else None
+        if best is None:
+            assert not r.feasible
+        else:
+            assert r.feasible and r.optimal
+            assert r.total_ballast_kg == pytest.approx(best, abs=1e-12)
+            assert r.counts is not None
+            assert r.counts @ np.array(sizes) == pytest.approx(r.masses_kg, abs=1e-12)
+
+
+def test_infeasible_says_which_face_and_how_much_moment():
+    """One location capped at 50 g: the +x face stays short by exactly the moment the
+    constraint misses at the cap; the shortfall in mm is that moment over the mass."""
+    s = state(1.0, (20.0, 0, 0))
+    sp = spec(((-50.0, 0.0, 0.0), 0.05))
+    r = least_ballast(s, sp, np.zeros(3), [10.0, 20.0, 20.0], 0.95)
+    assert not r.feasible and r.total_ballast_kg == 0.0
+    (short,) = r.shortfall
+    assert (short["axis"], short["side"]) == ("x", "+")
+    # at the cap: M (c - L) + m (p - L) = 1 (10) + 0.05 (-60) = 7 kg·mm short
+    assert short["moment_kg_mm"] == pytest.approx(7.0, rel=1e-9)
+    assert short["cog_shift_mm"] == pytest.approx(7.0 / 1.05, rel=1e-9)
+
+
+def test_an_uncertainty_wider_than_the_envelope_is_said():
+    s = state(1.0, (0.0, 0, 0), (10.0, 0, 0))
+    sp = spec(((-50.0, 0.0, 0.0), 0.01))
+    r = least_ballast(s, sp, np.zeros(3), [10.0, 20.0, 20.0], 0.95)
+    assert not r.feasible
+    assert any("exceeds the half-width" in n for n in r.notes)
+
+
+def test_the_confidence_holds_when_the_spacecraft_is_drawn_from_its_uncertainty():
+    """The CoG (σ 2-4 mm) and the mass (5 %, correlated with the CoG) drawn 200 000 times:
+    with the ballast found, the CoG falls inside the envelope in at least the confidence
+    (union bound), and the reported P(inside) is the drawn rate within its sampling error."""
+    rng = np.random.default_rng(11)
+    cov = np.array([[4.0, 1.0, 0.5], [1.0, 9.0, -1.0], [0.5, -1.0, 16.0]])
+    cross = np.array([0.004, -0.002, 0.01])  # Cov(c, M), mm·kg
+    s = UncertainMass(2.5, 0.125, np.array([6.0, -3.0, 25.0]), cov, cross, "test")
+    sp = spec(((-40.0, 30.0, -150.0), 0.4), ((40.0, -30.0, -150.0), 0.4), ((-45.0, 0, 0), None))
+    limits = np.array([20.0, 20.0, 15.0])
+    r = least_ballast(s, sp, np.zeros(3), limits, 0.95)
+    assert r.feasible and r.total_ballast_kg > 0
+    joint = np.zeros((4, 4))
+    joint[:3, :3], joint[:3, 3], joint[3, :3], joint[3, 3] = cov, cross, cross, 0.125**2
+    draws = rng.multivariate_normal(np.r_[s.cog_mm, s.mass_kg], joint, size=200_000)
+    positions = np.array([p.position_mm for p in sp.points])
+    moment = draws[:, 3:4] * draws[:, :3] + r.masses_kg @ positions
+    cog = moment / (draws[:, 3:4] + r.total_ballast_kg)
+    rate = np.mean(np.all(np.abs(cog) <= limits, axis=1))
+    se = np.sqrt(rate * (1 - rate) / len(draws))
+    assert rate >= 0.95 - 4 * se
+    assert rate == pytest.approx(r.probability_inside, abs=5 * se + 2e-3)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    cog=st.lists(st.floats(-40, 40), min_size=3, max_size=3),
+    sigma=st.lists(st.floats(0, 3), min_size=3, max_size=3),
+    x=st.floats(-100, 100),
+    confidence=st.floats(0.5, 0.999),
+)
+def test_any_solution_meets_its_envelope_and_its_confidence(cog, sigma, x, confidence):
+    s = state(1.0, cog, sigma)
+    sp = spec(((x, 30.0, -60.0), None), ((-x, -30.0, 60.0), 0.5))
+    limits = np.array([20.0, 20.0, 20.0])
+    r = least_ballast(s, sp, np.zeros(3), limits, confidence)
+    if r.feasible:
+        assert np.all(r.margin_mm >= -1e-7)
+        assert r.probability_inside >= confidence - 1e-4
+        assert norm.sf(r.face_quantiles).sum() == pytest.approx(1 - confidence, rel=1e-9)
+    else:
+        assert r.shortfall or r.notes
+
+
+@pytest.mark.parametrize("confidence", [0.0, 1.0, -0.1, 1.5])
+def test_a_confidence_outside_zero_one_is_refused(confidence):
+    with pytest.raises(ValueError, match="confidence"):
+        least_ballast(state(), spec(((1.0, 0, 0), None)), np.zeros(3), [1.0, 1.0, 1.0], confidence)
