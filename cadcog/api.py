@@ -967,8 +967,10 @@ def balance(
     ballast : str or Path
         The ballast file (TOML: ``[[points]]`` with ``id``, ``position_mm``, optional
         ``max_mass_kg``; optional ``sizes_kg`` and ``max_total_mass_kg``).
-    model, materials : str or Path, optional
-        A STEP model and its materials file (the CAD's mass, CoG and stated uncertainty).
+    model : str or Path, optional
+        A STEP model (the CAD's mass, CoG and stated uncertainty).
+    materials : str or Path, optional
+        The model's materials file (densities and ``[mass_uncertainty]``).
     setup : str or Path, optional
         A set-up file instead of a model (its envelope is the default).
     units : str, optional
@@ -981,8 +983,10 @@ def balance(
         Least probability that the CoG is inside the whole envelope, in (0, 1).
     readings : str or Path, optional
         With ``setup`` and ``weighed_mass_kg``: balance what ``update`` makes of the test.
-    weighed_mass_kg, mass_sigma_kg : float
-        The weighing and its 1 σ (kg).
+    weighed_mass_kg : float, optional
+        The weighed mass, without the measurement equipment (kg).
+    mass_sigma_kg : float
+        1 σ of the weighing (kg, default 1 g).
     workers : int, optional
         Processes for the mass properties (default: the CPUs available).
 

@@ -50,6 +50,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 from cadcog.core.results import JsonResult
 
@@ -168,9 +169,10 @@ def probability_inside(
     cov = np.asarray(cov_mm2, dtype=float)
     lo, hi = np.asarray(lo_mm, dtype=float), np.asarray(hi_mm, dtype=float)
     sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    if np.any(sd == 0.0):  # an exact axis: inside or not, the others by the integral
-        exact = sd == 0.0
-        if np.any((c[exact] < lo[exact]) | (c[exact] > hi[exact])):
+    if np.any(sd == 0.0):  # an exact axis: inside or not (on a face is in), the others by
+        exact = sd == 0.0  # the integral
+        tol = tolerances.ON_SURFACE_MM
+        if np.any((c[exact] < lo[exact] - tol) | (c[exact] > hi[exact] + tol)):
             return 0.0
         keep = ~exact
         if not keep.any():
@@ -203,13 +205,19 @@ class BalanceResult(JsonResult):
     optimal : bool
         The total is proven least (an integer programme stopped by its time limit: False,
         ``bound_kg`` then says how much less could exist at most).
-    mass_kg, mass_sigma_kg : float
-        After ballast.
-    cog_mm, cog_cov_mm2 : ndarray
-        After ballast (mm, mm²).
-    offset_mm, margin_mm : ndarray, shape (3,)
-        CoG minus the geometric centre, and ``L - |offset| - z σ`` per axis: the margin at the
-        confidence (negative: short).
+    mass_kg : float
+        The mass after ballast (kg).
+    mass_sigma_kg : float
+        Its 1 σ (kg; the ballast is exact).
+    cog_mm : ndarray, shape (3,)
+        The CoG after ballast (mm).
+    cog_cov_mm2 : ndarray, shape (3, 3)
+        Its covariance (mm²).
+    offset_mm : ndarray, shape (3,)
+        CoG minus the geometric centre (mm).
+    margin_mm : ndarray, shape (3,)
+        ``L - |offset| - z σ`` per axis, ``z`` the quantile of the face the CoG leans to: the
+        margin at the confidence (negative: short).
     probability_inside : float
         The joint probability that the CoG lies inside the envelope (normal CoG, integrated).
     before : dict
@@ -242,6 +250,7 @@ class BalanceResult(JsonResult):
 
     @property
     def total_ballast_kg(self) -> float:
+        """All the ballast (kg)."""
         return float(self.masses_kg.sum())
 
     def budget(self) -> list[dict[str, Any]]:

@@ -464,6 +464,23 @@ CASES = [
         r"--max-set 50: expected at most 8",
         {"s.toml": SETUP},
     ),
+    # --- balance -------------------------------------------------------------------------------
+    Case(
+        "balance-confidence",
+        ["balance", "--setup", "s.toml", "--ballast", "b.toml", "--confidence", "2"],
+        r"--confidence 2\.0: expected a probability in \(0, 1\)",
+    ),
+    Case(
+        "balance-ballast-missing",
+        ["balance", "--setup", "s.toml", "--ballast", "nothere.toml", "--cog-limits-mm=1,1,1"],
+        r"nothere\.toml: file not found",
+    ),
+    Case(
+        "balance-ballast-negative",
+        ["balance", "--setup", "s.toml", "--ballast", "b.toml"],
+        r"b\.toml: key 'points\[0\]\.max_mass_kg': expected a positive number",
+        {"b.toml": '[[points]]\nid = "a"\nposition_mm = [0, 0, 0]\nmax_mass_kg = -0.1\n'},
+    ),
     # --- check (requirements files) ------------------------------------------------------------
     Case(
         "requirements-no-model",

@@ -8,7 +8,7 @@ import itertools
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import linprog
 from scipy.stats import norm
@@ -206,6 +206,7 @@ def test_the_confidence_holds_when_the_spacecraft_is_drawn_from_its_uncertainty(
 
 
 @settings(max_examples=60, deadline=None)
+@example(cog=[36.5, 0.0, 0.0], sigma=[0.0, 0.0, 0.0], x=9.5, confidence=0.5)  # on the face
 @given(
     cog=st.lists(st.floats(-40, 40), min_size=3, max_size=3),
     sigma=st.lists(st.floats(0, 3), min_size=3, max_size=3),
