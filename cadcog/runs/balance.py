@@ -90,6 +90,13 @@ def run_balance(
             "ballast meets the envelope only as the CAD stands"
         )
     result = least_ballast(state, spec, centre, limits, confidence)
+    inside = np.all(np.abs(np.asarray(result.before["offset_mm"])) <= limits)
+    if result.feasible and result.total_ballast_kg > 0.0 and inside:
+        better = "measuring it (--readings)" if readings is None else "a tighter test"
+        notes.append(
+            "the CoG is inside the envelope as it stands: the ballast mostly dilutes its "
+            f"uncertainty (σ × M/(M + m)); {better} may need none"
+        )
     if result.feasible and result.total_ballast_kg > state.mass_kg:
         notes.append(
             f"the ballast ({result.total_ballast_kg:.3g} kg) outweighs the spacecraft "

@@ -223,3 +223,16 @@ def test_no_envelope_is_refused(lopsided, tmp_path, capsys):
     b = _ballast(tmp_path, '[[points]]\nid = "a"\nposition_mm = [70, 30, 0]\n')
     status, _, err = _run(capsys, str(step), "--materials", str(mats), "--ballast", str(b))
     assert status == 2 and "no envelope" in err
+
+
+def test_ballast_that_only_dilutes_the_uncertainty_is_said(lopsided, tmp_path, capsys):
+    """The CoG 11 mm off centre, inside an 11.05 mm envelope but not at 95 %: the ballast
+    mostly shrinks σ, and the note says that measuring may need none."""
+    step, mats = lopsided
+    b = _ballast(tmp_path, '[[points]]\nid = "W1"\nposition_mm = [70.0, 30.0, 0.0]\n')
+    args = [str(step), "--materials", str(mats), "--ballast", str(b), "--json"]
+    status, out, _ = _run(capsys, *args, "--cog-limits-mm=11.05,20,20")
+    d = json.loads(out)
+    assert status == 0 and d["total_ballast_kg"] > 0
+    assert abs(d["before"]["offset_mm"][0]) <= 11.05 < abs(d["before"]["offset_mm"][0]) + 1.0
+    assert any("mostly dilutes" in n for n in d["notes"])
