@@ -958,6 +958,7 @@ def balance(
     weighed_mass_kg: float | None = None,
     mass_sigma_kg: float = 0.001,
     workers: int | None = None,
+    configurations: str | Path | None = None,
 ) -> BalanceResult:
     """The least ballast that puts the CoG inside its envelope with at least ``confidence``
     (``cadcog balance``; :mod:`cadcog.spacecraft.balance` says how).
@@ -989,6 +990,8 @@ def balance(
         1 σ of the weighing (kg, default 1 g).
     workers : int, optional
         Processes for the mass properties (default: the CPUs available).
+    configurations : str or Path, optional
+        A configurations file: the same ballast must meet the envelope in each configuration.
 
     Returns
     -------
@@ -1029,6 +1032,9 @@ def balance(
         weighed_mass_kg=weighed_mass_kg,
         mass_sigma_kg=mass_sigma_kg,
         workers=workers or available_workers(),
+        configurations=None
+        if configurations is None
+        else _path(f, "configurations", configurations),
     )
 
 

@@ -47,6 +47,12 @@ def add_parser(sub: Any) -> None:
         default=0.95,
         help="least probability that the CoG is inside the whole envelope (default 0.95)",
     )
+    p.add_argument(
+        "--configurations",
+        type=Path,
+        metavar="FILE",
+        help="configurations file (TOML): the same ballast must meet the envelope in each",
+    )
     p.add_argument("--readings", type=Path, help="the test's readings CSV (with --setup)")
     p.add_argument("--weighed-mass-kg", type=float, help="the weighed mass, without the ME")
     p.add_argument(
@@ -85,6 +91,7 @@ def run(args: argparse.Namespace) -> int:
         weighed_mass_kg=args.weighed_mass_kg,
         mass_sigma_kg=args.mass_sigma_kg,
         workers=available_workers(),
+        configurations=args.configurations,
     )
     if args.json:
         print(result.to_json())
@@ -115,9 +122,11 @@ def print_balance(r: Any) -> None:
     if not r.feasible:
         print("no ballast within the file's limits meets the envelope at this confidence:")
         for s in r.shortfall:
+            where = f" ({s['configuration']})" if "configuration" in s else ""
             print(
-                f"  {s['side']}{s['axis']} face: short by {s['moment_kg_mm']:.4g} kg·mm of moment "
-                f"(the CoG {s['cog_shift_mm']:.3g} mm further in), with the most the locations take"
+                f"  {s['side']}{s['axis']} face{where}: short by {s['moment_kg_mm']:.4g} kg·mm "
+                f"of moment (the CoG {s['cog_shift_mm']:.3g} mm further in), with the most the "
+                "locations take"
             )
         for note in r.notes:
             print(f"note: {note}")
@@ -141,5 +150,10 @@ def print_balance(r: Any) -> None:
         f"± {_vec(r.cog_cov_mm2.diagonal() ** 0.5)} mm (1σ)"
     )
     print(f"           margin {_vec(r.margin_mm)} mm, P(inside) {r.probability_inside:.4f}")
+    for c in r.configurations:
+        print(
+            f"{c['name']}: CoG {_vec(c['cog_mm'])} mm, margin {_vec(c['margin_mm'])} mm, "
+            f"P(inside) {c['probability_inside']:.4f} (before: {_vec(c['before']['cog_mm'])} mm)"
+        )
     for note in r.notes:
         print(f"note: {note}")

@@ -12,7 +12,7 @@ import numpy as np
 
 from cadcog.cad.massresults import Refusal
 from cadcog.cli._types import positive_triple
-from cadcog.cli.massprops_text import print_report
+from cadcog.cli.massprops_text import print_configurations, print_report
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import note_input
 from cadcog.core.gcpause import gc_paused
@@ -26,6 +26,7 @@ from cadcog.spacecraft.mass_summary import MassReport, build_mass_report, parse_
 if TYPE_CHECKING:
     from cadcog.cad.stepmass import ModelMassProperties, OverlapPolicy
     from cadcog.cad.stepread import StepModel
+    from cadcog.spacecraft.configurations import Configuration
 
 
 def _point(text: str) -> str | tuple[float, float, float]:
@@ -127,6 +128,13 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--cog-limits-mm", type=positive_triple, help="custom CoG envelope half-widths X,Y,Z (mm)"
     )
+    p.add_argument(
+        "--configurations",
+        type=Path,
+        metavar="FILE",
+        help="also each configuration of a configurations file (TOML: parts moved about a hinge "
+        "or along a rail, masses changed): mass, CoG, inertia, uncertainty, envelope",
+    )
     p.add_argument("--depth", type=int, default=2, help="budget tree levels shown (default 2)")
     p.add_argument(
         "--collapse-below-percent",
@@ -213,6 +221,12 @@ def _run(args: argparse.Namespace) -> int:
     if args.workers is not None and args.workers < 1:
         raise CadcogError("--workers must be at least 1")
     _check_numbers(args)
+    configs: tuple[Configuration, ...] = ()
+    if args.configurations is not None:  # read before the CAD: a bad file costs nothing
+        from cadcog.spacecraft.configurations import load_configurations
+
+        configs = load_configurations(args.configurations)
+    args.configs = configs
     policy: OverlapPolicy = (
         "allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check"
     )
@@ -283,6 +297,8 @@ def _build_report(args: argparse.Namespace, result: ModelMassProperties) -> Mass
             axes=args.axes,
             form_factor=args.form_factor,
             cog_limits_mm=args.cog_limits_mm,
+            configurations=getattr(args, "configs", ()),
+            configurations_source=str(args.configurations or ""),
         )
     except ValueError as exc:
         raise CadcogError(f"--about/--axes: {exc}") from None
@@ -307,6 +323,7 @@ def emit(
         write_json(report.to_dict(), sys.stdout)
     else:
         print_report(report, args.depth, args.products, args.collapse_below_percent / 100.0)
+        print_configurations(report)
 
 
 def emit_refusal(

@@ -178,3 +178,31 @@ def print_rest(report: MassReport) -> None:
         print(f"info: {n}")
     for n in r.notes:
         print(f"note: {n}")
+
+
+def print_configurations(report: MassReport) -> None:
+    """One row per configuration: mass, CoG ± 1 σ, principal moments, envelope verdict."""
+    if not report.configurations:
+        return
+    rows = []
+    for c in report.configurations:
+        sd = np.sqrt(np.maximum(np.diag(c.cog_cov_mm2), 0.0))
+        moments = np.linalg.eigvalsh(c.total.inertia_kg_mm2)
+        rows.append(
+            [
+                c.name,
+                nf.mass(c.total.mass_kg),
+                f"{nf.vector(c.total.cog_mm)} ± {nf.vector(sd)}",
+                " ".join(nf.sig(m, 4) for m in moments),
+                "" if c.envelope is None else c.envelope.verdict(),
+                str(len(c.moved)),
+            ]
+        )
+    print("\nconfigurations (the CoG ± 1 σ in mm; principal moments in kg·mm²):")
+    print(
+        text_table(
+            ["configuration", "mass", "CoG (mm)", "principal moments", "envelope", "bodies moved"],
+            rows,
+            "lrllll",
+        )
+    )

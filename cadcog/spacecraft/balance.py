@@ -44,6 +44,7 @@ shortfall (moment, kg·mm, over the six faces) says which face is short and by h
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -114,6 +115,39 @@ class UncertainMass:
     cog_cov_mm2: FloatArray
     cog_mass_cov_mm_kg: FloatArray
     source: str
+
+    def shifted(
+        self,
+        mass_kg: float,
+        moment_kg_mm: npt.ArrayLike,
+        moment_cov_kg2_mm2: npt.ArrayLike,
+        source: str,
+    ) -> UncertainMass:
+        """The same spacecraft with a change of mass and first moment (a configuration's,
+        with its own covariance, taken as independent of these figures): ``G' = (M G + ΔS) /
+        (M + ΔM)`` to first order.
+
+        Examples
+        --------
+        >>> s = UncertainMass(2.0, 0.0, np.zeros(3), np.eye(3), np.zeros(3), "test")
+        >>> t = s.shifted(0.0, [20.0, 0, 0], np.zeros((3, 3)), "moved")
+        >>> t.cog_mm.tolist(), np.diag(t.cog_cov_mm2).tolist()
+        ([10.0, 0.0, 0.0], [1.0, 1.0, 1.0])
+        """
+        total = self.mass_kg + mass_kg
+        if not total > 0:
+            raise CadcogError(f"{source}: no mass left ({total:g} kg)")
+        cog = (self.mass_kg * self.cog_mm + np.asarray(moment_kg_mm, dtype=float)) / total
+        jc = self.mass_kg / total
+        jm = (self.cog_mm - cog) / total
+        s = self.cog_mass_cov_mm_kg
+        cov = (
+            jc**2 * self.cog_cov_mm2
+            + jc * (np.outer(s, jm) + np.outer(jm, s))
+            + self.mass_sigma_kg**2 * np.outer(jm, jm)
+            + np.asarray(moment_cov_kg2_mm2, dtype=float) / total**2
+        )
+        return UncertainMass(total, self.mass_sigma_kg, cog, cov, jc * s, source)
 
 
 def face_quantile(confidence: float) -> float:
@@ -223,7 +257,13 @@ class BalanceResult(JsonResult):
     before : dict
         The same figures without ballast.
     shortfall : list of dict
-        Infeasible: each face short (``axis``, ``side``, ``moment_kg_mm``, ``cog_shift_mm``).
+        Infeasible: each face short (``axis``, ``side``, ``moment_kg_mm``, ``cog_shift_mm``;
+        ``configuration`` with several).
+    notes : tuple of str
+    configurations : tuple of dict
+        With other configurations: each one's figures with the same ballast (``name``,
+        ``mass_kg``, ``cog_mm``, ``cog_cov_mm2``, ``offset_mm``, ``margin_mm``,
+        ``probability_inside``, ``face_quantiles``, ``before``).
     """
 
     spec: BallastSpec
@@ -247,6 +287,7 @@ class BalanceResult(JsonResult):
     before: dict[str, Any]
     shortfall: tuple[dict[str, Any], ...]
     notes: tuple[str, ...] = ()
+    configurations: tuple[dict[str, Any], ...] = ()
 
     @property
     def total_ballast_kg(self) -> float:
@@ -324,6 +365,7 @@ class BalanceResult(JsonResult):
             "source": self.state.source,
             "ballast_file": self.spec.source,
             "notes": list(self.notes),
+            "configurations": list(self.configurations),
         }
 
 
@@ -431,39 +473,42 @@ def _solve(
 
 
 def _shortfall(
-    a: FloatArray, b: FloatArray, spec: BallastSpec, total_mass_kg: float
+    a: FloatArray, b: FloatArray, spec: BallastSpec, total_mass_kg: float, labels: Sequence[str]
 ) -> list[dict[str, Any]]:
-    """The faces no ballast within the limits satisfies: the least total shortfall."""
+    """The faces no ballast within the limits satisfies: the least total shortfall (``labels``:
+    the configuration of each block of six rows)."""
     from scipy.optimize import linprog
 
-    n = len(spec.points)
+    n, rows_n = len(spec.points), len(b)
     caps = [(0.0, None if p.max_mass_kg is None else p.max_mass_kg) for p in spec.points]
-    a_ub = np.hstack([a, -np.eye(6)])
+    a_ub = np.hstack([a, -np.eye(rows_n)])
     rows, rhs = [a_ub], [b]
     if spec.max_total_mass_kg is not None:
-        rows.append(np.hstack([np.ones((1, n)), np.zeros((1, 6))]))
+        rows.append(np.hstack([np.ones((1, n)), np.zeros((1, rows_n))]))
         rhs.append(np.array([spec.max_total_mass_kg]))
     res = linprog(
-        np.r_[np.zeros(n), np.ones(6)],
+        np.r_[np.zeros(n), np.ones(rows_n)],
         A_ub=np.vstack(rows),
         b_ub=np.concatenate(rhs),
-        bounds=caps + [(0.0, None)] * 6,
+        bounds=caps + [(0.0, None)] * rows_n,
         method="highs",
     )
     if res.status != 0:
         raise CadcogError(f"the ballast shortfall programme failed: {res.message}")
     masses, short = res.x[:n], res.x[n:]
     out = []
-    for (k, sign), v in zip(FACES6, short, strict=True):
+    for r, v in enumerate(short):
+        k, sign = FACES6[r % 6]
         if v > SHORTFALL_KG_MM:
-            out.append(
-                {
-                    "axis": "xyz"[k],
-                    "side": "+" if sign > 0 else "-",
-                    "moment_kg_mm": float(v),
-                    "cog_shift_mm": float(v / (total_mass_kg + masses.sum())),
-                }
-            )
+            row: dict[str, Any] = {
+                "axis": "xyz"[k],
+                "side": "+" if sign > 0 else "-",
+                "moment_kg_mm": float(v),
+                "cog_shift_mm": float(v / (total_mass_kg + masses.sum())),
+            }
+            if len(b) > 6:
+                row["configuration"] = labels[r // 6]
+            out.append(row)
     return out
 
 
@@ -482,26 +527,33 @@ def norm_isf(q: npt.ArrayLike) -> FloatArray:
 
 
 def _solve_at(
-    state: UncertainMass,
+    states: Sequence[UncertainMass],
     spec: BallastSpec,
     positions: FloatArray,
     centre: FloatArray,
     limits: FloatArray,
-    z6: FloatArray,
+    z: FloatArray,
 ) -> tuple[str, FloatArray, FloatArray | None, bool, float | None, FloatArray]:
-    """The least ballast with each face's quantile ``z6``, the mass-uncertainty factor iterated
-    until the σ assumed covers the σ found (module docstring)."""
-    factor = np.ones(3)
-    sd0 = np.sqrt(np.maximum(np.diag(state.cog_cov_mm2), 0.0))
+    """The least ballast that every state's six faces allow, each face at its quantile
+    ``z[s, f]``, the mass-uncertainty factors iterated until the σ assumed covers the σ found
+    (module docstring)."""
+    factor = np.ones((len(states), 3))
+    sd0 = [np.sqrt(np.maximum(np.diag(st.cog_cov_mm2), 0.0)) for st in states]
     for _ in range(MAX_FACTOR_ITERATIONS):
-        a, b = _rows(state, positions, centre, limits, z6, factor)
+        blocks = [
+            _rows(st, positions, centre, limits, z[i], factor[i]) for i, st in enumerate(states)
+        ]
+        a = np.vstack([blk[0] for blk in blocks])
+        b = np.concatenate([blk[1] for blk in blocks])
         status, masses, counts, optimal, bound = _solve(a, b, spec)
         if status != "ok":
             return status, masses, counts, optimal, bound, factor
-        total, _, _, cov = with_ballast(state, positions, masses)
-        sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-        exact_sd = state.mass_kg * sd0 / total
-        new = np.where(exact_sd > 0, sd / np.where(exact_sd > 0, exact_sd, 1.0), 1.0)
+        new = np.ones_like(factor)
+        for i, st in enumerate(states):
+            total, _, _, cov = with_ballast(st, positions, masses)
+            sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
+            exact_sd = st.mass_kg * sd0[i] / total
+            new[i] = np.where(exact_sd > 0, sd / np.where(exact_sd > 0, exact_sd, 1.0), 1.0)
         if np.all(new <= factor * (1.0 + 1e-12)):  # the σ assumed covers the σ found
             return status, masses, counts, optimal, bound, factor
         factor = np.maximum(new, factor)  # only up: the factors settle
@@ -516,9 +568,10 @@ def least_ballast(
     confidence: float = 0.95,
     *,
     allocate: bool = True,
+    configurations: Sequence[tuple[str, UncertainMass]] = (),
 ) -> BalanceResult:
     """The least total ballast at the allowed locations that puts the CoG inside the envelope
-    with at least ``confidence`` (module docstring).
+    with at least ``confidence`` (module docstring), in ``state`` and in every configuration.
 
     Parameters
     ----------
@@ -529,16 +582,19 @@ def least_ballast(
     geometric_center_mm, limits_mm : array_like, shape (3,)
         The envelope: its centre and half-widths (mm, model axes).
     confidence : float
-        In (0, 1).
+        In (0, 1): each configuration's CoG inside with at least this probability.
     allocate : bool
         Give the miss budget of the faces that do not bind to those that do (default); False
         keeps Bonferroni's equal shares (``z`` of :func:`face_quantile` on every face).
+    configurations : sequence of (str, UncertainMass)
+        Other configurations the same ballast must satisfy (the ballast does not move with
+        them: it sits on the bus), by name.
 
     Returns
     -------
     BalanceResult
-        The masses, the new figures and margins; ``feasible`` False with ``shortfall`` when no
-        ballast within the limits meets the envelope.
+        The masses, the new figures and margins (``state``'s; ``configurations`` each); with
+        ``feasible`` False, ``shortfall`` when no ballast within the limits meets the envelope.
 
     Examples
     --------
@@ -562,41 +618,56 @@ def least_ballast(
     limits = np.asarray(limits_mm, dtype=float)
     if limits.shape != (3,) or np.any(limits <= 0):
         raise CadcogError(f"envelope half-widths {limits.tolist()}: expected three positive mm")
+    names = [state.source, *(name for name, _ in configurations)]
+    if len(set(names[1:])) != len(names) - 1:
+        raise CadcogError(f"configurations {names[1:]}: a name is given twice")
+    states = [state, *(st for _, st in configurations)]
     positions = np.array([p.position_mm for p in spec.points], dtype=float).reshape(-1, 3)
-    z6 = np.full(6, z_uniform)
-    before = _figures(state, spec, np.zeros(len(spec.points)), centre, limits, z6)
-    found = _solve_at(state, spec, positions, centre, limits, z6)
-    status, masses, counts, optimal, bound, factor = found
+    zero = np.zeros(len(spec.points))
+    z = np.full((len(states), 6), z_uniform)
+    before = [_figures(st, spec, zero, centre, limits, z[i]) for i, st in enumerate(states)]
+    status, masses, counts, optimal, bound, factor = _solve_at(
+        states, spec, positions, centre, limits, z
+    )
     for _ in range(MAX_ALLOCATIONS if allocate else 0):  # idle faces give their budget away
         if status != "ok":
             break
-        miss = _figures(state, spec, masses, centre, limits, z6)[7]
-        budget = norm_sf(z6)
-        idle = miss < budget / 10.0
-        if not idle.any() or idle.all():
+        z_new = z.copy()
+        for i, st in enumerate(states):
+            miss = _figures(st, spec, masses, centre, limits, z[i])[7]
+            budget = norm_sf(z[i])
+            idle = miss < budget / 10.0
+            if idle.any() and not idle.all():
+                new_budget = budget.copy()
+                new_budget[idle] = np.maximum(2.0 * miss[idle], alpha * 1e-9)
+                new_budget[~idle] = (alpha - new_budget[idle].sum()) / (~idle).sum()
+                z_new[i] = norm_isf(new_budget)
+        if np.array_equal(z_new, z):
             break
-        new_budget = budget.copy()
-        new_budget[idle] = np.maximum(2.0 * miss[idle], alpha * 1e-9)
-        new_budget[~idle] = (alpha - new_budget[idle].sum()) / (~idle).sum()
-        z_new = norm_isf(new_budget)
-        trial = _solve_at(state, spec, positions, centre, limits, z_new)
+        trial = _solve_at(states, spec, positions, centre, limits, z_new)
         if trial[0] != "ok" or trial[1].sum() >= masses.sum() * (1.0 - 1e-9):
             break
-        z6 = z_new
+        z = z_new
         status, masses, counts, optimal, bound, factor = trial
     notes: list[str] = []
     shortfall: list[dict[str, Any]] = []
     if status != "ok":
-        a, b = _rows(state, positions, centre, limits, z6, factor)
-        shortfall = _shortfall(a, b, spec, state.mass_kg)
-        sd0 = np.sqrt(np.maximum(np.diag(state.cog_cov_mm2), 0.0))
-        for k in np.flatnonzero(z_uniform * sd0 >= limits):
-            notes.append(
-                f"along {'xyz'[k]} the CoG's own uncertainty (1σ {sd0[k]:.3g} mm, "
-                f"{z_uniform:.3g} σ = {z_uniform * sd0[k]:.3g} mm) exceeds the half-width "
-                f"{limits[k]:g} mm: ballast can only dilute it; measure the CoG (--readings) or "
-                "state the masses more tightly"
-            )
+        blocks = [
+            _rows(st, positions, centre, limits, z[i], factor[i]) for i, st in enumerate(states)
+        ]
+        a = np.vstack([blk[0] for blk in blocks])
+        b = np.concatenate([blk[1] for blk in blocks])
+        shortfall = _shortfall(a, b, spec, state.mass_kg, names)
+        for name, st in zip(names, states, strict=True):
+            sd0 = np.sqrt(np.maximum(np.diag(st.cog_cov_mm2), 0.0))
+            where = f" ({name})" if len(states) > 1 else ""
+            for k in np.flatnonzero(z_uniform * sd0 >= limits):
+                notes.append(
+                    f"along {'xyz'[k]}{where} the CoG's own uncertainty (1σ {sd0[k]:.3g} mm, "
+                    f"{z_uniform:.3g} σ = {z_uniform * sd0[k]:.3g} mm) exceeds the half-width "
+                    f"{limits[k]:g} mm: ballast can only dilute it; measure the CoG (--readings) "
+                    "or state the masses more tightly"
+                )
         if not shortfall and spec.sizes_kg is not None:
             notes.append(
                 "continuous masses would meet the envelope: the sizes available, or the "
@@ -605,21 +676,38 @@ def least_ballast(
         masses = np.zeros(len(positions))
         counts = None
         optimal = False
-    mass, sigma_m, cog, cov, offset, margin, prob, _ = _figures(
-        state, spec, masses, centre, limits, z6
+    after = [_figures(st, spec, masses, centre, limits, z[i]) for i, st in enumerate(states)]
+    if status == "ok":
+        for name, fig in zip(names, after, strict=True):
+            if np.any(fig[5] < -1e-9 * np.maximum(limits, 1.0)):
+                raise CadcogError(
+                    f"the ballast found leaves {name} a margin of {fig[5].tolist()} mm "
+                    "(please report)"
+                )
+    mass, sigma_m, cog, cov, offset, margin, prob, _ = after[0]
+    per_config = tuple(
+        {
+            "name": name,
+            "mass_kg": fig[0],
+            "mass_sigma_kg": fig[1],
+            "cog_mm": fig[2].tolist(),
+            "cog_cov_mm2": fig[3].tolist(),
+            "offset_mm": fig[4].tolist(),
+            "margin_mm": fig[5].tolist(),
+            "probability_inside": fig[6],
+            "face_quantiles": z[i].tolist(),
+            "before": _before(before[i]),
+        }
+        for i, (name, fig) in enumerate(zip(names, after, strict=True))
+        if i > 0
     )
-    if status == "ok" and np.any(margin < -1e-9 * np.maximum(limits, 1.0)):
-        raise CadcogError(
-            f"the ballast found leaves a margin of {margin.tolist()} mm (please report)"
-        )
-    b_mass, _, b_cog, b_cov, b_off, b_margin, b_prob, _ = before
     return BalanceResult(
         spec,
         state,
         centre,
         limits,
         float(confidence),
-        z6,
+        z[0],
         status == "ok",
         masses,
         counts,
@@ -632,14 +720,21 @@ def least_ballast(
         offset,
         margin,
         prob,
-        {
-            "mass_kg": b_mass,
-            "cog_mm": b_cog.tolist(),
-            "cog_cov_mm2": b_cov.tolist(),
-            "offset_mm": b_off.tolist(),
-            "margin_mm": b_margin.tolist(),
-            "probability_inside": b_prob,
-        },
+        _before(before[0]),
         tuple(shortfall),
         tuple(notes),
+        per_config,
     )
+
+
+def _before(fig: tuple[Any, ...]) -> dict[str, Any]:
+    """The figures without ballast, as the result's ``before``."""
+    b_mass, _, b_cog, b_cov, b_off, b_margin, b_prob, _ = fig
+    return {
+        "mass_kg": b_mass,
+        "cog_mm": b_cog.tolist(),
+        "cog_cov_mm2": b_cov.tolist(),
+        "offset_mm": b_off.tolist(),
+        "margin_mm": b_margin.tolist(),
+        "probability_inside": b_prob,
+    }

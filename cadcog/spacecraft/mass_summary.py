@@ -29,6 +29,11 @@ from cadcog.mass.inertia import (
     principal_axes,
     products_of_inertia,
 )
+from cadcog.spacecraft.configurations import (
+    Configuration,
+    ConfigurationProperties,
+    configuration_properties,
+)
 from cadcog.spacecraft.envelope import (
     CDS_COG_LIMITS_MM,
     EnvelopeCheck,
@@ -65,6 +70,9 @@ class MassReport(JsonResult):
     envelope : EnvelopeCheck or None
         With a form factor or limits: the CoG against the envelope, in ``frame``'s axes around
         the geometric centre.
+    configurations : tuple of ConfigurationProperties
+        Each configuration asked for (:mod:`cadcog.spacecraft.configurations`), with its
+        envelope check against the same envelope.
     """
 
     result: ModelMassProperties
@@ -73,6 +81,7 @@ class MassReport(JsonResult):
     frame: Frame
     frame_inertia_kg_mm2: FloatArray
     envelope: EnvelopeCheck | None
+    configurations: tuple[ConfigurationProperties, ...] = ()
 
     @property
     def root_prefix(self) -> str:
@@ -138,6 +147,8 @@ class MassReport(JsonResult):
         }
         if self.envelope is not None:
             out["envelope"] = self.envelope.to_dict()
+        if self.configurations:
+            out["configurations"] = {c.name: c.to_dict() for c in self.configurations}
         return out
 
 
@@ -207,6 +218,8 @@ def build_mass_report(
     axes: str = "+x,+y,+z",
     form_factor: str | None = None,
     cog_limits_mm: Sequence[float] | None = None,
+    configurations: Sequence[Configuration] = (),
+    configurations_source: str = "",
 ) -> MassReport:
     """Gather a model's mass report.
 
@@ -222,6 +235,9 @@ def build_mass_report(
         CubeSat form factor for the envelope check.
     cog_limits_mm : sequence of 3 floats, optional
         Custom envelope half-widths (override the form factor's).
+    configurations : sequence of Configuration
+        Configurations to report (:func:`cadcog.spacecraft.configurations.load_configurations`;
+        ``configurations_source`` names their file in messages).
 
     Raises
     ------
@@ -273,6 +289,23 @@ def build_mass_report(
                     "the envelope check assumes it is one",
                 ),
             )
+    configs = configuration_properties(result.bodies, configurations, configurations_source)
+    if envelope is not None:
+        configs = tuple(
+            replace(
+                c,
+                envelope=check_envelope(
+                    c.total.cog_mm,
+                    centre,
+                    envelope.limits_mm,
+                    cov_mm2=c.cog_cov_mm2,
+                    axes=frame.axes,
+                    form_factor=form_factor,
+                    source=envelope.source,
+                ),
+            )
+            for c in configs
+        )
     return MassReport(
         result,
         budget,
@@ -280,4 +313,5 @@ def build_mass_report(
         frame,
         inertia_in_frame(total, frame),
         envelope,
+        configs,
     )

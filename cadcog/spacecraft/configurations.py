@@ -1,0 +1,336 @@
+"""The spacecraft in each of its configurations: parts moved about hinges or along rails, masses
+changed, applied to the bodies already counted (the CAD is not read again).
+
+A configurations file (TOML)::
+
+    [[configurations]]
+    name = "deployed"                    # letters, digits, _ and -
+    [[configurations.moves]]
+    parts = ["*panel_+x*"]               # patterns of bodies or assemblies (as --exclude's)
+    axis_point_mm = [50.0, 0.0, -170.0]  # a rotation about a hinge: a point on its axis,
+    axis_direction = [0.0, 1.0, 0.0]     # its direction (right-hand rule),
+    angle_deg = 90.0                     # and the angle
+    [[configurations.moves]]
+    parts = ["boom*"]
+    translation_mm = [0.0, 0.0, 100.0]   # or a translation
+    [[configurations.mass_changes]]
+    parts = ["propellant*"]
+    mass_fraction = 0.3                  # of the CAD's mass left (a tank drawn down evenly)
+
+Moves apply in order, each to its parts' current placement (a panel on a boom: the boom's move,
+then the panel's about its hinge, which the boom's move does not carry: give the hinge where it
+is after the earlier moves). A moved body keeps its shape: its CoG turns about the axis point,
+its inertia tensor turns with it (``R J Rᵀ``), its mass and stated uncertainty are its own. A
+mass change scales a body's mass and inertia (its CoG stays): the stated relative uncertainty
+scales with it. The configuration's totals and their uncertainty then follow exactly as the CAD's
+do (:func:`cadcog.spacecraft.items.linear_prior`).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from cadcog.core.errors import CadcogError
+from cadcog.core.paramfile import TableReader, read_toml
+from cadcog.core.results import JsonResult
+from cadcog.core.units import deg_to_rad
+from cadcog.mass.materials import glob_match
+from cadcog.mass.properties import MassProperties, combine
+from cadcog.spacecraft.envelope import EnvelopeCheck
+from cadcog.spacecraft.items import items_from_bodies, linear_prior
+
+FloatArray = npt.NDArray[np.float64]
+
+_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_-]{0,63}")
+
+#: Most configurations a file may list, and moves or mass changes per configuration.
+MAX_CONFIGURATIONS = 100
+MAX_MOVES = 100
+
+#: A hinge direction shorter than this (in the file's numbers) has no direction.
+MIN_AXIS_NORM = 1e-9
+
+
+@dataclass(frozen=True)
+class Move:
+    """A rigid move of some parts: ``x → R (x - a) + a + t``."""
+
+    parts: tuple[str, ...]
+    rotation: FloatArray  # (3, 3)
+    axis_point_mm: FloatArray
+    translation_mm: FloatArray
+    key: str  # where it is in the file (for messages)
+
+    def point(self, x_mm: npt.ArrayLike) -> FloatArray:
+        """A point moved."""
+        x = np.asarray(x_mm, dtype=float)
+        return np.asarray(
+            self.rotation @ (x - self.axis_point_mm) + self.axis_point_mm + self.translation_mm
+        )
+
+    def properties(self, p: MassProperties) -> MassProperties:
+        """A body's mass properties moved (CoG moved, inertia turned)."""
+        r = self.rotation
+        return MassProperties(
+            p.mass_kg, self.point(p.cog_mm), r @ p.inertia_kg_mm2 @ r.T, p.volume_mm3
+        )
+
+
+@dataclass(frozen=True)
+class MassChange:
+    """Some parts' mass scaled by ``fraction`` (their CoG kept)."""
+
+    parts: tuple[str, ...]
+    fraction: float
+    key: str
+
+
+@dataclass(frozen=True)
+class Configuration:
+    """A named configuration: its moves, then its mass changes."""
+
+    name: str
+    moves: tuple[Move, ...]
+    mass_changes: tuple[MassChange, ...]
+
+
+def rotation_about(axis_direction: npt.ArrayLike, angle_deg: float) -> FloatArray:
+    """The rotation by ``angle_deg`` about a direction (right-hand rule; Rodrigues).
+
+    Examples
+    --------
+    >>> rotation_about([0, 0, 1], 90.0).round(12).tolist()
+    [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    """
+    u = np.asarray(axis_direction, dtype=float)
+    norm = float(np.linalg.norm(u))
+    if not norm > MIN_AXIS_NORM:
+        raise ValueError(f"axis direction {u.tolist()} has no direction")
+    u = u / norm
+    theta = float(deg_to_rad(angle_deg))
+    k = np.array([[0.0, -u[2], u[1]], [u[2], 0.0, -u[0]], [-u[1], u[0], 0.0]])
+    return np.asarray(np.eye(3) + np.sin(theta) * k + (1.0 - np.cos(theta)) * (k @ k))
+
+
+def body_names(body: Any) -> tuple[str, ...]:
+    """Every name a pattern may match on a counted body: its path, the path below its top
+    assembly, each assembly path above it, each node's name and each product's."""
+    nodes = tuple(body.nodes)
+    names = [body.path]
+    if len(nodes) > 1:
+        names.append("/".join(nodes[1:]))
+    names.extend("/".join(nodes[:k]) for k in range(1, len(nodes)))
+    names.extend(reversed(nodes))
+    names.extend(p for p in getattr(body, "products", ()) if p)
+    return tuple(dict.fromkeys(names))
+
+
+def matches(patterns: Sequence[str], body: Any) -> bool:
+    """Whether any pattern matches any of the body's names (:func:`body_names`)."""
+    names = body_names(body)
+    return any(glob_match(n, pat) for pat in patterns for n in names)
+
+
+def _parts(t: TableReader) -> tuple[str, ...]:
+    if t.is_string("parts"):
+        return (t.string("parts"),)
+    return tuple(t.strings("parts"))
+
+
+def load_configurations(path: str | Path) -> tuple[Configuration, ...]:
+    """Read a configurations file (module docstring).
+
+    Raises
+    ------
+    ParameterFileError
+        Naming the file and key: a bad or repeated name, a hinge without a direction, a move
+        with both or neither of a rotation and a translation, a mass fraction outside [0, 10].
+    """
+    p = Path(path)
+    root = TableReader(read_toml(p), p)
+    tables = root.tables("configurations")
+    if len(tables) > MAX_CONFIGURATIONS:
+        raise root.error("configurations", f"{len(tables)}; at most {MAX_CONFIGURATIONS}")
+    out: list[Configuration] = []
+    for t in tables:
+        name = t.string("name")
+        if not _NAME.fullmatch(name):
+            raise t.error("name", f"{name!r}: expected letters, digits, _ and -, from a letter")
+        if any(c.name == name for c in out):
+            raise t.error("name", f"{name!r} is listed twice")
+        moves: list[Move] = []
+        for m in t.tables("moves", min_count=0) if t.has("moves") else []:
+            parts = _parts(m)
+            rotates = m.has("angle_deg") or m.has("axis_direction") or m.has("axis_point_mm")
+            if rotates == m.has("translation_mm"):
+                raise m.error(
+                    "translation_mm" if rotates else "angle_deg",
+                    "give a rotation (axis_point_mm, axis_direction, angle_deg) or a "
+                    "translation (translation_mm), one of them",
+                )
+            if rotates:
+                point = np.array(m.vector("axis_point_mm"))
+                direction = m.vector("axis_direction")
+                angle = m.number("angle_deg")
+                try:
+                    rot = rotation_about(direction, angle)
+                except ValueError as exc:
+                    raise m.error("axis_direction", f"{exc}: a hinge needs an axis") from None
+                move = Move(parts, rot, point, np.zeros(3), m.key("parts"))
+            else:
+                shift = np.array(m.vector("translation_mm"))
+                move = Move(parts, np.eye(3), np.zeros(3), shift, m.key("parts"))
+            m.finish()
+            moves.append(move)
+        changes: list[MassChange] = []
+        for c in t.tables("mass_changes", min_count=0) if t.has("mass_changes") else []:
+            parts = _parts(c)
+            fraction = c.number("mass_fraction", nonnegative=True)
+            if fraction > 10.0:
+                raise c.error("mass_fraction", f"{fraction:g}: expected a fraction of 0 to 10")
+            c.finish()
+            changes.append(MassChange(parts, fraction, c.key("parts")))
+        if len(moves) + len(changes) > MAX_MOVES:
+            raise t.error("moves", f"more than {MAX_MOVES} moves and mass changes")
+        t.finish()
+        out.append(Configuration(name, tuple(moves), tuple(changes)))
+    root.finish()
+    return tuple(out)
+
+
+def apply_configuration(
+    bodies: Sequence[Any], config: Configuration, source: str = ""
+) -> list[Any]:
+    """The bodies as they are in ``config`` (each a copy with moved or scaled ``properties``).
+
+    Raises
+    ------
+    CadcogError
+        A move's or mass change's parts match no body (naming the file's key).
+    """
+    out = list(bodies)
+    for move in config.moves:
+        hit = [i for i, b in enumerate(out) if matches(move.parts, b)]
+        if not hit:
+            raise CadcogError(
+                f"{source}: {move.key}: {list(move.parts)} matches no body of the model "
+                f"(configuration {config.name!r})"
+            )
+        if len(hit) == len(out):
+            raise CadcogError(
+                f"{source}: {move.key}: {list(move.parts)} matches every body: moving the whole "
+                f"spacecraft is a change of frame, not a configuration ({config.name!r})"
+            )
+        for i in hit:
+            out[i] = replace(out[i], properties=move.properties(out[i].properties))
+    for change in config.mass_changes:
+        hit = [i for i, b in enumerate(out) if matches(change.parts, b)]
+        if not hit:
+            raise CadcogError(
+                f"{source}: {change.key}: {list(change.parts)} matches no body of the model "
+                f"(configuration {config.name!r})"
+            )
+        for i in hit:
+            out[i] = replace(out[i], properties=out[i].properties.scaled(change.fraction))
+    return out
+
+
+@dataclass(frozen=True, repr=False)
+class ConfigurationProperties(JsonResult):
+    """One configuration's mass properties and their first-order uncertainty."""
+
+    name: str
+    total: MassProperties
+    mass_sigma_kg: float
+    cog_cov_mm2: FloatArray
+    cog_mass_cov_mm_kg: FloatArray
+    moved: tuple[str, ...]
+    envelope: EnvelopeCheck | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        out = {
+            "mass_kg": self.total.mass_kg,
+            "mass_sigma_kg": self.mass_sigma_kg,
+            "cog_mm": self.total.cog_mm.tolist(),
+            "cog_cov_mm2": self.cog_cov_mm2.tolist(),
+            "cog_sigma_mm": np.sqrt(np.maximum(np.diag(self.cog_cov_mm2), 0.0)).tolist(),
+            "inertia_kg_mm2": self.total.inertia_kg_mm2.tolist(),
+            "moved": list(self.moved),
+        }
+        if self.envelope is not None:
+            out["envelope"] = self.envelope.to_dict()
+        return out
+
+
+def configuration_properties(
+    bodies: Sequence[Any], configs: Sequence[Configuration], source: str = ""
+) -> tuple[ConfigurationProperties, ...]:
+    """Each configuration's totals and uncertainty, from the counted bodies."""
+    out = []
+    for config in configs:
+        moved_bodies = apply_configuration(bodies, config, source)
+        total = combine(b.properties for b in moved_bodies)
+        prior = linear_prior(*items_from_bodies(moved_bodies))
+        moved = tuple(b.path for b, m in zip(bodies, moved_bodies, strict=True) if m is not b)
+        out.append(
+            ConfigurationProperties(
+                config.name,
+                total,
+                prior.mass_sigma_kg,
+                prior.cog_cov_mm2,
+                prior.cog_mass_cov_mm_kg,
+                moved,
+            )
+        )
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class ConfigurationDelta:
+    """What a configuration changes against the model as it stands: mass, first moment and the
+    covariance of that moment change from the items' stated uncertainty (for a measured
+    spacecraft, whose own figures come from a test: ``G' = (M G + ΔS) / (M + ΔM)``)."""
+
+    name: str
+    mass_kg: float
+    moment_kg_mm: FloatArray
+    moment_cov_kg2_mm2: FloatArray
+
+
+def configuration_deltas(
+    bodies: Sequence[Any], configs: Sequence[Configuration], source: str = ""
+) -> tuple[ConfigurationDelta, ...]:
+    """Each configuration's change of mass and first moment, with its covariance (the
+    Jacobians of ``S = M G`` in the items' parameters, as moved minus as modelled)."""
+    base_items, base_fixed = items_from_bodies(bodies)
+    base = linear_prior(base_items, base_fixed)
+    base_jac = base.cog_mm[:, None] * base.jac_mass[None, :] + base.mass_kg * base.jac_cog
+    keys = [i.key for i in base_items]
+    out = []
+    for config in configs:
+        moved = apply_configuration(bodies, config, source)
+        items, fixed = items_from_bodies(moved)
+        prior = linear_prior(items, fixed)
+        if [i.key for i in items] != keys:
+            raise CadcogError(
+                f"{source}: configuration {config.name!r} scales an uncertain item to no mass: "
+                "give it a small fraction instead of 0"
+            )
+        jac = prior.cog_mm[:, None] * prior.jac_mass[None, :] + prior.mass_kg * prior.jac_cog
+        d = jac - base_jac
+        out.append(
+            ConfigurationDelta(
+                config.name,
+                prior.mass_kg - base.mass_kg,
+                prior.mass_kg * prior.cog_mm - base.mass_kg * base.cog_mm,
+                np.asarray(d @ base.prior_cov @ d.T),
+            )
+        )
+    return tuple(out)

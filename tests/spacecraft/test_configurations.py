@@ -1,0 +1,183 @@
+"""Configurations (``cadcog.spacecraft.configurations``, ``massprops --configurations``,
+``balance --configurations``): closed forms, the deployed model built in CAD and integrated by
+OCCT as the independent truth, and bad input."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from cadcog.cli import main
+from cadcog.mass.properties import box_properties
+from cadcog.spacecraft.configurations import rotation_about
+from tests.cad.stepfixtures import Assembly, Part, Place, rotation, write_step
+
+HINGE = np.array([50.0, 0.0, -60.0])  # the panel's lower outer edge, along y
+
+
+def _panel_place(deg: float) -> Place:
+    """The panel's placement turned by ``deg`` about the hinge (x' = R (x - a) + a)."""
+    r = rotation((0.0, 1.0, 0.0), deg)
+    t = HINGE - r @ HINGE
+    return Place(tuple(t), (0.0, 1.0, 0.0), deg)
+
+
+def _sat(deg: float) -> Assembly:
+    """A 100 × 100 × 120 mm body with a 2 mm panel on its +x face, hinged at its lower edge."""
+    top = Assembly("sat")
+    top.add(Part("bus", [((100.0, 100.0, 120.0), (-50.0, -50.0, -60.0))], 1200.0, "bus"))
+    panel = Part("panel", [((2.0, 90.0, 110.0), (50.0, -45.0, -60.0))], 2700.0, "Al")
+    top.add(panel, _panel_place(deg), "panel_1")
+    return top
+
+
+@pytest.fixture(scope="module")
+def models(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("configs")
+    stowed = write_step(_sat(0.0), tmp / "stowed.step")
+    deployed = write_step(_sat(90.0), tmp / "deployed.step")
+    mats = tmp / "m.toml"
+    mats.write_text('[materials]\nbus = 1200\npanel = 2700\n[mass_uncertainty]\n"*" = 0.05\n')
+    conf = tmp / "c.toml"
+    conf.write_text(
+        '[[configurations]]\nname = "deployed"\n[[configurations.moves]]\nparts = "panel*"\n'
+        f"axis_point_mm = {HINGE.tolist()}\naxis_direction = [0, 1, 0]\nangle_deg = 90\n"
+        '[[configurations]]\nname = "half-bus"\n[[configurations.mass_changes]]\n'
+        'parts = "bus"\nmass_fraction = 0.5\n'
+    )
+    return stowed, deployed, mats, conf
+
+
+def _massprops(capsys, *args: str) -> dict:
+    assert main(["massprops", *args, "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_rotation_is_proper_and_turns_the_right_way():
+    r = rotation_about([1.0, 2.0, 2.0], 37.0)
+    assert np.allclose(r @ r.T, np.eye(3), atol=1e-12) and np.linalg.det(r) == pytest.approx(1)
+    assert np.allclose(r @ np.array([1.0, 2.0, 2.0]), [1.0, 2.0, 2.0])  # the axis stays
+    assert np.allclose(rotation_about([0, 1, 0], 90.0) @ [0, 0, 1.0], [1.0, 0, 0], atol=1e-12)
+
+
+def test_a_turned_box_is_the_box_built_turned():
+    """A box's mass properties moved 90° about a hinge equal the closed form of the box
+    with its sides exchanged, its centre where the hinge takes it."""
+    from cadcog.spacecraft.configurations import Move
+
+    p = box_properties([2.0, 90.0, 110.0], [51.0, 0.0, -5.0], mass_kg=0.3)
+    move = Move(("x",), rotation_about([0, 1, 0], 90.0), HINGE, np.zeros(3), "k")
+    q = move.properties(p)
+    # centre (51, 0, -5) about (50, 0, -60): (1, 0, 55) → (55, 0, -1) → (105, 0, -61)
+    assert np.allclose(q.cog_mm, [105.0, 0.0, -61.0], atol=1e-12)
+    expected = box_properties([110.0, 90.0, 2.0], [105.0, 0.0, -61.0], mass_kg=0.3)
+    assert np.allclose(q.inertia_kg_mm2, expected.inertia_kg_mm2, atol=1e-9)
+
+
+def test_the_deployed_configuration_is_the_deployed_model_integrated_by_occt(models, capsys):
+    """The configuration applied to the stowed model's bodies equals, to integration precision,
+    the model built deployed in CAD and integrated afresh: mass, CoG and the total inertia
+    (its parallel-axis terms included)."""
+    stowed, deployed, mats, conf = models
+    d = _massprops(capsys, str(stowed), "--materials", str(mats), "--configurations", str(conf))
+    truth = _massprops(capsys, str(deployed), "--materials", str(mats))
+    c = d["configurations"]["deployed"]
+    assert c["mass_kg"] == pytest.approx(truth["mass_kg"], rel=1e-9)
+    assert np.allclose(c["cog_mm"], truth["cog_mm"], rtol=0, atol=1e-7)
+    assert np.allclose(c["inertia_kg_mm2"], truth["inertia_kg_mm2"]["tensor"], rtol=1e-8, atol=1e-6)
+    assert len(c["moved"]) == 1 and c["moved"][0].endswith("panel_1")
+
+
+def test_a_mass_change_scales_the_part_and_keeps_its_cog(models, capsys):
+    stowed, _, mats, conf = models
+    d = _massprops(capsys, str(stowed), "--materials", str(mats), "--configurations", str(conf))
+    bus = 0.1 * 0.1 * 0.12 * 1200.0
+    panel = 0.002 * 0.09 * 0.11 * 2700.0
+    c = d["configurations"]["half-bus"]
+    assert c["mass_kg"] == pytest.approx(0.5 * bus + panel, rel=1e-9)
+    moment = 0.5 * bus * np.zeros(3) + panel * np.array([51.0, 0.0, -5.0])
+    assert np.allclose(c["cog_mm"], moment / (0.5 * bus + panel), atol=1e-7)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (
+            '[[configurations]]\nname = "a"\n[[configurations.moves]]\nparts = "panel*"\n'
+            "axis_point_mm = [0, 0, 0]\naxis_direction = [0, 0, 0]\nangle_deg = 90\n",
+            "key 'configurations[0].moves[0].axis_direction': axis direction [0.0, 0.0, 0.0] "
+            "has no direction",
+        ),
+        (
+            '[[configurations]]\nname = "a"\n[[configurations.moves]]\nparts = "nothing*"\n'
+            "translation_mm = [0, 0, 10]\n",
+            "configurations[0].moves[0].parts: ['nothing*'] matches no body",
+        ),
+        (
+            '[[configurations]]\nname = "a"\n[[configurations.moves]]\nparts = "*"\n'
+            "translation_mm = [0, 0, 10]\n",
+            "matches every body",
+        ),
+        (
+            '[[configurations]]\nname = "a"\n[[configurations.moves]]\nparts = "panel*"\n'
+            "translation_mm = [0, 0, 10]\nangle_deg = 5\n",
+            "give a rotation (axis_point_mm, axis_direction, angle_deg) or a translation",
+        ),
+        (
+            '[[configurations]]\nname = "a"\n[[configurations]]\nname = "a"\n',
+            "key 'configurations[1].name': 'a' is listed twice",
+        ),
+        (
+            '[[configurations]]\nname = "a"\n[[configurations.mass_changes]]\nparts = "bus"\n'
+            "mass_fraction = -0.5\n",
+            "key 'configurations[0].mass_changes[0].mass_fraction': expected a number >= 0",
+        ),
+        (
+            '[[configurations]]\nname = "a"\n[[configurations.moves]]\nparts = "panel*"\n'
+            "translation_mm = [0, 0, 10]\nspeed = 3\n",
+            "key 'configurations[0].moves[0].speed': unknown key",
+        ),
+    ],
+)
+def test_bad_configurations_exit_2_with_one_line(models, tmp_path, capsys, text, message):
+    stowed, _, mats, _ = models
+    conf = tmp_path / "bad.toml"
+    conf.write_text(text)
+    status = main(
+        ["massprops", str(stowed), "--materials", str(mats), "--configurations", str(conf)]
+    )
+    out, err = capsys.readouterr()
+    assert status == 2 and out == ""
+    assert message in err, err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_balance_meets_the_envelope_in_every_configuration(models, tmp_path, capsys):
+    """One ballast for the stowed and the deployed spacecraft: each configuration's CoG with
+    it, recomputed here from the JSON's masses, is inside with its margin."""
+    stowed, _, mats, conf = models
+    b = tmp_path / "b.toml"
+    b.write_text(
+        '[[points]]\nid = "L"\nposition_mm = [-55.0, 0.0, 0.0]\n'
+        '[[points]]\nid = "T"\nposition_mm = [0.0, 0.0, 65.0]\n'
+    )
+    args = ["balance", str(stowed), "--materials", str(mats), "--ballast", str(b)]
+    status = main([*args, "--cog-limits-mm=5,20,10", "--configurations", str(conf), "--json"])
+    d = json.loads(capsys.readouterr().out)
+    assert status == 0 and d["feasible"]
+    assert [c["name"] for c in d["configurations"]] == ["deployed", "half-bus"]
+    positions = {"L": np.array([-55.0, 0, 0]), "T": np.array([0, 0, 65.0])}
+    for c in d["configurations"]:
+        before = c["before"]
+        moment = before["mass_kg"] * np.asarray(before["cog_mm"])
+        for item in d["ballast"]:
+            moment = moment + item["mass_kg"] * positions[item["id"]]
+        cog = moment / (before["mass_kg"] + d["total_ballast_kg"])
+        assert np.allclose(cog, c["cog_mm"], atol=1e-9)
+        assert min(c["margin_mm"]) >= -1e-9 and c["probability_inside"] >= 0.95 - 1e-6
+    # the deployed configuration binds: stowed alone needs none
+    assert d["total_ballast_kg"] > 0
+    assert main([*args, "--cog-limits-mm=5,20,10", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["total_ballast_kg"] == 0.0
