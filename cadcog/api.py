@@ -43,6 +43,7 @@ if TYPE_CHECKING:
     from cadcog.runs.campaign import CampaignRun
     from cadcog.runs.setup_init import SetupDraft
     from cadcog.spacecraft.balance import BalanceResult
+    from cadcog.spacecraft.configurations import Configuration
     from cadcog.spacecraft.mass_summary import MassReport
     from cadcog.spacecraft.plan import Plan
     from cadcog.spacecraft.requirements import CheckResult
@@ -258,6 +259,7 @@ def mass_properties(
     cog_limits_mm: Sequence[float] | None = None,
     workers: int | None = None,
     surface_area: bool = False,
+    configurations: str | Path | None = None,
 ) -> MassReport:
     """Mass properties of a STEP file, solid by solid, with a mass budget (``cadcog massprops``).
 
@@ -302,6 +304,9 @@ def mass_properties(
     surface_area : bool
         Also every body's face area and each budget node's sum (``--surface-area``:
         ``surface_area_mm2``; for insulation blankets and coatings).
+    configurations : str or Path, optional
+        A configurations file (``--configurations``): each configuration's mass, CoG, inertia,
+        uncertainty, envelope and the moved parts that would overlap others.
 
     Returns
     -------
@@ -347,6 +352,13 @@ def mass_properties(
     patterns = [exclude] if isinstance(exclude, str) else list(exclude)  # one pattern, not letters
     if not all(isinstance(p, str) for p in patterns):
         raise _fail(f, "exclude", exclude, "expected a pattern or a list of patterns (str)")
+    configs: tuple[Configuration, ...] = ()
+    config_path = None
+    if configurations is not None:
+        from cadcog.spacecraft.configurations import load_configurations
+
+        config_path = _path(f, "configurations", configurations)
+        configs = load_configurations(config_path)
     with gc_paused():  # a bounded computation keeping ~10⁶ objects alive (core/gcpause.py)
         result, _ = step_mass_properties(
             _path(f, "model", model),
@@ -361,15 +373,32 @@ def mass_properties(
             workers=workers or available_workers(),
         )
         try:
-            return build_mass_report(
+            report = build_mass_report(
                 result,
                 about=about,
                 axes=axes,
                 form_factor=form_factor,
                 cog_limits_mm=cog_limits_mm,
+                configurations=configs,
+                configurations_source=str(config_path or ""),
             )
         except ValueError as exc:
             raise _fail(f, "about/axes", (about, axes), str(exc)) from None
+        if config_path is not None:
+            from cadcog.cad.stepread import read_step
+            from cadcog.spacecraft.configurations import report_overlaps
+
+            model_path = _path(f, "model", model)
+            report = report_overlaps(
+                report,
+                configs,
+                lambda: read_step(model_path),
+                model_path,
+                config_path,
+                units=units,
+                exclude=patterns,
+            )
+        return report
 
 
 @_one_blas_thread

@@ -310,6 +310,18 @@ def emit(
     """Every output the command line asks for: report, CSV, then JSON or text on stdout
     (``model()`` reads the model, for the HTML report's views)."""
     report = _build_report(args, result)
+    if args.configurations is not None:  # moved parts that overlap others (cached by content)
+        from cadcog.spacecraft.configurations import report_overlaps
+
+        report = report_overlaps(
+            report,
+            args.configs,
+            model,
+            args.model,
+            args.configurations,
+            units=args.units,
+            exclude=args.exclude,
+        )
     if args.report is not None:
         from cadcog.reports.massprops_report import write_mass_report
 

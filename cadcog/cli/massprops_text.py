@@ -206,3 +206,6 @@ def print_configurations(report: MassReport) -> None:
             "lrllll",
         )
     )
+    for c in report.configurations:
+        for note in c.overlaps:
+            print(f"note: {note}")

@@ -29,7 +29,7 @@ do (:func:`cadcog.spacecraft.items.linear_prior`).
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -77,10 +77,13 @@ class Move:
 
     def properties(self, p: MassProperties) -> MassProperties:
         """A body's mass properties moved (CoG moved, inertia turned)."""
-        r = self.rotation
-        return MassProperties(
-            p.mass_kg, self.point(p.cog_mm), r @ p.inertia_kg_mm2 @ r.T, p.volume_mm3
-        )
+        return moved_properties(p, self.rotation, self.point(np.zeros(3)))
+
+
+def moved_properties(p: MassProperties, rotation: FloatArray, t_mm: FloatArray) -> MassProperties:
+    """Mass properties moved rigidly, ``x → R x + t``: ``c' = R c + t``, ``J' = R J Rᵀ``."""
+    r = np.asarray(rotation, dtype=float)
+    return MassProperties(p.mass_kg, r @ p.cog_mm + t_mm, r @ p.inertia_kg_mm2 @ r.T, p.volume_mm3)
 
 
 @dataclass(frozen=True)
@@ -213,23 +216,15 @@ def apply_configuration(
     Raises
     ------
     CadcogError
-        A move's or mass change's parts match no body (naming the file's key).
+        A move's or mass change's parts match no body (naming the file's key), or a move
+        matches every body.
     """
-    out = list(bodies)
-    for move in config.moves:
-        hit = [i for i, b in enumerate(out) if matches(move.parts, b)]
-        if not hit:
-            raise CadcogError(
-                f"{source}: {move.key}: {list(move.parts)} matches no body of the model "
-                f"(configuration {config.name!r})"
-            )
-        if len(hit) == len(out):
-            raise CadcogError(
-                f"{source}: {move.key}: {list(move.parts)} matches every body: moving the whole "
-                f"spacecraft is a change of frame, not a configuration ({config.name!r})"
-            )
-        for i in hit:
-            out[i] = replace(out[i], properties=move.properties(out[i].properties))
+    moves = placements(bodies, config, source)
+    out = []
+    for b in bodies:
+        if b.path in moves:
+            b = replace(b, properties=moved_properties(b.properties, *moves[b.path]))
+        out.append(b)
     for change in config.mass_changes:
         hit = [i for i, b in enumerate(out) if matches(change.parts, b)]
         if not hit:
@@ -253,6 +248,7 @@ class ConfigurationProperties(JsonResult):
     cog_mass_cov_mm_kg: FloatArray
     moved: tuple[str, ...]
     envelope: EnvelopeCheck | None = None
+    overlaps: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         out = {
@@ -266,6 +262,7 @@ class ConfigurationProperties(JsonResult):
         }
         if self.envelope is not None:
             out["envelope"] = self.envelope.to_dict()
+        out["overlaps"] = list(self.overlaps)
         return out
 
 
@@ -334,3 +331,108 @@ def configuration_deltas(
             )
         )
     return tuple(out)
+
+
+def placements(
+    bodies: Sequence[Any], config: Configuration, source: str = ""
+) -> dict[str, tuple[FloatArray, FloatArray]]:
+    """Each moved body's whole move in ``config`` (its moves composed in order), as ``x → R x
+    + t`` (mm), by path."""
+    moves: dict[str, tuple[FloatArray, FloatArray]] = {}
+    for move in config.moves:
+        hit = [b for b in bodies if matches(move.parts, b)]
+        if not hit:
+            raise CadcogError(
+                f"{source}: {move.key}: {list(move.parts)} matches no body of the model "
+                f"(configuration {config.name!r})"
+            )
+        if len(hit) == len(bodies):
+            raise CadcogError(
+                f"{source}: {move.key}: {list(move.parts)} matches every body: moving the whole "
+                f"spacecraft is a change of frame, not a configuration ({config.name!r})"
+            )
+        for b in hit:
+            r0, t0 = moves.get(b.path, (np.eye(3), np.zeros(3)))
+            r = move.rotation @ r0
+            t = move.point(t0)  # R (t0 - a) + a + t_m
+            moves[b.path] = (r, t)
+    return moves
+
+
+def overlap_notes(
+    solids: Sequence[tuple[str, Any]],
+    bodies: Sequence[Any],
+    configs: Sequence[Configuration],
+    *,
+    scale_to_mm: float = 1.0,
+    source: str = "",
+) -> dict[str, list[str]]:
+    """Per configuration, a note for each moved body that overlaps one it did not move with
+    (:func:`cadcog.cad.moved.moved_overlaps`): the mass properties count both whole."""
+    from cadcog.cad.moved import moved_overlaps
+
+    out: dict[str, list[str]] = {}
+    for config in configs:
+        pairs = moved_overlaps(solids, placements(bodies, config, source), scale_to_mm=scale_to_mm)
+        out[config.name] = [
+            f"configuration {config.name!r}: {a} overlaps {b} by {v:.4g} mm³ once moved "
+            "(both counted whole: check the hinge, the angle or the parts moved)"
+            for a, b, v in pairs
+        ]
+    return out
+
+
+def with_overlaps(
+    configs_found: Sequence[ConfigurationProperties],
+    bodies: Sequence[Any],
+    configs: Sequence[Configuration],
+    read: Callable[[], Any],
+    files: Sequence[Path],
+    *,
+    scale_to_mm: float = 1.0,
+    settings: dict[str, Any] | None = None,
+    source: str = "",
+) -> tuple[ConfigurationProperties, ...]:
+    """``configs_found`` with each one's overlap notes (:func:`overlap_notes`), cached by the
+    content of ``files`` (the model, the configurations file) and ``settings``: a second run
+    reads no CAD. ``read()`` gives the model (a :class:`cadcog.cad.stepread.StepModel`)."""
+    from cadcog.cad import cache
+
+    kept = {b.path for b in bodies}
+
+    def compute() -> dict[str, list[str]]:
+        model = read()
+        solids = [(b.path, b.shape) for b in model.solids if b.path in kept]
+        return overlap_notes(solids, bodies, configs, scale_to_mm=scale_to_mm, source=source)
+
+    key = {"kind": "configuration overlaps", **(settings or {})}
+    notes, _ = cache.cached_data(key, list(files), compute)
+    return tuple(replace(c, overlaps=tuple(notes.get(c.name, []))) for c in configs_found)
+
+
+def report_overlaps(
+    report: Any,
+    configs: Sequence[Configuration],
+    read: Callable[[], Any],
+    model: Path,
+    configurations: Path,
+    *,
+    units: str | None,
+    exclude: Sequence[str],
+) -> Any:
+    """A mass report (:class:`cadcog.spacecraft.mass_summary.MassReport`) whose configurations
+    carry their overlap notes (:func:`with_overlaps`): what ``massprops --configurations`` and
+    :func:`cadcog.mass_properties` both report."""
+    if not report.configurations:
+        return report
+    checked = with_overlaps(
+        report.configurations,
+        report.result.bodies,
+        configs,
+        read,
+        [model, configurations],
+        scale_to_mm=report.result.audit.scale_to_mm,
+        settings={"units": units, "exclude": list(exclude)},
+        source=str(configurations),
+    )
+    return replace(report, configurations=checked)

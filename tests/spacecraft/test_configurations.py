@@ -181,3 +181,30 @@ def test_balance_meets_the_envelope_in_every_configuration(models, tmp_path, cap
     assert d["total_ballast_kg"] > 0
     assert main([*args, "--cog-limits-mm=5,20,10", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["total_ballast_kg"] == 0.0
+
+
+def test_a_panel_turned_into_the_bus_is_reported_with_the_volume_counted_twice(
+    models, tmp_path, capsys
+):
+    """Turned -90° the panel lies 2 mm deep in the bus's lower face, 100 mm of its 110 mm
+    inside: 100 × 90 × 2 = 18 000 mm³ counted twice, said in a note (and the JSON); turned
+    +90° it only touches the hinge: nothing said."""
+    stowed, _, mats, _ = models
+    conf = tmp_path / "c.toml"
+    conf.write_text(
+        '[[configurations]]\nname = "wrong"\n[[configurations.moves]]\nparts = "panel*"\n'
+        f"axis_point_mm = {HINGE.tolist()}\naxis_direction = [0, 1, 0]\nangle_deg = -90\n"
+        '[[configurations]]\nname = "right"\n[[configurations.moves]]\nparts = "panel*"\n'
+        f"axis_point_mm = {HINGE.tolist()}\naxis_direction = [0, 1, 0]\nangle_deg = 90\n"
+    )
+    d = _massprops(capsys, str(stowed), "--materials", str(mats), "--configurations", str(conf))
+    (note,) = d["configurations"]["wrong"]["overlaps"]
+    assert "panel_1 overlaps" in note and "bus" in note
+    volume = float(note.split(" by ")[1].split(" mm³")[0])
+    assert volume == pytest.approx(18000.0, rel=1e-3)
+    assert d["configurations"]["right"]["overlaps"] == []
+    assert (
+        main(["massprops", str(stowed), "--materials", str(mats), "--configurations", str(conf)])
+        == 0
+    )
+    assert "note: configuration 'wrong'" in capsys.readouterr().out
