@@ -985,9 +985,10 @@ def balance(
     confidence: float = 0.95,
     readings: str | Path | None = None,
     weighed_mass_kg: float | None = None,
-    mass_sigma_kg: float = 0.001,
+    mass_sigma_kg: float | None = None,
     workers: int | None = None,
     configurations: str | Path | None = None,
+    overlaps: Literal["check", "allow", "resolve"] = "check",
 ) -> BalanceResult:
     """The least ballast that puts the CoG inside its envelope with at least ``confidence``
     (``cadcog balance``; :mod:`cadcog.spacecraft.balance` says how).
@@ -1015,12 +1016,14 @@ def balance(
         With ``setup`` and ``weighed_mass_kg``: balance what ``update`` makes of the test.
     weighed_mass_kg : float, optional
         The weighed mass, without the measurement equipment (kg).
-    mass_sigma_kg : float
-        1 σ of the weighing (kg, default 1 g).
+    mass_sigma_kg : float, optional
+        1 σ of the weighing (kg, default 1 g; with ``readings``).
     workers : int, optional
         Processes for the mass properties (default: the CPUs available).
     configurations : str or Path, optional
         A configurations file: the same ballast must meet the envelope in each configuration.
+    overlaps : {'check', 'allow', 'resolve'}
+        A model's overlapping solids, as :func:`mass_properties`'s.
 
     Returns
     -------
@@ -1040,14 +1043,27 @@ def balance(
         workers=workers,
     )
     _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
+    check_choice(f, "overlaps", overlaps, ("check", "allow", "resolve"))
+    if not 0.5 <= confidence < 1.0:
+        raise _fail(f, "confidence", confidence, "expected a probability from 0.5 to under 1")
+    if mass_sigma_kg is not None and readings is None:
+        raise _fail(f, "mass_sigma_kg", mass_sigma_kg, "goes with readings and weighed_mass_kg")
+    if (readings is None) != (weighed_mass_kg is None):
+        raise _fail(f, "readings", readings, "goes with weighed_mass_kg (a test is weighed)")
+    if readings is not None and setup is None:
+        raise _fail(f, "readings", readings, "needs a setup (its measurement equipment)")
     limits = None
     if cog_limits_mm is not None:
+        if isinstance(cog_limits_mm, str):
+            raise _fail(f, "cog_limits_mm", cog_limits_mm, "expected three numbers, not a string")
         _numbers(f, cog_limits_mm=list(cog_limits_mm))
         if len(cog_limits_mm) != 3 or min(cog_limits_mm) <= 0:
             raise _fail(f, "cog_limits_mm", cog_limits_mm, "expected three positive half-widths")
         limits = (float(cog_limits_mm[0]), float(cog_limits_mm[1]), float(cog_limits_mm[2]))
-    if model is not None and setup is not None:
-        raise _fail(f, "setup", setup, "give a model or a set-up, not both")
+    if (model is None) == (setup is None):
+        raise _fail(f, "setup", setup, "give a model or a set-up (one of them)")
+    if form_factor is not None and cog_limits_mm is not None:
+        raise _fail(f, "form_factor", form_factor, "give form_factor or cog_limits_mm, not both")
     return run_balance(
         _path(f, "ballast", ballast),
         model=None if model is None else _path(f, "model", model),
@@ -1064,6 +1080,7 @@ def balance(
         configurations=None
         if configurations is None
         else _path(f, "configurations", configurations),
+        overlaps=overlaps,
     )
 
 

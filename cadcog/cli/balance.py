@@ -58,8 +58,18 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--mass-sigma-kg",
         type=float,
-        default=DEFAULT_WEIGHING_SIGMA_KG,
-        help=f"1-σ of the weighing (default {DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
+        help=f"1-σ of the weighing (with --readings; default {DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
+    )
+    group = p.add_mutually_exclusive_group()
+    group.add_argument(
+        "--allow-overlap",
+        action="store_true",
+        help="count a MODEL's overlapping solids as they are (as massprops)",
+    )
+    group.add_argument(
+        "--resolve-overlaps",
+        action="store_true",
+        help="cut each common volume out of the less dense solid of a MODEL (as massprops)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
@@ -92,6 +102,7 @@ def run(args: argparse.Namespace) -> int:
         mass_sigma_kg=args.mass_sigma_kg,
         workers=available_workers(),
         configurations=args.configurations,
+        overlaps="allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check",
     )
     if args.json:
         print(result.to_json())
@@ -114,6 +125,7 @@ def print_balance(r: Any) -> None:
         f"envelope ±{_vec(r.limits_mm, 1)} mm around {_vec(r.geometric_center_mm)} mm; "
         f"figures: {r.state.source}; confidence {conf} (a union bound over the six faces)"
     )
+    print(f"limits: {r.envelope_source}")
     b = d["before"]
     print(
         f"as it is:  CoG {_vec(b['cog_mm'])} mm, margin {_vec(b['margin_mm'])} mm, "
@@ -124,9 +136,9 @@ def print_balance(r: Any) -> None:
         for s in r.shortfall:
             where = f" ({s['configuration']})" if "configuration" in s else ""
             print(
-                f"  {s['side']}{s['axis']} face{where}: short by {s['moment_kg_mm']:.4g} kg·mm "
-                f"of moment (the CoG {s['cog_shift_mm']:.3g} mm further in), with the most the "
-                "locations take"
+                f"  {s['side']}{s['axis']} face{where}: short by at least "
+                f"{s['moment_kg_mm']:.4g} kg·mm of moment (the CoG {s['cog_shift_mm']:.3g} mm "
+                "further in), with all the ballast the file allows"
             )
         for note in r.notes:
             print(f"note: {note}")

@@ -232,7 +232,8 @@ class TableReader:
         value = self._get(name)
         if not isinstance(value, list) or (len(value) != length if length else not value):
             count = f"{length} " if length else ""
-            raise self.error(name, f"expected an array of {count}numbers, got {_type_name(value)}")
+            got = f"an array of {len(value)}" if isinstance(value, list) else _type_name(value)
+            raise self.error(name, f"expected an array of {count}numbers, got {got}")
         out = []
         for i, item in enumerate(value):
             if isinstance(item, bool) or not isinstance(item, (int, float)):

@@ -20,10 +20,11 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError, ParameterFileError
 from cadcog.spacecraft.balance import BalanceResult, BallastSpec, UncertainMass, least_ballast
 from cadcog.spacecraft.ballast_file import load_ballast
-from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
+from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM, source_for
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG, items_from_bodies, linear_prior
 
 
@@ -39,14 +40,17 @@ def run_balance(
     confidence: float = 0.95,
     readings: Path | None = None,
     weighed_mass_kg: float | None = None,
-    mass_sigma_kg: float = DEFAULT_WEIGHING_SIGMA_KG,
+    mass_sigma_kg: float | None = None,
     workers: int = 1,
     configurations: Path | None = None,
+    overlaps: str = "check",
 ) -> BalanceResult:
     """The least ballast (module docstring), from checked arguments: a ``model`` or a
     ``setup``; ``readings`` with ``weighed_mass_kg`` (a set-up's) for the measured figures;
     ``configurations``: a configurations file whose every configuration the same ballast must
-    satisfy too (the measured figures changed by each configuration's CAD change).
+    satisfy too (the measured figures changed by each configuration's CAD change);
+    ``mass_sigma_kg``: the weighing's 1 σ (default 1 g); ``overlaps``: a model's overlapping
+    solids, as ``massprops``'s (``"check"``, ``"allow"``, ``"resolve"``).
 
     Raises
     ------
@@ -56,8 +60,20 @@ def run_balance(
     """
     if (model is None) == (setup is None):
         raise CadcogError("give a MODEL or --setup (one of them)")
-    if not 0.0 < confidence < 1.0:
-        raise CadcogError(f"--confidence {confidence!r}: expected a probability in (0, 1)")
+    if not 0.5 <= confidence < 1.0:
+        raise CadcogError(
+            f"--confidence {confidence!r}: expected a probability from 0.5 to under 1 (the CoG "
+            "inside the envelope at least that often)"
+        )
+    if mass_sigma_kg is not None and readings is None:
+        raise CadcogError("--mass-sigma-kg goes with --readings and --weighed-mass-kg")
+    if overlaps not in ("check", "allow", "resolve"):
+        raise CadcogError(f"overlaps {overlaps!r}: expected check, allow or resolve")
+    if setup is not None and overlaps != "check":
+        raise CadcogError(
+            "--allow-overlap and --resolve-overlaps go with a MODEL (a set-up "
+            "says overlaps = ... itself)"
+        )
     if readings is not None and setup is None:
         raise CadcogError("--readings needs --setup (its measurement equipment to remove)")
     if (readings is None) != (weighed_mass_kg is None):
@@ -72,13 +88,15 @@ def run_balance(
         configs = load_configurations(configurations)
     notes: list[str] = []
     if setup is not None:
-        state, centre, limits, label, bodies = _from_setup(
-            setup, readings, weighed_mass_kg, mass_sigma_kg, notes
+        state, box, limits, label, bodies = _from_setup(
+            setup, readings, weighed_mass_kg, mass_sigma_kg or DEFAULT_WEIGHING_SIGMA_KG, notes
         )
     else:
         assert model is not None
-        state, centre, label, bodies = _from_model(model, materials, units, workers)
+        state, box, label, bodies = _from_model(model, materials, units, workers, overlaps, notes)
         limits = None
+    centre = 0.5 * (box[0] + box[1])
+    _refuse_outside(spec, box, label)
     others = _configuration_states(state, bodies, configs, str(configurations or ""))
     if cog_limits_mm is not None:
         limits = np.array(cog_limits_mm, dtype=float)
@@ -88,6 +106,12 @@ def run_balance(
                 f"--form-factor {form_factor!r}: expected one of {', '.join(CDS_COG_LIMITS_MM)}"
             )
         limits = np.array(CDS_COG_LIMITS_MM[form_factor])
+        notes.extend(_form_factor_notes(form_factor, box))
+    source = (
+        "custom limits (--cog-limits-mm)"
+        if cog_limits_mm is not None
+        else source_for(form_factor or _setup_form(setup))
+    )
     if limits is None:
         raise CadcogError(
             f"{label}: no envelope: give --form-factor or --cog-limits-mm (or form_factor in "
@@ -111,7 +135,7 @@ def run_balance(
             f"the ballast ({result.total_ballast_kg:.3g} kg) outweighs the spacecraft "
             f"({state.mass_kg:.3g} kg): move mass inside it instead"
         )
-    return replace(result, notes=(*result.notes, *notes))
+    return replace(result, notes=(*result.notes, *notes), envelope_source=source)
 
 
 def mostly_dilutes(result: BalanceResult) -> bool:
@@ -161,8 +185,13 @@ def _configuration_states(
 
 
 def _from_model(
-    model: Path, materials: Path | None, units: str | None, workers: int
-) -> tuple[UncertainMass, np.ndarray, str, Sequence[Any]]:
+    model: Path,
+    materials: Path | None,
+    units: str | None,
+    workers: int,
+    overlaps: str,
+    notes: list[str],
+) -> tuple[UncertainMass, tuple[np.ndarray, np.ndarray], str, Sequence[Any]]:
     from cadcog.cad.cache import step_mass_properties
 
     result, _ = step_mass_properties(
@@ -172,7 +201,7 @@ def _from_model(
         total_mass_kg=None,
         units=units,
         exclude=[],
-        overlaps="check",
+        overlaps=overlaps,  # type: ignore[arg-type]
         strict=False,
         surface_areas=False,
         workers=workers,
@@ -188,7 +217,8 @@ def _from_model(
         prior.cog_mass_cov_mm_kg,
         "CAD",
     )
-    return state, 0.5 * (np.asarray(lo) + np.asarray(hi)), str(model), result.bodies
+    notes.extend(f"{model}: {n}" for n in result.notes)  # a unit, a placeholder material...
+    return state, (np.asarray(lo), np.asarray(hi)), str(model), result.bodies
 
 
 def _from_setup(
@@ -197,7 +227,7 @@ def _from_setup(
     weighed_mass_kg: float | None,
     mass_sigma_kg: float,
     notes: list[str],
-) -> tuple[UncertainMass, np.ndarray, np.ndarray | None, str, Sequence[Any]]:
+) -> tuple[UncertainMass, tuple[np.ndarray, np.ndarray], np.ndarray | None, str, Sequence[Any]]:
     from cadcog.spacecraft.setup import load_setup
 
     s = load_setup(path)
@@ -237,7 +267,8 @@ def _from_setup(
                 "are the measurement's"
             )
     limits = None if s.cog_limits_mm is None else np.asarray(s.cog_limits_mm)
-    return state, s.geometric_center_mm, limits, str(path), s.bodies
+    lo, hi = s.bbox_mm
+    return state, (np.asarray(lo), np.asarray(hi)), limits, str(path), s.bodies
 
 
 def _refuse_inside(
@@ -286,3 +317,47 @@ def _refuse_inside(
                 f"{point.id!r} at {np.asarray(point.position_mm).tolist()} mm lies inside the "
                 f"solid {inside!r}: ballast sits on a face or in free space",
             )
+
+
+def _refuse_outside(spec: Any, box: tuple[np.ndarray, np.ndarray], label: str) -> None:
+    """Refuse a ballast location outside the model's bounding box: ballast sits on the
+    spacecraft (a point beyond it is a typo or a unit slip)."""
+    lo, hi = box
+    tol = tolerances.SUSPENSION_ON_FACE_MM
+    for i, point in enumerate(spec.points):
+        pos = np.asarray(point.position_mm)
+        if np.any(pos < lo - tol) or np.any(pos > hi + tol):
+            raise ParameterFileError(
+                Path(spec.source),
+                f"points[{i}].position_mm",
+                f"{point.id!r} at {pos.tolist()} mm lies outside the model's bounding box "
+                f"{np.round(lo, 3).tolist()}..{np.round(hi, 3).tolist()} mm ({label}): ballast "
+                "sits on the spacecraft (mm, model axes)",
+            )
+
+
+def _form_factor_notes(form_factor: str, box: tuple[np.ndarray, np.ndarray]) -> list[str]:
+    """A note when the model's box is not that CubeSat form factor's (z the long axis)."""
+    from cadcog.spacecraft.setup_draft import CDS_ENVELOPES_MM, guess_form_factor
+
+    if form_factor not in CDS_ENVELOPES_MM:
+        return []
+    ext = box[1] - box[0]
+    if guess_form_factor(np.zeros(3), ext) == form_factor:
+        return []
+    shown = " × ".join(f"{v:.4g}" for v in ext)
+    env = " × ".join(f"{v:g}" for v in CDS_ENVELOPES_MM[form_factor])
+    return [
+        f"form factor {form_factor}: the model's box ({shown} mm) is not a {form_factor}'s "
+        f"({env} mm within 8 %, z the long axis): the envelope assumes it is one"
+    ]
+
+
+def _setup_form(setup: Path | None) -> str | None:
+    """The form factor a set-up file names, for the envelope's source."""
+    if setup is None:
+        return None
+    from cadcog.core.paramfile import read_toml
+
+    value = read_toml(setup).get("form_factor")
+    return value if isinstance(value, str) else None

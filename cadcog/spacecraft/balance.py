@@ -6,40 +6,41 @@ gets ballast masses ``m_i`` at allowed locations ``p_i``. Its new CoG is
     c' = (M c + Σ m_i p_i) / (M + Σ m_i),
 
 and its uncertainty, the ballast's masses and positions taken as exact (weighed washers bolted
-in drilled holes), ``σ'_k = f_k M σ_k / (M + Σ m_i)``, where ``f_k = 1`` when the mass is exact
-and ``f_k`` carries the mass's own uncertainty otherwise (below). The envelope is a box of
-half-widths ``L`` around the geometric centre ``o``. The CoG lies inside it with probability at
-least ``P`` when each of its six faces is missed with probability at most ``(1 - P) / 6``
-(Bonferroni: the union of six events is at most the sum of their probabilities), that is when
+in drilled holes), ``σ'_k = f_k M σ_k / (M + Σ m_i)``: ``f_k = 1`` when the mass ``M`` is exact
+(a weighing), and otherwise ``f_k`` carries the mass's own uncertainty (below), so that σ' may
+even grow. The envelope is a box of half-widths ``L`` around the geometric centre ``o``. Each of
+its six faces ``f`` gets a miss budget ``β_f``, the CoG clearing it by ``z_f σ'`` with ``z_f =
+Φ̄⁻¹(β_f)``; when the budgets sum to ``1 - P``, the CoG is inside with probability at least ``P``
+(the union bound: the probability of any of six misses is at most the sum of theirs):
 
-    ±(c'_k - o_k) + z σ'_k ≤ L_k   for each axis k and sign,   z = Φ⁻¹(1 - (1 - P) / 6).
+    ±(c'_k - o_k) + z_f σ'_k ≤ L_k   for each face f (axis k, sign ±),   Σ_f Φ̄(z_f) ≤ 1 - P.
 
-Multiplied by ``M + Σ m_i > 0`` each is **linear in the masses**:
+Multiplied by ``M + Σ m_i > 0`` each face is **linear in the masses and its quantile**:
 
-    Σ_i m_i (±(p_ik - o_k) - L_k) ≤ L_k M ∓ M (c_k - o_k) - z f_k M σ_k,
+    Σ_i m_i (±(p_ik - o_k) - L_k) + z_f f_k M σ_k ≤ L_k M ∓ M (c_k - o_k),
 
-so the least total ballast is a linear programme (continuous masses) or, with discrete sizes
-(``m_i = Σ_j s_j n_ij``, ``n_ij`` whole numbers), a mixed-integer one; both are solved exactly
-by HiGHS through :func:`scipy.optimize.milp` (the integer one to a zero gap, or its proven bound
-when the time limit stops it).
+and the budget is convex (``Φ̄`` is, for ``z ≥ 0``), so the least total ballast, the budgets
+chosen with it, is a convex programme; with discrete sizes (``m_i = Σ_j s_j n_ij``, whole
+``n_ij``) a mixed-integer one. :mod:`cadcog.spacecraft.ballast_programme` solves it by outer
+approximation with HiGHS (:func:`scipy.optimize.milp`): a proven lower bound, then a feasible
+ballast with the quantiles raised to meet the budget exactly, the least when the two agree to
+:data:`PROVEN_RTOL` (``optimal``; ``bound_kg`` is the lower bound). Bonferroni's equal shares
+(``z = Φ̄⁻¹((1 - P) / 6)`` on every face, ``allocate=False``) are one feasible choice among
+them; choosing the shares lands the integrated probability (``probability_inside``) near ``P``
+rather than at 0.99.
 
 The mass's own uncertainty (a CAD's 5 % per item, correlated with its CoG) enters ``c'`` through
 ``∂c'/∂M = (c - c') / (M + m)``: ``f_k`` is the ratio of the full first-order σ'_k to the
-exact-mass one, evaluated at the solution and the programme solved again until ``f`` settles
-(it moves by parts per million: the term is second order in the CoG shift). The result is then
-checked against the envelope directly, not through the multiplied-out form.
+exact-mass one, evaluated at the solution and the programme solved again until the σ assumed
+covers the σ found. The result is then checked against the envelope directly, not through the
+multiplied-out form.
 
-Bonferroni's equal shares are wasteful when one face binds and the others are far: the faces
-that do not bind then give their share away. Each face ``f`` keeps a miss budget ``β_f``
-(``Σ β_f = 1 - P``, ``z_f = Φ⁻¹(1 - β_f)``); after a solution, a face whose miss probability is
-below a tenth of its budget keeps twice that probability, and the faces that bind share the
-rest; the programme is solved again, and the new solution kept when it needs less ballast.
-Every solution satisfies its six constraints with budgets summing to ``1 - P``, so the union
-bound holds for each: the CoG is inside with probability at least ``P`` (the reported
-``probability_inside``, integrated, is typically ``P`` to ``P + 0.01``).
+With several configurations (the same ballast for each) every configuration has its own six
+faces and its own budget: each is inside with probability at least ``P``.
 
 When no ballast within the limits meets the envelope, the programme that minimises the total
-shortfall (moment, kg·mm, over the six faces) says which face is short and by how much.
+shortfall (moment, kg·mm, over the faces, the shares chosen too) says which face is short and
+by how much (at least that much: the relaxation's).
 """
 
 from __future__ import annotations
@@ -54,24 +55,26 @@ import numpy.typing as npt
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 from cadcog.core.results import JsonResult
+from cadcog.spacecraft.ballast_programme import (
+    FACES6,
+    face_rows,
+    norm_sf,
+    solve_fixed,
+    solve_joint,
+)
+from cadcog.spacecraft.ballast_programme import shortfall as face_shortfall
 
 FloatArray = npt.NDArray[np.float64]
-
-#: The envelope's six faces, in the order of the programme's rows: (axis, sign).
-FACES6 = ((0, 1), (0, -1), (1, 1), (1, -1), (2, 1), (2, -1))
-
-#: Seconds HiGHS may spend on an integer programme before the best solution and its proven
-#: bound are reported instead of a proven optimum.
-MILP_TIME_LIMIT_S = 60.0
 
 #: Iterations of the mass-uncertainty factor ``f`` (it settles in two or three).
 MAX_FACTOR_ITERATIONS = 20
 
-#: Rounds of giving the miss budget of the faces that do not bind to those that do.
-MAX_ALLOCATIONS = 8
+#: A CoG axis with a smaller σ (mm) is exact in :func:`probability_inside` (a subnormal
+#: variance would overflow the integral's inverse).
+EXACT_SIGMA_MM = 1e-9
 
-#: A face is short when the least total shortfall leaves more than this on it (kg·mm).
-SHORTFALL_KG_MM = 1e-9
+#: A ballast within this fraction of the relaxation's proven lower bound is the least.
+PROVEN_RTOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -203,8 +206,8 @@ def probability_inside(
     cov = np.asarray(cov_mm2, dtype=float)
     lo, hi = np.asarray(lo_mm, dtype=float), np.asarray(hi_mm, dtype=float)
     sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    if np.any(sd == 0.0):  # an exact axis: inside or not (on a face is in), the others by
-        exact = sd == 0.0  # the integral
+    exact = sd < EXACT_SIGMA_MM  # an exact axis: inside or not (on a face is in), the others
+    if np.any(exact):  # by the integral
         tol = tolerances.ON_SURFACE_MM
         if np.any((c[exact] < lo[exact] - tol) | (c[exact] > hi[exact] + tol)):
             return 0.0
@@ -260,10 +263,13 @@ class BalanceResult(JsonResult):
         Infeasible: each face short (``axis``, ``side``, ``moment_kg_mm``, ``cog_shift_mm``;
         ``configuration`` with several).
     notes : tuple of str
+        What to know about the answer (a dilution, a unit, a form factor).
     configurations : tuple of dict
         With other configurations: each one's figures with the same ballast (``name``,
         ``mass_kg``, ``cog_mm``, ``cog_cov_mm2``, ``offset_mm``, ``margin_mm``,
         ``probability_inside``, ``face_quantiles``, ``before``).
+    envelope_source : str
+        Where the envelope's limits come from (a PocketQube's are provisional).
     """
 
     spec: BallastSpec
@@ -288,6 +294,7 @@ class BalanceResult(JsonResult):
     shortfall: tuple[dict[str, Any], ...]
     notes: tuple[str, ...] = ()
     configurations: tuple[dict[str, Any], ...] = ()
+    envelope_source: str = ""
 
     @property
     def total_ballast_kg(self) -> float:
@@ -356,6 +363,7 @@ class BalanceResult(JsonResult):
             "cog_cov_mm2": self.cog_cov_mm2.tolist(),
             "geometric_center_mm": self.geometric_center_mm.tolist(),
             "limits_mm": self.limits_mm.tolist(),
+            "envelope_source": self.envelope_source,
             "offset_mm": self.offset_mm.tolist(),
             "margin_mm": self.margin_mm.tolist(),
             "probability_inside": self.probability_inside,
@@ -393,171 +401,6 @@ def _figures(
         gap = limits[k] - sign * offset[k]
         miss[r] = float(norm.sf(gap / sd[k])) if sd[k] > 0 else float(gap < 0)
     return mass, sigma_m, cog, cov, offset, margin, prob, miss
-
-
-def _rows(
-    state: UncertainMass,
-    positions: FloatArray,
-    centre: FloatArray,
-    limits: FloatArray,
-    z6: FloatArray,
-    factor: FloatArray,
-) -> tuple[FloatArray, FloatArray]:
-    """The six faces' rows ``A m ≤ b`` (module docstring), kg·mm."""
-    big_m = state.mass_kg
-    sd = np.sqrt(np.maximum(np.diag(state.cog_cov_mm2), 0.0))
-    a = np.empty((6, len(positions)))
-    b = np.empty(6)
-    for r, (k, sign) in enumerate(FACES6):
-        a[r] = sign * (positions[:, k] - centre[k]) - limits[k]
-        b[r] = (
-            limits[k] * big_m
-            - sign * big_m * (state.cog_mm[k] - centre[k])
-            - z6[r] * factor[k] * big_m * sd[k]
-        )
-    return a, b
-
-
-def _solve(
-    a: FloatArray,
-    b: FloatArray,
-    spec: BallastSpec,
-) -> tuple[str, FloatArray, FloatArray | None, bool, float | None]:
-    """Least total ballast under ``A m ≤ b``: ("ok"|"infeasible", masses, counts, optimal,
-    bound)."""
-    from scipy.optimize import Bounds, LinearConstraint, milp
-
-    n = len(spec.points)
-    caps = np.array([np.inf if p.max_mass_kg is None else p.max_mass_kg for p in spec.points])
-    total_cap = np.inf if spec.max_total_mass_kg is None else spec.max_total_mass_kg
-    if spec.sizes_kg is None:
-        expand = np.eye(n)  # variables: the masses
-        integrality = np.zeros(n)
-        upper = caps
-    else:
-        sizes = np.asarray(spec.sizes_kg, dtype=float)
-        expand = np.kron(np.eye(n), sizes[None, :])  # mass_i = Σ_j s_j n_ij
-        integrality = np.ones(expand.shape[1])
-        upper = np.repeat(caps, len(sizes)) / np.tile(sizes, n)
-        upper = np.floor(np.where(np.isfinite(upper), upper + 1e-9, np.inf))
-    cons = [LinearConstraint(a @ expand, -np.inf, b)]
-    cons.append(LinearConstraint(expand, -np.inf, caps))
-    if np.isfinite(total_cap):
-        cons.append(LinearConstraint(expand.sum(axis=0)[None, :], -np.inf, total_cap))
-    cost = expand.sum(axis=0)
-    options: dict[str, Any] = {"disp": False}
-    if spec.sizes_kg is not None:
-        options |= {"mip_rel_gap": 0.0, "time_limit": MILP_TIME_LIMIT_S}
-    res = milp(
-        cost,
-        constraints=cons,
-        integrality=integrality,
-        bounds=Bounds(np.zeros(expand.shape[1]), upper),
-        options=options,
-    )
-    if res.status == 2 or res.x is None:  # infeasible (or stopped before any solution)
-        return "infeasible", np.zeros(n), None, False, None
-    if res.status not in (0, 1):
-        raise CadcogError(f"the ballast programme failed: {res.message}")
-    x = np.asarray(res.x)
-    counts = None
-    if spec.sizes_kg is not None:
-        x = np.round(x)
-        counts = x.reshape(n, -1)
-    masses = expand @ x
-    optimal = res.status == 0
-    bound = None
-    if not optimal:
-        bound = float(getattr(res, "mip_dual_bound", np.nan))
-    return "ok", np.maximum(masses, 0.0), counts, optimal, bound
-
-
-def _shortfall(
-    a: FloatArray, b: FloatArray, spec: BallastSpec, total_mass_kg: float, labels: Sequence[str]
-) -> list[dict[str, Any]]:
-    """The faces no ballast within the limits satisfies: the least total shortfall (``labels``:
-    the configuration of each block of six rows)."""
-    from scipy.optimize import linprog
-
-    n, rows_n = len(spec.points), len(b)
-    caps = [(0.0, None if p.max_mass_kg is None else p.max_mass_kg) for p in spec.points]
-    a_ub = np.hstack([a, -np.eye(rows_n)])
-    rows, rhs = [a_ub], [b]
-    if spec.max_total_mass_kg is not None:
-        rows.append(np.hstack([np.ones((1, n)), np.zeros((1, rows_n))]))
-        rhs.append(np.array([spec.max_total_mass_kg]))
-    res = linprog(
-        np.r_[np.zeros(n), np.ones(rows_n)],
-        A_ub=np.vstack(rows),
-        b_ub=np.concatenate(rhs),
-        bounds=caps + [(0.0, None)] * rows_n,
-        method="highs",
-    )
-    if res.status != 0:
-        raise CadcogError(f"the ballast shortfall programme failed: {res.message}")
-    masses, short = res.x[:n], res.x[n:]
-    out = []
-    for r, v in enumerate(short):
-        k, sign = FACES6[r % 6]
-        if v > SHORTFALL_KG_MM:
-            row: dict[str, Any] = {
-                "axis": "xyz"[k],
-                "side": "+" if sign > 0 else "-",
-                "moment_kg_mm": float(v),
-                "cog_shift_mm": float(v / (total_mass_kg + masses.sum())),
-            }
-            if len(b) > 6:
-                row["configuration"] = labels[r // 6]
-            out.append(row)
-    return out
-
-
-def norm_sf(z: npt.ArrayLike) -> FloatArray:
-    """The normal's upper tail ``1 - Φ(z)``."""
-    from scipy.stats import norm
-
-    return np.asarray(norm.sf(z), dtype=float)
-
-
-def norm_isf(q: npt.ArrayLike) -> FloatArray:
-    """``z`` with upper tail ``q``."""
-    from scipy.stats import norm
-
-    return np.asarray(norm.isf(q), dtype=float)
-
-
-def _solve_at(
-    states: Sequence[UncertainMass],
-    spec: BallastSpec,
-    positions: FloatArray,
-    centre: FloatArray,
-    limits: FloatArray,
-    z: FloatArray,
-) -> tuple[str, FloatArray, FloatArray | None, bool, float | None, FloatArray]:
-    """The least ballast that every state's six faces allow, each face at its quantile
-    ``z[s, f]``, the mass-uncertainty factors iterated until the σ assumed covers the σ found
-    (module docstring)."""
-    factor = np.ones((len(states), 3))
-    sd0 = [np.sqrt(np.maximum(np.diag(st.cog_cov_mm2), 0.0)) for st in states]
-    for _ in range(MAX_FACTOR_ITERATIONS):
-        blocks = [
-            _rows(st, positions, centre, limits, z[i], factor[i]) for i, st in enumerate(states)
-        ]
-        a = np.vstack([blk[0] for blk in blocks])
-        b = np.concatenate([blk[1] for blk in blocks])
-        status, masses, counts, optimal, bound = _solve(a, b, spec)
-        if status != "ok":
-            return status, masses, counts, optimal, bound, factor
-        new = np.ones_like(factor)
-        for i, st in enumerate(states):
-            total, _, _, cov = with_ballast(st, positions, masses)
-            sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-            exact_sd = st.mass_kg * sd0[i] / total
-            new[i] = np.where(exact_sd > 0, sd / np.where(exact_sd > 0, exact_sd, 1.0), 1.0)
-        if np.all(new <= factor * (1.0 + 1e-12)):  # the σ assumed covers the σ found
-            return status, masses, counts, optimal, bound, factor
-        factor = np.maximum(new, factor)  # only up: the factors settle
-    raise CadcogError("the ballast's uncertainty factor did not settle (please report)")
 
 
 def least_ballast(
@@ -624,60 +467,66 @@ def least_ballast(
     states = [state, *(st for _, st in configurations)]
     positions = np.array([p.position_mm for p in spec.points], dtype=float).reshape(-1, 3)
     zero = np.zeros(len(spec.points))
-    z = np.full((len(states), 6), z_uniform)
-    before = [_figures(st, spec, zero, centre, limits, z[i]) for i, st in enumerate(states)]
-    status, masses, counts, optimal, bound, factor = _solve_at(
-        states, spec, positions, centre, limits, z
-    )
-    for _ in range(MAX_ALLOCATIONS if allocate else 0):  # idle faces give their budget away
-        if status != "ok":
+    uniform = np.full((len(states), 6), z_uniform)
+    before = [_figures(st, spec, zero, centre, limits, uniform[i]) for i, st in enumerate(states)]
+    sd0 = [np.sqrt(np.maximum(np.diag(st.cog_cov_mm2), 0.0)) for st in states]
+    factor = np.ones((len(states), 3))
+    z, found, lower = uniform, None, None
+    for _ in range(MAX_FACTOR_ITERATIONS):
+        blocks = [
+            face_rows(st.mass_kg, st.cog_mm, sd0[i], positions, centre, limits, factor[i])
+            for i, st in enumerate(states)
+        ]
+        z, lower = uniform, None
+        if allocate:
+            joint = solve_joint(blocks, spec, alpha, PROVEN_RTOL)
+            if joint is None:
+                found = None
+                break
+            z = uniform if joint[0] is None else joint[0]
+            lower = joint[1]
+        found = solve_fixed(blocks, z, spec)
+        if found is None:
             break
-        z_new = z.copy()
+        new = np.ones_like(factor)
         for i, st in enumerate(states):
-            miss = _figures(st, spec, masses, centre, limits, z[i])[7]
-            budget = norm_sf(z[i])
-            idle = miss < budget / 10.0
-            if idle.any() and not idle.all():
-                new_budget = budget.copy()
-                new_budget[idle] = np.maximum(2.0 * miss[idle], alpha * 1e-9)
-                new_budget[~idle] = (alpha - new_budget[idle].sum()) / (~idle).sum()
-                z_new[i] = norm_isf(new_budget)
-        if np.array_equal(z_new, z):
+            total, _, _, cov = with_ballast(st, positions, found.masses_kg)
+            sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
+            exact_sd = st.mass_kg * sd0[i] / total
+            new[i] = np.where(exact_sd > 0, sd / np.where(exact_sd > 0, exact_sd, 1.0), 1.0)
+        if np.all(new <= factor * (1.0 + 1e-12)):  # the σ assumed covers the σ found
             break
-        trial = _solve_at(states, spec, positions, centre, limits, z_new)
-        if trial[0] != "ok" or trial[1].sum() >= masses.sum() * (1.0 - 1e-9):
-            break
-        z = z_new
-        status, masses, counts, optimal, bound, factor = trial
+        factor = np.maximum(new, factor)  # only up: the factors settle
+    else:
+        raise CadcogError("the ballast's uncertainty factor did not settle (please report)")
     notes: list[str] = []
     shortfall: list[dict[str, Any]] = []
-    if status != "ok":
-        blocks = [
-            _rows(st, positions, centre, limits, z[i], factor[i]) for i, st in enumerate(states)
-        ]
-        a = np.vstack([blk[0] for blk in blocks])
-        b = np.concatenate([blk[1] for blk in blocks])
-        shortfall = _shortfall(a, b, spec, state.mass_kg, names)
-        for name, st in zip(names, states, strict=True):
-            sd0 = np.sqrt(np.maximum(np.diag(st.cog_cov_mm2), 0.0))
+    if found is None:
+        shortfall = face_shortfall(blocks, spec, alpha, state.mass_kg, names)
+        for name, sd in zip(names, sd0, strict=True):
             where = f" ({name})" if len(states) > 1 else ""
-            for k in np.flatnonzero(z_uniform * sd0 >= limits):
+            for k in np.flatnonzero(z_uniform * sd >= limits):
                 notes.append(
-                    f"along {'xyz'[k]}{where} the CoG's own uncertainty (1σ {sd0[k]:.3g} mm, "
-                    f"{z_uniform:.3g} σ = {z_uniform * sd0[k]:.3g} mm) exceeds the half-width "
+                    f"along {'xyz'[k]}{where} the CoG's own uncertainty (1σ {sd[k]:.3g} mm, "
+                    f"{z_uniform:.3g} σ = {z_uniform * sd[k]:.3g} mm) exceeds the half-width "
                     f"{limits[k]:g} mm: ballast can only dilute it; measure the CoG (--readings) "
                     "or state the masses more tightly"
                 )
-        if not shortfall and spec.sizes_kg is not None:
+        if not shortfall:
             notes.append(
                 "continuous masses would meet the envelope: the sizes available, or the "
                 "locations' limits in whole pieces, do not"
             )
-        masses = np.zeros(len(positions))
-        counts = None
-        optimal = False
+        masses, counts, optimal, bound = np.zeros(len(positions)), None, False, None
+        z = uniform
+    else:
+        masses, counts = found.masses_kg, found.counts
+        total = float(masses.sum())
+        bound = found.bound_kg if lower is None else lower
+        close = lower is None or total - lower <= PROVEN_RTOL * max(total, 1e-12) + 1e-15
+        optimal = found.optimal and close
     after = [_figures(st, spec, masses, centre, limits, z[i]) for i, st in enumerate(states)]
-    if status == "ok":
+    if found is not None:
         for name, fig in zip(names, after, strict=True):
             if np.any(fig[5] < -1e-9 * np.maximum(limits, 1.0)):
                 raise CadcogError(
@@ -708,7 +557,7 @@ def least_ballast(
         limits,
         float(confidence),
         z[0],
-        status == "ok",
+        found is not None,
         masses,
         counts,
         bool(optimal),

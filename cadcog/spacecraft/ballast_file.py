@@ -32,6 +32,9 @@ _ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]{0,39}")
 MAX_BALLAST_POINTS = 500
 MAX_BALLAST_SIZES = 20
 
+#: The lightest piece a ballast file may list (kg): 0.1 g, a small washer.
+MIN_PIECE_KG = 1e-4
+
 
 def load_ballast(path: str | Path) -> BallastSpec:
     """Read a ballast file (module docstring).
@@ -56,6 +59,12 @@ def load_ballast(path: str | Path) -> BallastSpec:
             )
         if len(set(values)) != len(values):
             raise root.error("sizes_kg", f"{list(values)}: a size is listed twice")
+        if min(values) < MIN_PIECE_KG:
+            raise root.error(
+                "sizes_kg",
+                f"{min(values):g} kg: a piece lighter than {MIN_PIECE_KG * 1000:g} g is not "
+                "ballast (is it in kg?)",
+            )
         sizes = tuple(sorted(values))
     tables = root.tables("points")
     if len(tables) > MAX_BALLAST_POINTS:
@@ -86,5 +95,10 @@ def load_ballast(path: str | Path) -> BallastSpec:
             )
         t.finish()
         points.append(BallastPoint(pid, pos, cap))
+    if total is not None and sizes is not None and total < sizes[0]:
+        raise root.error(
+            "max_total_mass_kg",
+            f"{total:g} kg is less than the smallest size {sizes[0]:g} kg: no piece could be used",
+        )
     root.finish()
     return BallastSpec(tuple(points), sizes, total, str(p))

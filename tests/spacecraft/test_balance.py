@@ -57,13 +57,15 @@ def test_one_location_closed_form_with_the_binding_face_s_quantile():
     assert r.optimal and r.feasible
 
 
-def test_the_union_bound_budgets_sum_to_the_miss_probability():
-    """Whatever the allocation, the six faces' budgets sum to 1 - P (the guarantee)."""
+def test_the_union_bound_budgets_sum_to_at_most_the_miss_probability():
+    """Whatever the shares chosen, the six faces' budgets sum to at most 1 - P (the
+    guarantee), and the face that binds spends nearly all of it."""
     s = state(2.0, (15.0, -4.0, 30.0), (1.5, 2.0, 3.0))
     sp = spec(((-60.0, 0.0, 0.0), None), ((0.0, 0.0, -100.0), None))
     for confidence in (0.9, 0.95, 0.99):
         r = least_ballast(s, sp, np.zeros(3), [10.0, 20.0, 20.0], confidence)
-        assert norm.sf(r.face_quantiles).sum() == pytest.approx(1 - confidence, rel=1e-9)
+        assert norm.sf(r.face_quantiles).sum() <= (1 - confidence) * (1 + 1e-9)
+        assert norm.sf(r.face_quantiles).sum() > 0.99 * (1 - confidence)  # all spent
 
 
 def test_nothing_needed_when_inside_already():
@@ -221,7 +223,7 @@ def test_any_solution_meets_its_envelope_and_its_confidence(cog, sigma, x, confi
     if r.feasible:
         assert np.all(r.margin_mm >= -1e-7)
         assert r.probability_inside >= confidence - 1e-4
-        assert norm.sf(r.face_quantiles).sum() == pytest.approx(1 - confidence, rel=1e-9)
+        assert norm.sf(r.face_quantiles).sum() <= (1 - confidence) * (1 + 1e-9)
     else:
         assert r.shortfall or r.notes
 
@@ -230,3 +232,67 @@ def test_any_solution_meets_its_envelope_and_its_confidence(cog, sigma, x, confi
 def test_a_confidence_outside_zero_one_is_refused(confidence):
     with pytest.raises(ValueError, match="confidence"):
         least_ballast(state(), spec(((1.0, 0, 0), None)), np.zeros(3), [1.0, 1.0, 1.0], confidence)
+
+
+def _least_by_search(s, position, centre, limits, confidence):
+    """The least mass at one location meeting the union bound, from its definition: at mass
+    m each face needs the tail Φ̄((L ∓ o'(m)) / σ'(m)); feasible when they sum to at most
+    1 - P; the least feasible m on a fine grid, refined by bisection."""
+    sd = np.sqrt(np.diag(s.cog_cov_mm2))
+
+    def spent(m):  # m: an array of masses
+        m = np.atleast_1d(m)[:, None]
+        total = s.mass_kg + m
+        o = (s.mass_kg * s.cog_mm + m * position) / total - centre
+        sig = s.mass_kg * sd / total
+        tails = np.zeros(len(m))
+        for k in range(3):
+            for sign in (1, -1):
+                gap = limits[k] - sign * o[:, k]
+                tails += norm.sf(gap / sig[:, k]) if sd[k] > 0 else (gap < 0).astype(float)
+        return tails
+
+    alpha = 1 - confidence
+    grid = np.linspace(0, 5 * s.mass_kg, 20001)
+    ok = spent(grid) <= alpha
+    if not ok.any():
+        return None
+    k = int(np.argmax(ok))
+    if k == 0:
+        return 0.0
+    lo, hi = grid[k - 1], grid[k]
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if spent(mid)[0] <= alpha else (mid, hi)
+    return hi
+
+
+def test_the_shares_chosen_give_the_least_mass_the_union_bound_allows():
+    """One location, two faces binding (the CoG pulled across x while z is fixed): the least
+    mass equals the one found by searching the union bound's definition directly; two
+    locations whose sum acts at that point need no more (a trial found 135 g for 118 g)."""
+    rng = np.random.default_rng(5)
+    checked = 0
+    for _ in range(12):
+        s = state(2.5, (rng.uniform(-1, 3), 0.0, rng.uniform(8, 16)), (0.7, 0.7, rng.uniform(1, 3)))
+        p = np.array([rng.uniform(-60, -20), 0.0, -160.0])
+        limits = np.array([rng.uniform(2.5, 6), 20.0, 10.0])
+        expected = _least_by_search(s, p, np.zeros(3), limits, 0.95)
+        r = least_ballast(s, spec((p, None)), np.zeros(3), limits, 0.95)
+        if expected is None:
+            assert not r.feasible
+            continue
+        checked += 1
+        assert r.feasible and r.optimal
+        assert r.total_ballast_kg == pytest.approx(expected, rel=2e-5, abs=1e-9)
+        assert r.bound_kg <= r.total_ballast_kg * (1 + 1e-6)  # HiGHS's tolerances
+    assert checked >= 6
+    s = state(2.58, (0.8, -0.4, 12.3), (0.66, 0.68, 3.14))
+    one = least_ballast(s, spec(((0.0, 0.0, -160.0), None)), np.zeros(3), [3.0, 20, 10])
+    two = least_ballast(
+        s,
+        spec(((-40.0, 0.0, -160.0), None), ((40.0, 0.0, -160.0), None)),
+        np.zeros(3),
+        [3.0, 20, 10],
+    )
+    assert two.total_ballast_kg <= one.total_ballast_kg * (1 + 1e-5)

@@ -160,15 +160,15 @@ def test_balance_meets_the_envelope_in_every_configuration(models, tmp_path, cap
     stowed, _, mats, conf = models
     b = tmp_path / "b.toml"
     b.write_text(
-        '[[points]]\nid = "L"\nposition_mm = [-55.0, 0.0, 0.0]\n'
-        '[[points]]\nid = "T"\nposition_mm = [0.0, 0.0, 65.0]\n'
+        '[[points]]\nid = "L"\nposition_mm = [-50.0, 0.0, 0.0]\n'
+        '[[points]]\nid = "T"\nposition_mm = [0.0, 0.0, 60.0]\n'
     )
     args = ["balance", str(stowed), "--materials", str(mats), "--ballast", str(b)]
     status = main([*args, "--cog-limits-mm=5,20,10", "--configurations", str(conf), "--json"])
     d = json.loads(capsys.readouterr().out)
     assert status == 0 and d["feasible"]
     assert [c["name"] for c in d["configurations"]] == ["deployed", "half-bus"]
-    positions = {"L": np.array([-55.0, 0, 0]), "T": np.array([0, 0, 65.0])}
+    positions = {"L": np.array([-50.0, 0, 0]), "T": np.array([0, 0, 60.0])}
     for c in d["configurations"]:
         before = c["before"]
         moment = before["mass_kg"] * np.asarray(before["cog_mm"])
