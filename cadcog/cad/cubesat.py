@@ -4,6 +4,12 @@ Frame: origin at the geometric centre of the envelope, z along the rails (CubeSa
 The structure is four square rails at the corners, four side panels between them and two end
 plates; components are boxes or z-axis cylinders, each a named solid of one material. Validation
 rejects components that overlap each other or the structure, or leave the envelope.
+
+Deployables (``[[deployables]]``: solar arrays, antennas) are flat panels stowed against a side
+face, outside it (the CDS allows 6.5 mm beyond the rails there), hinged along their edge at one
+end; :func:`configurations_toml` writes the configurations file that deploys them
+(:mod:`cadcog.spacecraft.configurations`): each turned about its hinge so that it stands out
+from its face.
 """
 
 from __future__ import annotations
@@ -47,6 +53,44 @@ class Component:
         return c - h, c + h
 
 
+#: The most a stowed deployable may stand out of a side face (CDS Rev. 14.1: 6.5 mm).
+MAX_PROTRUSION_MM = 6.5
+
+#: The side faces a deployable may be stowed on: (axis, sign).
+SIDE_FACES = {"+x": (0, 1.0), "-x": (0, -1.0), "+y": (1, 1.0), "-y": (1, -1.0)}
+
+
+@dataclass(frozen=True)
+class Deployable:
+    """A flat panel stowed against a side face, hinged at one end (``hinge`` ``"-z"`` or
+    ``"+z"``), deployed by ``angle_deg`` about its hinge so that it stands out of the face."""
+
+    name: str
+    material: str
+    face: str
+    thickness_mm: float
+    width_mm: float
+    length_mm: float
+    hinge: str = "-z"
+    angle_deg: float = 90.0
+    mass_uncertainty: float | None = None
+
+    def normal(self) -> np.ndarray:
+        axis, sign = SIDE_FACES[self.face]
+        n = np.zeros(3)
+        n[axis] = sign
+        return n
+
+    def hinge_axis(self, half_width_mm: float) -> tuple[np.ndarray, np.ndarray]:
+        """A point on the hinge line and its direction: the rotation by ``angle_deg`` about it
+        turns the panel's length (from the hinge) towards the face's outward normal."""
+        n = self.normal()
+        end = -1.0 if self.hinge == "-z" else 1.0
+        point = half_width_mm * n + np.array([0.0, 0.0, end * self.length_mm / 2])
+        along = np.array([0.0, 0.0, -end])  # from the hinge along the panel
+        return point, np.cross(along, n)
+
+
 @dataclass(frozen=True)
 class CubeSatSpec:
     name: str
@@ -58,6 +102,7 @@ class CubeSatSpec:
     components: tuple[Component, ...]
     source: Path
     structure_mass_uncertainty: float | None = None
+    deployables: tuple[Deployable, ...] = ()
 
     @property
     def length_mm(self) -> float:
@@ -117,8 +162,36 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
             length = t.number("cylinder_length_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
             comps.append(Component(cname, mat, center, None, (d, length), sigma))
         t.finish()
+    deploys: list[Deployable] = []
+    for t in root.tables("deployables") if root.has("deployables") else []:
+        d_size = t.vector("size_mm", positive=True, at_least=MIN_SOLID_DIMENSION_MM)
+        deploy = Deployable(
+            t.identifier("name"),
+            _material(t, "material"),
+            t.string("face", choices=list(SIDE_FACES)),
+            d_size[0],
+            d_size[1],
+            d_size[2],
+            t.string("hinge", choices=["-z", "+z"], default="-z"),
+            t.number("angle_deg", default=90.0),
+            _uncertainty(t),
+        )
+        if deploy.thickness_mm > MAX_PROTRUSION_MM:
+            raise t.error(
+                "size_mm",
+                f"a stowed panel {deploy.thickness_mm:g} mm thick stands out more than the CDS's "
+                f"{MAX_PROTRUSION_MM:g} mm (size_mm = [thickness, width, length])",
+            )
+        if deploy.width_mm > width or deploy.length_mm > units * RAIL_PER_UNIT_MM:
+            raise t.error("size_mm", "the panel is wider or longer than its face")
+        if any(d.face == deploy.face for d in deploys):
+            raise t.error("face", f"{deploy.face} already carries a deployable")
+        t.finish()
+        deploys.append(deploy)
     root.finish()
-    spec = CubeSatSpec(name, units, width, rail, panel, smat, tuple(comps), p, s_sigma)
+    spec = CubeSatSpec(
+        name, units, width, rail, panel, smat, tuple(comps), p, s_sigma, tuple(deploys)
+    )
     inner = spec.inner_half_mm
     for t, comp in zip(tables, comps, strict=True):
         lo, hi = comp.bounds()
@@ -133,7 +206,7 @@ def load_cubesat(path: str | Path) -> CubeSatSpec:
         (alo, ahi), (blo, bhi) = a.bounds(), b.bounds()
         if np.all(np.minimum(ahi, bhi) - np.maximum(alo, blo) > 1e-9):
             raise t1.error("center_mm", f"components {a.name} and {b.name} overlap")
-    names = [c.name for c in comps]
+    names = [c.name for c in comps] + [d.name for d in deploys]
     twice = next((n for i, n in enumerate(names) if n in names[:i]), None)
     if twice is not None:
         at = [i for i, n in enumerate(names) if n == twice][:2]
@@ -220,7 +293,45 @@ def build_cubesat(spec: CubeSatSpec) -> tuple[Assembly, dict[str, str]]:
     top = Assembly(spec.name)
     top.add(structure, Placement(), "structure")
     top.add(bus, Placement((0.0, 0.0, mid_z)), "payload_and_bus")
+    if spec.deployables:
+        arrays = Assembly("deployables")
+        for d in spec.deployables:
+            shape = _centred_box((d.thickness_mm, d.width_mm, d.length_mm))
+            centre = d.normal() * (w + d.thickness_mm / 2)
+            turn = 90.0 if SIDE_FACES[d.face][0] == 1 else 0.0  # thickness along the normal
+            arrays.add(
+                Part(d.name, [shape]),
+                Placement((float(centre[0]), float(centre[1]), float(centre[2])), _turn(turn)),
+                d.name,
+            )
+            materials[d.name] = d.material
+        top.add(arrays, Placement(), "deployables")
     return top, materials
+
+
+def configurations_toml(spec: CubeSatSpec) -> str:
+    """The configurations file of a CubeSat with deployables: ``stowed`` (as built) and
+    ``deployed`` (each panel turned about its hinge), for ``massprops --configurations``,
+    ``check`` and ``balance``."""
+    lines = [
+        f"# configurations of {spec.name}, written by cadcog parts cubesat",
+        "[[configurations]]",
+        'name = "stowed"',
+        "",
+        "[[configurations]]",
+        'name = "deployed"',
+    ]
+    for d in spec.deployables:
+        point, direction = d.hinge_axis(0.5 * spec.width_mm)
+        lines += [
+            "",
+            "[[configurations.moves]]",
+            f"parts = [{toml_string(d.name)}]",
+            f"axis_point_mm = [{', '.join(f'{v:.6g}' for v in point)}]",
+            f"axis_direction = [{', '.join(f'{v:.6g}' for v in direction)}]",
+            f"angle_deg = {d.angle_deg:.6g}",
+        ]
+    return "\n".join(lines) + "\n"
 
 
 def material_map(spec: CubeSatSpec, materials: dict[str, str]) -> MaterialMap:
@@ -230,6 +341,7 @@ def material_map(spec: CubeSatSpec, materials: dict[str, str]) -> MaterialMap:
     if spec.structure_mass_uncertainty is not None:
         sigmas.append(("structure", spec.structure_mass_uncertainty, ""))
     sigmas += [(c.name, c.mass_uncertainty, "") for c in spec.components if c.mass_uncertainty]
+    sigmas += [(d.name, d.mass_uncertainty, "") for d in spec.deployables if d.mass_uncertainty]
     return MaterialMap(
         tuple(materials.items()), f"cubesat spec {spec.source}", uncertainty_rules=tuple(sigmas)
     )

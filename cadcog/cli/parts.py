@@ -89,19 +89,31 @@ def run_cubesat(args: argparse.Namespace) -> int:
     from importlib import resources
 
     from cadcog.cad.assembly import write_assembly
-    from cadcog.cad.cubesat import build_cubesat, load_cubesat, materials_toml
+    from cadcog.cad.cubesat import (
+        build_cubesat,
+        configurations_toml,
+        load_cubesat,
+        materials_toml,
+    )
     from cadcog.core.fileio import refuse_overwriting_inputs, staged_output_dir
 
     spec_path = args.spec or Path(str(resources.files("cadcog._rigs").joinpath("cubesat_3u.toml")))
     spec = load_cubesat(spec_path)
-    for name in (f"{spec.name}.step", f"{spec.name}_materials.toml"):
+    names = [f"{spec.name}.step", f"{spec.name}_materials.toml"]
+    if spec.deployables:
+        names.append(f"{spec.name}_configurations.toml")
+    for name in names:
         refuse_overwriting_inputs(args.out / name, {"SPEC": spec_path})
     asm, materials = build_cubesat(spec)
     with staged_output_dir(args.out) as stage:
         write_assembly(asm, stage / f"{spec.name}.step")
         (stage / f"{spec.name}_materials.toml").write_text(materials_toml(spec, materials), "utf-8")
+        if spec.deployables:
+            (stage / names[2]).write_text(configurations_toml(spec), "utf-8")
     step, mats = args.out / f"{spec.name}.step", args.out / f"{spec.name}_materials.toml"
     print(f"report: {step}\nreport: {mats}", file=sys.stderr)
+    if spec.deployables:
+        print(f"report: {args.out / names[2]}", file=sys.stderr)
     if args.json:
         print(
             dumps_json({"step": str(step), "materials": str(mats), "n_solids": len(materials)}),

@@ -436,3 +436,11 @@ def report_overlaps(
         source=str(configurations),
     )
     return replace(report, configurations=checked)
+
+
+def configured_result(result: Any, config: Configuration, source: str = "") -> Any:
+    """A model's counted result (:class:`cadcog.cad.massresults.ModelMassProperties`) as it is in
+    ``config``: its bodies moved or scaled and its total recombined; the bounding box stays the
+    model's as it stands (the envelope's geometric centre)."""
+    moved = apply_configuration(result.bodies, config, source)
+    return replace(result, bodies=tuple(moved), total=combine(b.properties for b in moved))

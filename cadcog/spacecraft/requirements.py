@@ -24,6 +24,7 @@ requirements into one :class:`RequirementResult` per requirement.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -84,6 +85,9 @@ class Requirements:
     ratios: tuple[Ratio, ...] = ()
     baseline_file: Path | None = None
     tolerances: Tolerances = field(default_factory=Tolerances)
+    configurations_file: Path | None = None
+    cog_configurations: tuple[str, ...] = ()  # ("*",): every configuration
+    inertia_configurations: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -152,6 +156,7 @@ def load_requirements(root: TableReader, path: Path) -> Requirements:
             raise c.error("form_factor", "missing: give form_factor or limits_mm")
         kw["cog_axes"] = _frame_axes(c, "axes")
         kw["cog_at_95"] = c.boolean("at_95", default=False)
+        kw["cog_configurations"] = _configuration_names(c, root)
         c.finish()
     if root.has("inertia"):
         i = root.table("inertia")
@@ -171,6 +176,7 @@ def load_requirements(root: TableReader, path: Path) -> Requirements:
             kw["max_product_kg_mm2"] = i.number("max_product_kg_mm2", nonnegative=True)
         if i.has("ratio"):
             kw["ratios"] = tuple(_ratio(r) for r in i.tables("ratio"))
+        kw["inertia_configurations"] = _configuration_names(i, root)
         i.finish()
     if root.has("baseline"):
         b = root.table("baseline")
@@ -180,7 +186,27 @@ def load_requirements(root: TableReader, path: Path) -> Requirements:
             b.number("cog_tolerance_mm", nonnegative=True, default=Tolerances().cog_mm),
         )
         b.finish()
+    if root.has("configurations"):
+        kw["configurations_file"] = base / root.string("configurations")
     return Requirements(name, path, **kw)
+
+
+def _configuration_names(t: TableReader, root: TableReader) -> tuple[str, ...]:
+    """A table's ``configurations``: ``"*"`` (every one) or a list of names; it needs the file's
+    top-level ``configurations`` file."""
+    if not t.has("configurations"):
+        return ()
+    if not root.has("configurations"):
+        raise t.error(
+            "configurations",
+            'needs a configurations file: configurations = "FILE.toml" at the top of the file',
+        )
+    if t.is_string("configurations"):
+        value = t.string("configurations")
+        if value != "*":
+            raise t.error("configurations", f'{value!r}: expected "*" or a list of names')
+        return ("*",)
+    return tuple(t.strings("configurations"))
 
 
 def _allocation(t: TableReader) -> Allocation:
@@ -283,6 +309,25 @@ def evaluate(
                 f"current best estimate {_kg(node.mass_kg)}",
             )
         )
+    out.extend(_cog_results(req, report))
+    out.extend(_inertia_results(req, report))
+    if baseline is not None:
+        out.append(
+            RequirementResult(
+                "baseline",
+                f"no change beyond tolerances from {baseline.source.name}",
+                f"{len(baseline.changes)} change(s)",
+                f"mass ± {req.tolerances.mass_kg * 1e3:g} g, CoG ± {req.tolerances.cog_mm:g} mm",
+                not baseline.changes,
+                "; ".join(baseline.describe()),
+            )
+        )
+    return out
+
+
+def _cog_results(req: Requirements, report: MassReport) -> list[RequirementResult]:
+    """The ``[cog]`` requirements against a report's envelope check."""
+    out: list[RequirementResult] = []
     env = report.envelope
     if env is not None:
         offset = ", ".join(f"{v:+.2f}" for v in env.offset_mm)
@@ -323,17 +368,41 @@ def evaluate(
                         "σ from the rolled-up mass uncertainties",
                     )
                 )
-    out.extend(_inertia_results(req, report))
-    if baseline is not None:
-        out.append(
-            RequirementResult(
-                "baseline",
-                f"no change beyond tolerances from {baseline.source.name}",
-                f"{len(baseline.changes)} change(s)",
-                f"mass ± {req.tolerances.mass_kg * 1e3:g} g, CoG ± {req.tolerances.cog_mm:g} mm",
-                not baseline.changes,
-                "; ".join(baseline.describe()),
-            )
+    return out
+
+
+def configuration_results(
+    req: Requirements, result: ModelMassProperties, configs: Sequence[Any]
+) -> list[RequirementResult]:
+    """The ``[cog]`` and ``[inertia]`` requirements in each configuration they name (ids
+    ``cog.envelope@deployed``, titles ending ``(deployed)``)."""
+    from dataclasses import replace
+
+    from cadcog.spacecraft.configurations import configured_result
+
+    by_name = {c.name: c for c in configs}
+    for key, names in (("cog", req.cog_configurations), ("inertia", req.inertia_configurations)):
+        for name in names:
+            if name != "*" and name not in by_name:
+                raise ParameterFileError(
+                    req.source,
+                    f"{key}.configurations",
+                    f"{name!r} is not a configuration of {req.configurations_file} (it has "
+                    f"{', '.join(by_name) or 'none'})",
+                )
+    out: list[RequirementResult] = []
+    for config in configs:
+        cog = "*" in req.cog_configurations or config.name in req.cog_configurations
+        inertia = "*" in req.inertia_configurations or config.name in req.inertia_configurations
+        if not (cog or inertia):
+            continue
+        report = model_report(req, configured_result(result, config, str(req.configurations_file)))
+        found = (_cog_results(req, report) if cog else []) + (
+            _inertia_results(req, report) if inertia else []
+        )
+        out.extend(
+            replace(r, id=f"{r.id}@{config.name}", title=f"{r.title} ({config.name})")
+            for r in found
         )
     return out
 
@@ -536,13 +605,19 @@ def check_requirements(
                 tmp.write_text(dumps_json(baseline_dict(result)), encoding="utf-8")
             written = req.baseline_file
         changes = diff(load_baseline(req.baseline_file), result, req.tolerances, req.baseline_file)
+    results = evaluate(req, report, changes)
+    if req.configurations_file is not None:
+        from cadcog.spacecraft.configurations import load_configurations
+
+        configs = load_configurations(req.configurations_file)
+        results.extend(configuration_results(req, result, configs))
     return CheckResult(
         name=req.name,
         requirements_file=path,
         model=result.audit.source,
         mass_kg=result.total.mass_kg,
         cog_mm=np.asarray(result.total.cog_mm, dtype=float),
-        results=tuple(evaluate(req, report, changes)),
+        results=tuple(results),
         baseline=changes,
         notes=tuple(result.notes),
         baseline_written=written,

@@ -208,3 +208,66 @@ def test_a_panel_turned_into_the_bus_is_reported_with_the_volume_counted_twice(
         == 0
     )
     assert "note: configuration 'wrong'" in capsys.readouterr().out
+
+
+@pytest.fixture(scope="module")
+def deployable(tmp_path_factory):
+    """The example CubeSat with deployable arrays, as `cadcog parts cubesat` writes it."""
+    from cadcog.rig.file import default_rig_path
+
+    out = tmp_path_factory.mktemp("deployable")
+    spec = default_rig_path().parent / "cubesat_3u_deployable.toml"
+    assert main(["parts", "cubesat", str(spec), "--out", str(out)]) == 0
+    name = "cubesat_3u_deployable"
+    return (
+        out,
+        out / f"{name}.step",
+        out / f"{name}_materials.toml",
+        out / (f"{name}_configurations.toml"),
+    )
+
+
+def test_the_generator_s_deployed_arrays_stand_where_their_hinges_take_them(deployable, capsys):
+    """Each 1.6 × 82 × 300 mm array, stowed centred 0.8 mm off its ±x face, hinged at its +z
+    end (x = ±50, z = 150): deployed, its centre is at (±200, 0, 150.8), its long side along x;
+    the spacecraft's CoG moves by the arrays' mass times that shift, its x stays (symmetric),
+    and nothing deployed overlaps the structure."""
+    capsys.readouterr()
+    _, step, mats, conf = deployable
+    d = _massprops(capsys, str(step), "--materials", str(mats), "--configurations", str(conf))
+    total = d["mass_kg"]
+    arrays = [b for b in d["bodies"] if "array_" in b["path"]]
+    assert len(arrays) == 2
+    shift = np.zeros(3)
+    for b in arrays:
+        stowed = np.asarray(b["cog_mm"])
+        sx = np.sign(stowed[0])
+        assert np.allclose(stowed, [sx * 50.8, 0, 0], atol=1e-9)
+        shift += b["mass_kg"] * (np.array([sx * 200.0, 0, 150.8]) - stowed)
+    c = d["configurations"]["deployed"]
+    assert np.allclose(c["cog_mm"], np.asarray(d["cog_mm"]) + shift / total, atol=1e-9)
+    assert c["overlaps"] == [] and d["configurations"]["stowed"]["moved"] == []
+    # the arrays' own inertia turned: a 300 mm plate along x adds m (300² + 1.6²)/12 about z
+    m = arrays[0]["mass_kg"]
+    own_z = m * (300.0**2 + 82.0**2) / 12.0
+    assert c["inertia_kg_mm2"][2][2] > own_z  # dominated by the arrays standing out
+
+
+def test_check_requires_the_envelope_in_every_configuration_it_names(deployable, capsys):
+    """±15 mm in z: stowed (CoG 11.6 mm) passes, deployed (19.7 mm) fails, named in the id and
+    the title; the exit status is 1. A configuration the file does not have is refused."""
+    out, step, mats, conf = deployable
+    req = out / "req.toml"
+    req.write_text(
+        f'name = "dep"\nmodel_step = "{step.name}"\nmaterials = "{mats.name}"\n'
+        f'configurations = "{conf.name}"\n[cog]\nlimits_mm = [20, 20, 15]\n'
+        'configurations = "*"\n'
+    )
+    assert main(["check", str(req), "--json"]) == 1
+    results = {r["id"]: r for r in json.loads(capsys.readouterr().out)["requirements"]}
+    assert results["cog.envelope"]["passed"] and results["cog.envelope@stowed"]["passed"]
+    assert not results["cog.envelope@deployed"]["passed"]
+    assert results["cog.envelope@deployed"]["title"].endswith("(deployed)")
+    req.write_text(req.read_text().replace('configurations = "*"', 'configurations = ["open"]'))
+    assert main(["check", str(req)]) == 2
+    assert "'open' is not a configuration of" in capsys.readouterr().err
