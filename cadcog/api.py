@@ -1044,8 +1044,8 @@ def balance(
     )
     _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
     check_choice(f, "overlaps", overlaps, ("check", "allow", "resolve"))
-    if not 0.5 <= confidence < 1.0:
-        raise _fail(f, "confidence", confidence, "expected a probability from 0.5 to under 1")
+    if not 0.5 <= confidence <= 0.9999:
+        raise _fail(f, "confidence", confidence, "expected a probability from 0.5 to 0.9999")
     if mass_sigma_kg is not None and readings is None:
         raise _fail(f, "mass_sigma_kg", mass_sigma_kg, "goes with readings and weighed_mass_kg")
     if (readings is None) != (weighed_mass_kg is None):

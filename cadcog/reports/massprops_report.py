@@ -180,6 +180,43 @@ def _inertia_rows(j: np.ndarray, unit: tuple[str, float]) -> list[list[str]]:
     return [[f"{'xyz'[i]}", *[nf.in_unit(v, unit) for v in j[i]]] for i in range(3)]
 
 
+def _configurations_html(report: MassReport) -> str:
+    """Each configuration (``--configurations``): mass, CoG ± 1 σ, principal moments, envelope,
+    and the parts it moves that would overlap others."""
+    if not report.configurations:
+        return ""
+    rows = []
+    for c in report.configurations:
+        sd = np.sqrt(np.maximum(np.diag(c.cog_cov_mm2), 0.0))
+        moments = np.linalg.eigvalsh(c.total.inertia_kg_mm2)
+        rows.append(
+            [
+                html.escape(c.name),
+                nf.mass(c.total.mass_kg),
+                f"{vec(c.total.cog_mm, 2)} ± {vec(sd, 2)}",
+                " ".join(nf.sig(m, 4) for m in moments),
+                "" if c.envelope is None else html.escape(c.envelope.verdict()),
+                str(len(c.moved)),
+            ]
+        )
+    notes = "".join(f"<li>{html.escape(n)}</li>" for c in report.configurations for n in c.overlaps)
+    return (
+        '<h2 id="configurations">Configurations</h2>'
+        + table(
+            [
+                "configuration",
+                "mass",
+                "CoG ± 1 σ (mm)",
+                "principal moments (kg·mm²)",
+                "envelope",
+                "bodies moved",
+            ],
+            rows,
+        )
+        + (f"<ul>{notes}</ul>" if notes else "")
+    )
+
+
 def render_html(report: MassReport, views: Path, refusal: str | None = None) -> str:
     esc = html.escape
     r, b = report.result, report.budget
@@ -246,6 +283,7 @@ def render_html(report: MassReport, views: Path, refusal: str | None = None) -> 
             f"edge of the CAD uncertainty: {_ok(env.within_at_95)}. "
             f"<span class='sub'>{esc(env.source)}</span></p>"
         )
+    configurations_html = _configurations_html(report)
     body_unit = nf.mass_unit(x.properties.mass_kg for x in r.bodies)
     body_rows = [
         [
@@ -337,6 +375,7 @@ off-diagonal −∫ x·y dm):</p>
 
 <h2 id="envelope">CoG envelope</h2>
 {envelope_html}
+{configurations_html}
 
 <h2 id="bodies">Bodies</h2>
 <details><summary>{len(r.bodies)} bodies</summary>

@@ -27,6 +27,11 @@ from cadcog.spacecraft.ballast_file import load_ballast
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM, source_for
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG, items_from_bodies, linear_prior
 
+#: The confidences ``balance`` takes: below a half a "confidence" says little, and beyond
+#: 0.9999 the miss budget nears the solver's tolerances.
+MIN_CONFIDENCE = 0.5
+MAX_CONFIDENCE = 0.9999
+
 
 def run_balance(
     ballast: Path,
@@ -60,10 +65,10 @@ def run_balance(
     """
     if (model is None) == (setup is None):
         raise CadcogError("give a MODEL or --setup (one of them)")
-    if not 0.5 <= confidence < 1.0:
+    if not MIN_CONFIDENCE <= confidence <= MAX_CONFIDENCE:
         raise CadcogError(
-            f"--confidence {confidence!r}: expected a probability from 0.5 to under 1 (the CoG "
-            "inside the envelope at least that often)"
+            f"--confidence {confidence!r}: expected a probability from {MIN_CONFIDENCE} to "
+            f"{MAX_CONFIDENCE} (the CoG inside the envelope at least that often)"
         )
     if mass_sigma_kg is not None and readings is None:
         raise CadcogError("--mass-sigma-kg goes with --readings and --weighed-mass-kg")

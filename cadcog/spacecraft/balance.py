@@ -21,10 +21,10 @@ Multiplied by ``M + Σ m_i > 0`` each face is **linear in the masses and its qua
 
 and the budget is convex (``Φ̄`` is, for ``z ≥ 0``), so the least total ballast, the budgets
 chosen with it, is a convex programme; with discrete sizes (``m_i = Σ_j s_j n_ij``, whole
-``n_ij``) a mixed-integer one. :mod:`cadcog.spacecraft.ballast_programme` solves it by outer
-approximation with HiGHS (:func:`scipy.optimize.milp`): a proven lower bound, then a feasible
-ballast with the quantiles raised to meet the budget exactly, the least when the two agree to
-:data:`PROVEN_RTOL` (``optimal``; ``bound_kg`` is the lower bound). Bonferroni's equal shares
+``n_ij``) a mixed-integer one. :mod:`cadcog.spacecraft.ballast_programme` brackets it with
+HiGHS (:func:`scipy.optimize.milp`): a proven lower bound (tangents) and a feasible ballast
+(chords), called the least when the two agree to :data:`PROVEN_RTOL` (``optimal``;
+``bound_kg`` is the lower bound). Bonferroni's equal shares
 (``z = Φ̄⁻¹((1 - P) / 6)`` on every face, ``allocate=False``) are one feasible choice among
 them; choosing the shares lands the integrated probability (``probability_inside``) near ``P``
 rather than at 0.99.
@@ -57,7 +57,9 @@ from cadcog.core.errors import CadcogError
 from cadcog.core.results import JsonResult
 from cadcog.spacecraft.ballast_programme import (
     FACES6,
+    Z_MAX,
     face_rows,
+    norm_isf,
     norm_sf,
     solve_fixed,
     solve_joint,
@@ -73,8 +75,10 @@ MAX_FACTOR_ITERATIONS = 20
 #: variance would overflow the integral's inverse).
 EXACT_SIGMA_MM = 1e-9
 
-#: A ballast within this fraction of the relaxation's proven lower bound is the least.
-PROVEN_RTOL = 1e-6
+#: A ballast within this fraction of the relaxation's proven lower bound is called the least
+#: (0.1 %: the inner programme keeps 0.1 % of the budget in hand, see
+#: :data:`cadcog.spacecraft.ballast_programme.INNER_MARGIN`).
+PROVEN_RTOL = 2e-3
 
 
 @dataclass(frozen=True)
@@ -253,8 +257,9 @@ class BalanceResult(JsonResult):
     offset_mm : ndarray, shape (3,)
         CoG minus the geometric centre (mm).
     margin_mm : ndarray, shape (3,)
-        ``L - |offset| - z σ`` per axis, ``z`` the quantile of the face the CoG leans to: the
-        margin at the confidence (negative: short).
+        Per axis, how far the CoG may still move towards its nearer face with the confidence
+        still met, the other faces as they are (:func:`margins`): 0 on a face that binds,
+        negative when short.
     probability_inside : float
         The joint probability that the CoG lies inside the envelope (normal CoG, integrated).
     before : dict
@@ -383,24 +388,42 @@ def _figures(
     masses: FloatArray,
     centre: FloatArray,
     limits: FloatArray,
-    z6: FloatArray,
+    alpha: float,
 ) -> tuple[float, float, FloatArray, FloatArray, FloatArray, FloatArray, float, FloatArray]:
-    """Mass, its σ, CoG, covariance, offset, margin per axis (at the nearer face's quantile),
-    the joint probability inside and each face's miss probability, with these masses."""
-    from scipy.stats import norm
-
+    """Mass, its σ, CoG, covariance, offset, margin per axis (:func:`margins`), the joint
+    probability inside and each face's miss probability, with these masses."""
     positions = np.array([p.position_mm for p in spec.points]).reshape(-1, 3)
     mass, sigma_m, cog, cov = with_ballast(state, positions, masses)
     offset = cog - centre
     sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    near = np.where(offset >= 0, z6[0::2], z6[1::2])  # the face the CoG leans to
-    margin = limits - np.abs(offset) - near * sd
+    margin, miss = margins(offset, sd, limits, alpha)
     prob = probability_inside(cog, cov, centre - limits, centre + limits)
-    miss = np.empty(6)
-    for r, (k, sign) in enumerate(FACES6):
-        gap = limits[k] - sign * offset[k]
-        miss[r] = float(norm.sf(gap / sd[k])) if sd[k] > 0 else float(gap < 0)
     return mass, sigma_m, cog, cov, offset, margin, prob, miss
+
+
+def margins(
+    offset_mm: FloatArray, sd_mm: FloatArray, limits_mm: FloatArray, alpha: float
+) -> tuple[FloatArray, FloatArray]:
+    """Per axis, how far the CoG may still move towards the nearer of its two faces with the
+    union bound still met, the other faces' miss probabilities as they are (0 on a face that
+    binds, negative when short); and each face's miss probability ``Φ̄(gap / σ)``.
+
+    Examples
+    --------
+    A CoG 10 mm from a face, σ 2 mm, the other faces far: 10 - Φ̄⁻¹(0.05) × 2 = 6.71 mm.
+
+    >>> m, q = margins(np.array([10.0, 0, 0]), np.array([2.0, 0, 0]), np.array([20.0] * 3), 0.05)
+    >>> round(float(m[0]), 2), float(m[1]), float(m[2])
+    (6.71, 20.0, 20.0)
+    """
+    gaps = np.array([limits_mm[k] - sign * offset_mm[k] for k, sign in FACES6])
+    sd6 = np.array([sd_mm[k] for k, _ in FACES6])
+    exact = sd6 < EXACT_SIGMA_MM
+    miss = np.where(exact, (gaps < 0).astype(float), norm_sf(gaps / np.where(exact, 1.0, sd6)))
+    rest = alpha - (miss.sum() - miss)  # what each face may spend, the others as they are
+    z = np.where(rest > 0, norm_isf(np.clip(rest, 1e-300, 0.5)), Z_MAX)
+    face = gaps - np.where(exact, 0.0, z * sd6)
+    return np.minimum(face[0::2], face[1::2]), miss
 
 
 def least_ballast(
@@ -468,7 +491,7 @@ def least_ballast(
     positions = np.array([p.position_mm for p in spec.points], dtype=float).reshape(-1, 3)
     zero = np.zeros(len(spec.points))
     uniform = np.full((len(states), 6), z_uniform)
-    before = [_figures(st, spec, zero, centre, limits, uniform[i]) for i, st in enumerate(states)]
+    before = [_figures(st, spec, zero, centre, limits, alpha) for st in states]
     sd0 = [np.sqrt(np.maximum(np.diag(st.cog_cov_mm2), 0.0)) for st in states]
     factor = np.ones((len(states), 3))
     z, found, lower = uniform, None, None
@@ -525,7 +548,7 @@ def least_ballast(
         bound = found.bound_kg if lower is None else lower
         close = lower is None or total - lower <= PROVEN_RTOL * max(total, 1e-12) + 1e-15
         optimal = found.optimal and close
-    after = [_figures(st, spec, masses, centre, limits, z[i]) for i, st in enumerate(states)]
+    after = [_figures(st, spec, masses, centre, limits, alpha) for st in states]
     if found is not None:
         for name, fig in zip(names, after, strict=True):
             if np.any(fig[5] < -1e-9 * np.maximum(limits, 1.0)):

@@ -468,7 +468,7 @@ CASES = [
     Case(
         "balance-confidence",
         ["balance", "--setup", "s.toml", "--ballast", "b.toml", "--confidence", "2"],
-        r"--confidence 2\.0: expected a probability from 0\.5 to under 1",
+        r"--confidence 2\.0: expected a probability from 0\.5 to 0\.9999",
     ),
     Case(
         "balance-ballast-missing",

@@ -221,7 +221,7 @@ def test_a_test_s_readings_are_balanced_and_the_truth_lands_inside(tmp_path, cap
         (
             '[[points]]\nid = "a"\nposition_mm = [70, 30, 0]\n',
             ["--confidence", "0.3"],
-            "--confidence 0.3: expected a probability from 0.5 to under 1",
+            "--confidence 0.3: expected a probability from 0.5 to 0.9999",
         ),
         (
             '[[points]]\nid = "a"\nposition_mm = [70, 30, 0]\n',

@@ -284,7 +284,9 @@ def test_the_shares_chosen_give_the_least_mass_the_union_bound_allows():
             continue
         checked += 1
         assert r.feasible and r.optimal
-        assert r.total_ballast_kg == pytest.approx(expected, rel=2e-5, abs=1e-9)
+        # the least within 0.1 % (the inner programme keeps 0.1 % of the budget in hand)
+        assert r.total_ballast_kg == pytest.approx(expected, rel=2e-3, abs=1e-9)
+        assert r.total_ballast_kg >= expected * (1 - 1e-6)  # never less: the bound holds
         assert r.bound_kg <= r.total_ballast_kg * (1 + 1e-6)  # HiGHS's tolerances
     assert checked >= 6
     s = state(2.58, (0.8, -0.4, 12.3), (0.66, 0.68, 3.14))
@@ -295,4 +297,4 @@ def test_the_shares_chosen_give_the_least_mass_the_union_bound_allows():
         np.zeros(3),
         [3.0, 20, 10],
     )
-    assert two.total_ballast_kg <= one.total_ballast_kg * (1 + 1e-5)
+    assert two.total_ballast_kg <= one.total_ballast_kg * (1 + 2e-3)

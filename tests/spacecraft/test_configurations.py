@@ -271,3 +271,14 @@ def test_check_requires_the_envelope_in_every_configuration_it_names(deployable,
     req.write_text(req.read_text().replace('configurations = "*"', 'configurations = ["open"]'))
     assert main(["check", str(req)]) == 2
     assert "'open' is not a configuration of" in capsys.readouterr().err
+
+
+def test_the_report_page_lists_each_configuration(deployable, capsys):
+    out, step, mats, conf = deployable
+    page = out / "page"
+    args = ["massprops", str(step), "--materials", str(mats), "--configurations", str(conf)]
+    assert main([*args, "--form-factor", "3U", "--report", str(page)]) == 0
+    capsys.readouterr()
+    html = (page / "index.html").read_text(encoding="utf-8")
+    section = html.split('<h2 id="configurations">')[1].split("<h2")[0]
+    assert "stowed" in section and "deployed" in section and "within the envelope" in section
