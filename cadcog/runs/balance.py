@@ -211,17 +211,8 @@ def _from_model(
         surface_areas=False,
         workers=workers,
     )
-    items, fixed = items_from_bodies(result.bodies)
-    prior = linear_prior(items, fixed)
     lo, hi = result.bbox_mm
-    state = UncertainMass(
-        prior.mass_kg,
-        prior.mass_sigma_kg,
-        np.asarray(prior.cog_mm),
-        prior.cog_cov_mm2,
-        prior.cog_mass_cov_mm_kg,
-        "CAD",
-    )
+    state = UncertainMass.from_prior(linear_prior(*items_from_bodies(result.bodies)))
     notes.extend(f"{model}: {n}" for n in result.notes)  # a unit, a placeholder material...
     return state, (np.asarray(lo), np.asarray(hi)), str(model), result.bodies
 
@@ -237,15 +228,7 @@ def _from_setup(
 
     s = load_setup(path)
     if readings is None:
-        prior = s.cad_prior()
-        state = UncertainMass(
-            prior.mass_kg,
-            prior.mass_sigma_kg,
-            np.asarray(prior.cog_mm),
-            prior.cog_cov_mm2,
-            prior.cog_mass_cov_mm_kg,
-            "CAD",
-        )
+        state = UncertainMass.from_prior(s.cad_prior())
     else:
         from cadcog.dynamics.update_files import update_from_files
 

@@ -123,6 +123,19 @@ class UncertainMass:
     cog_mass_cov_mm_kg: FloatArray
     source: str
 
+    @classmethod
+    def from_prior(cls, prior: Any, source: str = "CAD") -> UncertainMass:
+        """The CAD's figures (:class:`cadcog.spacecraft.items.LinearPrior`: its mass, CoG and
+        their first-order covariance)."""
+        return cls(
+            prior.mass_kg,
+            prior.mass_sigma_kg,
+            np.asarray(prior.cog_mm, dtype=float),
+            np.asarray(prior.cog_cov_mm2, dtype=float),
+            np.asarray(prior.cog_mass_cov_mm_kg, dtype=float),
+            source,
+        )
+
     def shifted(
         self,
         mass_kg: float,
@@ -187,17 +200,8 @@ def with_ballast(
     """
     p = np.asarray(positions_mm, dtype=float).reshape(-1, 3)
     m = np.asarray(masses_kg, dtype=float).reshape(-1)
-    total = state.mass_kg + float(m.sum())
-    cog = (state.mass_kg * state.cog_mm + m @ p) / total
-    jc = state.mass_kg / total  # ∂c'/∂c = jc·I
-    jm = (state.cog_mm - cog) / total  # ∂c'/∂M
-    s = state.cog_mass_cov_mm_kg
-    cov = (
-        jc**2 * state.cog_cov_mm2
-        + jc * (np.outer(s, jm) + np.outer(jm, s))
-        + state.mass_sigma_kg**2 * np.outer(jm, jm)
-    )
-    return total, state.mass_sigma_kg, cog, cov
+    after = state.shifted(float(m.sum()), m @ p, np.zeros((3, 3)), state.source)
+    return after.mass_kg, after.mass_sigma_kg, after.cog_mm, after.cog_cov_mm2
 
 
 def probability_inside(
