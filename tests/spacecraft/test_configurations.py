@@ -282,3 +282,36 @@ def test_the_report_page_lists_each_configuration(deployable, capsys):
     html = (page / "index.html").read_text(encoding="utf-8")
     section = html.split('<h2 id="configurations">')[1].split("<h2")[0]
     assert "stowed" in section and "deployed" in section and "within the envelope" in section
+
+
+def test_a_measured_spacecraft_changed_by_a_configuration_lands_where_the_cad_s_does(
+    models, capsys
+):
+    """A test's figures (here the CAD's own, as if measured exactly) shifted by what the
+    configuration changes in the CAD give the configuration's own CoG; the shift's covariance
+    comes from the moved items only (zero for a configuration that moves nothing)."""
+    import cadcog
+    from cadcog.spacecraft.balance import UncertainMass
+    from cadcog.spacecraft.configurations import (
+        configuration_deltas,
+        configuration_properties,
+        load_configurations,
+    )
+
+    stowed, _, mats, conf = models
+    report = cadcog.mass_properties(stowed, mats)
+    bodies = report.result.bodies
+    configs = load_configurations(conf)
+    t = report.result.total
+    measured = UncertainMass(t.mass_kg, 0.001, t.cog_mm, np.eye(3) * 0.01, np.zeros(3), "test")
+    for delta, own in zip(
+        configuration_deltas(bodies, configs),
+        configuration_properties(bodies, configs),
+        strict=True,
+    ):
+        moved = measured.shifted(
+            delta.mass_kg, delta.moment_kg_mm, delta.moment_cov_kg2_mm2, delta.name
+        )
+        assert moved.mass_kg == pytest.approx(own.total.mass_kg, rel=1e-12)
+        assert np.allclose(moved.cog_mm, own.total.cog_mm, atol=1e-9)
+        assert np.all(np.diag(moved.cog_cov_mm2) > 0)
