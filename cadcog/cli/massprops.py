@@ -277,6 +277,11 @@ def _run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _model_files(args: argparse.Namespace) -> list[Path]:
+    """The files a model's pictures are cached under (the STEP and its materials)."""
+    return [args.model] + ([args.materials] if args.materials is not None else [])
+
+
 def _say_cached(args: argparse.Namespace) -> None:
     """One line on stderr: the cache answered; the files are still inputs of the run."""
     note_input(args.model, "the STEP model it reads")
@@ -325,7 +330,7 @@ def emit(
     if args.report is not None:
         from cadcog.reports.massprops_report import write_mass_report
 
-        page = write_mass_report(report, model(), args.report)
+        page = write_mass_report(report, model, args.report, cache_files=_model_files(args))
         print(f"report: {page}", file=sys.stderr)
     if args.csv is not None:
         from cadcog.reports.budget_csv import write_budget_csv
@@ -367,7 +372,9 @@ def emit_refusal(
     if report is not None and args.report is not None:
         from cadcog.reports.massprops_report import write_mass_report
 
-        page = write_mass_report(report, model(), args.report, refusal=refusal)
+        page = write_mass_report(
+            report, model, args.report, refusal=refusal, cache_files=_model_files(args)
+        )
         print(f"report: {page}", file=sys.stderr)
     if report is not None and args.csv is not None:
         from cadcog.reports.budget_csv import write_budget_csv

@@ -11,6 +11,8 @@ are written beside it. Files appear whole or not at all (staged, then moved).
 from __future__ import annotations
 
 import html
+import tempfile
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -66,32 +68,75 @@ def view_labels(report: MassReport) -> list[tuple[str, np.ndarray]]:
 
 
 def write_mass_report(
-    report: MassReport, model: StepModel, out_dir: str | Path, *, refusal: str | None = None
+    report: MassReport,
+    model: StepModel | Callable[[], StepModel],
+    out_dir: str | Path,
+    *,
+    refusal: str | None = None,
+    cache_files: Sequence[Path] = (),
 ) -> Path:
     """Write ``out_dir/index.html`` (with ``views.png`` and ``massprops.json``); its path.
 
     With ``refusal`` (the error the command exits 2 with), the page opens with it and shows
     ``report`` as the count that was refused; the JSON beside it holds ``"refused"``.
+    ``model`` is the model or a function that reads it: with ``cache_files`` (the model's
+    files) the views are kept in the cache under their content and everything the picture
+    shows, so an unchanged model's page needs no CAD (``model`` is then not read).
     """
-    from cadcog.cad.tessellate import body_meshes
-    from cadcog.reports import plots
+    import base64
 
-    kept = {b.path for b in report.result.bodies}
-    meshes = body_meshes(
-        [b for b in model.bodies if b.path in kept], scale=report.result.audit.scale_to_mm
-    )
+    title = f"{Path(report.result.audit.source).name}: CoG (+), principal axes"
+    corners = envelope_corners(report)
+    labels = view_labels(report)
+
+    def render() -> bytes:
+        from cadcog.cad.tessellate import body_meshes
+        from cadcog.reports import plots
+
+        step = model() if callable(model) else model
+        kept = {b.path for b in report.result.bodies}
+        meshes = body_meshes(
+            [b for b in step.bodies if b.path in kept], scale=report.result.audit.scale_to_mm
+        )
+        with tempfile.TemporaryDirectory() as tmp:
+            png = Path(tmp) / "views.png"
+            plots.model_views(
+                [(m.vertices_mm, m.triangles, m.kind) for m in meshes],
+                report.result.total.cog_mm,
+                report.principal.axes,
+                png,
+                envelope_corners_mm=corners,
+                labels=labels,
+                title=title,
+            )
+            return png.read_bytes()
+
+    if cache_files:
+        from cadcog.cad import cache
+
+        settings = {
+            "kind": "massprops views",
+            "bodies": sorted(b.path for b in report.result.bodies),
+            "scale_to_mm": report.result.audit.scale_to_mm,
+            "cog_mm": report.result.total.cog_mm.tolist(),
+            "axes": report.principal.axes.tolist(),
+            "envelope": None if corners is None else np.asarray(corners).tolist(),
+            "labels": [[name, np.asarray(c).tolist()] for name, c in labels],
+            "title": title,
+        }
+        data, _ = cache.cached_data(
+            settings,
+            list(cache_files),
+            lambda: {"png": base64.b64encode(render()).decode("ascii")},
+            code=("cad", "core", "mass", "reports", "spacecraft"),
+        )
+        png_bytes = base64.b64decode(data["png"])
+    else:
+        png_bytes = render()
     out = Path(out_dir)
     with staged_output_dir(out) as stage:
         views = stage / "views.png"
-        plots.model_views(
-            [(m.vertices_mm, m.triangles, m.kind) for m in meshes],
-            report.result.total.cog_mm,
-            report.principal.axes,
-            views,
-            envelope_corners_mm=envelope_corners(report),
-            labels=view_labels(report),
-            title=f"{Path(report.result.audit.source).name}: CoG (+), principal axes",
-        )
+        views.write_bytes(png_bytes)
         data = report.to_dict()
         if refusal is not None:
             data = {"refused": {"error": refusal, "exit_status": 2}, **data}

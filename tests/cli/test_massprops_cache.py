@@ -136,15 +136,22 @@ def test_a_refusal_is_kept_and_said_again_with_the_same_outputs(tmp_path, capsys
 
 
 def test_a_report_from_a_cached_result_is_the_computed_report(model, tmp_path, capsys, computed):
+    """The second page reads no CAD (its views come from the cache: the same bytes); a view
+    that shows something else (the envelope's box) is drawn afresh."""
     step, mats = model
     base = ["massprops", str(step), "--materials", str(mats)]
     assert main([*base, "--report", str(tmp_path / "one")]) == 0
-    assert main([*base, "--report", str(tmp_path / "two")]) == 0  # reads the model for views
+    assert main([*base, "--report", str(tmp_path / "two")]) == 0  # no CAD read
     capsys.readouterr()
     one, two = (sorted((tmp_path / d).iterdir()) for d in ("one", "two"))
-    assert [p.name for p in one] == [p.name for p in two] and len(computed) == 2
-    assert (tmp_path / "one" / "massprops.json").read_bytes() == (
-        tmp_path / "two" / "massprops.json"
+    assert [p.name for p in one] == [p.name for p in two] and len(computed) == 1
+    for name in ("massprops.json", "views.png"):
+        assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes()
+    assert main([*base, "--form-factor", "1U", "--report", str(tmp_path / "three")]) == 0
+    capsys.readouterr()
+    assert len(computed) == 2  # the envelope's box is in the picture: drawn again
+    assert (tmp_path / "three" / "views.png").read_bytes() != (
+        tmp_path / "one" / "views.png"
     ).read_bytes()
 
 
