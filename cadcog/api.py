@@ -397,6 +397,7 @@ def mass_properties(
                 config_path,
                 units=units,
                 exclude=patterns,
+                strict=strict,
             )
         return report
 

@@ -326,6 +326,7 @@ def emit(
             args.configurations,
             units=args.units,
             exclude=args.exclude,
+            strict=args.strict,
         )
     if args.report is not None:
         from cadcog.reports.massprops_report import write_mass_report

@@ -201,7 +201,7 @@ def print_configurations(report: MassReport) -> None:
     print("\nconfigurations (the CoG ± 1 σ in mm; principal moments in kg·mm²):")
     print(
         text_table(
-            ["configuration", "mass", "CoG (mm)", "principal moments", "envelope", "bodies moved"],
+            ["configuration", "mass", "CoG (mm)", "principal moments", "envelope", "changed"],
             rows,
             "lrllll",
         )

@@ -115,10 +115,17 @@ def run_cubesat(args: argparse.Namespace) -> int:
     if spec.deployables:
         print(f"report: {args.out / names[2]}", file=sys.stderr)
     if args.json:
-        print(
-            dumps_json({"step": str(step), "materials": str(mats), "n_solids": len(materials)}),
-            end="",
-        )
+        out = {"step": str(step), "materials": str(mats), "n_solids": len(materials)}
+        if spec.deployables:
+            out["configurations"] = str(args.out / names[2])
+        print(dumps_json(out), end="")
         return 0
-    print(f"wrote {step} ({len(materials)} solids) and {mats}")
+    written = (
+        f"{step} ({len(materials)} solids), {mats}"
+        if spec.deployables
+        else f"{step} ({len(materials)} solids) and {mats}"
+    )
+    if spec.deployables:
+        written += f" and {args.out / names[2]} (stowed, deployed)"
+    print(f"wrote {written}")
     return 0

@@ -254,7 +254,7 @@ def _configurations_html(report: MassReport) -> str:
                 "CoG ± 1 σ (mm)",
                 "principal moments (kg·mm²)",
                 "envelope",
-                "bodies moved",
+                "bodies changed",
             ],
             rows,
         )

@@ -123,6 +123,8 @@ def run_balance(
             "the set-up)"
         )
     _refuse_inside(spec, model, setup, units)
+    if configs:
+        notes.extend(_configuration_overlaps(bodies, configs, model, setup, units, configurations))
     if not np.any(np.diag(state.cog_cov_mm2) > 0.0):
         notes.append(
             "the CoG carries no uncertainty (no [mass_uncertainty] in the materials file): the "
@@ -348,4 +350,62 @@ def _setup_form(setup: Path | None) -> str | None:
     from cadcog.core.paramfile import read_toml
 
     value = read_toml(setup).get("form_factor")
+    return value if isinstance(value, str) else None
+
+
+def _configuration_overlaps(
+    bodies: Sequence[Any],
+    configs: Sequence[Any],
+    model: Path | None,
+    setup: Path | None,
+    units: str | None,
+    configurations: Path | None,
+) -> list[str]:
+    """The configurations' moved parts that overlap others (cached by content)."""
+    from cadcog.cad.modelfile import named_model
+    from cadcog.cad.stepmass import unit_scale
+    from cadcog.cad.stepread import read_step
+    from cadcog.spacecraft.configurations import cached_overlap_notes
+
+    override = units
+    if model is not None:
+        files: list[Path] = [model]
+
+        def read() -> Any:
+            return read_step(model)
+
+    else:
+        assert setup is not None
+        files = [setup, named_model_path(setup)]
+        override = _setup_units(setup)
+
+        def read() -> Any:
+            return named_model(setup)[0]
+
+    assert configurations is not None
+    notes = cached_overlap_notes(
+        bodies,
+        configs,
+        read,
+        [*files, configurations],
+        scale_to_mm=lambda step: unit_scale(step, override)[0],
+        settings={"units": override, "for": "balance"},
+        source=str(configurations),
+    )
+    return [n for c in configs for n in notes.get(c.name, [])]
+
+
+def named_model_path(setup: Path) -> Path:
+    """The model file a set-up names (its ``model`` or ``model_step``)."""
+    from cadcog.core.paramfile import read_toml
+
+    data = read_toml(setup)
+    return setup.parent / str(data.get("model", data.get("model_step")))
+
+
+def _setup_units(setup: Path) -> str | None:
+    """The ``units`` a set-up gives its model, if any."""
+    from cadcog.core.paramfile import read_toml
+
+    value = read_toml(setup).get("units")
     return value if isinstance(value, str) else None

@@ -529,7 +529,7 @@ def least_ballast(
     notes: list[str] = []
     shortfall: list[dict[str, Any]] = []
     if found is None:
-        shortfall = face_shortfall(blocks, spec, alpha, state.mass_kg, names)
+        shortfall = face_shortfall(blocks, spec, alpha, [st.mass_kg for st in states], names)
         for name, sd in zip(names, sd0, strict=True):
             where = f" ({name})" if len(states) > 1 else ""
             for k in np.flatnonzero(z_uniform * sd >= limits):

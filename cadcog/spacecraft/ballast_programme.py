@@ -308,11 +308,15 @@ def solve_joint(
 
 
 def shortfall(
-    blocks: Sequence[Rows], spec: Any, alpha: float, mass_kg: float, labels: Sequence[str]
+    blocks: Sequence[Rows],
+    spec: Any,
+    alpha: float,
+    masses_kg: Sequence[float],
+    labels: Sequence[str],
 ) -> list[dict[str, Any]]:
     """The faces no ballast within the limits satisfies, even with the quantiles chosen: the
     least total shortfall (moment, kg·mm) over the relaxation with a slack on each face row
-    (continuous masses)."""
+    (continuous masses). ``masses_kg``: each configuration's mass, for the CoG shift."""
     from scipy.optimize import linprog
 
     nf = 6 * len(blocks)
@@ -333,7 +337,7 @@ def shortfall(
                 "axis": "xyz"[k],
                 "side": "+" if sign > 0 else "-",
                 "moment_kg_mm": float(value),
-                "cog_shift_mm": float(value / (mass_kg + masses.sum())),
+                "cog_shift_mm": float(value / (masses_kg[r // 6] + masses.sum())),
             }
             if len(blocks) > 1:
                 row["configuration"] = labels[r // 6]

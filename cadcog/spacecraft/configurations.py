@@ -113,10 +113,11 @@ def rotation_about(axis_direction: npt.ArrayLike, angle_deg: float) -> FloatArra
     [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
     """
     u = np.asarray(axis_direction, dtype=float)
-    norm = float(np.linalg.norm(u))
-    if not norm > MIN_AXIS_NORM:
+    big = float(np.max(np.abs(u))) if u.size else 0.0
+    if not (np.isfinite(big) and big > MIN_AXIS_NORM):
         raise ValueError(f"axis direction {u.tolist()} has no direction")
-    u = u / norm
+    u = u / big  # scaled first: a direction of 1e200 squares to infinity
+    u = u / float(np.linalg.norm(u))
     theta = float(deg_to_rad(angle_deg))
     k = np.array([[0.0, -u[2], u[1]], [u[2], 0.0, -u[0]], [-u[1], u[0], 0.0]])
     return np.asarray(np.eye(3) + np.sin(theta) * k + (1.0 - np.cos(theta)) * (k @ k))
@@ -226,15 +227,12 @@ def apply_configuration(
             b = replace(b, properties=moved_properties(b.properties, *moves[b.path]))
         out.append(b)
     for change in config.mass_changes:
-        hit = [i for i, b in enumerate(out) if matches(change.parts, b)]
-        if not hit:
-            raise CadcogError(
-                f"{source}: {change.key}: {list(change.parts)} matches no body of the model "
-                f"(configuration {config.name!r})"
-            )
-        for i in hit:
+        for i in _matched(change.parts, out, change.key, config.name, source):
             out[i] = replace(out[i], properties=out[i].properties.scaled(change.fraction))
-    return out
+    kept = [b for b in out if b.properties.mass_kg > 0.0]  # a fraction of 0: the part is gone
+    if not kept:
+        raise CadcogError(f"{source}: configuration {config.name!r} leaves no mass")
+    return kept
 
 
 @dataclass(frozen=True, repr=False)
@@ -258,12 +256,24 @@ class ConfigurationProperties(JsonResult):
             "cog_cov_mm2": self.cog_cov_mm2.tolist(),
             "cog_sigma_mm": np.sqrt(np.maximum(np.diag(self.cog_cov_mm2), 0.0)).tolist(),
             "inertia_kg_mm2": self.total.inertia_kg_mm2.tolist(),
-            "moved": list(self.moved),
+            "inertia_about": "centre of gravity, model axes",
+            "changed": list(self.moved),
         }
         if self.envelope is not None:
             out["envelope"] = self.envelope.to_dict()
         out["overlaps"] = list(self.overlaps)
         return out
+
+
+def _changed(before: MassProperties, after: MassProperties | None) -> bool:
+    """Whether a body's mass properties changed (moved, scaled or gone)."""
+    if after is None:
+        return True
+    return not (
+        after.mass_kg == before.mass_kg
+        and np.allclose(after.cog_mm, before.cog_mm, rtol=0.0, atol=1e-9)
+        and np.allclose(after.inertia_kg_mm2, before.inertia_kg_mm2, rtol=1e-12, atol=1e-12)
+    )
 
 
 def configuration_properties(
@@ -275,7 +285,8 @@ def configuration_properties(
         moved_bodies = apply_configuration(bodies, config, source)
         total = combine(b.properties for b in moved_bodies)
         prior = linear_prior(*items_from_bodies(moved_bodies))
-        moved = tuple(b.path for b, m in zip(bodies, moved_bodies, strict=True) if m is not b)
+        after = {b.path: b.properties for b in moved_bodies}
+        moved = tuple(b.path for b in bodies if _changed(b.properties, after.get(b.path)))
         out.append(
             ConfigurationProperties(
                 config.name,
@@ -309,18 +320,21 @@ def configuration_deltas(
     base_items, base_fixed = items_from_bodies(bodies)
     base = linear_prior(base_items, base_fixed)
     base_jac = base.cog_mm[:, None] * base.jac_mass[None, :] + base.mass_kg * base.jac_cog
-    keys = [i.key for i in base_items]
+    index = {item.key: k for k, item in enumerate(base_items)}
+    n = len(base_items)
     out = []
     for config in configs:
         moved = apply_configuration(bodies, config, source)
         items, fixed = items_from_bodies(moved)
         prior = linear_prior(items, fixed)
-        if [i.key for i in items] != keys:
-            raise CadcogError(
-                f"{source}: configuration {config.name!r} scales an uncertain item to no mass: "
-                "give it a small fraction instead of 0"
-            )
-        jac = prior.cog_mm[:, None] * prior.jac_mass[None, :] + prior.mass_kg * prior.jac_cog
+        own = prior.cog_mm[:, None] * prior.jac_mass[None, :] + prior.mass_kg * prior.jac_cog
+        jac = np.zeros_like(base_jac)  # in the model's parameters: a part gone has none
+        for k, item in enumerate(items):
+            if item.key not in index:
+                continue  # an item that was fixed as modelled (no uncertainty) stays fixed
+            b = index[item.key]
+            jac[:, b] = own[:, k]
+            jac[:, n + 3 * b : n + 3 * b + 3] = own[:, len(items) + 3 * k : len(items) + 3 * k + 3]
         d = jac - base_jac
         out.append(
             ConfigurationDelta(
@@ -333,6 +347,19 @@ def configuration_deltas(
     return tuple(out)
 
 
+def _matched(
+    parts: Sequence[str], bodies: Sequence[Any], key: str, config: str, source: str
+) -> list[int]:
+    """The indices of the bodies ``parts`` match; every pattern must match one."""
+    for pattern in parts:
+        if not any(matches([pattern], b) for b in bodies):
+            raise CadcogError(
+                f"{source}: {key}: {pattern!r} matches no body of the model (configuration "
+                f"{config!r}; * and ? are wildcards, [ ] match themselves)"
+            )
+    return [i for i, b in enumerate(bodies) if matches(parts, b)]
+
+
 def placements(
     bodies: Sequence[Any], config: Configuration, source: str = ""
 ) -> dict[str, tuple[FloatArray, FloatArray]]:
@@ -340,16 +367,11 @@ def placements(
     + t`` (mm), by path."""
     moves: dict[str, tuple[FloatArray, FloatArray]] = {}
     for move in config.moves:
-        hit = [b for b in bodies if matches(move.parts, b)]
-        if not hit:
-            raise CadcogError(
-                f"{source}: {move.key}: {list(move.parts)} matches no body of the model "
-                f"(configuration {config.name!r})"
-            )
+        hit = [bodies[i] for i in _matched(move.parts, bodies, move.key, config.name, source)]
         if len(hit) == len(bodies):
             raise CadcogError(
-                f"{source}: {move.key}: {list(move.parts)} matches every body: moving the whole "
-                f"spacecraft is a change of frame, not a configuration ({config.name!r})"
+                f"{source}: {move.key}: {list(move.parts)} matches every body (configuration "
+                f"{config.name!r}): that is a change of frame"
             )
         for b in hit:
             r0, t0 = moves.get(b.path, (np.eye(3), np.zeros(3)))
@@ -382,32 +404,33 @@ def overlap_notes(
     return out
 
 
-def with_overlaps(
-    configs_found: Sequence[ConfigurationProperties],
+def cached_overlap_notes(
     bodies: Sequence[Any],
     configs: Sequence[Configuration],
     read: Callable[[], Any],
     files: Sequence[Path],
     *,
-    scale_to_mm: float = 1.0,
+    scale_to_mm: float | Callable[[Any], float] = 1.0,
     settings: dict[str, Any] | None = None,
     source: str = "",
-) -> tuple[ConfigurationProperties, ...]:
-    """``configs_found`` with each one's overlap notes (:func:`overlap_notes`), cached by the
-    content of ``files`` (the model, the configurations file) and ``settings``: a second run
-    reads no CAD. ``read()`` gives the model (a :class:`cadcog.cad.stepread.StepModel`)."""
+) -> dict[str, list[str]]:
+    """:func:`overlap_notes`, cached by the content of ``files`` (the model, the
+    configurations file) and ``settings``: a second run reads no CAD. ``read()`` gives the
+    model (a :class:`cadcog.cad.stepread.StepModel`); ``scale_to_mm`` its mm per file unit, or
+    a function of the model read that says so."""
     from cadcog.cad import cache
 
     kept = {b.path for b in bodies}
 
     def compute() -> dict[str, list[str]]:
         model = read()
+        scale = scale_to_mm(model) if callable(scale_to_mm) else scale_to_mm
         solids = [(b.path, b.shape) for b in model.solids if b.path in kept]
-        return overlap_notes(solids, bodies, configs, scale_to_mm=scale_to_mm, source=source)
+        return overlap_notes(solids, bodies, configs, scale_to_mm=scale, source=source)
 
     key = {"kind": "configuration overlaps", **(settings or {})}
     notes, _ = cache.cached_data(key, list(files), compute)
-    return tuple(replace(c, overlaps=tuple(notes.get(c.name, []))) for c in configs_found)
+    return {str(k): [str(n) for n in v] for k, v in notes.items()}
 
 
 def report_overlaps(
@@ -419,14 +442,15 @@ def report_overlaps(
     *,
     units: str | None,
     exclude: Sequence[str],
+    strict: bool = False,
 ) -> Any:
     """A mass report (:class:`cadcog.spacecraft.mass_summary.MassReport`) whose configurations
-    carry their overlap notes (:func:`with_overlaps`): what ``massprops --configurations`` and
-    :func:`cadcog.mass_properties` both report."""
+    carry their overlap notes (:func:`cached_overlap_notes`): what ``massprops
+    --configurations`` and :func:`cadcog.mass_properties` both report; with ``strict`` a note
+    is an error."""
     if not report.configurations:
         return report
-    checked = with_overlaps(
-        report.configurations,
+    notes = cached_overlap_notes(
         report.result.bodies,
         configs,
         read,
@@ -434,6 +458,12 @@ def report_overlaps(
         scale_to_mm=report.result.audit.scale_to_mm,
         settings={"units": units, "exclude": list(exclude)},
         source=str(configurations),
+    )
+    first = next((n for c in configs for n in notes.get(c.name, [])), None)
+    if strict and first is not None:
+        raise CadcogError(f"{configurations}: {first} (--strict)")
+    checked = tuple(
+        replace(c, overlaps=tuple(notes.get(c.name, []))) for c in report.configurations
     )
     return replace(report, configurations=checked)
 

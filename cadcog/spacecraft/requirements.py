@@ -325,6 +325,53 @@ def evaluate(
     return out
 
 
+def _overlap_results(
+    req: Requirements,
+    path: Path,
+    result: ModelMassProperties,
+    configs: Sequence[Any],
+    strict: bool,
+) -> list[RequirementResult]:
+    """For each configuration a requirement names: no moved part overlaps one it did not move
+    with (both would be counted whole); with ``strict`` an overlap is an error."""
+    from cadcog.cad.modelfile import named_model
+    from cadcog.core.paramfile import read_toml
+    from cadcog.spacecraft.configurations import cached_overlap_notes
+
+    names = set(req.cog_configurations) | set(req.inertia_configurations)
+    used = [c for c in configs if "*" in names or c.name in names]
+    if not used:
+        return []
+    data = read_toml(path)
+    named = data.get("model", data.get("model_step"))
+    files = [path, path.parent / str(named), req.configurations_file]
+    notes = cached_overlap_notes(
+        result.bodies,
+        used,
+        lambda: named_model(path)[0],
+        [f for f in files if f is not None],
+        scale_to_mm=result.audit.scale_to_mm,  # the model's as counted
+        settings={"requirements": str(path)},
+        source=str(req.configurations_file),
+    )
+    out = []
+    for c in used:
+        found = notes.get(c.name, [])
+        if strict and found:
+            raise CadcogError(f"{req.configurations_file}: {found[0]} (--strict)")
+        out.append(
+            RequirementResult(
+                f"configuration.overlaps@{c.name}",
+                f"no moved part overlaps another ({c.name})",
+                f"{len(found)} overlap(s)",
+                "none",
+                not found,
+                "; ".join(found),
+            )
+        )
+    return out
+
+
 def _cog_results(req: Requirements, report: MassReport) -> list[RequirementResult]:
     """The ``[cog]`` requirements against a report's envelope check."""
     out: list[RequirementResult] = []
@@ -611,6 +658,7 @@ def check_requirements(
 
         configs = load_configurations(req.configurations_file)
         results.extend(configuration_results(req, result, configs))
+        results.extend(_overlap_results(req, path, result, configs, strict))
     return CheckResult(
         name=req.name,
         requirements_file=path,

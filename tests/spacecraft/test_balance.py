@@ -298,3 +298,18 @@ def test_the_shares_chosen_give_the_least_mass_the_union_bound_allows():
         [3.0, 20, 10],
     )
     assert two.total_ballast_kg <= one.total_ballast_kg * (1 + 2e-3)
+
+
+def test_a_configuration_s_shortfall_is_shifted_by_its_own_mass():
+    """A configuration ten times heavier: its face's shortfall in mm is its moment over its
+    own mass (plus the ballast), not the first configuration's (a trial found 206 mm for
+    57)."""
+    light = state(1.0, (0.0, 0.0, 0.0))
+    heavy = state(10.0, (30.0, 0.0, 0.0))
+    sp = spec(((-50.0, 0.0, 0.0), 0.01))
+    r = least_ballast(light, sp, np.zeros(3), [10.0, 20, 20], configurations=[("heavy", heavy)])
+    assert not r.feasible
+    (short,) = [s for s in r.shortfall if s.get("configuration") == "heavy"]
+    # at the cap: 10 (30 - 10) + 0.01 (-50 - 10) = 199.4 kg·mm short, over 10.01 kg
+    assert short["moment_kg_mm"] == pytest.approx(199.4, rel=1e-6)
+    assert short["cog_shift_mm"] == pytest.approx(199.4 / 10.01, rel=1e-6)

@@ -87,7 +87,7 @@ def test_the_deployed_configuration_is_the_deployed_model_integrated_by_occt(mod
     assert c["mass_kg"] == pytest.approx(truth["mass_kg"], rel=1e-9)
     assert np.allclose(c["cog_mm"], truth["cog_mm"], rtol=0, atol=1e-7)
     assert np.allclose(c["inertia_kg_mm2"], truth["inertia_kg_mm2"]["tensor"], rtol=1e-8, atol=1e-6)
-    assert len(c["moved"]) == 1 and c["moved"][0].endswith("panel_1")
+    assert len(c["changed"]) == 1 and c["changed"][0].endswith("panel_1")
 
 
 def test_a_mass_change_scales_the_part_and_keeps_its_cog(models, capsys):
@@ -113,7 +113,7 @@ def test_a_mass_change_scales_the_part_and_keeps_its_cog(models, capsys):
         (
             '[[configurations]]\nname = "a"\n[[configurations.moves]]\nparts = "nothing*"\n'
             "translation_mm = [0, 0, 10]\n",
-            "configurations[0].moves[0].parts: ['nothing*'] matches no body",
+            "configurations[0].moves[0].parts: 'nothing*' matches no body",
         ),
         (
             '[[configurations]]\nname = "a"\n[[configurations.moves]]\nparts = "*"\n'
@@ -246,7 +246,7 @@ def test_the_generator_s_deployed_arrays_stand_where_their_hinges_take_them(depl
         shift += b["mass_kg"] * (np.array([sx * 200.0, 0, 150.8]) - stowed)
     c = d["configurations"]["deployed"]
     assert np.allclose(c["cog_mm"], np.asarray(d["cog_mm"]) + shift / total, atol=1e-9)
-    assert c["overlaps"] == [] and d["configurations"]["stowed"]["moved"] == []
+    assert c["overlaps"] == [] and d["configurations"]["stowed"]["changed"] == []
     # the arrays' own inertia turned: a 300 mm plate along x adds m (300² + 1.6²)/12 about z
     m = arrays[0]["mass_kg"]
     own_z = m * (300.0**2 + 82.0**2) / 12.0
@@ -315,3 +315,90 @@ def test_a_measured_spacecraft_changed_by_a_configuration_lands_where_the_cad_s_
         assert moved.mass_kg == pytest.approx(own.total.mass_kg, rel=1e-12)
         assert np.allclose(moved.cog_mm, own.total.cog_mm, atol=1e-9)
         assert np.all(np.diag(moved.cog_cov_mm2) > 0)
+
+
+def test_a_part_used_up_is_gone_and_every_command_goes_on(models, tmp_path, capsys):
+    """mass_fraction = 0 (propellant used): the part leaves the totals, massprops, check and
+    balance run (a trial found a traceback in check and balance, a wrong message in
+    massprops)."""
+    stowed, _, mats, _ = models
+    conf = tmp_path / "c.toml"
+    conf.write_text(
+        '[[configurations]]\nname = "no-panel"\n[[configurations.mass_changes]]\n'
+        'parts = "panel*"\nmass_fraction = 0\n'
+    )
+    d = _massprops(capsys, str(stowed), "--materials", str(mats), "--configurations", str(conf))
+    bus = 0.1 * 0.1 * 0.12 * 1200.0
+    c = d["configurations"]["no-panel"]
+    assert c["mass_kg"] == pytest.approx(bus, rel=1e-9)
+    assert np.allclose(c["cog_mm"], [0, 0, 0], atol=1e-9)
+    assert len(c["changed"]) == 1
+    req = tmp_path / "req.toml"
+    req.write_text(
+        f'model_step = "{stowed.as_posix()}"\nmaterials = "{mats.as_posix()}"\n'
+        f'configurations = "{conf.as_posix()}"\n[cog]\nlimits_mm = [20, 20, 20]\n'
+        'configurations = "*"\n'
+    )
+    assert main(["check", str(req)]) == 0
+    capsys.readouterr()
+    b = tmp_path / "b.toml"
+    b.write_text('[[points]]\nid = "L"\nposition_mm = [-50.0, 0.0, 0.0]\n')
+    args = ["balance", str(stowed), "--materials", str(mats), "--ballast", str(b)]
+    assert main([*args, "--cog-limits-mm=20,20,20", "--configurations", str(conf)]) == 0
+    capsys.readouterr()
+
+
+def test_a_huge_axis_direction_is_a_direction(models, tmp_path, capsys):
+    """[0, 1e200, 0] is +y: the same deployment as [0, 1, 0] (a trial found it overflowed to
+    no move at all)."""
+    stowed, _, mats, _ = models
+    out = {}
+    for label, direction in (("unit", "[0, 1, 0]"), ("huge", "[0, 1e200, 0]")):
+        conf = tmp_path / f"{label}.toml"
+        conf.write_text(
+            f'[[configurations]]\nname = "d"\n[[configurations.moves]]\nparts = "panel*"\n'
+            f"axis_point_mm = {HINGE.tolist()}\naxis_direction = {direction}\nangle_deg = 90\n"
+        )
+        d = _massprops(capsys, str(stowed), "--materials", str(mats), "--configurations", str(conf))
+        out[label] = d["configurations"]["d"]["cog_mm"]
+    assert np.allclose(out["unit"], out["huge"], atol=1e-9)
+    assert not np.allclose(out["unit"], [1.0, 0.0, 0.0], atol=0.5)  # it did move
+
+
+def test_every_pattern_of_a_list_must_match(models, tmp_path, capsys):
+    stowed, _, mats, _ = models
+    conf = tmp_path / "c.toml"
+    conf.write_text(
+        '[[configurations]]\nname = "d"\n[[configurations.moves]]\n'
+        'parts = ["panel*", "nothing*"]\ntranslation_mm = [0, 0, 1]\n'
+    )
+    status = main(
+        ["massprops", str(stowed), "--materials", str(mats), "--configurations", str(conf)]
+    )
+    err = capsys.readouterr().err
+    assert status == 2 and "'nothing*' matches no body" in err
+
+
+def test_an_overlap_fails_check_and_strict(models, tmp_path, capsys):
+    """A panel turned into the bus: check has a failing requirement for it (exit 1), and
+    --strict (check and massprops) refuses it (exit 2)."""
+    stowed, _, mats, _ = models
+    conf = tmp_path / "c.toml"
+    conf.write_text(
+        '[[configurations]]\nname = "wrong"\n[[configurations.moves]]\nparts = "panel*"\n'
+        f"axis_point_mm = {HINGE.tolist()}\naxis_direction = [0, 1, 0]\nangle_deg = -90\n"
+    )
+    req = tmp_path / "req.toml"
+    req.write_text(
+        f'model_step = "{stowed.as_posix()}"\nmaterials = "{mats.as_posix()}"\n'
+        f'configurations = "{conf.as_posix()}"\n[cog]\nlimits_mm = [20, 20, 20]\n'
+        'configurations = "*"\n'
+    )
+    assert main(["check", str(req), "--json"]) == 1
+    results = {r["id"]: r for r in json.loads(capsys.readouterr().out)["requirements"]}
+    assert not results["configuration.overlaps@wrong"]["passed"]
+    assert main(["check", str(req), "--strict"]) == 2
+    assert "overlaps" in capsys.readouterr().err
+    args = ["massprops", str(stowed), "--materials", str(mats), "--configurations", str(conf)]
+    assert main([*args, "--strict"]) == 2
+    assert "(--strict)" in capsys.readouterr().err
