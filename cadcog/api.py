@@ -1033,7 +1033,7 @@ def balance(
         ballast within the file's limits meets the envelope.
     """
     from cadcog.core.parallel import available_workers
-    from cadcog.runs.balance import run_balance
+    from cadcog.runs.balance import MAX_CONFIDENCE, MIN_CONFIDENCE, run_balance
 
     f = "balance"
     _numbers(
@@ -1045,8 +1045,13 @@ def balance(
     )
     _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
     check_choice(f, "overlaps", overlaps, ("check", "allow", "resolve"))
-    if not 0.5 <= confidence <= 0.9999:
-        raise _fail(f, "confidence", confidence, "expected a probability from 0.5 to 0.9999")
+    if not MIN_CONFIDENCE <= confidence <= MAX_CONFIDENCE:
+        raise _fail(
+            f,
+            "confidence",
+            confidence,
+            f"expected a probability from {MIN_CONFIDENCE} to {MAX_CONFIDENCE}",
+        )
     if mass_sigma_kg is not None and readings is None:
         raise _fail(f, "mass_sigma_kg", mass_sigma_kg, "goes with readings and weighed_mass_kg")
     if (readings is None) != (weighed_mass_kg is None):

@@ -140,14 +140,25 @@ def _read(
     return model, materials
 
 
+def named_model_file(path: Path) -> tuple[Path, str | None]:
+    """The model file a set-up or requirements file names (``model`` or ``model_step``,
+    relative to it) and its ``units`` override, the keys checked (reads no CAD)."""
+    from cadcog.core.paramfile import read_toml
+
+    t = TableReader(read_toml(path), path)
+    if not (t.has("model") or t.has("model_step")):
+        raise t.error("model", "missing: give model (a cadcog CubeSat spec) or model_step")
+    source = path.parent / (t.string("model") if t.has("model") else t.string("model_step"))
+    units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
+    return source, units
+
+
 def named_model(path: Path) -> tuple[StepModel, Path, str | None]:
     """The model a set-up or requirements file names, read (a spec built and read back), the
     file it came from, and the ``units`` override: for what needs the solids themselves, not
     their mass properties (a ballast location checked against them)."""
     from cadcog.core.paramfile import read_toml
 
-    t = TableReader(read_toml(path), path)
-    source = path.parent / (t.string("model") if t.has("model") else t.string("model_step"))
-    units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
-    model, _ = _read(t, source, None)
+    source, units = named_model_file(path)
+    model, _ = _read(TableReader(read_toml(path), path), source, None)
     return model, source, units

@@ -25,10 +25,10 @@ def add_parser(sub: Any) -> None:
         "and max_total_mass_kg) that puts the CoG inside the CubeSat envelope (or half-widths "
         "given) with at least the stated confidence, the CoG's uncertainty carried: the CAD's "
         "(a model and its materials, or a set-up), or, with --readings and --weighed-mass-kg, "
-        "what `cadcog update` makes of the test and the CAD. An exact linear (or, with sizes, "
-        "integer) programme. Exit 0 with a ballast (none may be needed), 1 when none within "
-        "the limits meets the envelope (which face is short, by how much moment), 2 bad "
-        "input. See docs/spacecraft.md.",
+        "what `cadcog update` makes of the test and the CAD. A convex programme (integer with "
+        "sizes) solved to within 0.2 % of a proven lower bound. Exit 0 with a ballast (none "
+        "may be needed), 1 when none within the limits meets the envelope (which face is "
+        "short, by how much moment), 2 bad input. See docs/spacecraft.md.",
     )
     p.add_argument("model", type=Path, nargs="?", help="STEP model (or give --setup)")
     p.add_argument("--setup", type=Path, help="spacecraft set-up file (TOML) instead of a model")

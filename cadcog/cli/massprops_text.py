@@ -186,8 +186,8 @@ def print_configurations(report: MassReport) -> None:
         return
     rows = []
     for c in report.configurations:
-        sd = np.sqrt(np.maximum(np.diag(c.cog_cov_mm2), 0.0))
-        moments = np.linalg.eigvalsh(c.total.inertia_kg_mm2)
+        sd = c.cog_sigma_mm
+        moments = c.principal_moments_kg_mm2
         rows.append(
             [
                 c.name,

@@ -232,8 +232,8 @@ def _configurations_html(report: MassReport) -> str:
         return ""
     rows = []
     for c in report.configurations:
-        sd = np.sqrt(np.maximum(np.diag(c.cog_cov_mm2), 0.0))
-        moments = np.linalg.eigvalsh(c.total.inertia_kg_mm2)
+        sd = c.cog_sigma_mm
+        moments = c.principal_moments_kg_mm2
         rows.append(
             [
                 html.escape(c.name),

@@ -93,13 +93,13 @@ def run_balance(
         configs = load_configurations(configurations)
     notes: list[str] = []
     if setup is not None:
-        state, box, limits, label, bodies = _from_setup(
+        state, box, limits, label, bodies, setup_source = _from_setup(
             setup, readings, weighed_mass_kg, mass_sigma_kg or DEFAULT_WEIGHING_SIGMA_KG, notes
         )
     else:
         assert model is not None
         state, box, label, bodies = _from_model(model, materials, units, workers, overlaps, notes)
-        limits = None
+        limits, setup_source = None, ""
     centre = 0.5 * (box[0] + box[1])
     _refuse_outside(spec, box, label)
     others = _configuration_states(state, bodies, configs, str(configurations or ""))
@@ -112,11 +112,13 @@ def run_balance(
             )
         limits = np.array(CDS_COG_LIMITS_MM[form_factor])
         notes.extend(_form_factor_notes(form_factor, box))
-    source = (
-        "custom limits (--cog-limits-mm)"
-        if cog_limits_mm is not None
-        else source_for(form_factor or _setup_form(setup))
-    )
+    if cog_limits_mm is not None:
+        source = "custom limits (--cog-limits-mm)"
+    elif form_factor is not None:
+        source = source_for(form_factor)
+    else:
+        source = setup_source
+
     if limits is None:
         raise CadcogError(
             f"{label}: no envelope: give --form-factor or --cog-limits-mm (or form_factor in "
@@ -167,24 +169,19 @@ def _configuration_states(
 
     if state.source == "CAD":
         return [
-            (
-                c.name,
-                UncertainMass(
-                    c.total.mass_kg,
-                    c.mass_sigma_kg,
-                    np.asarray(c.total.cog_mm),
-                    c.cog_cov_mm2,
-                    c.cog_mass_cov_mm_kg,
-                    f"configuration {c.name}",
-                ),
-            )
+            (c.name, UncertainMass.from_prior(c, f"configuration {c.name}"))
             for c in configuration_properties(bodies, configs, source)
         ]
     return [
         (
             d.name,
             state.shifted(
-                d.mass_kg, d.moment_kg_mm, d.moment_cov_kg2_mm2, f"configuration {d.name}"
+                d.mass_kg,
+                d.moment_kg_mm,
+                d.moment_cov_kg2_mm2,
+                f"configuration {d.name}",
+                mass_var_kg2=d.mass_var_kg2,
+                moment_mass_cov_kg2_mm=d.moment_mass_cov_kg2_mm,
             ),
         )
         for d in configuration_deltas(bodies, configs, source)
@@ -225,7 +222,9 @@ def _from_setup(
     weighed_mass_kg: float | None,
     mass_sigma_kg: float,
     notes: list[str],
-) -> tuple[UncertainMass, tuple[np.ndarray, np.ndarray], np.ndarray | None, str, Sequence[Any]]:
+) -> tuple[
+    UncertainMass, tuple[np.ndarray, np.ndarray], np.ndarray | None, str, Sequence[Any], str
+]:
     from cadcog.spacecraft.setup import load_setup
 
     s = load_setup(path)
@@ -258,7 +257,15 @@ def _from_setup(
             )
     limits = None if s.cog_limits_mm is None else np.asarray(s.cog_limits_mm)
     lo, hi = s.bbox_mm
-    return state, (np.asarray(lo), np.asarray(hi)), limits, str(path), s.bodies
+    if (
+        s.form_factor is not None
+        and s.cog_limits_mm is not None
+        and np.allclose(s.cog_limits_mm, CDS_COG_LIMITS_MM[s.form_factor])
+    ):
+        source = source_for(s.form_factor)
+    else:
+        source = f"custom limits (cog_limits_mm in {path})"
+    return state, (np.asarray(lo), np.asarray(hi)), limits, str(path), s.bodies, source
 
 
 def _refuse_inside(
@@ -292,12 +299,9 @@ def _refuse_inside(
         return {"inside": solids_holding(solids, settings["points"], scale_to_mm=scale)}
 
     if setup is not None:  # the set-up names its model: both files are the key
-        from cadcog.core.paramfile import read_toml
+        from cadcog.cad.modelfile import named_model_file
 
-        data = read_toml(setup)
-        named = data.get("model", data.get("model_step"))
-        if isinstance(named, str):
-            files.append(setup.parent / named)
+        files.append(named_model_file(setup)[0])
     data, _ = cache.cached_data(settings, [f for f in files if f is not None], compute)
     for i, (point, inside) in enumerate(zip(spec.points, data["inside"], strict=True)):
         if inside is not None:
@@ -343,16 +347,6 @@ def _form_factor_notes(form_factor: str, box: tuple[np.ndarray, np.ndarray]) -> 
     ]
 
 
-def _setup_form(setup: Path | None) -> str | None:
-    """The form factor a set-up file names, for the envelope's source."""
-    if setup is None:
-        return None
-    from cadcog.core.paramfile import read_toml
-
-    value = read_toml(setup).get("form_factor")
-    return value if isinstance(value, str) else None
-
-
 def _configuration_overlaps(
     bodies: Sequence[Any],
     configs: Sequence[Any],
@@ -362,7 +356,7 @@ def _configuration_overlaps(
     configurations: Path | None,
 ) -> list[str]:
     """The configurations' moved parts that overlap others (cached by content)."""
-    from cadcog.cad.modelfile import named_model
+    from cadcog.cad.modelfile import named_model, named_model_file
     from cadcog.cad.stepmass import unit_scale
     from cadcog.cad.stepread import read_step
     from cadcog.spacecraft.configurations import cached_overlap_notes
@@ -376,8 +370,8 @@ def _configuration_overlaps(
 
     else:
         assert setup is not None
-        files = [setup, named_model_path(setup)]
-        override = _setup_units(setup)
+        named, override = named_model_file(setup)
+        files = [setup, named]
 
         def read() -> Any:
             return named_model(setup)[0]
@@ -393,19 +387,3 @@ def _configuration_overlaps(
         source=str(configurations),
     )
     return [n for c in configs for n in notes.get(c.name, [])]
-
-
-def named_model_path(setup: Path) -> Path:
-    """The model file a set-up names (its ``model`` or ``model_step``)."""
-    from cadcog.core.paramfile import read_toml
-
-    data = read_toml(setup)
-    return setup.parent / str(data.get("model", data.get("model_step")))
-
-
-def _setup_units(setup: Path) -> str | None:
-    """The ``units`` a set-up gives its model, if any."""
-    from cadcog.core.paramfile import read_toml
-
-    value = read_toml(setup).get("units")
-    return value if isinstance(value, str) else None

@@ -6,18 +6,19 @@ gets ballast masses ``m_i`` at allowed locations ``p_i``. Its new CoG is
     c' = (M c + Σ m_i p_i) / (M + Σ m_i),
 
 and its uncertainty, the ballast's masses and positions taken as exact (weighed washers bolted
-in drilled holes), ``σ'_k = f_k M σ_k / (M + Σ m_i)``: ``f_k = 1`` when the mass ``M`` is exact
-(a weighing), and otherwise ``f_k`` carries the mass's own uncertainty (below), so that σ' may
-even grow. The envelope is a box of half-widths ``L`` around the geometric centre ``o``. Each of
-its six faces ``f`` gets a miss budget ``β_f``, the CoG clearing it by ``z_f σ'`` with ``z_f =
-Φ̄⁻¹(β_f)``; when the budgets sum to ``1 - P``, the CoG is inside with probability at least ``P``
-(the union bound: the probability of any of six misses is at most the sum of theirs):
+in drilled holes), ``σ'_k T = f_k M σ_k`` with ``T = M + Σ m_i``: ``f_k = 1`` when the mass
+``M`` is exact (a weighing), and otherwise ``f_k`` carries the mass's own uncertainty (below),
+so that σ' may even grow. The envelope is a box of half-widths ``L`` around the geometric centre
+``o``. Each of its six faces ``f`` gets a miss budget ``β_f``, the CoG clearing it by ``z_f σ'``
+with ``z_f = Φ̄⁻¹(β_f)``; when the budgets sum to ``1 - P``, the CoG is inside with probability
+at least ``P`` (the union bound: the probability of any of six misses is at most the sum of
+theirs):
 
     ±(c'_k - o_k) + z_f σ'_k ≤ L_k   for each face f (axis k, sign ±),   Σ_f Φ̄(z_f) ≤ 1 - P.
 
 Multiplied by ``M + Σ m_i > 0`` each face is **linear in the masses and its quantile**:
 
-    Σ_i m_i (±(p_ik - o_k) - L_k) + z_f f_k M σ_k ≤ L_k M ∓ M (c_k - o_k),
+    Σ_i m_i (±(p_ik - o_k) - L_k) + z_f σ'_k T ≤ L_k M ∓ M (c_k - o_k),
 
 and the budget is convex (``Φ̄`` is, for ``z ≥ 0``), so the least total ballast, the budgets
 chosen with it, is a convex programme; with discrete sizes (``m_i = Σ_j s_j n_ij``, whole
@@ -30,10 +31,10 @@ them; choosing the shares lands the integrated probability (``probability_inside
 rather than at 0.99.
 
 The mass's own uncertainty (a CAD's 5 % per item, correlated with its CoG) enters ``c'`` through
-``∂c'/∂M = (c - c') / (M + m)``: ``f_k`` is the ratio of the full first-order σ'_k to the
-exact-mass one, evaluated at the solution and the programme solved again until the σ assumed
-covers the σ found. The result is then checked against the envelope directly, not through the
-multiplied-out form.
+``∂c'/∂M = (c - c') / (M + m)``: the spread ``σ'_k T`` is evaluated at the ballast found and the
+programme solved again until the spread assumed is the spread found (a fixed point, two or three
+rounds; only then is the answer called the least). The result is then checked against the
+envelope directly, not through the multiplied-out form.
 
 With several configurations (the same ballast for each) every configuration has its own six
 faces and its own budget: each is inside with probability at least ``P``.
@@ -68,8 +69,10 @@ from cadcog.spacecraft.ballast_programme import shortfall as face_shortfall
 
 FloatArray = npt.NDArray[np.float64]
 
-#: Iterations of the mass-uncertainty factor ``f`` (it settles in two or three).
+#: Iterations of the spread ``σ' T`` (it settles in two or three), and the relative change
+#: that settles it.
 MAX_FACTOR_ITERATIONS = 20
+SPREAD_RTOL = 1e-9
 
 #: A CoG axis with a smaller σ (mm) is exact in :func:`probability_inside` (a subnormal
 #: variance would overflow the integral's inverse).
@@ -142,10 +145,16 @@ class UncertainMass:
         moment_kg_mm: npt.ArrayLike,
         moment_cov_kg2_mm2: npt.ArrayLike,
         source: str,
+        *,
+        mass_var_kg2: float = 0.0,
+        moment_mass_cov_kg2_mm: npt.ArrayLike | None = None,
     ) -> UncertainMass:
-        """The same spacecraft with a change of mass and first moment (a configuration's,
-        with its own covariance, taken as independent of these figures): ``G' = (M G + ΔS) /
-        (M + ΔM)`` to first order.
+        """The same spacecraft with a change of mass ``ΔM`` and first moment ``ΔS`` (ballast,
+        exact; or a configuration's, with their covariance, taken as independent of these
+        figures): ``G' = (M G + ΔS) / (M + ΔM)``, its covariance and ``Cov(G', M')`` to first
+        order (``∂G'/∂G = M/T``, ``∂G'/∂M = (G - G')/T``, ``∂G'/∂ΔS = 1/T``, ``∂G'/∂ΔM =
+        -G'/T``, ``T = M + ΔM``: the change's share ``ΔS - G' ΔM`` does not depend on where
+        the origin is).
 
         Examples
         --------
@@ -161,13 +170,26 @@ class UncertainMass:
         jc = self.mass_kg / total
         jm = (self.cog_mm - cog) / total
         s = self.cog_mass_cov_mm_kg
+        cross = (
+            np.zeros(3)
+            if moment_mass_cov_kg2_mm is None
+            else np.asarray(moment_mass_cov_kg2_mm, dtype=float)
+        )
+        change = (
+            np.asarray(moment_cov_kg2_mm2, dtype=float)
+            - np.outer(cross, cog)
+            - np.outer(cog, cross)
+            + mass_var_kg2 * np.outer(cog, cog)
+        )  # Cov(ΔS - G' ΔM)
         cov = (
             jc**2 * self.cog_cov_mm2
             + jc * (np.outer(s, jm) + np.outer(jm, s))
             + self.mass_sigma_kg**2 * np.outer(jm, jm)
-            + np.asarray(moment_cov_kg2_mm2, dtype=float) / total**2
+            + change / total**2
         )
-        return UncertainMass(total, self.mass_sigma_kg, cog, cov, jc * s, source)
+        mass_sigma = float(np.sqrt(self.mass_sigma_kg**2 + mass_var_kg2))
+        with_mass = jc * s + self.mass_sigma_kg**2 * jm + (cross - mass_var_kg2 * cog) / total
+        return UncertainMass(total, mass_sigma, cog, cov, with_mass, source)
 
 
 def face_quantile(confidence: float) -> float:
@@ -248,8 +270,10 @@ class BalanceResult(JsonResult):
     counts : ndarray, shape (n, J) or None
         With discrete sizes: how many of each size at each location.
     optimal : bool
-        The total is proven least (an integer programme stopped by its time limit: False,
-        ``bound_kg`` then says how much less could exist at most).
+        The total is within :data:`PROVEN_RTOL` of ``bound_kg`` and the CoG's spread settled
+        (False also when an integer programme was stopped by its time limit).
+    bound_kg : float or None
+        A proven lower bound on the least total ballast (kg).
     mass_kg : float
         The mass after ballast (kg).
     mass_sigma_kg : float
@@ -497,11 +521,11 @@ def least_ballast(
     uniform = np.full((len(states), 6), z_uniform)
     before = [_figures(st, spec, zero, centre, limits, alpha) for st in states]
     sd0 = [np.sqrt(np.maximum(np.diag(st.cog_cov_mm2), 0.0)) for st in states]
-    factor = np.ones((len(states), 3))
-    z, found, lower = uniform, None, None
-    for _ in range(MAX_FACTOR_ITERATIONS):
+    spread = np.array([st.mass_kg * sd for st, sd in zip(states, sd0, strict=True)])
+    z, found, lower, settled = uniform, None, None, False
+    for attempt in range(2 * MAX_FACTOR_ITERATIONS):
         blocks = [
-            face_rows(st.mass_kg, st.cog_mm, sd0[i], positions, centre, limits, factor[i])
+            face_rows(st.mass_kg, st.cog_mm, spread[i], positions, centre, limits)
             for i, st in enumerate(states)
         ]
         z, lower = uniform, None
@@ -515,17 +539,21 @@ def least_ballast(
         found = solve_fixed(blocks, z, spec)
         if found is None:
             break
-        new = np.ones_like(factor)
+        new = np.empty_like(spread)  # σ' T at the ballast found: the mass's own term included
         for i, st in enumerate(states):
             total, _, _, cov = with_ballast(st, positions, found.masses_kg)
-            sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-            exact_sd = st.mass_kg * sd0[i] / total
-            new[i] = np.where(exact_sd > 0, sd / np.where(exact_sd > 0, exact_sd, 1.0), 1.0)
-        if np.all(new <= factor * (1.0 + 1e-12)):  # the σ assumed covers the σ found
+            new[i] = np.sqrt(np.maximum(np.diag(cov), 0.0)) * total
+        if np.allclose(new, spread, rtol=SPREAD_RTOL, atol=1e-12):
+            settled = True  # a fixed point: the spread assumed is the spread found
             break
-        factor = np.maximum(new, factor)  # only up: the factors settle
+        if attempt + 1 < MAX_FACTOR_ITERATIONS:
+            spread = new
+        elif np.all(new <= spread * (1.0 + SPREAD_RTOL) + 1e-12):
+            break  # not settled, but the spread assumed covers the spread found: safe
+        else:
+            spread = np.maximum(new, spread)  # only up from here: it settles, conservatively
     else:
-        raise CadcogError("the ballast's uncertainty factor did not settle (please report)")
+        raise CadcogError("the ballast's uncertainty did not settle (please report)")
     notes: list[str] = []
     shortfall: list[dict[str, Any]] = []
     if found is None:
@@ -551,7 +579,7 @@ def least_ballast(
         total = float(masses.sum())
         bound = found.bound_kg if lower is None else lower
         close = lower is None or total - lower <= PROVEN_RTOL * max(total, 1e-12) + 1e-15
-        optimal = found.optimal and close
+        optimal = found.optimal and close and settled
     after = [_figures(st, spec, masses, centre, limits, alpha) for st in states]
     if found is not None:
         for name, fig in zip(names, after, strict=True):

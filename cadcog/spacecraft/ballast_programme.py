@@ -1,9 +1,9 @@
 """The ballast programmes (:mod:`cadcog.spacecraft.balance`): rows, the least total ballast with
 each face's quantile fixed, and with the quantiles chosen too.
 
-Each face ``f`` of each configuration's envelope is a row ``a_f · m + c_f z_f ≤ b_f``
-(moments, kg·mm): ``a_f`` the ballast's lever arms past the face, ``c_f = f_k M σ_k`` the
-CoG's spread, ``z_f`` the face's quantile. With the quantiles fixed the rows are linear in the
+Each face ``f`` of each configuration's envelope is a row ``a_f · m + c_f z_f ≤ b_f`` (moments,
+kg·mm): ``a_f`` the ballast's lever arms past the face, ``c_f = σ'_k T`` the CoG's spread times
+the total mass, ``z_f`` the face's quantile. With the quantiles fixed the rows are linear in the
 masses: a linear (or, with pieces, integer) programme. Choosing the quantiles too, under the
 union bound ``Σ_f Φ̄(z_f) ≤ 1 − P`` (``Φ̄`` the normal's upper tail), keeps the rows linear in
 ``(m, z)`` and adds one convex constraint (``Φ̄`` is convex for ``z ≥ 0``). It is bracketed:
@@ -83,20 +83,20 @@ class Rows:
 def face_rows(
     mass_kg: float,
     cog_mm: FloatArray,
-    sd_mm: FloatArray,
+    spread_kg_mm: FloatArray,
     positions_mm: FloatArray,
     centre_mm: FloatArray,
     limits_mm: FloatArray,
-    factor: FloatArray,
 ) -> Rows:
     """The six faces' rows of a spacecraft (module docstring): ``±(c' - o) + z σ' ≤ L`` times
-    ``M + Σ m``, with ``σ' (M + Σ m) = f M σ``."""
+    ``T = M + Σ m``, with ``σ' T`` given per axis (``spread_kg_mm``: ``M σ`` when the mass is
+    exact, whatever the ballast)."""
     a = np.empty((6, len(positions_mm)))
     c = np.empty(6)
     b = np.empty(6)
     for r, (k, sign) in enumerate(FACES6):
         a[r] = sign * (positions_mm[:, k] - centre_mm[k]) - limits_mm[k]
-        c[r] = factor[k] * mass_kg * sd_mm[k]
+        c[r] = spread_kg_mm[k]
         b[r] = limits_mm[k] * mass_kg - sign * mass_kg * (cog_mm[k] - centre_mm[k])
     return Rows(a, c, b)
 

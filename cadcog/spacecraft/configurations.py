@@ -44,7 +44,7 @@ from cadcog.core.units import deg_to_rad
 from cadcog.mass.materials import glob_match
 from cadcog.mass.properties import MassProperties, combine
 from cadcog.spacecraft.envelope import EnvelopeCheck
-from cadcog.spacecraft.items import items_from_bodies, linear_prior
+from cadcog.spacecraft.items import items_from_bodies, linear_prior, parameter_prior_cov
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -248,13 +248,31 @@ class ConfigurationProperties(JsonResult):
     envelope: EnvelopeCheck | None = None
     overlaps: tuple[str, ...] = ()
 
+    @property
+    def mass_kg(self) -> float:
+        return self.total.mass_kg
+
+    @property
+    def cog_mm(self) -> FloatArray:
+        return self.total.cog_mm
+
+    @property
+    def cog_sigma_mm(self) -> FloatArray:
+        """1 σ of the CoG per axis (mm)."""
+        return np.sqrt(np.maximum(np.diag(self.cog_cov_mm2), 0.0))
+
+    @property
+    def principal_moments_kg_mm2(self) -> FloatArray:
+        """Principal moments about the CoG, smallest first (kg·mm²)."""
+        return np.asarray(np.linalg.eigvalsh(self.total.inertia_kg_mm2), dtype=float)
+
     def to_dict(self) -> dict[str, Any]:
         out = {
             "mass_kg": self.total.mass_kg,
             "mass_sigma_kg": self.mass_sigma_kg,
             "cog_mm": self.total.cog_mm.tolist(),
             "cog_cov_mm2": self.cog_cov_mm2.tolist(),
-            "cog_sigma_mm": np.sqrt(np.maximum(np.diag(self.cog_cov_mm2), 0.0)).tolist(),
+            "cog_sigma_mm": self.cog_sigma_mm.tolist(),
             "inertia_kg_mm2": self.total.inertia_kg_mm2.tolist(),
             "inertia_about": "centre of gravity, model axes",
             "changed": list(self.moved),
@@ -276,25 +294,73 @@ def _changed(before: MassProperties, after: MassProperties | None) -> bool:
     )
 
 
+@dataclass(frozen=True)
+class _Linear:
+    """A configuration's totals and their Jacobians in the model's own item parameters ``θ``
+    (:mod:`cadcog.spacecraft.items`), with ``θ``'s covariance."""
+
+    bodies: list[Any]
+    total: MassProperties
+    jac_mass: FloatArray  # (4N,)
+    jac_cog: FloatArray  # (3, 4N)
+    prior_cov: FloatArray  # (4N, 4N)
+
+    @property
+    def jac_moment(self) -> FloatArray:
+        """``∂S/∂θ`` of the first moment ``S = M G`` (kg·mm)."""
+        return np.asarray(
+            self.total.cog_mm[:, None] * self.jac_mass[None, :] + self.total.mass_kg * self.jac_cog
+        )
+
+
+def _linear(bodies: Sequence[Any], config: Configuration | None, source: str) -> _Linear:
+    """:class:`_Linear` of the model (``config`` None) or of a configuration. An item keeps its
+    parameters: its relative mass error, and its CoG error turned with it (``R s``: a panel's
+    CoG uncertainty along its length stays along its length when it deploys); an item a
+    configuration removes has none left."""
+    base_items, _ = items_from_bodies(bodies)
+    cov = parameter_prior_cov(base_items)
+    index = {item.key: k for k, item in enumerate(base_items)}
+    n = len(base_items)
+    moved = list(bodies) if config is None else apply_configuration(bodies, config, source)
+    turns = {} if config is None else placements(bodies, config, source)
+    items, fixed = items_from_bodies(moved)
+    own = linear_prior(items, fixed)
+    jm = np.zeros(4 * n)
+    jg = np.zeros((3, 4 * n))
+    first = {b.item: b.path for b in moved if b.sigma_rel is not None}
+    for k, item in enumerate(items):
+        b = index.get(item.key)
+        if b is None:  # fixed as modelled (no uncertainty): stays fixed
+            continue
+        rot = turns.get(first.get(item.key, ""), (np.eye(3), np.zeros(3)))[0]
+        jm[b] = own.jac_mass[k]
+        jg[:, b] = own.jac_cog[:, k]
+        cols = slice(len(items) + 3 * k, len(items) + 3 * k + 3)
+        jg[:, n + 3 * b : n + 3 * b + 3] = own.jac_cog[:, cols] @ rot
+    total = combine(b.properties for b in moved)
+    return _Linear(moved, total, jm, jg, cov)
+
+
 def configuration_properties(
     bodies: Sequence[Any], configs: Sequence[Configuration], source: str = ""
 ) -> tuple[ConfigurationProperties, ...]:
-    """Each configuration's totals and uncertainty, from the counted bodies."""
+    """Each configuration's totals and first-order uncertainty, from the counted bodies, in the
+    model's own item parameters (:func:`_linear`)."""
     out = []
     for config in configs:
-        moved_bodies = apply_configuration(bodies, config, source)
-        total = combine(b.properties for b in moved_bodies)
-        prior = linear_prior(*items_from_bodies(moved_bodies))
-        after = {b.path: b.properties for b in moved_bodies}
-        moved = tuple(b.path for b in bodies if _changed(b.properties, after.get(b.path)))
+        lin = _linear(bodies, config, source)
+        after = {b.path: b.properties for b in lin.bodies}
+        changed = tuple(b.path for b in bodies if _changed(b.properties, after.get(b.path)))
+        p = lin.prior_cov
         out.append(
             ConfigurationProperties(
                 config.name,
-                total,
-                prior.mass_sigma_kg,
-                prior.cog_cov_mm2,
-                prior.cog_mass_cov_mm_kg,
-                moved,
+                lin.total,
+                float(np.sqrt(max(float(lin.jac_mass @ p @ lin.jac_mass), 0.0))),
+                np.asarray(lin.jac_cog @ p @ lin.jac_cog.T),
+                np.asarray(lin.jac_cog @ p @ lin.jac_mass),
+                changed,
             )
         )
     return tuple(out)
@@ -302,46 +368,39 @@ def configuration_properties(
 
 @dataclass(frozen=True)
 class ConfigurationDelta:
-    """What a configuration changes against the model as it stands: mass, first moment and the
-    covariance of that moment change from the items' stated uncertainty (for a measured
-    spacecraft, whose own figures come from a test: ``G' = (M G + ΔS) / (M + ΔM)``)."""
+    """What a configuration changes against the model as it stands: mass ``ΔM``, first moment
+    ``ΔS`` and their covariance from the items' stated uncertainty (a measured spacecraft,
+    whose own figures come from a test, becomes ``G' = (M G + ΔS) / (M + ΔM)``)."""
 
     name: str
     mass_kg: float
     moment_kg_mm: FloatArray
     moment_cov_kg2_mm2: FloatArray
+    mass_var_kg2: float
+    moment_mass_cov_kg2_mm: FloatArray
 
 
 def configuration_deltas(
     bodies: Sequence[Any], configs: Sequence[Configuration], source: str = ""
 ) -> tuple[ConfigurationDelta, ...]:
-    """Each configuration's change of mass and first moment, with its covariance (the
-    Jacobians of ``S = M G`` in the items' parameters, as moved minus as modelled)."""
-    base_items, base_fixed = items_from_bodies(bodies)
-    base = linear_prior(base_items, base_fixed)
-    base_jac = base.cog_mm[:, None] * base.jac_mass[None, :] + base.mass_kg * base.jac_cog
-    index = {item.key: k for k, item in enumerate(base_items)}
-    n = len(base_items)
+    """Each configuration's change of mass and first moment with their covariance: the
+    Jacobians in the model's item parameters (:func:`_linear`), as configured minus as
+    modelled."""
+    base = _linear(bodies, None, source)
     out = []
     for config in configs:
-        moved = apply_configuration(bodies, config, source)
-        items, fixed = items_from_bodies(moved)
-        prior = linear_prior(items, fixed)
-        own = prior.cog_mm[:, None] * prior.jac_mass[None, :] + prior.mass_kg * prior.jac_cog
-        jac = np.zeros_like(base_jac)  # in the model's parameters: a part gone has none
-        for k, item in enumerate(items):
-            if item.key not in index:
-                continue  # an item that was fixed as modelled (no uncertainty) stays fixed
-            b = index[item.key]
-            jac[:, b] = own[:, k]
-            jac[:, n + 3 * b : n + 3 * b + 3] = own[:, len(items) + 3 * k : len(items) + 3 * k + 3]
-        d = jac - base_jac
+        lin = _linear(bodies, config, source)
+        dm = lin.jac_mass - base.jac_mass
+        ds = lin.jac_moment - base.jac_moment
+        p = base.prior_cov
         out.append(
             ConfigurationDelta(
                 config.name,
-                prior.mass_kg - base.mass_kg,
-                prior.mass_kg * prior.cog_mm - base.mass_kg * base.cog_mm,
-                np.asarray(d @ base.prior_cov @ d.T),
+                lin.total.mass_kg - base.total.mass_kg,
+                lin.total.mass_kg * lin.total.cog_mm - base.total.mass_kg * base.total.cog_mm,
+                np.asarray(ds @ p @ ds.T),
+                float(dm @ p @ dm),
+                np.asarray(ds @ p @ dm),
             )
         )
     return tuple(out)
@@ -429,7 +488,9 @@ def cached_overlap_notes(
         return overlap_notes(solids, bodies, configs, scale_to_mm=scale, source=source)
 
     key = {"kind": "configuration overlaps", **(settings or {})}
-    notes, _ = cache.cached_data(key, list(files), compute)
+    notes, _ = cache.cached_data(
+        key, list(files), compute, code=("cad", "core", "mass", "spacecraft")
+    )
     return {str(k): [str(n) for n in v] for k, v in notes.items()}
 
 

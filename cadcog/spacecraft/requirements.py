@@ -334,17 +334,14 @@ def _overlap_results(
 ) -> list[RequirementResult]:
     """For each configuration a requirement names: no moved part overlaps one it did not move
     with (both would be counted whole); with ``strict`` an overlap is an error."""
-    from cadcog.cad.modelfile import named_model
-    from cadcog.core.paramfile import read_toml
+    from cadcog.cad.modelfile import named_model, named_model_file
     from cadcog.spacecraft.configurations import cached_overlap_notes
 
     names = set(req.cog_configurations) | set(req.inertia_configurations)
     used = [c for c in configs if "*" in names or c.name in names]
     if not used:
         return []
-    data = read_toml(path)
-    named = data.get("model", data.get("model_step"))
-    files = [path, path.parent / str(named), req.configurations_file]
+    files = [path, named_model_file(path)[0], req.configurations_file]
     notes = cached_overlap_notes(
         result.bodies,
         used,
