@@ -231,6 +231,33 @@ def check_option_values(parser: argparse.ArgumentParser, args: argparse.Namespac
                 raise UsageError(f"{command}: {option} {value!r}: {problem}")
 
 
+def refuse_repeated_options(
+    parser: argparse.ArgumentParser, args: argparse.Namespace, words: Sequence[str]
+) -> None:
+    """An option that takes one value, given twice (``--ballast a.toml --ballast b.toml``), is
+    refused naming it, instead of argparse's silent "the last one wins".
+
+    Raises
+    ------
+    UsageError
+    """
+    command = getattr(args, "command", None)
+    sub = _subparsers(parser).get(command or "")
+    if sub is None:
+        return
+    for action in sub._actions:
+        if not action.option_strings or type(action).__name__ != "_StoreAction":
+            continue
+        times = sum(
+            any(w == o or w.startswith(o + "=") for o in action.option_strings) for w in words
+        )
+        if times > 1:
+            option = max(action.option_strings, key=len)
+            raise UsageError(
+                f"{command}: {option} given {times} times: give it once (it takes one value)"
+            )
+
+
 def refuse_empty_values(words: Sequence[str]) -> None:
     """An empty argument (``--out ""``, ``--out=``) names its option, before argparse turns it
     into ``.`` (the working folder) or a confusing choice error.
@@ -284,6 +311,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 parser.command = command
             refuse_empty_values(words)
             args = parser.parse_args(attach_dash_values(parser, words))
+            refuse_repeated_options(parser, args, words)
             check_option_values(parser, args)
             status = _run(args)  # no output may replace a file the command read
     except KeyboardInterrupt:

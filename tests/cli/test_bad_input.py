@@ -471,6 +471,11 @@ CASES = [
         r"--confidence 2\.0: expected a probability from 0\.5 to 0\.9999",
     ),
     Case(
+        "option-given-twice",
+        ["balance", "--setup", "s.toml", "--ballast", "a.toml", "--ballast=b.toml"],
+        r"balance: --ballast given 2 times: give it once",
+    ),
+    Case(
         "balance-ballast-missing",
         ["balance", "--setup", "s.toml", "--ballast", "nothere.toml", "--cog-limits-mm=1,1,1"],
         r"nothere\.toml: file not found",
