@@ -406,7 +406,9 @@ class BalanceResult(JsonResult):
             "source": self.state.source,
             "ballast_file": self.spec.source,
             "notes": list(self.notes),
-            "configurations": list(self.configurations),
+            "configurations": {  # keyed by name, as massprops's
+                c["name"]: {k: v for k, v in c.items() if k != "name"} for c in self.configurations
+            },
         }
 
 

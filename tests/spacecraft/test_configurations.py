@@ -167,9 +167,9 @@ def test_balance_meets_the_envelope_in_every_configuration(models, tmp_path, cap
     status = main([*args, "--cog-limits-mm=5,20,10", "--configurations", str(conf), "--json"])
     d = json.loads(capsys.readouterr().out)
     assert status == 0 and d["feasible"]
-    assert [c["name"] for c in d["configurations"]] == ["deployed", "half-bus"]
+    assert list(d["configurations"]) == ["deployed", "half-bus"]
     positions = {"L": np.array([-50.0, 0, 0]), "T": np.array([0, 0, 60.0])}
-    for c in d["configurations"]:
+    for c in d["configurations"].values():
         before = c["before"]
         moment = before["mass_kg"] * np.asarray(before["cog_mm"])
         for item in d["ballast"]:
