@@ -171,7 +171,8 @@ class Solution:
 
 def solve_fixed(blocks: Sequence[Rows], z: FloatArray, spec: Any) -> Solution | None:
     """The least total ballast with each face's quantile fixed (``z`` shape (S, 6)); None when
-    no ballast within the limits meets every row."""
+    no ballast within the limits meets every row. With pieces, among the equally light answers
+    the one with the fewest pieces (a second integer programme)."""
     v = _Vars.of(spec)
     a = np.vstack([blk.a for blk in blocks]) @ v.expand
     b = np.concatenate([blk.b - blk.c * zs for blk, zs in zip(blocks, z, strict=True)])
@@ -192,6 +193,18 @@ def solve_fixed(blocks: Sequence[Rows], z: FloatArray, spec: Any) -> Solution | 
     counts = None
     if spec.sizes_kg is not None:
         x = np.round(x)
+        if res.status == 0:  # among the equally light, the fewest pieces
+            least = float(v.expand.sum(axis=0) @ x)
+            fewer = _milp(
+                np.ones(len(x)),
+                np.vstack([a, caps_a, v.expand.sum(axis=0)[None, :]]),
+                np.concatenate([b, caps_b, [least * (1.0 + 1e-12) + 1e-15]]),
+                np.zeros(len(x)),
+                v.upper,
+                v.integrality,
+            )
+            if fewer.status == 0 and fewer.x is not None:
+                x = np.round(np.asarray(fewer.x))
         counts = x.reshape(len(spec.points), -1)
     optimal = res.status == 0
     bound = None if optimal else float(getattr(res, "mip_dual_bound", np.nan))

@@ -406,3 +406,24 @@ def test_an_axis_without_spread_but_an_uncertain_mass_is_balanced():
     r = least_ballast(s, spec(((-60.0, 0.0, 0.0), None)), np.zeros(3), [8.0, 30, 30], 0.95)
     assert r.feasible and np.all(r.margin_mm >= -1e-7)
     assert r.cog_cov_mm2[0, 0] > 0  # the mass term, once ballast is added
+
+
+def test_among_equally_light_answers_the_fewest_pieces():
+    """Pieces of 3 and 5 g at one location, 25 random needs: the total is the least, and its
+    pieces are the fewest that make a least total (brute force over every count; the least-mass
+    programme alone gave 16 × 3 g for 48 g, where 1 × 3 g + 9 × 5 g is as light in 10)."""
+    rng = np.random.default_rng(2)
+    sizes = (0.003, 0.005)
+    counts = np.array(list(itertools.product(range(67), range(41))), dtype=float)
+    masses = counts @ np.array(sizes)
+    p = np.array([-50.0, 0.0, 0.0])
+    for _ in range(25):
+        limit = float(rng.uniform(7.0, 9.5))
+        s = state(1.0, (10.0, 0, 0))
+        r = least_ballast(s, spec((p, None), sizes=sizes), np.zeros(3), [limit, 20, 20])
+        cog = (10.0 + masses * p[0]) / (1.0 + masses)
+        ok = cog <= limit + 1e-12
+        least = masses[ok].min()
+        fewest = counts[ok & (np.abs(masses - least) < 1e-12)].sum(axis=1).min()
+        assert r.total_ballast_kg == pytest.approx(least, abs=1e-12)
+        assert r.counts is not None and r.counts.sum() == fewest
