@@ -396,7 +396,6 @@ def mass_properties(
                 model_path,
                 config_path,
                 units=units,
-                exclude=patterns,
                 strict=strict,
             )
         return report

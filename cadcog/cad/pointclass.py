@@ -11,13 +11,12 @@ from collections.abc import Sequence
 
 import numpy as np
 import numpy.typing as npt
-from OCP.Bnd import Bnd_Box
-from OCP.BRepBndLib import BRepBndLib
 from OCP.BRepClass3d import BRepClass3d_SolidClassifier
 from OCP.gp import gp_Pnt
 from OCP.TopAbs import TopAbs_IN
 from OCP.TopoDS import TopoDS_Shape
 
+from cadcog.cad.overlaps import bounding_boxes
 from cadcog.core import tolerances
 
 
@@ -44,17 +43,12 @@ def solids_holding(
     """
     pts = np.asarray(points_mm, dtype=float).reshape(-1, 3) / scale_to_mm
     tol = tolerance_mm / scale_to_mm
-    boxes = []
-    for _, shape in solids:
-        box = Bnd_Box()
-        BRepBndLib.Add_s(shape, box)
-        lo, hi = box.CornerMin(), box.CornerMax()
-        boxes.append(np.array([lo.X(), lo.Y(), lo.Z(), hi.X(), hi.Y(), hi.Z()]))
+    lo, hi = bounding_boxes([shape for _, shape in solids])
     out: list[str | None] = []
     for p in pts:
         found = None
-        for (name, shape), box in zip(solids, boxes, strict=True):
-            if np.any(p < box[:3] - tol) or np.any(p > box[3:] + tol):
+        for (name, shape), a, b in zip(solids, lo, hi, strict=True):
+            if np.any(p < a - tol) or np.any(p > b + tol):
                 continue
             cls = BRepClass3d_SolidClassifier(shape, gp_Pnt(*p.tolist()), tol)
             if cls.State() == TopAbs_IN:

@@ -1,9 +1,12 @@
-"""Argument types the commands share (argparse ``type=``): one parser for each kind of value."""
+"""Argument types the commands share (argparse ``type=``) and the checks of parsed values they
+share: one parser, or one check, for each kind of value."""
 
 from __future__ import annotations
 
 import argparse
 import math
+
+from cadcog.core.errors import CadcogError
 
 
 def positive_triple(text: str) -> tuple[float, float, float]:
@@ -21,3 +24,18 @@ def positive_triple(text: str) -> tuple[float, float, float]:
     if len(values) != 3 or not all(math.isfinite(v) for v in values) or min(values) <= 0:
         raise argparse.ArgumentTypeError(f"expected three positive numbers X,Y,Z, got {text!r}")
     return values[0], values[1], values[2]
+
+
+def check_positive(name: str, value: float | None, *, zero: bool = False) -> None:
+    """An option's value (``name`` its ``dest``) positive (or ``≥ 0`` with ``zero``) when given.
+
+    Raises
+    ------
+    CadcogError
+        Naming the option: ``--weighed-mass-kg must be a positive number, got 0.0``.
+    """
+    if value is None:
+        return
+    if not math.isfinite(value) or value < 0 or (value == 0 and not zero):
+        kind = "a number ≥ 0" if zero else "a positive number"
+        raise CadcogError(f"--{name.replace('_', '-')} must be {kind}, got {value}")

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.cli._table import text_table
-from cadcog.cli._types import positive_triple
+from cadcog.cli._types import check_positive, positive_triple
 from cadcog.core.units import UNIT_CHOICES
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
@@ -80,10 +80,8 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.core.parallel import available_workers
     from cadcog.runs.balance import run_balance
 
-    for name in ("weighed_mass_kg", "mass_sigma_kg"):
-        value = getattr(args, name)
-        if value is not None and not value > 0:
-            raise CadcogError(f"--{name.replace('_', '-')} {value!r}: expected a positive mass")
+    check_positive("weighed_mass_kg", args.weighed_mass_kg)
+    check_positive("mass_sigma_kg", args.mass_sigma_kg)
     if args.model is not None and args.setup is not None:
         raise CadcogError("give a MODEL or --setup, not both (a set-up names its model)")
     if args.setup is not None and (args.materials is not None or args.units is not None):

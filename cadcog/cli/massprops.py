@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from cadcog.cad.massresults import Refusal
-from cadcog.cli._types import positive_triple
+from cadcog.cli._types import check_positive, positive_triple
 from cadcog.cli.massprops_text import print_configurations, print_report
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import note_input
@@ -200,9 +200,7 @@ def _progress() -> Callable[[str, int], Callable[[int], None]] | None:
 
 def _check_numbers(args: argparse.Namespace) -> None:
     for name in ("density_kg_m3", "total_mass_kg"):
-        value = getattr(args, name)
-        if value is not None and not (np.isfinite(value) and value > 0):
-            raise CadcogError(f"--{name.replace('_', '-')} must be a positive number, got {value}")
+        check_positive(name, getattr(args, name))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -226,7 +224,6 @@ def _run(args: argparse.Namespace) -> int:
         from cadcog.spacecraft.configurations import load_configurations
 
         configs = load_configurations(args.configurations)
-    args.configs = configs
     policy: OverlapPolicy = (
         "allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check"
     )
@@ -269,11 +266,11 @@ def _run(args: argparse.Namespace) -> int:
         # a refusal carries what it is about, counted as it is (for CI to parse); any other
         # error (an open solid, a file OCCT cannot read) has nothing to count
         as_is = refusal.as_is if refusal is not None else None
-        emit_refusal(args, str(exc), as_is, model, policy)
+        emit_refusal(args, str(exc), as_is, model, policy, configs)
         raise
     if hit:
         _say_cached(args)
-    emit(args, result, model)
+    emit(args, result, model, configs)
     return 0
 
 
@@ -294,7 +291,11 @@ def _say_cached(args: argparse.Namespace) -> None:
     )
 
 
-def _build_report(args: argparse.Namespace, result: ModelMassProperties) -> MassReport:
+def _build_report(
+    args: argparse.Namespace,
+    result: ModelMassProperties,
+    configs: Sequence[Configuration] = (),
+) -> MassReport:
     try:
         return build_mass_report(
             result,
@@ -302,7 +303,7 @@ def _build_report(args: argparse.Namespace, result: ModelMassProperties) -> Mass
             axes=args.axes,
             form_factor=args.form_factor,
             cog_limits_mm=args.cog_limits_mm,
-            configurations=getattr(args, "configs", ()),
+            configurations=configs,
             configurations_source=str(args.configurations or ""),
         )
     except ValueError as exc:
@@ -310,22 +311,24 @@ def _build_report(args: argparse.Namespace, result: ModelMassProperties) -> Mass
 
 
 def emit(
-    args: argparse.Namespace, result: ModelMassProperties, model: Callable[[], StepModel]
+    args: argparse.Namespace,
+    result: ModelMassProperties,
+    model: Callable[[], StepModel],
+    configs: Sequence[Configuration] = (),
 ) -> None:
     """Every output the command line asks for: report, CSV, then JSON or text on stdout
     (``model()`` reads the model, for the HTML report's views)."""
-    report = _build_report(args, result)
+    report = _build_report(args, result, configs)
     if args.configurations is not None:  # moved parts that overlap others (cached by content)
         from cadcog.spacecraft.configurations import report_overlaps
 
         report = report_overlaps(
             report,
-            args.configs,
+            configs,
             model,
             args.model,
             args.configurations,
             units=args.units,
-            exclude=args.exclude,
             strict=args.strict,
         )
     if args.report is not None:
@@ -350,6 +353,7 @@ def emit_refusal(
     as_is: ModelMassProperties | None,
     model: Callable[[], StepModel],
     policy: str,
+    configs: Sequence[Configuration] = (),
 ) -> None:
     """On a refusal, still write what ``--json``/``--report``/``--csv`` asked for.
 
@@ -367,7 +371,7 @@ def emit_refusal(
             else "notes not errors (without --strict): what was refused"
         )
         try:
-            report = _build_report(args, as_is)
+            report = _build_report(args, as_is, configs)
         except CadcogError:
             report = None
     if report is not None and args.report is not None:

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from cadcog.cli._table import text_table
+from cadcog.cli._types import check_positive
 from cadcog.core.errors import CadcogError
 from cadcog.core.jsontext import dumps_json
 from cadcog.spacecraft.update import INCONSISTENT_NOTE, REJECTED_NOTE, unmodelled_from_region
@@ -90,22 +91,14 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
-def _positive(name: str, value: float | None, *, zero: bool = False) -> None:
-    if value is None:
-        return
-    if not np.isfinite(value) or value < 0 or (value == 0 and not zero):
-        kind = "a number ≥ 0" if zero else "a positive number"
-        raise CadcogError(f"--{name.replace('_', '-')} must be {kind}, got {value}")
-
-
 def run(args: argparse.Namespace) -> int:
     from cadcog.dynamics.update_files import update_from_files
     from cadcog.spacecraft.setup import load_setup
 
-    _positive("weighed_mass_kg", args.weighed_mass_kg)
-    _positive("mass_sigma_kg", args.mass_sigma_kg)
-    _positive("unmodelled_mass_kg", args.unmodelled_mass_kg, zero=True)
-    _positive("unmodelled_sigma_kg", args.unmodelled_sigma_kg)
+    check_positive("weighed_mass_kg", args.weighed_mass_kg)
+    check_positive("mass_sigma_kg", args.mass_sigma_kg)
+    check_positive("unmodelled_mass_kg", args.unmodelled_mass_kg, zero=True)
+    check_positive("unmodelled_sigma_kg", args.unmodelled_sigma_kg)
     if args.unmodelled_region_mm is not None and args.unmodelled_sigma_kg is None:
         raise CadcogError("--unmodelled-region-mm needs --unmodelled-sigma-kg (its prior 1 σ)")
     if args.unmodelled_region_mm is None and args.unmodelled_sigma_kg is not None:

@@ -26,6 +26,7 @@ from cadcog.spacecraft.balance import BalanceResult, BallastSpec, UncertainMass,
 from cadcog.spacecraft.ballast_file import load_ballast
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM, source_for
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG, items_from_bodies, linear_prior
+from cadcog.spacecraft.setup_draft import form_factor_mismatch
 
 #: The confidences ``balance`` takes: below a half a "confidence" says little, and beyond
 #: 0.9999 the miss budget nears the solver's tolerances.
@@ -111,7 +112,9 @@ def run_balance(
                 f"--form-factor {form_factor!r}: expected one of {', '.join(CDS_COG_LIMITS_MM)}"
             )
         limits = np.array(CDS_COG_LIMITS_MM[form_factor])
-        notes.extend(_form_factor_notes(form_factor, box))
+        mismatch = form_factor_mismatch(form_factor, box[1] - box[0])  # model axes
+        if mismatch is not None:
+            notes.append(mismatch)
     if cog_limits_mm is not None:
         source = "custom limits (--cog-limits-mm)"
     elif form_factor is not None:
@@ -330,23 +333,6 @@ def _refuse_outside(spec: Any, box: tuple[np.ndarray, np.ndarray], label: str) -
             )
 
 
-def _form_factor_notes(form_factor: str, box: tuple[np.ndarray, np.ndarray]) -> list[str]:
-    """A note when the model's box is not that CubeSat form factor's (z the long axis)."""
-    from cadcog.spacecraft.setup_draft import CDS_ENVELOPES_MM, guess_form_factor
-
-    if form_factor not in CDS_ENVELOPES_MM:
-        return []
-    ext = box[1] - box[0]
-    if guess_form_factor(np.zeros(3), ext) == form_factor:
-        return []
-    shown = " × ".join(f"{v:.4g}" for v in ext)
-    env = " × ".join(f"{v:g}" for v in CDS_ENVELOPES_MM[form_factor])
-    return [
-        f"form factor {form_factor}: the model's box ({shown} mm) is not a {form_factor}'s "
-        f"({env} mm within 8 %, z the long axis): the envelope assumes it is one"
-    ]
-
-
 def _configuration_overlaps(
     bodies: Sequence[Any],
     configs: Sequence[Any],
@@ -355,35 +341,33 @@ def _configuration_overlaps(
     units: str | None,
     configurations: Path | None,
 ) -> list[str]:
-    """The configurations' moved parts that overlap others (cached by content)."""
+    """The configurations' moved parts that overlap others (cached by content, the entry
+    ``massprops --configurations`` and ``check`` share)."""
     from cadcog.cad.modelfile import named_model, named_model_file
-    from cadcog.cad.stepmass import unit_scale
     from cadcog.cad.stepread import read_step
     from cadcog.spacecraft.configurations import cached_overlap_notes
 
-    override = units
+    assert configurations is not None
     if model is not None:
-        files: list[Path] = [model]
+        model_file, override = model, units
 
         def read() -> Any:
             return read_step(model)
 
     else:
         assert setup is not None
-        named, override = named_model_file(setup)
-        files = [setup, named]
+        model_file, override = named_model_file(setup)
 
         def read() -> Any:
             return named_model(setup)[0]
 
-    assert configurations is not None
     notes = cached_overlap_notes(
         bodies,
         configs,
         read,
-        [*files, configurations],
-        scale_to_mm=lambda step: unit_scale(step, override)[0],
-        settings={"units": override, "for": "balance"},
+        model_file,
+        configurations,
+        units=override,
         source=str(configurations),
     )
     return [n for c in configs for n in notes.get(c.name, [])]

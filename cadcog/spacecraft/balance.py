@@ -78,9 +78,9 @@ SPREAD_RTOL = 1e-9
 #: variance would overflow the integral's inverse).
 EXACT_SIGMA_MM = 1e-9
 
-#: A ballast within this fraction of the relaxation's proven lower bound is called the least
-#: (0.1 %: the inner programme keeps 0.1 % of the budget in hand, see
-#: :data:`cadcog.spacecraft.ballast_programme.INNER_MARGIN`).
+#: A ballast within this fraction (0.2 %) of the relaxation's proven lower bound is called the
+#: least: the inner programme keeps 0.1 % of the budget in hand
+#: (:data:`cadcog.spacecraft.ballast_programme.INNER_MARGIN`), which costs less than that.
 PROVEN_RTOL = 2e-3
 
 

@@ -467,29 +467,34 @@ def cached_overlap_notes(
     bodies: Sequence[Any],
     configs: Sequence[Configuration],
     read: Callable[[], Any],
-    files: Sequence[Path],
+    model_file: Path,
+    configurations_file: Path,
     *,
-    scale_to_mm: float | Callable[[Any], float] = 1.0,
-    settings: dict[str, Any] | None = None,
+    units: str | None,
     source: str = "",
 ) -> dict[str, list[str]]:
-    """:func:`overlap_notes`, cached by the content of ``files`` (the model, the
-    configurations file) and ``settings``: a second run reads no CAD. ``read()`` gives the
-    model (a :class:`cadcog.cad.stepread.StepModel`); ``scale_to_mm`` its mm per file unit, or
-    a function of the model read that says so."""
+    """:func:`overlap_notes` of every configuration, cached by the content of the model file
+    and the configurations file, the bodies counted and the ``units`` override: one entry
+    whichever command asks (``massprops``, ``check``, ``balance``), and a second run reads no
+    CAD. ``read()`` gives the model (a :class:`cadcog.cad.stepread.StepModel`)."""
     from cadcog.cad import cache
 
-    kept = {b.path for b in bodies}
+    kept = sorted(b.path for b in bodies)
 
     def compute() -> dict[str, list[str]]:
+        from cadcog.cad.stepmass import unit_scale
+
         model = read()
-        scale = scale_to_mm(model) if callable(scale_to_mm) else scale_to_mm
-        solids = [(b.path, b.shape) for b in model.solids if b.path in kept]
+        scale = unit_scale(model, units)[0]
+        solids = [(b.path, b.shape) for b in model.solids if b.path in set(kept)]
         return overlap_notes(solids, bodies, configs, scale_to_mm=scale, source=source)
 
-    key = {"kind": "configuration overlaps", **(settings or {})}
+    key = {"kind": "configuration overlaps", "bodies": kept, "units": units}
     notes, _ = cache.cached_data(
-        key, list(files), compute, code=("cad", "core", "mass", "spacecraft")
+        key,
+        [model_file, configurations_file],
+        compute,
+        code=("cad", "core", "mass", "spacecraft"),
     )
     return {str(k): [str(n) for n in v] for k, v in notes.items()}
 
@@ -502,7 +507,6 @@ def report_overlaps(
     configurations: Path,
     *,
     units: str | None,
-    exclude: Sequence[str],
     strict: bool = False,
 ) -> Any:
     """A mass report (:class:`cadcog.spacecraft.mass_summary.MassReport`) whose configurations
@@ -515,9 +519,9 @@ def report_overlaps(
         report.result.bodies,
         configs,
         read,
-        [model, configurations],
-        scale_to_mm=report.result.audit.scale_to_mm,
-        settings={"units": units, "exclude": list(exclude)},
+        model,
+        configurations,
+        units=units,
         source=str(configurations),
     )
     first = next((n for c in configs for n in notes.get(c.name, [])), None)

@@ -42,7 +42,7 @@ from cadcog.spacecraft.envelope import (
     source_for,
 )
 from cadcog.spacecraft.mass_budget import MassBudget, mass_budget
-from cadcog.spacecraft.setup_draft import CDS_ENVELOPES_MM, guess_form_factor
+from cadcog.spacecraft.setup_draft import form_factor_mismatch
 
 if TYPE_CHECKING:
     from cadcog.cad.stepmass import ModelMassProperties
@@ -275,20 +275,9 @@ def build_mass_report(
             form_factor=form_factor,
             source=source,
         )
-    if form_factor in CDS_ENVELOPES_MM:  # a CubeSat's box, in the envelope's axes
-        ext = np.abs(frame.axes) @ (hi - lo)
-        if guess_form_factor(np.zeros(3), ext) != form_factor:
-            shown = " × ".join(f"{v:.4g}" for v in ext)
-            env = " × ".join(f"{v:g}" for v in CDS_ENVELOPES_MM[form_factor])
-            result = replace(
-                result,
-                notes=(
-                    *result.notes,
-                    f"form factor {form_factor}: the model's box ({shown} mm in the envelope's "
-                    f"axes) is not a {form_factor}'s ({env} mm within 8 %, z the long axis): "
-                    "the envelope check assumes it is one",
-                ),
-            )
+    mismatch = form_factor_mismatch(form_factor, np.abs(frame.axes) @ (hi - lo))
+    if mismatch is not None:  # a CubeSat's box, in the envelope's axes
+        result = replace(result, notes=(*result.notes, mismatch))
     configs = configuration_properties(result.bodies, configurations, configurations_source)
     if envelope is not None:
         configs = tuple(

@@ -341,14 +341,15 @@ def _overlap_results(
     used = [c for c in configs if "*" in names or c.name in names]
     if not used:
         return []
-    files = [path, named_model_file(path)[0], req.configurations_file]
+    assert req.configurations_file is not None
+    model_file, units = named_model_file(path)
     notes = cached_overlap_notes(
         result.bodies,
-        used,
+        configs,
         lambda: named_model(path)[0],
-        [f for f in files if f is not None],
-        scale_to_mm=result.audit.scale_to_mm,  # the model's as counted
-        settings={"requirements": str(path)},
+        model_file,
+        req.configurations_file,
+        units=units,
         source=str(req.configurations_file),
     )
     out = []

@@ -149,6 +149,31 @@ def guess_form_factor(bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -> s
     return None
 
 
+def form_factor_mismatch(form_factor: str | None, extent_mm: npt.ArrayLike) -> str | None:
+    """A note when a box (extents in the envelope's axes) is not that CubeSat form factor's
+    (:func:`guess_form_factor`), else None (and None for a PocketQube or no form factor).
+
+    Examples
+    --------
+    >>> form_factor_mismatch("3U", [100, 100, 340.5]) is None
+    True
+    >>> form_factor_mismatch("3U", [120, 120, 120]).split(":")[0]
+    'form factor 3U'
+    """
+    if form_factor not in CDS_ENVELOPES_MM:
+        return None
+    ext = np.asarray(extent_mm, dtype=float)
+    if guess_form_factor(np.zeros(3), ext) == form_factor:
+        return None
+    shown = " × ".join(f"{v:.4g}" for v in ext)
+    env = " × ".join(f"{v:g}" for v in CDS_ENVELOPES_MM[form_factor])
+    return (
+        f"form factor {form_factor}: the model's box ({shown} mm in the envelope's axes) is not "
+        f"a {form_factor}'s ({env} mm within 8 %, z the long axis): the envelope check assumes "
+        "it is one"
+    )
+
+
 def _toml_str(text: str) -> str:
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
 

@@ -50,6 +50,17 @@ def models(tmp_path_factory):
     return stowed, deployed, mats, conf
 
 
+def _requirements(tmp_path, step, mats, conf):
+    """A requirements file: the CoG within ±20 mm in every configuration of ``conf``."""
+    req = tmp_path / "req.toml"
+    req.write_text(
+        f'model_step = "{step.as_posix()}"\nmaterials = "{mats.as_posix()}"\n'
+        f'configurations = "{conf.as_posix()}"\n[cog]\nlimits_mm = [20, 20, 20]\n'
+        'configurations = "*"\n'
+    )
+    return req
+
+
 def _massprops(capsys, *args: str) -> dict:
     assert main(["massprops", *args, "--json"]) == 0
     return json.loads(capsys.readouterr().out)
@@ -333,12 +344,7 @@ def test_a_part_used_up_is_gone_and_every_command_goes_on(models, tmp_path, caps
     assert c["mass_kg"] == pytest.approx(bus, rel=1e-9)
     assert np.allclose(c["cog_mm"], [0, 0, 0], atol=1e-9)
     assert len(c["changed"]) == 1
-    req = tmp_path / "req.toml"
-    req.write_text(
-        f'model_step = "{stowed.as_posix()}"\nmaterials = "{mats.as_posix()}"\n'
-        f'configurations = "{conf.as_posix()}"\n[cog]\nlimits_mm = [20, 20, 20]\n'
-        'configurations = "*"\n'
-    )
+    req = _requirements(tmp_path, stowed, mats, conf)
     assert main(["check", str(req)]) == 0
     capsys.readouterr()
     b = tmp_path / "b.toml"
@@ -388,12 +394,7 @@ def test_an_overlap_fails_check_and_strict(models, tmp_path, capsys):
         '[[configurations]]\nname = "wrong"\n[[configurations.moves]]\nparts = "panel*"\n'
         f"axis_point_mm = {HINGE.tolist()}\naxis_direction = [0, 1, 0]\nangle_deg = -90\n"
     )
-    req = tmp_path / "req.toml"
-    req.write_text(
-        f'model_step = "{stowed.as_posix()}"\nmaterials = "{mats.as_posix()}"\n'
-        f'configurations = "{conf.as_posix()}"\n[cog]\nlimits_mm = [20, 20, 20]\n'
-        'configurations = "*"\n'
-    )
+    req = _requirements(tmp_path, stowed, mats, conf)
     assert main(["check", str(req), "--json"]) == 1
     results = {r["id"]: r for r in json.loads(capsys.readouterr().out)["requirements"]}
     assert not results["configuration.overlaps@wrong"]["passed"]
