@@ -12,8 +12,14 @@ Commands: ``cadcog --version``; ``estimate`` of a virtual campaign of the paper'
 hangs); ``budget``; ``plan`` of the example 3U CubeSat, first with an empty mass-properties
 cache (it builds the CubeSat and reads its STEP) and then with the entry that run left.
 
-Run: ``.venv/bin/python benchmarks/bench_commands.py [--repeat 5]``; figures in
-docs/performance.md.
+With ``--first-day FOLDER`` (a folder ``benchmarks/study_first_day.py`` left for one STEP
+file: its model, drafted set-up, readings, swings and requirements), it times instead the
+commands of a team's first day on that unchanged model, each after one warm-up run that fills
+the cache: ``setup init``, ``massprops --report``, ``plan --for both``, ``update --swings``,
+``check --strict`` and ``inertia``.
+
+Run: ``.venv/bin/python benchmarks/bench_commands.py [--repeat 5] [--first-day FOLDER]``;
+figures in docs/performance.md.
 """
 
 from __future__ import annotations
@@ -111,11 +117,60 @@ def summary(runs: list[dict[str, float]]) -> str:
     )
 
 
+def first_day(folder: Path, repeat: int) -> None:
+    """The first day's commands on an unchanged model (see the module doc), in ``folder``."""
+    import re
+
+    log = (folder / "log.txt").read_text(encoding="utf-8")
+    weighed = re.search(r"--weighed-mass-kg (\S+)", log)
+    if weighed is None:
+        raise SystemExit(f"{folder}/log.txt: no --weighed-mass-kg: run study_first_day.py first")
+    w = ["--weighed-mass-kg", weighed.group(1)]
+    with tempfile.TemporaryDirectory() as tmp:
+        d = Path(tmp)
+        env = environment(CADCOG_CACHE_DIR=str(d / "cache"))
+        commands = {
+            "setup init": [
+                "setup", "init", "model.step", "--out", str(d / "draft.toml"), "--force",
+            ],
+            "massprops --report": [
+                "massprops", "model.step", "--materials", "model_materials.toml",
+                "--report", str(d / "views"),
+            ],
+            "plan --for both": ["plan", "model_setup.toml", "--for", "both"],
+            "update --swings": [
+                "update", "r2.csv", "--setup", "model_setup.toml", *w, "--swings", "s2.csv",
+            ],
+            "check --strict": ["check", "req.toml", "--strict"],
+            "inertia": ["inertia", "s.csv", "--readings", "r.csv", "--setup", "model_setup.toml", *w],
+        }  # fmt: skip
+        for name, argv in commands.items():
+            full = [*CADCOG, *argv]
+            runs: list[dict[str, float]] = []
+            for k in range(repeat + 1):  # the first fills the cache
+                out = subprocess.run(
+                    [sys.executable, "-c", _WRAPPER, *full],
+                    check=True, capture_output=True, text=True, env=env, cwd=folder,
+                )  # fmt: skip
+                r = json.loads(out.stdout.strip().splitlines()[-1])
+                strict_refusal = r["status"] == 2 and "--strict:" in r["stderr"]  # kept too
+                if r["status"] not in (0, 1) and not strict_refusal:
+                    raise RuntimeError(f"{name}: exit {r['status']}: {r['stderr']}")
+                if k:
+                    runs.append(r)
+            print(f"{name}, unchanged model: {summary(runs)}", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--first-day", type=Path, help="a folder study_first_day.py left")
     args = parser.parse_args()
     print(f"{time.strftime('%Y-%m-%d %H:%M')}; {os.cpu_count()} CPUs; load {os.getloadavg()}")
+    if args.first_day is not None:
+        first_day(args.first_day.resolve(), args.repeat)
+        print(f"load after: {os.getloadavg()}")
+        return
     with tempfile.TemporaryDirectory() as tmp:
         d = Path(tmp)
         env = environment(CADCOG_CACHE_DIR=str(d / "cache"))

@@ -19,7 +19,6 @@ from typing import Any
 
 import numpy as np
 import numpy.typing as npt
-from scipy.stats import chi2 as chi2_dist
 
 from cadcog.core.errors import DegenerateGeometryError, ReadingsError
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
@@ -347,7 +346,7 @@ def _worst_contradiction(
     if not candidates:
         return None
     d = deleted_chi2(p_asm, data, geo, [[int(starts[h]) + j for h, j in c] for c in candidates])
-    pv = np.array([chi2_dist.sf(x, len(c)) for x, c in zip(d, candidates, strict=True)])
+    pv = np.array([chi2_sf(x, len(c)) for x, c in zip(d, candidates, strict=True)])
     best = int(np.argmin(pv))
     if not pv[best] < MODE_OUTLIER_P / len(candidates):
         return None
@@ -653,31 +652,45 @@ def inertia_from_files(
     mass_sigma_kg: float = 0.001,
 ) -> InertiaResult:
     """Read a swing file and a readings CSV and run the chain for a rig or a set-up (what the
-    command and :func:`cadcog.inertia` share)."""
+    command and :func:`cadcog.inertia` share), through the results cache
+    (:func:`cadcog.dynamics.cached.cached_inertia`: unchanged inputs are not fitted again)."""
+    from cadcog.dynamics.cached import cached_inertia
     from cadcog.dynamics.swingfile import read_swings
     from cadcog.method.readings import read_readings
 
     if (rig is None) == (setup is None):
         raise ValueError("give a rig or a set-up")
-    swings = read_swings(swings_path)
-    if setup is not None:
-        return inertia_for_setup(
-            setup,
+
+    def compute() -> InertiaResult:
+        swings = read_swings(swings_path)
+        if setup is not None:
+            return inertia_for_setup(
+                setup,
+                swings,
+                read_readings(readings_path, setup.rig.inclinometer),
+                weighed_mass_kg=weighed_mass_kg,
+                mass_sigma_kg=mass_sigma_kg,
+                source=str(swings_path),
+            )
+        assert rig is not None  # checked above
+        return inertia_for_rig(
+            rig,
             swings,
-            read_readings(readings_path, setup.rig.inclinometer),
+            read_readings(readings_path, rig.inclinometer),
             weighed_mass_kg=weighed_mass_kg,
             mass_sigma_kg=mass_sigma_kg,
             source=str(swings_path),
         )
-    assert rig is not None  # checked above
-    return inertia_for_rig(
-        rig,
-        swings,
-        read_readings(readings_path, rig.inclinometer),
-        weighed_mass_kg=weighed_mass_kg,
-        mass_sigma_kg=mass_sigma_kg,
-        source=str(swings_path),
-    )
+
+    inputs = {
+        "rig": rig,
+        "setup": setup,
+        "weighed_mass_kg": weighed_mass_kg,
+        "mass_sigma_kg": mass_sigma_kg,
+        "swings": str(swings_path),
+        "readings": str(readings_path),
+    }
+    return cached_inertia(compute, inputs, [Path(swings_path), Path(readings_path)])[0]
 
 
 def inertia_observation(
@@ -689,15 +702,27 @@ def inertia_observation(
     mass_sigma_kg: float,
 ) -> tuple[FloatArray, FloatArray]:
     """The tensor a swing file measures, as ``cadcog update --swings`` observes it: its six
-    entries ``[xx, yy, zz, xy, xz, yz]`` and their covariance."""
+    entries ``[xx, yy, zz, xy, xz, yz]`` and their covariance (through the results cache, as
+    :func:`inertia_from_files`)."""
+    from cadcog.dynamics.cached import cached_inertia
     from cadcog.dynamics.swingfile import read_swings
 
-    measured = inertia_for_setup(
-        setup,
-        read_swings(swings_path),
-        suspensions,
-        weighed_mass_kg=weighed_mass_kg,
-        mass_sigma_kg=mass_sigma_kg,
-        source=str(swings_path),
-    )
+    def compute() -> InertiaResult:
+        return inertia_for_setup(
+            setup,
+            read_swings(swings_path),
+            suspensions,
+            weighed_mass_kg=weighed_mass_kg,
+            mass_sigma_kg=mass_sigma_kg,
+            source=str(swings_path),
+        )
+
+    inputs = {
+        "setup": setup,
+        "suspensions": tuple(suspensions),
+        "weighed_mass_kg": weighed_mass_kg,
+        "mass_sigma_kg": mass_sigma_kg,
+        "swings": str(swings_path),
+    }
+    measured, _ = cached_inertia(compute, inputs, [Path(swings_path)])
     return entries(measured.inertia_kg_mm2), measured.cov_kg2_mm4

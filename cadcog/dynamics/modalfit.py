@@ -356,11 +356,13 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
         if visible.all():
             break
         groups = [g for g, v in zip(groups, visible, strict=True) if v]
-        if not any(len(g) == 1 for g in groups):
+        if not groups:
             raise DegenerateGeometryError(
                 f"hang {swing.point_id}: no swing mode stands out of the noise "
                 f"(amplitudes {np.round(amp, 4).tolist()}°); was the object released swinging?"
             )
+        if not any(len(g) == 1 for g in groups):
+            break  # what it sees are unresolved pairs: said below
     # Keep the labels in ascending frequency, as the model's modes are (a fit may cross two).
     order = np.argsort(x_c, kind="stable")
     if np.any(order != np.arange(ng)) and all(len(g) == 1 for g in groups):

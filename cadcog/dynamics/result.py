@@ -198,6 +198,50 @@ class InertiaResult(JsonResult):
             "warnings": list(self.warnings),
         }
 
+    @classmethod
+    def from_dict(cls, d: dict[str, Any]) -> InertiaResult:
+        """The result whose :meth:`to_dict` is ``d`` (its inverse, for results read back from
+        the cache: ``from_dict(r.to_dict()).to_dict() == r.to_dict()``, every float exact)."""
+
+        def arr(v: Any) -> FloatArray:
+            return np.array(v, dtype=float)
+
+        c = d["consistency"]
+        return cls(
+            inertia_kg_mm2=arr(d["inertia_kg_mm2"]),
+            cov_kg2_mm4=arr(d["inertia_cov"]),
+            cov_frequencies_kg2_mm4=arr(d["inertia_cov_frequencies_only"]),
+            principal=PrincipalWithSigma(
+                arr(d["principal_moments_kg_mm2"]),
+                arr(d["principal_moments_sigma_kg_mm2"]),
+                arr(d["principal_axes"]),
+                arr(d["principal_axes_sigma_deg"]),
+            ),
+            cog_mm=arr(d["cog_mm"]),
+            mass_kg=float(d["mass_kg"]),
+            mass_sigma_kg=float(d["mass_sigma_kg"]),
+            mass_source=str(d["mass_source"]),
+            hangs=tuple(
+                HangSwing(
+                    str(h["point_id"]),
+                    arr(h["frequencies_hz"]),
+                    arr(h["sigma_hz"]),
+                    arr(h["model_hz"]),
+                    arr(h["damping_ratios"]),
+                    arr(h["amplitudes_deg"]),
+                    int(h["samples"]),
+                    float(h["duration_s"]),
+                )
+                for h in d["hangs"]
+            ),
+            chi2=float(c["chi2"]),
+            dof=int(c["dof"]),
+            budget=tuple((str(b["source"]), float(b["share"])) for b in d["budget"]),
+            cad=d["cad"],
+            warnings=tuple(str(w) for w in d["warnings"]),
+            sigma_scale=float(c["sigma_scale"]),
+        )
+
 
 def inertia_entries(result: InertiaResult) -> FloatArray:
     """The six entries of the result's tensor (the covariance's order)."""
