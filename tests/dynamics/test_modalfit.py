@@ -57,3 +57,15 @@ def test_no_swing_is_refused():
     still = Swing("S9", t, np.tile([1.0, 2.0], (2000, 1)) + rng.normal(0, 0.02, (2000, 2)))
     with pytest.raises(DegenerateGeometryError, match="hang S9: no swing mode stands out"):
         fit_swing(still, [1.5, 2.9])
+
+
+def test_a_swing_of_unresolved_pairs_only_asks_for_a_longer_record():
+    # Two modes 0.004 Hz apart swinging strongly, nothing else: the record cannot tell them
+    # apart. The refusal says so (it said "no swing mode stands out of the noise", with the
+    # pair's large amplitude beside it).
+    rng = np.random.default_rng(3)
+    freqs = np.array([0.806, 0.810])
+    swing = _signal(rng, freqs, [0.02, 0.02])
+    with pytest.raises(DegenerateGeometryError, match="hang S1: every mode has a neighbour.*"
+                       "record longer"):  # fmt: skip
+        fit_swing(swing, [*freqs, 2.4])
