@@ -142,7 +142,9 @@ def first_day(folder: Path, repeat: int) -> None:
                 "update", "r2.csv", "--setup", "model_setup.toml", *w, "--swings", "s2.csv",
             ],
             "check --strict": ["check", "req.toml", "--strict"],
-            "inertia": ["inertia", "s.csv", "--readings", "r.csv", "--setup", "model_setup.toml", *w],
+            "inertia": [
+                "inertia", "s.csv", "--readings", "r.csv", "--setup", "model_setup.toml", *w,
+            ],
         }  # fmt: skip
         for name, argv in commands.items():
             full = [*CADCOG, *argv]

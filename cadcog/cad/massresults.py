@@ -208,6 +208,8 @@ class ImportAudit(JsonResult):
     curve_only_parts: tuple[str, ...]
     density_sources: dict[str, int]
     bbox_mm: tuple[tuple[float, float, float], tuple[float, float, float]]
+    #: The weighed total every density was scaled to (``--total-mass-kg``), or None.
+    total_mass_given_kg: float | None = None
 
     @property
     def extent_mm(self) -> np.ndarray:
@@ -230,6 +232,7 @@ class ImportAudit(JsonResult):
             "curve_only_parts": list(self.curve_only_parts),
             "density_sources": dict(self.density_sources),
             "bbox_mm": [list(self.bbox_mm[0]), list(self.bbox_mm[1])],
+            "total_mass_given_kg": self.total_mass_given_kg,
         }
 
 

@@ -380,6 +380,7 @@ class _Parts:
             model.curve_only_parts,
             sources,
             (tuple(float(v) for v in bbox[0]), tuple(float(v) for v in bbox[1])),  # type: ignore[arg-type]
+            total_mass_kg,
         )
         total = combine(r.properties for r in results)
         return ModelMassProperties(total, tuple(results), audit, summary, tuple(notes), tuple(info))

@@ -92,13 +92,16 @@ def print_report(
     t = r.total
     unit = nf.mass_unit([t.mass_kg])
     line = f"\ntotal {nf.mass(t.mass_kg)}"
-    if b.mass_sigma_kg is not None:
+    if b.total_given:
+        line += " (the weighed mass given, every density scaled to it)"
+    elif b.mass_sigma_kg is not None:
         sigma = f"{nf.in_unit(b.mass_sigma_kg, unit, 2)} {unit[0]}"
         line += f" ± {sigma} (1 σ, {b.sigma_coverage:.0%} of the mass has one)"
     print(line + f", volume {nf.sig(t.volume_mm3, 5)} mm³")
     cog = f"CoG {nf.vector(t.cog_mm)} mm"
     if b.cog_cov_mm2 is not None:
-        cog += f" ± {nf.vector(np.sqrt(np.diag(b.cog_cov_mm2)))} mm (1 σ)"
+        given = ", given that total" if b.total_given else ""
+        cog += f" ± {nf.vector(np.sqrt(np.diag(b.cog_cov_mm2)))} mm (1 σ{given})"
     print(cog)
     if b.growth_kg:
         print(

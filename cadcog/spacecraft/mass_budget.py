@@ -170,6 +170,10 @@ class MassBudget(JsonResult):
         Every body at ``m (1 + MGA)``.
     n_items : int
         Independent uncertainty items.
+    total_given : bool
+        The total is a weighed mass the densities were scaled to (``--total-mass-kg``): its σ
+        is 0 and the CoG's covariance is the items' given that total (the Gaussian
+        conditioned on ``M``: ``Cov(G) − Cov(G, M) Cov(M, G) / Var(M)``).
     """
 
     root: BudgetNode
@@ -178,6 +182,7 @@ class MassBudget(JsonResult):
     sigma_coverage: float
     predicted: MassProperties
     n_items: int
+    total_given: bool = False
 
     @property
     def growth_kg(self) -> float:
@@ -195,6 +200,7 @@ class MassBudget(JsonResult):
             else np.sqrt(np.diag(self.cog_cov_mm2)).tolist(),
             "sigma_coverage": self.sigma_coverage,
             "n_uncertainty_items": self.n_items,
+            "total_given": self.total_given,
             "growth_kg": self.growth_kg,
             "predicted_mass_kg": self.predicted.mass_kg,
             "predicted_cog_mm": self.predicted.cog_mm.tolist(),
@@ -313,8 +319,11 @@ def _product_at(lines: Sequence[BudgetLine], depth: int) -> str:
     return found.pop() if len(found) == 1 else ""
 
 
-def mass_budget(lines: Sequence[BudgetLine], name: str = "total") -> MassBudget:
+def mass_budget(
+    lines: Sequence[BudgetLine], name: str = "total", *, total_given: bool = False
+) -> MassBudget:
     """Roll ``lines`` up by assembly node, with uncertainties and growth (module docstring).
+    With ``total_given`` the total mass is a weighing (:attr:`MassBudget.total_given`).
 
     Raises
     ------
@@ -334,6 +343,12 @@ def mass_budget(lines: Sequence[BudgetLine], name: str = "total") -> MassBudget:
     (0.1, 0.0025)
     >>> budget.predicted.mass_kg, budget.sigma_coverage
     (2.2, 0.5)
+
+    Weighed, the total fixes the one uncertain mass, and with it the CoG:
+
+    >>> weighed = mass_budget([a, b], total_given=True)
+    >>> weighed.mass_sigma_kg, round(float(weighed.cog_cov_mm2[0, 0]), 12)
+    (0.0, 0.0)
     """
     if not lines:
         raise ValueError("a mass budget needs at least one body")
@@ -349,6 +364,10 @@ def mass_budget(lines: Sequence[BudgetLine], name: str = "total") -> MassBudget:
         if items:
             prior = linear_prior(items, fixed)
             cov, sigma = prior.cog_cov_mm2, prior.mass_sigma_kg
+            if total_given and sigma > 0:
+                c = prior.cog_mass_cov_mm_kg
+                cov, sigma = cov - np.outer(c, c) / sigma**2, 0.0
+                cov = (cov + cov.T) / 2.0
         else:
             cov, sigma = np.zeros((3, 3)), 0.0
     covered = sum(b.properties.mass_kg for b in lines if b.sigma_rel is not None)
@@ -361,7 +380,7 @@ def mass_budget(lines: Sequence[BudgetLine], name: str = "total") -> MassBudget:
         )
         for b in lines
     )
-    return MassBudget(root, sigma, cov, covered / total.mass_kg, predicted, len(keys))
+    return MassBudget(root, sigma, cov, covered / total.mass_kg, predicted, len(keys), total_given)
 
 
 # --- the budget as people read it: identical parts grouped, sorted, small ones collapsed -------

@@ -256,7 +256,11 @@ def build_mass_report(
         origin = np.asarray(about, dtype=float)
         label = "point " + ", ".join(f"{v:g}" for v in origin)
     frame = Frame.parse(axes, origin, f"{label}, axes {axes}")
-    budget = mass_budget(result.bodies, name=Path(result.audit.source).stem)
+    budget = mass_budget(
+        result.bodies,
+        name=Path(result.audit.source).stem,
+        total_given=result.audit.total_mass_given_kg is not None,
+    )
     envelope = None
     if cog_limits_mm is not None:
         limits, source = np.asarray(cog_limits_mm, dtype=float), "custom limits"

@@ -32,7 +32,7 @@ def test_the_json_round_trip_is_exact(campaign):
 
 
 def test_a_second_call_reads_the_result_back_and_a_change_fits_again(campaign, tmp_path):
-    readings, swings, result = campaign
+    _, swings, result = campaign
     calls = []
 
     def compute():
