@@ -169,11 +169,19 @@ class OverlapSummary(JsonResult):
     def headline(self) -> str:
         """One line: count, double-counted volume and mass, its share and the CoG shift."""
         shift = float(np.linalg.norm(self.cog_shift_mm))
-        return (
+        line = (
             f"{len(self.pairs)} overlapping pair(s): {self.volume_mm3:.4g} mm³ and "
             f"{self.mass_kg * 1e3:.4g} g counted more than once ({self.mass_fraction:.3%} of the "
             f"mass), shifting the CoG by {shift:.3g} mm"
         )
+        summed = sum(p.mass_kg for p in self.pairs)
+        if abs(summed - self.mass_kg) > 1e-3 * max(self.mass_kg, 1e-300):
+            line += (
+                f" (the pairs' own shares sum to {summed * 1e3:.4g} g: where three or more "
+                "solids share a region, each pair lists it, and the total counts it once for "
+                "each solid beyond the first)"
+            )
+        return line
 
     def to_dict(self) -> dict[str, Any]:
         return {

@@ -351,6 +351,12 @@ def test_three_solids_sharing_a_region_are_counted_exactly(tmp_path):
     # a loses b's 64 mm³ (1000 kg/m³); b loses c's 8 mm³ (2000 kg/m³).
     assert r.overlaps.volume_mm3 == pytest.approx(64 + 8)
     assert r.overlaps.mass_kg == pytest.approx((64 * 1000 + 8 * 2000) * 1e-9)
+    # The pairs each list their own common volume (a&b 64 mm³, a&c 8, b&c 8 at the lighter
+    # density: 0.088 g); the headline's total (0.08 g) says why the two differ.
+    pairs = sum(p.mass_kg for p in r.overlaps.pairs)
+    assert pairs == pytest.approx((64 * 1000 + 8 * 1000 + 8 * 2000) * 1e-9)
+    assert "0.08 g counted more than once" in r.overlaps.headline()
+    assert "the pairs' own shares sum to 0.088 g" in r.overlaps.headline()
     resolved = model_mass_properties(model, None, overlaps="resolve")
     assert r.total.mass_kg - resolved.total.mass_kg == pytest.approx(r.overlaps.mass_kg)
     np.testing.assert_allclose(
@@ -369,6 +375,7 @@ def test_three_solids_sharing_a_region_are_counted_exactly(tmp_path):
 def test_total_mass_scaling_scales_the_overlap_masses(tmp_path):
     model = _nested_blocks(tmp_path, 19300.0)
     r = model_mass_properties(model, None, overlaps="allow")
+    assert "pairs' own shares" not in r.overlaps.headline()  # one pair: nothing to explain
     scaled = model_mass_properties(model, None, overlaps="allow", total_mass_kg=2 * r.total.mass_kg)
     assert scaled.overlaps.mass_kg == pytest.approx(2 * r.overlaps.mass_kg)
     assert scaled.overlaps.pairs[0].mass_kg == pytest.approx(2 * r.overlaps.pairs[0].mass_kg)
