@@ -989,6 +989,9 @@ def balance(
     workers: int | None = None,
     configurations: str | Path | None = None,
     overlaps: Literal["check", "allow", "resolve"] = "check",
+    max_product_kg_mm2: float | None = None,
+    max_axis_angle_deg: float | None = None,
+    inertia_confidence: float | None = None,
 ) -> BalanceResult:
     """The least ballast that puts the CoG inside its envelope with at least ``confidence``
     (``cadcog balance``; :mod:`cadcog.spacecraft.balance` says how).
@@ -1024,6 +1027,14 @@ def balance(
         A configurations file: the same ballast must meet the envelope in each configuration.
     overlaps : {'check', 'allow', 'resolve'}
         A model's overlapping solids, as :func:`mass_properties`'s.
+    max_product_kg_mm2 : float, optional
+        Inertia objective: each product of inertia about the new CoG within ± this (kg·mm²).
+    max_axis_angle_deg : float, optional
+        Inertia objective: each pair of principal axes turned at most this from the model's
+        axes (degrees, below 45).
+    inertia_confidence : float, optional
+        Least probability that the inertia objectives hold (default ``confidence``);
+        :mod:`cadcog.spacecraft.balance_inertia` says how.
 
     Returns
     -------
@@ -1041,6 +1052,9 @@ def balance(
         weighed_mass_kg=weighed_mass_kg,
         mass_sigma_kg=mass_sigma_kg,
         workers=workers,
+        max_product_kg_mm2=max_product_kg_mm2,
+        max_axis_angle_deg=max_axis_angle_deg,
+        inertia_confidence=inertia_confidence,
     )
     _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
     check_choice(f, "overlaps", overlaps, ("check", "allow", "resolve"))
@@ -1086,6 +1100,9 @@ def balance(
         if configurations is None
         else _path(f, "configurations", configurations),
         overlaps=overlaps,
+        max_product_kg_mm2=max_product_kg_mm2,
+        max_axis_angle_deg=max_axis_angle_deg,
+        inertia_confidence=inertia_confidence,
     )
 
 

@@ -60,6 +60,24 @@ def add_parser(sub: Any) -> None:
         type=float,
         help=f"1-σ of the weighing (with --readings; default {DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
     )
+    p.add_argument(
+        "--max-product-kg-mm2",
+        type=float,
+        metavar="L",
+        help="inertia objective: each product of inertia about the new CoG within ±L kg·mm²",
+    )
+    p.add_argument(
+        "--max-axis-angle-deg",
+        type=float,
+        metavar="DEG",
+        help="inertia objective: each pair of principal axes turned at most DEG (< 45) from "
+        "the model's axes",
+    )
+    p.add_argument(
+        "--inertia-confidence",
+        type=float,
+        help="least probability that the inertia objectives hold (default: --confidence)",
+    )
     group = p.add_mutually_exclusive_group()
     group.add_argument(
         "--allow-overlap",
@@ -101,6 +119,9 @@ def run(args: argparse.Namespace) -> int:
         workers=available_workers(),
         configurations=args.configurations,
         overlaps="allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check",
+        max_product_kg_mm2=args.max_product_kg_mm2,
+        max_axis_angle_deg=args.max_axis_angle_deg,
+        inertia_confidence=args.inertia_confidence,
     )
     if args.json:
         print(result.to_json())
@@ -129,6 +150,12 @@ def print_balance(r: Any) -> None:
         f"as it is:  CoG {_vec(b['cog_mm'])} mm, margin {_vec(b['margin_mm'])} mm, "
         f"P(inside) {b['probability_inside']:.4f}"
     )
+    if not r.feasible and r.inertia is not None and not r.shortfall:
+        print("no ballast found that meets the envelope and the inertia objectives:")
+        print_inertia_objectives(r.inertia)
+        for note in r.notes:
+            print(f"note: {note}")
+        return
     if not r.feasible:
         print("no ballast within the file's limits meets the envelope at this confidence:")
         for s in r.shortfall:
@@ -160,6 +187,8 @@ def print_balance(r: Any) -> None:
         f"± {_vec(r.cog_cov_mm2.diagonal() ** 0.5)} mm (1σ)"
     )
     print(f"           margin {_vec(r.margin_mm)} mm, P(inside) {r.probability_inside:.4f}")
+    if r.inertia is not None:
+        print_inertia_objectives(r.inertia)
     for c in r.configurations:
         print(
             f"{c['name']}: CoG {_vec(c['cog_mm'])} mm, margin {_vec(c['margin_mm'])} mm, "
@@ -167,3 +196,36 @@ def print_balance(r: Any) -> None:
         )
     for note in r.notes:
         print(f"note: {note}")
+
+
+def print_inertia_objectives(info: dict[str, Any]) -> None:
+    """The inertia objectives, and the tensor's figures before and after."""
+    o = info["objectives"]
+    wanted = []
+    if o["max_product_kg_mm2"] is not None:
+        wanted.append(f"|products| ≤ {o['max_product_kg_mm2']:g} kg·mm²")
+    if o["max_axis_angle_deg"] is not None:
+        wanted.append(f"principal axes within {o['max_axis_angle_deg']:g}° (each pair)")
+    print(
+        f"inertia: {', '.join(wanted)}, confidence {o['confidence']:.4g} (union bound over "
+        f"{o['conditions']} conditions, z = {o['quantile']:.3f}); tensor: {info['tensor_source']}"
+    )
+    rows = []
+    shown = [("as it is", info["before"])]
+    if info.get("after") is not None:
+        shown.append(("with it", info["after"]))
+    elif info.get("with_cog_ballast") is not None:
+        shown.append(("with the CoG's least", info["with_cog_ballast"]))
+    for label, f in shown:
+        prods = "  ".join(
+            f"{k} {v:.4g} ± {f['products_sigma_kg_mm2'][k]:.3g}"
+            for k, v in f["products_kg_mm2"].items()
+        )
+        turns = ", ".join(f"{k} {v:.2f}°" for k, v in f["pair_rotation_deg"].items())
+        rows.append([label, prods, turns, "yes" if f["met"] else "no"])
+    print(
+        text_table(
+            ["", "products about the CoG (kg·mm², ± 1σ)", "pair rotations", "met"], rows, "llll"
+        )
+    )
+    print(f"how: {info['search']}")

@@ -50,13 +50,19 @@ def run_balance(
     workers: int = 1,
     configurations: Path | None = None,
     overlaps: str = "check",
+    max_product_kg_mm2: float | None = None,
+    max_axis_angle_deg: float | None = None,
+    inertia_confidence: float | None = None,
 ) -> BalanceResult:
     """The least ballast (module docstring), from checked arguments: a ``model`` or a
     ``setup``; ``readings`` with ``weighed_mass_kg`` (a set-up's) for the measured figures;
     ``configurations``: a configurations file whose every configuration the same ballast must
     satisfy too (the measured figures changed by each configuration's CAD change);
     ``mass_sigma_kg``: the weighing's 1 σ (default 1 g); ``overlaps``: a model's overlapping
-    solids, as ``massprops``'s (``"check"``, ``"allow"``, ``"resolve"``).
+    solids, as ``massprops``'s (``"check"``, ``"allow"``, ``"resolve"``);
+    ``max_product_kg_mm2``, ``max_axis_angle_deg``: inertia objectives
+    (:mod:`cadcog.spacecraft.balance_inertia`) at ``inertia_confidence`` (default
+    ``confidence``), the tensor the CAD's with its items' uncertainty.
 
     Raises
     ------
@@ -86,6 +92,24 @@ def run_balance(
         raise CadcogError("--readings and --weighed-mass-kg go together (a test is weighed)")
     if form_factor is not None and cog_limits_mm is not None:
         raise CadcogError("give --form-factor or --cog-limits-mm, not both")
+    objectives = None
+    if max_product_kg_mm2 is not None or max_axis_angle_deg is not None:
+        from cadcog.spacecraft.balance_inertia import InertiaObjectives
+
+        if configurations is not None:
+            raise CadcogError(
+                "--max-product-kg-mm2 and --max-axis-angle-deg balance the spacecraft as it "
+                "stands, not its configurations: give them without --configurations"
+            )
+        objectives = InertiaObjectives(
+            max_product_kg_mm2,
+            max_axis_angle_deg,
+            confidence if inertia_confidence is None else inertia_confidence,
+        )
+    elif inertia_confidence is not None:
+        raise CadcogError(
+            "--inertia-confidence goes with --max-product-kg-mm2 or --max-axis-angle-deg"
+        )
     spec = load_ballast(ballast)
     configs: tuple[Any, ...] = ()
     if configurations is not None:
@@ -135,7 +159,14 @@ def run_balance(
             "the CoG carries no uncertainty (no [mass_uncertainty] in the materials file): the "
             "ballast meets the envelope only as the CAD stands"
         )
-    result = least_ballast(state, spec, centre, limits, confidence, configurations=others)
+    if objectives is None:
+        result = least_ballast(state, spec, centre, limits, confidence, configurations=others)
+    else:
+        from cadcog.spacecraft.balance_inertia import least_ballast_with_inertia
+
+        result = least_ballast_with_inertia(
+            state, _tensor_prior(bodies, state), spec, centre, limits, confidence, objectives
+        )
     if result.feasible and result.total_ballast_kg > 0.0 and mostly_dilutes(result):
         better = "measuring it (--readings)" if readings is None else "a tighter test"
         notes.append(
@@ -148,6 +179,20 @@ def run_balance(
             f"({state.mass_kg:.3g} kg): move mass inside it instead"
         )
     return replace(result, notes=(*result.notes, *notes), envelope_source=source)
+
+
+def _tensor_prior(bodies: Sequence[Any], state: UncertainMass) -> Any:
+    """The CAD's tensor about its CoG with its items' uncertainty, and its covariance with the
+    CAD's mass and CoG; with a test's figures (measured apart from the CAD's tensor) that
+    covariance is zero and the tensor is the CAD's about its own CoG (first order)."""
+    from cadcog.spacecraft.balance_inertia import InertiaPrior
+    from cadcog.spacecraft.explanations import cad_joint_prior
+
+    mean, cov = cad_joint_prior(*items_from_bodies(bodies))
+    prior = InertiaPrior.from_joint(mean, cov, "CAD")
+    if state.source == "CAD":
+        return prior
+    return replace(prior, cross_cov=np.zeros((6, 4)), source="CAD, about the measured CoG")
 
 
 def mostly_dilutes(result: BalanceResult) -> bool:

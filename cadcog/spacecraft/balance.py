@@ -303,6 +303,9 @@ class BalanceResult(JsonResult):
         ``probability_inside``, ``face_quantiles``, ``before``).
     envelope_source : str
         Where the envelope's limits come from (a PocketQube's are provisional).
+    inertia : dict or None
+        With inertia objectives (:mod:`cadcog.spacecraft.balance_inertia`): the objectives,
+        the tensor's figures ``before`` and ``after`` and how the answer was found.
     """
 
     spec: BallastSpec
@@ -328,6 +331,7 @@ class BalanceResult(JsonResult):
     notes: tuple[str, ...] = ()
     configurations: tuple[dict[str, Any], ...] = ()
     envelope_source: str = ""
+    inertia: dict[str, Any] | None = None
 
     @property
     def total_ballast_kg(self) -> float:
@@ -409,6 +413,7 @@ class BalanceResult(JsonResult):
             "configurations": {  # keyed by name, as massprops's
                 c["name"]: {k: v for k, v in c.items() if k != "name"} for c in self.configurations
             },
+            "inertia": self.inertia,
         }
 
 

@@ -541,11 +541,29 @@ def numeric_jacobian(f: Any, x: FloatArray, scale: FloatArray) -> FloatArray:
 def cad_inertia_prior(items: Sequence[Item], fixed: MassProperties | None) -> FloatArray:
     """Covariance of the CAD tensor's entries ``[xx, yy, zz, xy, xz, yz]`` about its CoG
     (kg²·mm⁴) from the items' stated mass and CoG uncertainties, to first order."""
+    return np.asarray(cad_joint_prior(items, fixed)[1][4:, 4:])
+
+
+def cad_joint_prior(
+    items: Sequence[Item], fixed: MassProperties | None
+) -> tuple[FloatArray, FloatArray]:
+    """The CAD's mass, CoG and tensor about its CoG, and their joint first-order covariance
+    from the items' stated mass and CoG uncertainties.
+
+    Returns
+    -------
+    mean : ndarray, shape (10,)
+        ``(M, Gx, Gy, Gz, J_xx, J_yy, J_zz, J_xy, J_xz, J_yz)`` (kg, mm, kg·mm²; the tensor's
+        own entries: ``J_xy = −∫ x·y dm``).
+    cov : ndarray, shape (10, 10)
+        Their covariance, in the same order.
+    """
     model = Model(items, fixed, None, False)
     prior = parameter_prior_cov(items)
     theta = np.zeros(model.size)
     jac = numeric_jacobian(lambda t: model.derived(t, np.zeros(3)), theta, np.sqrt(np.diag(prior)))
-    # derived's inertia entries are the upper triangle: xx, xy, xz, yy, yz, zz.
-    order = [4, 7, 9, 5, 6, 8]
+    # derived's order: M, G (3), then the tensor's upper triangle xx, xy, xz, yy, yz, zz.
+    order = [0, 1, 2, 3, 4, 7, 9, 5, 6, 8]
     j = jac[order]
-    return np.asarray(j @ prior @ j.T)
+    mean = model.derived(theta, np.zeros(3))[order]
+    return np.asarray(mean, dtype=float), np.asarray(j @ prior @ j.T)

@@ -233,6 +233,26 @@ def test_a_test_s_readings_are_balanced_and_the_truth_lands_inside(tmp_path, cap
             [],
             "key 'points[0].position_mm': expected an array of 3 numbers, got an array of 2",
         ),
+        (
+            '[[points]]\nid = "a"\nposition_mm = [70, 30, 0]\n',
+            ["--max-axis-angle-deg", "50"],
+            "--max-axis-angle-deg 50.0: expected an angle above 0 and below 45°",
+        ),
+        (
+            '[[points]]\nid = "a"\nposition_mm = [70, 30, 0]\n',
+            ["--inertia-confidence", "0.9"],
+            "--inertia-confidence goes with --max-product-kg-mm2 or --max-axis-angle-deg",
+        ),
+        (
+            '[[points]]\nid = "a"\nposition_mm = [70, 30, 0]\n',
+            ["--max-product-kg-mm2", "100", "--configurations", "c.toml"],
+            "balance the spacecraft as it stands, not its configurations",
+        ),
+        (
+            '[[points]]\nid = "a"\nposition_mm = [70, 30, 0]\n',
+            ["--max-product-kg-mm2", "-1"],
+            "--max-product-kg-mm2",
+        ),
     ],
 )
 def test_bad_input_exits_2_with_one_line_naming_the_key(
@@ -286,3 +306,31 @@ def test_the_envelope_s_source_and_a_form_factor_that_does_not_fit_are_said(
     status, out, _ = _run(capsys, *args, "--form-factor", "3U")
     assert "limits: CubeSat Design Specification" in out
     assert "form factor 3U: the model's box" in out
+
+
+def test_a_product_limit_on_the_example_cubesat_and_the_api_gives_the_command_s_json(
+    tmp_path, capsys
+):
+    """The 3U's CAD P_yz is 987 kg·mm² (± 120): a limit of 500 at 95 % asks where the CoG's
+    118 g goes; the products after meet it with their own margin, the CoG's too."""
+    b = _ballast(
+        tmp_path,
+        CUBESAT_BALLAST
+        + '[[points]]\nid = "yp_zm"\nposition_mm = [0.0, 45.0, -160.0]\nmax_mass_kg = 0.3\n',
+    )
+    args = ["--setup", str(SETUP), "--ballast", str(b), "--cog-limits-mm=20,20,10"]
+    status, out, _ = _run(capsys, *args, "--max-product-kg-mm2", "500", "--json")
+    assert status == 0, out
+    d = json.loads(out)
+    info = d["inertia"]
+    assert info["before"]["products_kg_mm2"]["Pyz"] > 900 and not info["before"]["met"]
+    after, z = info["after"], info["objectives"]["quantile"]
+    for name, value in after["products_kg_mm2"].items():
+        assert abs(value) + z * after["products_sigma_kg_mm2"][name] <= 500 * (1 + 1e-6)
+    assert after["met"] and d["feasible"] and min(d["margin_mm"]) >= -1e-9
+    assert [x["id"] for x in d["ballast"]][-1] == "yp_zm"  # the off-axis location does it
+    assert d["total_ballast_kg"] >= d["bound_kg"] * (1 - 1e-9)
+    api = cadcog.balance(b, setup=SETUP, cog_limits_mm=[20, 20, 10], max_product_kg_mm2=500)
+    assert json.loads(api.to_json()) == d
+    status, text, _ = _run(capsys, *args, "--max-product-kg-mm2", "500")
+    assert status == 0 and "products about the CoG" in text and "with it" in text
