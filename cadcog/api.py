@@ -878,7 +878,7 @@ def plan(
     Plan
         The recommended set, the finalists with their predicted errors, and the candidates
         that cannot be used (with why); with a ``goal`` other than the CoG, ``inertia`` (the
-        hangs for the tensor) or ``inertia_refused`` (why none, with ``"both"``).
+        hangs for the tensor) or ``inertia_refused`` (why none).
     """
     from cadcog.runs.plan import run_plan
 

@@ -192,10 +192,19 @@ def _inertia_section(result: SessionResult) -> str:
         else f"<p>Against the CAD's tensor: joint χ² {cad['chi2']:.2f} with {cad['dof']} dof "
         f"(p = {cad['p']:.3f}).</p>"
     )
+    fit = (
+        f"the swings' fit χ² {r.chi2:.2f} with {r.dof} dof (p = {r.consistency_p:.3f})"
+        if r.dof > 0
+        else "no degree of freedom left to check the swings' fit (as many frequencies as unknowns)"
+    )
+    warned = (
+        "<p>Warnings:</p><ul>" + "".join(f"<li>{esc(w)}</li>" for w in r.warnings) + "</ul>"
+        if r.warnings
+        else ""
+    )
     return (
         "<h2>Inertia from the swings</h2>\n"
         + table(["", "moment (kg·mm²)", "1 σ", "axis (model frame)", "axis 1 σ (°)"], rows)
-        + f"\n<p>About the object's CoG, the ME removed; the swings' fit χ² {r.chi2:.2f} with "
-        f"{r.dof} dof (p = {r.consistency_p:.3f}). Details: <code>cadcog inertia</code>.</p>"
-        + versus
+        + f"\n<p>About the object's CoG, the ME removed; {fit}. Details: "
+        "<code>cadcog inertia</code>.</p>" + warned + versus
     )

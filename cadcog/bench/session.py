@@ -191,12 +191,10 @@ def run_session(
     say: Callable[[str], None] = print,
     preamble: tuple[str, ...] = (),
     swings_out: str | Path | None = None,
-    inertia_target: BenchTarget | None = None,
 ) -> SessionResult:
     """Run the guided test run; append each good hang to ``out`` (and its swing from release
     to settle to ``swings_out``, default beside ``out``: ``cadcog inertia``'s input); return
-    what happened, with the inertia tensor from the swings when three hangs or more have one
-    (``inertia_target``: what the swings are modelled with, default ``target``).
+    what happened, with the inertia tensor from the swings when three hangs or more have one.
 
     Raises
     ------
@@ -300,7 +298,7 @@ def run_session(
     if len(suspensions) >= 2:
         final = read_readings(out, target.inclinometer)
         result.estimate = estimate_hangs(target, final)
-        result.inertia, result.inertia_note = _inertia(inertia_target or target, swings, final)
+        result.inertia, result.inertia_note = _inertia(target, swings, final)
     return result
 
 

@@ -3,12 +3,14 @@
 Each hang draws, as :mod:`cadcog.validation.campaign` does, the suspension point's play and wire
 offset and the inclinometer's bias (uniform ±accuracy per axis, fixed during the hang); the ME's CoG
 error is drawn once per device (one physical object). The equilibrium vertical comes from
-:func:`cadcog.uncertainty.montecarlo.hang`; about it the object swings as a damped compound pendulum
-(:mod:`cadcog.bench.pendulum`) from a random start, with periods from the CAD mass properties. The
-sensor adds white noise per conversion, saturates at its range and quantises (an analog sensor read
-by an ADC with oversampling, or a digital one sending angles). The link drops lines, corrupts bytes
-and inserts noise. Everything is drawn from one seeded generator, so a device with the same seed and
-the same sequence of calls gives the same bytes.
+:func:`cadcog.uncertainty.montecarlo.hang`; about it the object swings on the set-up's (or rig's)
+wire, in the modes :func:`cadcog.dynamics.hungbody.hang_modes` gives for the CAD mass properties
+(the wire's own pendulum and the body's modes, as the inclinometer at its sensing point sees them:
+what ``cadcog plan`` and ``cadcog inertia`` model), each released with a random amplitude and phase
+and damped viscously. The sensor adds white noise per conversion, saturates at its range and
+quantises (an analog sensor read by an ADC with oversampling, or a digital one sending angles). The
+link drops lines, corrupts bytes and inserts noise. Everything is drawn from one seeded generator,
+so a device with the same seed and the same sequence of calls gives the same bytes.
 
 Two ways to run it:
 
@@ -26,15 +28,20 @@ import threading
 import time
 import tty
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
-from cadcog.bench.pendulum import SwingModes, swing_modes, swing_verticals
 from cadcog.bench.protocol import Header, format_header, format_sample
 from cadcog.bench.target import BenchTarget
+from cadcog.core.errors import ReadingsError
+from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.dynamics.hungbody import HangGeometry, hang_modes
 from cadcog.rig.inclinometer import sensor_readings
 from cadcog.uncertainty.montecarlo import draw_perturbations, hang
+
+if TYPE_CHECKING:
+    from cadcog.dynamics.measure import InertiaContext
 
 #: ``deg_per_lsb`` of the Murata SCL3300's angle outputs: angle = raw / 2¹⁴ × 90°.
 SCL3300_DEG_PER_LSB = 90.0 / 2**14
@@ -112,17 +119,46 @@ class SimulatorSettings:
 
 
 @dataclass(frozen=True)
+class SwingTruth:
+    """A hang's swing modes as the inclinometer sees them.
+
+    Attributes
+    ----------
+    frequencies_hz : ndarray, shape (n,)
+        Undamped, ascending (four on a wire, two on a pivot).
+    reading_shapes_deg : ndarray, shape (n, 2)
+        Each mode's readings per radian of the body's largest rotation in it.
+    damping_ratio : float
+    """
+
+    frequencies_hz: np.ndarray
+    reading_shapes_deg: np.ndarray
+    damping_ratio: float
+
+    @property
+    def periods_s(self) -> np.ndarray:
+        return np.asarray(1.0 / self.frequencies_hz)
+
+    @property
+    def decay_times_s(self) -> np.ndarray:
+        """Amplitude time constants ``τ_k = 1/(ζ ω_k)`` (s)."""
+        return np.asarray(1.0 / (2.0 * np.pi * self.frequencies_hz * self.damping_ratio))
+
+
+@dataclass(frozen=True)
 class HangTruth:
-    """What the simulation knows about the current hang (for tests and studies)."""
+    """What the simulation knows about the current hang (for tests and studies):
+    ``amplitudes_deg`` is each mode's largest reading at release, ``phases_rad`` its phase."""
 
     point_index: int
     started_s: float
     vertical: np.ndarray
     readings_deg: tuple[float, float]
     bias_deg: tuple[float, float]
-    modes: SwingModes
-    amplitudes_deg: tuple[float, float]
+    modes: SwingTruth
+    amplitudes_deg: tuple[float, ...]
     slipped: bool
+    phases_rad: tuple[float, ...] = ()
 
 
 class SimulatedDevice:
@@ -166,6 +202,7 @@ class SimulatedDevice:
         self._attempts = 0
         self._turned = False
         self.truth: HangTruth | None = None
+        self._context = _swing_context(target)
         sensor = self.config.sensor
         if spec.kind == "analog":
             self.header = Header(
@@ -221,16 +258,13 @@ class SimulatedDevice:
         u = hang(scenario, model, [index], pert)[:, 0, 0]
         ratio = scenario.me_mass_kg / scenario.total_mass_kg
         g_true = scenario.assembly_cog_mm + ratio * self.me_error_mm[:, 0]
-        d = float(np.linalg.norm(scenario.points_mm[index] - g_true))
         zeta = 0.0 if s.never_settle else s.damping_ratio
-        modes = swing_modes(
-            self.assembly.inertia_kg_mm2, self.assembly.mass_kg, g_true, g_true + d * u, zeta
-        )
+        modes = self._swing(scenario.points_mm[index], g_true, zeta)
         lo, hi = s.start_amplitude_deg
-        amps = self.rng.uniform(lo, hi, 2)
+        amps = self.rng.uniform(lo, hi, len(modes.frequencies_hz))
         if s.never_settle:
             amps = np.maximum(amps, 1.0)
-        phases = self.rng.uniform(0.0, 2.0 * np.pi, 2)
+        phases = self.rng.uniform(0.0, 2.0 * np.pi, len(modes.frequencies_hz))
         a = self.config.accuracy_deg if "inclinometer" in self.model.sources else 0.0
         bias = self.rng.uniform(-a, a, 2)
         x, y = self._angles(u[None, :])
@@ -241,11 +275,34 @@ class SimulatedDevice:
             (float(x[0]), float(y[0])),
             (float(bias[0]), float(bias[1])),
             modes,
-            (float(amps[0]), float(amps[1])),
+            tuple(float(v) for v in amps),
             slipped,
+            tuple(float(v) for v in phases),
         )
-        self._phases = phases
         return self._next_sample_s
+
+    def _swing(self, point_mm: np.ndarray, cog_mm: np.ndarray, zeta: float) -> SwingTruth:
+        """The hang's modes: on the set-up's wire, about its expected pivot (the exit moved by
+        the wire's offset), seen at the inclinometer's sensing point (a pivot at the point,
+        the sensor at the CoG, when the set-up does not say where it senses)."""
+        mass = self.assembly.mass_kg
+        ctx = self._context
+        if ctx is None:
+            geo = HangGeometry(
+                np.asarray(point_mm, dtype=float),
+                np.asarray(cog_mm, dtype=float),
+                0.0,
+                0.0,
+                self.config.sign_x,
+                self.config.sign_y,
+            )
+        else:
+            weight = mass * STANDARD_GRAVITY_M_S2
+            top, _ = ctx.top_hinge_mm(weight)
+            pivot, _ = ctx.pivots(np.asarray(point_mm, dtype=float)[None, :], cog_mm, weight)
+            geo = HangGeometry(pivot[0], ctx.sensor_mm, ctx.swing.wire_length_mm, top, *ctx.signs)
+        hm = hang_modes(self.assembly.inertia_kg_mm2, mass, cog_mm, geo)
+        return SwingTruth(hm.frequencies_hz, hm.reading_shapes_deg, zeta)
 
     def _angles(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Device readings (degrees, configured signs) of upward verticals (n, 3), with the
@@ -260,8 +317,19 @@ class SimulatedDevice:
         tr = self.truth
         if tr is None:  # resting flat on the table before the first hang
             return np.zeros_like(t), np.zeros_like(t)
-        u = swing_verticals(tr.modes, tr.amplitudes_deg, self._phases, t - tr.started_s)
-        x, y = self._angles(u)
+        m = tr.modes
+        tau = np.asarray(t, dtype=float) - tr.started_s
+        w = 2.0 * np.pi * m.frequencies_hz
+        zeta = m.damping_ratio
+        waves = np.exp(-zeta * w[None, :] * tau[:, None]) * np.cos(
+            w[None, :] * np.sqrt(1.0 - zeta**2) * tau[:, None] + np.asarray(tr.phases_rad)
+        )  # (n, modes)
+        peak = np.maximum(np.max(np.abs(m.reading_shapes_deg), axis=1), 1e-12)
+        swing = waves @ ((np.asarray(tr.amplitudes_deg) / peak)[:, None] * m.reading_shapes_deg)
+        if self._turned:  # the sensor turned 180° on its mount sees both axes reversed
+            swing = -swing
+        x = tr.readings_deg[0] + swing[:, 0]
+        y = tr.readings_deg[1] + swing[:, 1]
         return x + tr.bias_deg[0], y + tr.bias_deg[1]
 
     def _raw(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -435,17 +503,14 @@ class PtyDevice:
                 pass
 
 
-def as_simulated(target: BenchTarget) -> BenchTarget:
-    """``target`` as the simulated device hangs it: from a fixed pivot (no wire length, no
-    bending stiffness), which is what ``cadcog inertia`` must be told to model its swings."""
-    rig = target.rig
-    pivot = replace(rig.swing, wire_length_mm=0.0, wire_length_sigma_mm=0.0)
-    stiff = replace(rig.error_options, wire_bending_stiffness_n_mm2=0.0)
-    if target.setup is None:
-        return replace(target, rig=replace(rig, swing=pivot, error_options=stiff))
-    setup = target.setup
-    setup_swing = replace(setup.swing, wire_length_mm=0.0, wire_length_sigma_mm=0.0)
-    return replace(
-        target,
-        setup=replace(setup, swing=setup_swing, rig=replace(setup.rig, error_options=stiff)),
-    )
+def _swing_context(target: BenchTarget) -> InertiaContext | None:
+    """The swing's context (wire, sensing point, pivots) of the target's set-up or rig, or None
+    when it does not say where the inclinometer senses."""
+    from cadcog.dynamics.measure import context_for_rig, context_for_setup
+
+    try:
+        if target.setup is not None:
+            return context_for_setup(target.setup, np.zeros((6, 6)))
+        return context_for_rig(target.rig)
+    except ReadingsError:
+        return None

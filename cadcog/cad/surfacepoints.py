@@ -122,3 +122,42 @@ def project_grid(
         if best is not None:
             out.append(SurfacePoint(face, best[1] + inward * best[0], best[0]))
     return out
+
+
+#: Rays cast down across the +z face (per side) for the ME's base when the face's centre
+#: meets no solid.
+ME_BASE_GRID = 9
+
+
+def top_surface_point(
+    shapes: Sequence[TopoDS_Shape],
+    bbox_lo_mm: npt.ArrayLike,
+    bbox_hi_mm: npt.ArrayLike,
+    *,
+    scale_to_mm: float = 1.0,
+) -> list[float] | None:
+    """Where something can sit on top of the model (the measurement equipment's base): the
+    first surface a ray straight down through the +z face's centre meets, else, of a grid of
+    such rays, the one meeting the model highest (the nearest the centre among equals); None
+    when no ray meets it.
+    """
+    lo = np.asarray(bbox_lo_mm, dtype=float)
+    hi = np.asarray(bbox_hi_mm, dtype=float)
+    scale = scale_to_mm
+    span = float(hi[2] - lo[2])
+    centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), float(hi[2])]
+    hits = project_grid(shapes, "+z", [centre], lo, hi, scale_to_mm=scale, max_depth_mm=span)
+    if not hits:
+        u = (np.arange(ME_BASE_GRID) + 0.5) / ME_BASE_GRID
+        grid = [
+            [lo[0] + a * (hi[0] - lo[0]), lo[1] + b * (hi[1] - lo[1]), float(hi[2])]
+            for a in u
+            for b in u
+        ]
+        hits = project_grid(shapes, "+z", grid, lo, hi, scale_to_mm=scale, max_depth_mm=span)
+        c = np.asarray(centre[:2])
+        hits = sorted(
+            hits,
+            key=lambda h: (round(h.depth_mm, 6), float(np.linalg.norm(h.position_mm[:2] - c))),
+        )
+    return None if not hits else [float(v) for v in hits[0].position_mm]

@@ -289,4 +289,7 @@ def _finish(args: argparse.Namespace, run: Any) -> int:
     if est is not None:
         for w in est.warnings:
             print(f"cadcog: warning: {w}", file=sys.stderr)
+    if result.inertia is not None:
+        for w in result.inertia.warnings:
+            print(f"cadcog: warning: inertia: {w}", file=sys.stderr)
     return 0

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
+from cadcog.core.plusminus import pm
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
 
 
@@ -91,25 +92,33 @@ def print_inertia(result: Any) -> None:
                 f"{h.sigma_hz[j]:>9.2g}  {h.model_hz[j]:>9.5f}  {h.damping_ratios[j]:>6.4f}  "
                 f"{h.amplitudes_deg[j]:.2f}"
             )
-    print(
-        f"\nfrequencies' consistency: χ² = {result.chi2:.2f} with {result.dof} dof "
-        f"(p = {result.consistency_p:.3f})"
-    )
+    if result.dof > 0:
+        print(
+            f"\nfrequencies' consistency: χ² = {result.chi2:.2f} with {result.dof} dof "
+            f"(p = {result.consistency_p:.3f})"
+        )
+    else:
+        print(
+            "\nfrequencies' consistency: not checked (as many frequencies as unknowns: a hang "
+            "more would check the fit)"
+        )
     t, s = result.inertia_kg_mm2, result.sigma_kg_mm2
     print(
         "\ninertia tensor about the object's CoG, model axes, kg·mm² "
         "(off-diagonal = −∫xy dm), ± 1 σ:"
     )
-    for i in range(3):
-        print("  " + "  ".join(f"{_g(t[i, j], 6):>10} ± {_g(s[i, j], 2):<6}" for j in range(3)))
+    cells = [[pm(t[i, j], s[i, j]) for j in range(3)] for i in range(3)]
+    width = max(len(c) for row in cells for c in row)
+    for row in cells:
+        print("  " + "  ".join(f"{c:>{width}}" for c in row))
     pr = result.principal
     print("\nprincipal moments (kg·mm², ± 1 σ, 95 % ≈ ± 2 σ) and axes (model frame, ± 1 σ):")
     for k in range(3):
         rel = pr.moments_sigma_kg_mm2[k] / pr.moments_kg_mm2[k] * 100
         axis = ", ".join(f"{a:+.4f}" for a in pr.axes[k])
         print(
-            f"  I{k + 1} = {_g(pr.moments_kg_mm2[k], 6):>9} ± "
-            f"{_g(pr.moments_sigma_kg_mm2[k], 2):<7} ({rel:.2f} %)   axis [{axis}] "
+            f"  I{k + 1} = {pm(pr.moments_kg_mm2[k], pr.moments_sigma_kg_mm2[k]):>16} "
+            f"({rel:.2f} %)   axis [{axis}] "
             + (f"± {pr.axes_sigma_deg[k]:.2g}°" if pr.axes_sigma_deg[k] < 90 else "undetermined")
         )
     print(

@@ -60,9 +60,12 @@ def run(args: argparse.Namespace) -> int:
         max_inertia_set=args.max_inertia_set,
     )
     inertia, inertia_refused = plan.inertia, plan.inertia_refused
+    # --for inertia that no set of candidates can meet: the plan is said, exit 1 (as a
+    # requirement that fails); valid input, so not 2
+    status = 1 if args.goal == "inertia" and inertia is None else 0
     if args.json:
         print(dumps_json(plan.to_dict()).rstrip("\n"))
-        return 0
+        return status
     m = setup.mass
     cog = ", ".join(f"{c:.3f}" for c in m.cog_mm)
     print(
@@ -94,7 +97,9 @@ def run(args: argparse.Namespace) -> int:
         )
     if plan.recommended is None:
         print(f"\nno recommendation: {plan.reason}")
-        return 0
+        if inertia_refused:
+            print(f"\ninertia from the swings: not planned: {inertia_refused}")
+        return status
     print(
         f"\nrecommended{' for the CoG' if inertia is not None else ''}: hang from "
         f"{', '.join(plan.recommended['points'])} "
@@ -112,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
         _print_inertia_plan(inertia, args.goal)
     elif inertia_refused:
         print(f"\ninertia from the swings: not planned: {inertia_refused}")
-    return 0
+    return status
 
 
 def _print_inertia_plan(inertia: Any, goal: str) -> None:

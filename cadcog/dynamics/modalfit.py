@@ -265,6 +265,13 @@ def _objective(
     return fun, jac
 
 
+#: How to record longer, said where a record is too short to resolve its modes.
+RECORD_LONGER = (
+    "record longer (cadcog acquire records until the swing settles: a lower "
+    "--settle-threshold-deg, or a firmer push at release, keeps it recording)"
+)
+
+
 def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
     """Fit the modes of one hang's swing, starting from the predicted frequencies.
 
@@ -355,11 +362,22 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
         visible = amp > VISIBLE_AMPLITUDE_SIGMA * amp_se
         if visible.all():
             break
+        swung = np.std(y - y.mean(axis=0), axis=0) > VISIBLE_AMPLITUDE_SIGMA * noise
+        if not visible.any() and any(len(g) > 1 for g in groups) and swung.any():
+            # the record swings well above its noise, but an unresolved pair's amplitudes are
+            # not determined apart (a beat) and nothing else stands out: the record is too
+            # short to see the modes, not the swing too weak
+            raise DegenerateGeometryError(
+                f"hang {swing.point_id}: every mode has a neighbour closer than this "
+                f"{t[-1]:.0f} s record can resolve, and no mode stands out alone; {RECORD_LONGER}"
+            )
         groups = [g for g, v in zip(groups, visible, strict=True) if v]
         if not groups:
+            seen = ", ".join(f"{a:.2g} ± {e:.2g}" for a, e in zip(amp, amp_se, strict=True))
             raise DegenerateGeometryError(
-                f"hang {swing.point_id}: no swing mode stands out of the noise "
-                f"(amplitudes {np.round(amp, 4).tolist()}°); was the object released swinging?"
+                f"hang {swing.point_id}: no swing mode stands out of the noise (amplitudes "
+                f"{seen}°, each under {VISIBLE_AMPLITUDE_SIGMA:g} σ); was the object released "
+                "swinging?"
             )
         if not any(len(g) == 1 for g in groups):
             break  # what it sees are unresolved pairs: said below
@@ -373,7 +391,7 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
     if not single:
         raise DegenerateGeometryError(
             f"hang {swing.point_id}: every mode has a neighbour closer than this "
-            f"{t[-1]:.0f} s record can resolve; record longer"
+            f"{t[-1]:.0f} s record can resolve; {RECORD_LONGER}"
         )
     rows = [int(np.argmax(member[:, j])) for j in single]
     return ModalFit(

@@ -229,17 +229,14 @@ def run_acquire(
     check_report_folder(report)
     pty = None
     device = None
-    inertia_target = None
     if simulation is not None:
         from cadcog.bench.simulator import (
             DeviceSpec,
             PtyDevice,
             SimulatedDevice,
             SimulatorSettings,
-            as_simulated,
         )
 
-        inertia_target = as_simulated(target)  # the simulated object swings about a pivot
         faults = simulation.faults if simulation.faults is not None else SimulatorSettings()
         device = SimulatedDevice(
             target, DeviceSpec(kind=simulation.device), faults, seed=simulation.seed
@@ -264,9 +261,7 @@ def run_acquire(
             recorder = Recorder(
                 link, target.inclinometer, criterion, rec.average_s, rec.timeout_s, progress
             )
-            result = run_session(
-                target, recorder, out, operator, say, preamble, swings, inertia_target
-            )
+            result = run_session(target, recorder, out, operator, say, preamble, swings)
         finally:
             link.close()
     finally:

@@ -3,9 +3,9 @@
 
 :func:`run_plan` plans the CoG's hangs (:func:`cadcog.spacecraft.plan.plan_test`) and, for
 ``goal`` ``"inertia"`` or ``"both"``, the hangs whose swings determine the inertia tensor
-(:func:`cadcog.dynamics.hangplan.plan_inertia_for_setup`). With ``"both"`` a set-up whose
-swings cannot determine the tensor keeps its CoG plan, and the reason is part of the result;
-with ``"inertia"`` it is an error.
+(:func:`cadcog.dynamics.hangplan.plan_inertia_for_setup`). A set-up whose swings cannot
+determine the tensor keeps its CoG plan, and the reason is part of the result
+(``Plan.inertia_refused``; ``cadcog plan --for inertia`` then exits 1).
 """
 
 from __future__ import annotations
@@ -48,12 +48,12 @@ def run_plan(
     max_inertia_set: int = 8,
 ) -> Plan:
     """The plan for ``goal``: the CoG's (always), and the inertia's (``Plan.inertia``) or why
-    none (``Plan.inertia_refused``, with ``goal="both"``).
+    none (``Plan.inertia_refused``).
 
     Raises
     ------
     CadcogError
-        Bad options; with ``goal="inertia"``, no set of candidates determines the tensor.
+        Bad options.
     """
     check_plan_options(trials, max_set, seed, max_inertia_set)
     if goal not in ("cog", "inertia", "both"):
@@ -67,8 +67,6 @@ def run_plan(
         inertia = plan_inertia_for_setup(
             setup, plan, weighed=weighed, max_set=max_inertia_set, both=goal == "both"
         )
-    except DegenerateGeometryError as exc:
-        if goal == "inertia":
-            raise
+    except DegenerateGeometryError as exc:  # valid input, no useful set: said, not an error
         return replace(plan, goal=goal, inertia_refused=str(exc))
     return replace(plan, goal=goal, inertia=inertia)

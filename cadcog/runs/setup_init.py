@@ -123,6 +123,8 @@ def run_setup_init(
         lo, hi = np.array(survey["lo_mm"]), np.array(survey["hi_mm"])
         overlaps = str(survey["overlaps"])
         refine = int(survey["refine"])
+        base = survey["me_base_mm"]
+        base_mm = None if base is None else tuple(float(v) for v in base)
     except (KeyError, TypeError, ValueError):  # a damaged entry that passed its digest
         raise CadcogError(
             f"{model}: the cached survey cannot be read; cadcog cache --clear"
@@ -130,7 +132,16 @@ def run_setup_init(
     step_rel = Path(os.path.relpath(Path(model).resolve(), setup_path.resolve().parent))
     materials_text = draft_materials(parts, Path(model).name)
     setup_text = draft_setup(
-        stem, step_rel.as_posix(), materials_path.name, lo, hi, overlaps, points, units, refine
+        stem,
+        step_rel.as_posix(),
+        materials_path.name,
+        lo,
+        hi,
+        overlaps,
+        points,
+        units,
+        refine,
+        me_base_mm=base_mm,
     )
     # Both filled before either is put in place; renamed last entered first: the materials
     # file, then the set-up that names it.
@@ -157,7 +168,7 @@ def _survey(model: Path, units: str | None) -> dict[str, Any]:
     the box, and the overlaps summary when they would be refused."""
     from cadcog.cad.stepmass import model_mass_properties
     from cadcog.cad.stepread import read_step
-    from cadcog.cad.surfacepoints import project_grid
+    from cadcog.cad.surfacepoints import project_grid, top_surface_point
     from cadcog.mass.materials import DENSITY_RANGE_KG_M3, MaterialMap, is_placeholder_material
     from cadcog.spacecraft.setup_draft import (
         DRAFT_FACES,
@@ -220,6 +231,7 @@ def _survey(model: Path, units: str | None) -> dict[str, Any]:
         if len(points) >= DRAFT_MIN_POINTS:
             break
     return {
+        "me_base_mm": top_surface_point(shapes, lo, hi, scale_to_mm=scale),
         "parts": [dataclasses.asdict(p) for p in parts],
         "points": [dataclasses.asdict(p) for p in points],
         "lo_mm": [float(v) for v in lo],

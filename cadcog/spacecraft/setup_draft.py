@@ -434,8 +434,14 @@ def draft_setup(
     points: Sequence[DraftPoint] = (),
     units: str | None = None,
     refine: int = 0,
+    *,
+    me_base_mm: Sequence[float] | None = None,
 ) -> str:
     """The set-up file's text for a model with this bounding box (paths relative to it).
+
+    ``me_base_mm``: where the ME's base sits on the model (the survey's top surface under the
+    +z face's centre, or the highest near it); None: the +z face's centre, with a comment
+    asking to move it onto the model.
 
     ``overlaps``: the overlap summary when the model's solids overlap above the refusal
     threshold; the draft then resolves them (``overlaps = "resolve"``), saying why. ``points``:
@@ -459,7 +465,17 @@ def draft_setup(
         else '# form_factor = "3U"            # no CubeSat envelope matched the bounding box '
         f"({' × '.join(_fmt(v) for v in ext)} mm)"
     )
-    base = [_fmt(centre[0]), _fmt(centre[1]), _fmt(hi[2])]
+    if me_base_mm is None:
+        base = [_fmt(centre[0]), _fmt(centre[1]), _fmt(hi[2])]
+        where = "the centre of the +z face of the box (no ray down met the model: move it onto it)"
+    else:
+        base = [_fmt(v) for v in me_base_mm]
+        on_axis = np.allclose(np.asarray(me_base_mm)[:2], centre[:2], atol=1e-6)
+        where = (
+            "the model's top surface under the centre of its +z face"
+            if on_axis
+            else "the model's highest surface near the centre of its +z face"
+        )
     return "\n".join(
         [
             f"# Test set-up of {model_step}, drafted by `cadcog setup init`: check every line,",
@@ -486,8 +502,7 @@ def draft_setup(
             "",
             "[measurement_equipment]",
             '# rig = "my_rig.toml"          # your rig file (its ME); without it, the paper\'s rig',
-            f"base_center_mm = [{', '.join(base)}]   # where the ME base sits: here the centre "
-            "of the +z face",
+            f"base_center_mm = [{', '.join(base)}]   # where the ME base sits: here {where}",
             "",
             *(
                 _points_text(points, spacing / 2**refine)

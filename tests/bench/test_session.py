@@ -224,11 +224,8 @@ def test_an_operator_at_a_terminal_skips_stops_and_decides_on_redos(paper_target
 def test_each_recorded_hang_keeps_its_swing_and_the_swings_give_the_inertia(
     paper_target, paper_rig, tmp_path
 ):
-    # The simulated device swings as bench/pendulum.py's rigid body about a fixed pivot (its
-    # verticals rotated exactly, not superposed): the inertia chain, told the wire is a pivot
-    # without bending stiffness, finds the proof mass's tensor within its uncertainty.
-    from dataclasses import replace
-
+    # The simulated device swings on the rig's wire, in the modes the inertia chain models:
+    # the chain, given the rig as it is, finds the proof mass's tensor within its uncertainty.
     from cadcog.dynamics.measure import inertia_for_rig
     from cadcog.dynamics.swingfile import read_swings
     from cadcog.dynamics.tensorfit import entries
@@ -241,12 +238,7 @@ def test_each_recorded_hang_keeps_its_swing_and_the_swings_give_the_inertia(
     swings = read_swings(tmp_path / "readings.swings.csv")
     assert [s.point_id for s in swings] == [h.id for h in paper_target.hangs]
     assert all(s.duration_s > 10.0 for s in swings)
-    pivot = replace(
-        paper_rig,
-        swing=replace(paper_rig.swing, wire_length_mm=0.0, wire_length_sigma_mm=0.0),
-        error_options=replace(paper_rig.error_options, wire_bending_stiffness_n_mm2=0.0),
-    )
-    r = inertia_for_rig(pivot, swings, read_readings(out, paper_target.inclinometer))
+    r = inertia_for_rig(paper_rig, swings, read_readings(out, paper_target.inclinometer))
     d = entries(r.inertia_kg_mm2) - entries(paper_rig.analytic_proof_mass.inertia_kg_mm2)
     assert float(d @ np.linalg.solve(r.cov_kg2_mm4, d)) < 22.5  # χ²(6) at 99.9 %
 
@@ -300,7 +292,8 @@ def test_a_reversal_is_guided_recorded_and_read_back(paper_rig, tmp_path):
     sus = {s.id: s for s in read_readings(out, rig.inclinometer)}
     assert [s.sensor_turned for s in sus.values()] == [False, False, False, True]
     # The two readings of S3 differ in sign but share the sensor's zero offset: their mean is
-    # that offset, to the per-hang bias (±0.1°), noise and the re-hang's play (~0.2°).
+    # that offset, to the per-hang bias (±0.1°), noise and the re-hang's play (the mean's
+    # spread about the offset: σ 0.16-0.18° per axis over 200 seeds, 0.49° at most: 3.5 σ).
     offset = device.shared_sensor[0:2]
     mean = np.array(
         [
@@ -308,7 +301,7 @@ def test_a_reversal_is_guided_recorded_and_read_back(paper_rig, tmp_path):
             (sus["S3"].inc_y_deg + sus["S3~"].inc_y_deg) / 2,
         ]
     )
-    np.testing.assert_allclose(mean, offset, atol=0.3)
+    np.testing.assert_allclose(mean, offset, atol=0.6)
     assert abs(sus["S3"].inc_x_deg - sus["S3~"].inc_x_deg) > 10.0
     again = estimate_hangs(target, list(sus.values()))
     np.testing.assert_allclose(again.cog_mm, result.estimate.cog_mm, atol=1e-12)

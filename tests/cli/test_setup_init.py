@@ -113,7 +113,8 @@ def test_the_loop_accepts_the_points_it_drafted(sat_step, tmp_path, capsys):
 def test_a_light_object_under_the_me_is_planned_with_its_consequence(tmp_path, capsys):
     """A 27 g block under the paper's 176 g ME: ``plan`` warns with the factor the compensation
     multiplies errors by, and ``--for both`` keeps the CoG plan while refusing the inertia, with
-    the reason, exit 0 (``--for inertia`` alone is exit 2)."""
+    the reason, exit 0 (``--for inertia`` alone: the same reason, exit 1: valid input, no
+    plan)."""
     top = Assembly("block")
     top.add(Part("block", [((30.0, 30.0, 30.0), (0.0, 0.0, 0.0))], 1000.0, "ABS"))
     step = write_step(top, tmp_path / "block.step")
@@ -131,8 +132,9 @@ def test_a_light_object_under_the_me_is_planned_with_its_consequence(tmp_path, c
     assert plan["recommended"]["q95_mm"] > 15.0 and "within the object" in useless
     assert plan["recommended"] is not None
     assert "lighter ME" in plan["inertia"]["refused"]
-    assert main([*args, "--for", "inertia"]) == 2
-    assert "inertia tensor" in capsys.readouterr().err
+    assert main([*args, "--for", "inertia"]) == 1
+    out = capsys.readouterr()
+    assert "lighter ME" in json.loads(out.out)["inertia"]["refused"] and out.err == ""
 
 
 def test_the_draft_names_parts_by_product_and_keeps_the_steps_materials(tmp_path, capsys):
@@ -368,3 +370,31 @@ def test_a_frame_the_coarse_grid_misses_gets_its_points_on_the_model(tmp_path):
         n = np.asarray(c.normal)
         ray = p + np.outer(np.linspace(0.01, 300.0, 3000), n)
         assert not any(inside(q, -1e-6).any() for q in ray), (c.id, p)  # nothing in the way
+
+
+def test_the_me_base_is_drafted_on_the_model_not_in_the_air(tmp_path, capsys):
+    """Two blocks at opposite corners of their box (a bent part's box is mostly air): the +z
+    face's centre lies over nothing, so the ME's base goes on the highest top near it (the
+    taller block's, z = 30), not at the box face's centre (25, 25, 30), 21 mm from any solid;
+    a plain box keeps the face's centre, which lies on it."""
+    top = Assembly("frame")
+    top.add(Part("low", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))], 2700.0, "Al"))
+    top.add(Part("tall", [((10.0, 10.0, 30.0), (40.0, 40.0, 0.0))], 2700.0, "Al"))
+    step = write_step(top, tmp_path / "frame.step")
+    out = tmp_path / "frame_setup.toml"
+    assert main(["setup", "init", str(step), "--out", str(out)]) == 0
+    line = next(x for x in out.read_text().splitlines() if x.startswith("base_center_mm"))
+    base = np.array(json.loads(line.split("=", 1)[1].split("#")[0]))
+    assert base[2] == pytest.approx(30.0)
+    assert 40.0 <= base[0] <= 50.0 and 40.0 <= base[1] <= 50.0
+    assert "highest surface near the centre" in line
+    block = Assembly("block")
+    block.add(Part("b", [((20.0, 20.0, 20.0), (0.0, 0.0, 0.0))], 2700.0, "Al"))
+    out2 = tmp_path / "block_setup.toml"
+    assert (
+        main(["setup", "init", str(write_step(block, tmp_path / "b.step")), "--out", str(out2)])
+        == 0
+    )
+    line = next(x for x in out2.read_text().splitlines() if x.startswith("base_center_mm"))
+    assert json.loads(line.split("=", 1)[1].split("#")[0]) == [10, 10, 20]
+    assert "top surface under the centre" in line
