@@ -146,10 +146,15 @@ class BodyBox:
             try:
                 out.append(self.normal_at(s.position_mm))
             except ValueError:
+                listed = (
+                    "; are these the readings of this set-up? (a point from another set-up's list)"
+                    if self.known
+                    else ""
+                )
                 raise ReadingsError(
                     f"line {s.line}: suspension {s.id} at {list(s.position_mm)} mm lies inside "
-                    f"the body ({self.source}) and is none of its listed points: a suspension "
-                    "point must be on its surface"
+                    f"the bounding box of the body ({self.source}) and is none of its listed "
+                    f"points: a suspension point must be on its surface{listed}"
                 ) from None
         return np.array(out)
 

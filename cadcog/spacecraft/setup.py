@@ -282,7 +282,13 @@ def load_setup(path: str | Path) -> Setup:
     """Read a set-up file, compute the model's mass properties and the candidates."""
     p = Path(path)
     base = p.parent
-    root = TableReader(read_toml(p), p)
+    data = read_toml(p)
+    if "name" not in data and ("materials" in data or "mass_uncertainty" in data):
+        raise CadcogError(
+            f"{p}: a materials file ([materials]), not a set-up: give the set-up file that "
+            "names it (cadcog setup init drafts both)"
+        )
+    root = TableReader(data, p)
     name = root.identifier("name")
     from cadcog.cad.modelfile import load_model
 

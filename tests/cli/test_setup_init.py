@@ -398,3 +398,14 @@ def test_the_me_base_is_drafted_on_the_model_not_in_the_air(tmp_path, capsys):
     line = next(x for x in out2.read_text().splitlines() if x.startswith("base_center_mm"))
     assert json.loads(line.split("=", 1)[1].split("#")[0]) == [10, 10, 20]
     assert "top surface under the centre" in line
+
+
+def test_a_materials_file_given_as_the_set_up_is_named_as_such(sat_step, tmp_path, capsys):
+    out = tmp_path / "sat_setup.toml"
+    assert main(["setup", "init", str(sat_step), "--out", str(out)]) == 0
+    capsys.readouterr()
+    materials = tmp_path / "sat_materials.toml"
+    assert main(["plan", str(materials)]) == 2
+    err = capsys.readouterr().err
+    assert f"{materials}: a materials file ([materials]), not a set-up" in err
+    assert len(err.strip().splitlines()) == 1
