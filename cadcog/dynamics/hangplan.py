@@ -160,7 +160,7 @@ def plan_inertia(
             )
         shared = np.zeros((int(keep.sum()), 9))
         sig = np.sqrt(np.diag(shared_cov))
-        for i in range(9):
+        for i in range(6):  # the sensor's position (v[6:9]) moves no frequency, only shapes
             if sig[i] == 0:
                 continue
             dv = np.zeros(9)

@@ -45,8 +45,19 @@ class PrincipalWithSigma:
 
 
 def bilinear_gradient(a: FloatArray, b: FloatArray) -> FloatArray:
-    """``∂(aᵀ J b)/∂p``: the gradient of a bilinear form of the tensor in its six entries."""
-    return np.array([a @ tensor(e) @ b for e in np.eye(len(ENTRIES))])
+    """``∂(aᵀ J b)/∂p``: the gradient of a bilinear form of the tensor in its six entries
+    ``[xx, yy, zz, xy, xz, yz]`` (an off-diagonal entry sits twice in ``J``).
+
+    Examples
+    --------
+    >>> a, b = np.array([1.0, 2.0, 3.0]), np.array([4.0, 5.0, 6.0])
+    >>> bilinear_gradient(a, b).tolist() == [a @ tensor(e) @ b for e in np.eye(6)]
+    True
+    """
+    return np.array(
+        [a[0] * b[0], a[1] * b[1], a[2] * b[2], a[0] * b[1] + a[1] * b[0],
+         a[0] * b[2] + a[2] * b[0], a[1] * b[2] + a[2] * b[1]]
+    )  # fmt: skip
 
 
 def principal_with_sigma(p: FloatArray, cov: FloatArray) -> PrincipalWithSigma:
