@@ -525,12 +525,39 @@ def update_budget(
         dof,
     )
     notes = list(dropped)
+    notes.extend(_wider_than_cad(result, sols, weights, measured_cov))
     if not items:
         notes.append(
             "no item states a mass uncertainty ([mass_uncertainty] in the materials file): "
             "the CAD is taken as exact, and only an unmodelled mass can explain a gap"
         )
     return replace(result, notes=tuple(notes))
+
+
+def _wider_than_cad(
+    result: UpdateResult, sols: Sequence[Any], weights: FloatArray, measured_cov: FloatArray
+) -> list[str]:
+    """A note when the updated CoG's σ exceeds the CAD's stated σ on an axis: the mixture keeps
+    the explanations the test cannot rule out (an item off beyond its stated σ), which the
+    CAD's own figure leaves out; a user would otherwise read it as the test making it worse."""
+    cad = np.sqrt(np.maximum(np.diag(result.cad_cog_cov_mm2), 0.0))
+    after = np.sqrt(np.maximum(np.diag(result.posterior_cog_cov_mm2), 0.0))
+    wider = [k for k in range(3) if after[k] > cad[k] * (1.0 + 1e-3)]
+    if not wider or result.model_rejected:
+        return []
+    prior_alt = 1.0 - float(sols[0].hypothesis.prior_probability)  # sols[0]: H₀
+    post_alt = 1.0 - float(weights[0])
+    measured = np.sqrt(np.maximum(np.diag(measured_cov), 0.0))
+    axes = ", ".join(
+        f"{'xyz'[k]} {cad[k]:.2g} → {after[k]:.2g} mm (the test's own {measured[k]:.2g})"
+        for k in wider
+    )
+    return [
+        f"the updated CoG's σ is wider than the CAD's stated σ ({axes}): the update keeps open "
+        f"that an item is off beyond its stated σ (prior {prior_alt:.0%}, after the test "
+        f"{post_alt:.0%}), which the CAD's figure leaves out and this test is too coarse to "
+        "rule out; a test with a smaller σ would narrow it"
+    ]
 
 
 def _solutions(

@@ -369,3 +369,20 @@ def test_items_the_data_cannot_tell_apart_are_ranked_heavy_first():
     r = update_budget(items, FIXED, _measure(truth, np.eye(3) * 0.04, 0.001))
     ranked = r.ranked_items()
     assert ranked[0].key == "housing", [(c.key, c.probability) for c in ranked]
+
+
+@pytest.mark.parametrize("test_sigma_mm", [0.05, 30.0])
+def test_an_update_wider_than_the_cad_says_why(test_sigma_mm):
+    """A test far coarser than the CAD's σ cannot rule out an item off beyond its stated σ:
+    the mixture's σ then exceeds the CAD's on some axis, and a note says so (with the prior of
+    those explanations); a fine test narrows every axis and says nothing."""
+    meas = _measure(_truth(np.zeros(6)), np.eye(3) * test_sigma_mm**2, 0.002)
+    r = update_budget(_items(), FIXED, meas)
+    cad = np.sqrt(np.diag(r.cad_cog_cov_mm2))
+    after = np.sqrt(np.diag(r.posterior_cog_cov_mm2))
+    notes = [n for n in r.notes if "wider than the CAD's stated σ" in n]
+    if test_sigma_mm < 1:
+        assert np.all(after <= cad) and not notes
+    else:
+        assert np.any(after > cad * 1.001) and len(notes) == 1
+        assert "prior" in notes[0] and "(the test's own 3" in notes[0]  # 30 mm, recompensated
