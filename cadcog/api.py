@@ -32,6 +32,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal, TypeVar
 
+from cadcog.core import tolerances
 from cadcog.core.arguments import check_choice, check_text
 from cadcog.core.errors import CadcogError
 
@@ -410,7 +411,7 @@ def estimate(
     wire_correction: bool = True,
     self_calibrate_wire: bool = False,
     weighed_mass_kg: float | None = None,
-    mass_sigma_kg: float = 0.001,
+    mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
 ) -> CogEstimate:
     """The compensated CoG from a readings CSV (``cadcog estimate --rig`` or ``--setup``).
 
@@ -516,7 +517,7 @@ def inertia(
     rig: Rig | str | Path | None = None,
     setup: Setup | str | Path | None = None,
     weighed_mass_kg: float | None = None,
-    mass_sigma_kg: float = 0.001,
+    mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
 ) -> InertiaResult:
     """The object's inertia tensor about its CoG from its hangs' swings
     (``cadcog inertia``; ``docs/inertia.md``).
@@ -762,7 +763,7 @@ def update(
     setup: Setup | str | Path,
     weighed_mass_kg: float,
     *,
-    mass_sigma_kg: float = 0.001,
+    mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
     unmodelled_region_mm: Sequence[float] | None = None,
     unmodelled_mass_kg: float = 0.0,
     unmodelled_sigma_kg: float | None = None,

@@ -101,3 +101,7 @@ VALIDATION_SIZE_TOLERANCE = 0.02
 #: set-up may give: the ME is bolted onto the spacecraft (an adapter plate at most), so a base
 #: centre farther away is a typo or a unit slip (``base_center_mm`` in m or in.), not a set-up.
 ME_BASE_MAX_GAP_MM = 50.0
+
+#: Default 1 σ of a weighing (kg): a lab scale of 1 g resolution. Every command and API function
+#: that takes ``--mass-sigma-kg`` / ``mass_sigma_kg`` defaults to it (one figure, here).
+DEFAULT_WEIGHING_SIGMA_KG = 0.001

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError, ReadingsError
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
@@ -589,7 +590,7 @@ def inertia_for_rig(
     suspensions: Sequence[Suspension],
     *,
     weighed_mass_kg: float | None = None,
-    mass_sigma_kg: float = 0.001,
+    mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
     source: str = "swings",
 ) -> InertiaResult:
     """``cadcog inertia --rig``: the rig's object (its proof mass) from its swings."""
@@ -617,7 +618,7 @@ def inertia_for_setup(
     suspensions: Sequence[Suspension],
     *,
     weighed_mass_kg: float | None = None,
-    mass_sigma_kg: float = 0.001,
+    mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
     source: str = "swings",
 ) -> InertiaResult:
     """``cadcog inertia --setup``: a spacecraft from its swings, against its CAD with the CAD's
@@ -649,7 +650,7 @@ def inertia_from_files(
     rig: Rig | None = None,
     setup: Any = None,
     weighed_mass_kg: float | None = None,
-    mass_sigma_kg: float = 0.001,
+    mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
 ) -> InertiaResult:
     """Read a swing file and a readings CSV and run the chain for a rig or a set-up (what the
     command and :func:`cadcog.inertia` share), through the results cache

@@ -638,7 +638,7 @@ def estimate_for_rig(
     suspensions: Sequence[Suspension],
     *,
     weighed_mass_kg: float | None = None,
-    mass_sigma_kg: float = 0.001,
+    mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
     wire_correction: bool = True,
     self_calibrate: bool = False,
     angle_sigma_deg: float | None = None,

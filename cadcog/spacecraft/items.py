@@ -31,12 +31,13 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core import tolerances
 from cadcog.mass.properties import MassProperties, combine
 
 FloatArray = npt.NDArray[np.float64]
 
-#: Default 1 σ of a weighing (kg): a lab scale of 1 g resolution.
-DEFAULT_WEIGHING_SIGMA_KG = 0.001
+#: Default 1 σ of a weighing (kg): :data:`cadcog.core.tolerances.DEFAULT_WEIGHING_SIGMA_KG`.
+DEFAULT_WEIGHING_SIGMA_KG = tolerances.DEFAULT_WEIGHING_SIGMA_KG
 
 #: Where an item's CoG uncertainty comes from when no ``[cog_uncertainty]`` rule names it.
 DEFAULT_COG_SOURCE = "default: mass uncertainty × spread of the item's mass"
