@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
+from cadcog.core.fittest import TEST_LEVEL, FitTest
 from cadcog.core.plusminus import pm
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
 
@@ -139,8 +140,8 @@ def print_inertia(result: Any) -> None:
         print(
             f"  joint χ² = {cad['chi2']:.2f} with {cad['dof']} dof (p = {cad['p']:.3f}): "
             + (
-                "differs from the CAD beyond the uncertainties (5 % level)"
-                if cad["p"] < 0.05
-                else "consistent with the CAD"
+                "consistent with the CAD"
+                if FitTest(cad["chi2"], cad["dof"]).passes
+                else f"differs from the CAD beyond the uncertainties ({TEST_LEVEL * 100:g} % level)"
             )
         )

@@ -22,6 +22,7 @@ import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError, ReadingsError
+from cadcog.core.fittest import TEST_LEVEL, FitTest, chi2_sf
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
 from cadcog.dynamics.modalfit import ModalFit, fit_swing
@@ -53,7 +54,6 @@ from cadcog.dynamics.tensorfit import (
 from cadcog.mass.properties import MassProperties, box_properties, combine
 from cadcog.method.errormodel import ErrorModel, wire_shape_factor
 from cadcog.method.estimate import BodyBox, CogEstimate
-from cadcog.method.plumblines import chi2_sf
 from cadcog.method.readings import Suspension
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
 
@@ -269,7 +269,7 @@ def compare_inertia(
         "difference_relative": tensor(diff / np.abs(entries(cad)).max()).tolist(),
         "chi2": chi2,
         "dof": len(ENTRIES),
-        "p": chi2_sf(chi2, len(ENTRIES)),
+        "p": FitTest(chi2, len(ENTRIES)).p,
     }
 
 
@@ -576,8 +576,8 @@ def measure_inertia(
 MODE_OUTLIER_P = 0.01
 
 #: The frequencies' χ² beyond its (1 − this) quantile is a misfit: every σ then grows by the
-#: Birge ratio √(χ²/dof).
-MISFIT_P = 0.05
+#: Birge ratio √(χ²/dof) (the level of every test of fit).
+MISFIT_P = TEST_LEVEL
 
 #: A principal moment whose 1 σ exceeds this share of its value is not determined: the result
 #: says so (the tensor is printed all the same, with its σ).

@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.fittest import FitTest
 from cadcog.core.results import JsonResult
 from cadcog.dynamics.tensorfit import ENTRIES, entries, tensor
 from cadcog.mass.inertia import TENSOR_CONVENTION, principal_axes
-from cadcog.method.plumblines import chi2_sf
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -165,7 +165,7 @@ class InertiaResult(JsonResult):
     @property
     def consistency_p(self) -> float:
         """P(χ² ≥ observed) with ``dof`` degrees of freedom (1.0 when dof is 0)."""
-        return chi2_sf(self.chi2, self.dof) if self.dof > 0 else 1.0
+        return FitTest(self.chi2, self.dof).p
 
     def to_dict(self) -> dict[str, Any]:
         pr = self.principal

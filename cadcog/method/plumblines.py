@@ -9,7 +9,6 @@ with its error propagated (eq. 16).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
@@ -19,6 +18,7 @@ import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError, IllConditionedError
+from cadcog.core.fittest import FitTest, chi2_sf
 from cadcog.core.results import JsonResult
 from cadcog.method import gls
 from cadcog.rig.geometry import angle_between_lines_deg, ideal_reading
@@ -229,48 +229,7 @@ class JointEstimate:
 
     @property
     def chi2_p_value(self) -> float:
-        return chi2_sf(self.chi2, self.dof) if self.dof > 0 else 1.0
-
-
-#: Degrees of freedom up to which :func:`chi2_sf` sums its closed form (scipy beyond).
-CHI2_CLOSED_FORM_MAX_DOF = 100
-
-
-def chi2_sf(x: float, dof: int) -> float:
-    """Tail probability of a χ² variable with ``dof`` degrees of freedom.
-
-    Closed forms for whole degrees of freedom (no scipy, which takes a second to import): even
-    ``e^(−x/2) Σ_{k<dof/2} (x/2)^k / k!``, odd ``erfc(√(x/2)) + √(2x/π) e^(−x/2) Σ x^(k−1) /
-    (3·5⋯(2k−1))``; scipy beyond :data:`CHI2_CLOSED_FORM_MAX_DOF`.
-    ``tests/method/test_plumblines.py`` compares them with scipy.
-
-    Examples
-    --------
-    >>> round(chi2_sf(5.991464547107979, 2), 12), round(chi2_sf(3.841458820694124, 1), 12)
-    (0.05, 0.05)
-    >>> round(chi2_sf(7.814727903251178, 3), 12), round(chi2_sf(9.487729036781154, 4), 12)
-    (0.05, 0.05)
-    """
-    x = max(float(x), 0.0)
-    if dof < 1:
-        raise ValueError(f"χ² needs at least one degree of freedom, got {dof}")
-    if dof > CHI2_CLOSED_FORM_MAX_DOF:
-        from scipy.special import chdtrc  # what scipy.stats.chi2.sf calls, without its import
-
-        return float(chdtrc(dof, x))
-    half = x / 2.0
-    if dof % 2 == 0:
-        term, total = 1.0, 1.0
-        for k in range(1, dof // 2):
-            term *= half / k
-            total += term
-        return min(math.exp(-half) * total, 1.0)
-    total = math.erfc(math.sqrt(half))
-    term = math.sqrt(2.0 * x / math.pi) * math.exp(-half)
-    for k in range(1, (dof + 1) // 2):
-        total += term
-        term *= x / (2 * k + 1)
-    return min(total, 1.0)
+        return FitTest(self.chi2, self.dof).p
 
 
 def least_squares_point(

@@ -23,7 +23,8 @@ from typing import Any, Protocol
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.method.plumblines import Compensation, chi2_sf
+from cadcog.core.fittest import FitTest
+from cadcog.method.plumblines import Compensation
 from cadcog.spacecraft.envelope import check_envelope
 from cadcog.spacecraft.items import LinearPrior
 
@@ -78,9 +79,10 @@ def compare_with_cad(
         ``difference_mm`` and its covariance ``difference_cov_mm2`` (measurement + CAD),
         ``difference_sigma`` per axis in those σ, ``measurement_sigma`` per axis in the
         measurement's σ alone, ``mahalanobis``, ``chi2``/``dof``/``p_value`` of the joint test
-        (the weighed mass included when there is one), ``consistent`` (p ≥ 0.05),
-        ``cad_cog_cov_mm2``, ``cad_mass_kg``/``cad_mass_sigma_kg``, ``covariance`` (what the
-        σ contain) and, with a form factor, ``cubesat``.
+        (the weighed mass included when there is one), ``consistent`` (p at least
+        :data:`cadcog.core.fittest.TEST_LEVEL`), ``cad_cog_cov_mm2``,
+        ``cad_mass_kg``/``cad_mass_sigma_kg``, ``covariance`` (what the σ contain) and, with a
+        form factor, ``cubesat``.
     """
     cog = np.asarray(cog_mm, dtype=float)
     cov = np.asarray(cov_mm2, dtype=float)
@@ -110,7 +112,7 @@ def compare_with_cad(
         resid = np.concatenate([diff, [dm]])
         mass_fields["mass_difference_kg"] = dm
         mass_fields["mass_difference_sigma"] = dm / np.sqrt(var_m) if var_m > 0 else float("inf")
-    chi2 = float(resid @ np.linalg.solve(joint, resid))
+    test = FitTest(float(resid @ np.linalg.solve(joint, resid)), int(resid.size))
     sigma = np.sqrt(np.diag(diff_cov))
     meas_sigma = np.sqrt(np.diag(cov))
     out: dict[str, Any] = {
@@ -125,12 +127,12 @@ def compare_with_cad(
         "measurement_sigma": (diff / meas_sigma).tolist(),
         "mahalanobis": float(np.sqrt(diff @ np.linalg.solve(diff_cov, diff))),
         **mass_fields,
-        "chi2": chi2,
-        "dof": int(resid.size),
-        "p_value": chi2_sf(chi2, int(resid.size)),
+        "chi2": test.chi2,
+        "dof": test.dof,
+        "p_value": test.p,
         "covariance": COVARIANCE_NOTE,
+        "consistent": test.passes,
     }
-    out["consistent"] = out["p_value"] >= 0.05
     if setup.cog_limits_mm is not None:
         out["cubesat"] = check_envelope(
             cog,

@@ -64,10 +64,11 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.fittest import TEST_LEVEL, chi2_sf
 from cadcog.core.results import JsonResult
 from cadcog.mass.inertia import TENSOR_CONVENTION
 from cadcog.mass.properties import MassProperties, combine
-from cadcog.method.plumblines import chi2_sf, compensate_me
+from cadcog.method.plumblines import compensate_me
 from cadcog.spacecraft.explanations import (
     Hypothesis,
     Measurement,
@@ -98,7 +99,7 @@ __all__ = [
 ]
 
 #: Size of every verdict (probability of a false alarm when its null holds).
-LEVEL = 0.05
+LEVEL = TEST_LEVEL
 
 #: An unmodelled mass is placed (its position reported) only when it is this many σ above 0.
 UNMODELLED_RESOLVED_SIGMAS = 2.0

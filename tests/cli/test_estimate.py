@@ -192,4 +192,4 @@ def test_point_inside_the_body_names_the_line(tmp_path, capsys, paper_rig):
     csv = write_csv(tmp_path / "r.csv", rows)
     assert main(["estimate", str(csv), "--rig", str(paper_rig.source)]) == 2
     err = capsys.readouterr().err
-    assert f"{csv}: line 8: suspension S9" in err and "inside the body" in err
+    assert f"{csv}: line 8: suspension S9" in err and "inside the bounding box of the body" in err
