@@ -27,6 +27,7 @@ from cadcog.core.fileio import (
     reset_written,
     written_outputs,
 )
+from cadcog.core.terminal import SafeStream
 from cadcog.core.version import __version__
 
 #: Exit status for bad input (same as argparse's usage errors).
@@ -34,7 +35,9 @@ EXIT_USAGE = 2
 
 #: The options (argparse ``dest``) of every command that name a file or folder it writes: each is
 #: locked for the whole run (:func:`cadcog.core.fileio.output_lock`), so that two runs on one
-#: output cannot mix (``acquire`` appends hang by hang; a report is written at the end).
+#: output cannot mix (``acquire`` appends hang by hang; a report is written at the end). A
+#: command whose other options are outputs for it only (``acquire --swings``, where ``update
+#: --swings`` reads) names them with ``set_defaults(also_written=...)``.
 OUTPUT_OPTIONS = ("out", "report", "junit", "plot")
 
 
@@ -280,8 +283,10 @@ def refuse_empty_values(words: Sequence[str]) -> None:
 def _run(args: argparse.Namespace) -> int:
     """Run the parsed command: its inputs guarded, its outputs locked, memory errors named."""
     with guarding_inputs(), ExitStack() as held:
-        for dest in OUTPUT_OPTIONS:
-            value = getattr(args, dest, None)
+        written = [getattr(args, dest, None) for dest in OUTPUT_OPTIONS]
+        also = getattr(args, "also_written", None)  # a command's other outputs (--swings ...)
+        written += list(also(args)) if also is not None else []
+        for value in written:
             if isinstance(value, Path):
                 held.enter_context(output_lock(value))
         try:
@@ -300,7 +305,20 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Bad input (:class:`~cadcog.core.errors.CadcogError`, and I/O errors) prints one line on stderr
     and returns 2; Ctrl-C returns 130 and SIGTERM 143, after every staged output is removed.
+    Standard output and error show control characters from the user's files as escapes
+    (:mod:`cadcog.core.terminal`).
     """
+    out, err = sys.stdout, sys.stderr
+    if out is not None and err is not None:
+        sys.stdout, sys.stderr = SafeStream(out), SafeStream(err)
+    try:
+        return _main(argv)
+    finally:
+        sys.stdout, sys.stderr = out, err
+
+
+def _main(argv: Sequence[str] | None) -> int:
+    """:func:`main` inside its safe streams."""
     words = list(sys.argv[1:] if argv is None else argv)
     reset_written()
     try:

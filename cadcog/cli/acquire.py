@@ -117,7 +117,7 @@ def add_parser(sub: Any) -> None:
         help="write the test record (hangs, link, CoG, CAD comparison) as an HTML page to DIR",
     )
     p.add_argument("--json", action="store_true", help="print the run's summary as JSON")
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, also_written=lambda a: [default_or(a.swings, a.out)])
 
 
 def _target(args: argparse.Namespace) -> Any:

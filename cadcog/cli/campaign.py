@@ -48,7 +48,7 @@ def add_parser(sub: Any) -> None:
         "from the linear model with the CAD's inertia",
     )
     p.add_argument("--json", action="store_true", help="print what was written as one JSON object")
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, also_written=lambda a: [a.swings])
 
 
 def run(args: argparse.Namespace) -> int:

@@ -156,7 +156,7 @@ def add_parser(sub: Any) -> None:
         "--workers", type=int, help="processes for integration and overlap checks (default: CPUs)"
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, also_written=lambda a: [a.csv])
 
 
 #: Steps from which a phase reports on a stderr that is not a terminal (a log, CI).

@@ -168,3 +168,32 @@ def test_a_spacecraft_set_up_dry_run_compares_with_its_cad(tmp_path, capsys):
     assert main(["estimate", str(out), "--setup", str(setup), "--json"]) == 0
     again = json.loads(capsys.readouterr().out)
     np.testing.assert_allclose(again["cog_mm"], data["estimate"]["cog_mm"], atol=1e-9)
+
+
+@pytest.mark.parametrize("swings", [None, "sw.csv"])
+def test_a_swing_file_another_run_writes_is_refused_before_anything(tmp_path, capsys, swings):
+    """A second run on the same swing file (given, or the default beside --out) stops at once,
+    naming it: two runs had both exit 0 and interleaved their hangs in one file."""
+    out = tmp_path / "a.csv"
+    target = tmp_path / (swings or "a.swings.csv")
+    args = ["acquire", "--simulate", "--non-interactive", "--time-scale", "50", "--out", str(out)]
+    if swings:
+        args += ["--swings", str(target)]
+    import subprocess
+    import sys
+
+    holder = subprocess.Popen(
+        [sys.executable, "-c",
+         "import sys, time\nfrom cadcog.core.fileio import output_lock\n"
+         f"with output_lock({str(target)!r}):\n    print('held', flush=True)\n    time.sleep(30)"],
+        stdout=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
+        assert main(args) == 2
+        err = capsys.readouterr().err
+        assert str(target) in err and len(err.strip().splitlines()) == 1
+        assert not out.exists() and not target.exists()
+    finally:
+        holder.kill()
+        holder.wait()
