@@ -1047,6 +1047,7 @@ def balance(
     from cadcog.runs.balance import MAX_CONFIDENCE, MIN_CONFIDENCE, run_balance
 
     f = "balance"
+    _given(f, confidence=confidence)
     _numbers(
         f,
         confidence=confidence,

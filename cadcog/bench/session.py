@@ -205,8 +205,10 @@ def run_session(
     units = recorder.open()
     say(f"device: {units.header.describe()} on {recorder.link.name}")
     reversal = any(h.sensor_turned for h in target.hangs)  # the file gets sensor_turned
+    swing_path = default_swing_path(out) if swings_out is None else swings_out
+    SwingLog.check(swing_path)  # before the readings file is made: a refusal leaves nothing
     rfile, blocks, repaired = ReadingsFile.open(out, units, preamble, turned=reversal)
-    swings = SwingLog.open(default_swing_path(out) if swings_out is None else swings_out)
+    swings = SwingLog.open(swing_path)
     result = SessionResult(Path(out), units.header.describe(), repaired_lines=repaired)
     planned = {h.id: h for h in target.hangs}
     suspensions: list[Suspension] = []

@@ -43,21 +43,28 @@ class SwingLog:
         self.path = path
         self.done = done
 
+    @staticmethod
+    def check(path: str | Path) -> None:
+        """Refuse, creating nothing, a path :meth:`open` could not take up: a folder, or an
+        existing node that is not a regular file (a run checks it before its readings file)."""
+        p = Path(path)
+        if p.is_dir():
+            raise CadcogError(f"{p}: is a directory, expected a swing CSV file to write")
+        if p.exists() and not p.is_file():
+            raise CadcogError(f"{p}: exists and is not a regular file: give another --swings")
+
     @classmethod
     def open(cls, path: str | Path) -> SwingLog:
         """Create the file, or take up an existing one (its committed hangs in ``done``)."""
         p = Path(path)
         header = ",".join(COLUMNS)
-        if p.is_dir():
-            raise CadcogError(f"{p}: is a directory, expected a swing CSV file to write")
+        cls.check(p)
         if not p.exists():
             p.parent.mkdir(parents=True, exist_ok=True)
             with staged_file(p) as tmp:
                 _write_durably(tmp, header + "\n", "w")
             _sync_dir(p.parent)
             return cls(p, [])
-        if not p.is_file():
-            raise CadcogError(f"{p}: exists and is not a regular file: give another --swings")
         try:
             lines = p.read_text(encoding="utf-8").splitlines()
         except (OSError, UnicodeDecodeError) as exc:

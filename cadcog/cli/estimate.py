@@ -59,8 +59,8 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--mass-sigma-kg",
         type=float,
-        default=DEFAULT_WEIGHING_SIGMA_KG,
-        help=f"1-σ of the weighing (default {DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
+        help=f"1-σ of the weighing (with --weighed-mass-kg; default "
+        f"{DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
     )
     p.add_argument("--object-mass-kg", type=float, help="mass of the object without the ME")
     p.add_argument("--me-mass-kg", type=float, help="mass of the measurement equipment")
@@ -152,6 +152,10 @@ def run(args: argparse.Namespace) -> int:
         value = getattr(args, name)
         if value is not None and not (np.isfinite(value) and value > 0):
             raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
+    if args.mass_sigma_kg is not None and args.weighed_mass_kg is None:
+        raise CadcogError("--mass-sigma-kg goes with --weighed-mass-kg (the weighing's 1 σ)")
+    if args.mass_sigma_kg is None:
+        args.mass_sigma_kg = DEFAULT_WEIGHING_SIGMA_KG
     if args.setup is not None:
         return run_setup(args)
     me, config, rig = _me_data(args)

@@ -219,6 +219,11 @@ def _run(args: argparse.Namespace) -> int:
     if args.workers is not None and args.workers < 1:
         raise CadcogError("--workers must be at least 1")
     _check_numbers(args)
+    if args.csv is not None:  # before the CAD and any output: a clash writes nothing
+        if args.csv.is_dir():
+            raise CadcogError(f"--csv {args.csv}: is a directory, expected a file name")
+        if args.report is not None and args.csv.resolve() == args.report.resolve():
+            raise CadcogError(f"--csv and --report name the same path: {args.csv}")
     configs: tuple[Configuration, ...] = ()
     if args.configurations is not None:  # read before the CAD: a bad file costs nothing
         from cadcog.spacecraft.configurations import load_configurations

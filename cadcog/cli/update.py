@@ -72,8 +72,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--unmodelled-mass-kg",
         type=float,
-        default=0.0,
-        help="prior mean of the unmodelled mass (default 0)",
+        help="prior mean of the unmodelled mass (with --unmodelled-region-mm; default 0)",
     )
     p.add_argument(
         "--unmodelled-sigma-kg",
@@ -103,9 +102,13 @@ def run(args: argparse.Namespace) -> int:
         raise CadcogError("--unmodelled-region-mm needs --unmodelled-sigma-kg (its prior 1 σ)")
     if args.unmodelled_region_mm is None and args.unmodelled_sigma_kg is not None:
         raise CadcogError("--unmodelled-sigma-kg goes with --unmodelled-region-mm")
+    if args.unmodelled_region_mm is None and args.unmodelled_mass_kg is not None:
+        raise CadcogError("--unmodelled-mass-kg goes with --unmodelled-region-mm")
     try:
         unmodelled = unmodelled_from_region(
-            args.unmodelled_region_mm, args.unmodelled_mass_kg, args.unmodelled_sigma_kg
+            args.unmodelled_region_mm,
+            0.0 if args.unmodelled_mass_kg is None else args.unmodelled_mass_kg,
+            args.unmodelled_sigma_kg,
         )
     except ValueError as exc:
         raise CadcogError(f"--unmodelled-region-mm: {exc}") from None

@@ -10,7 +10,9 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import re
+import stat
 import tomllib
 from collections.abc import Sequence
 from pathlib import Path
@@ -28,7 +30,14 @@ def read_toml(path: str | Path) -> dict[str, Any]:
     """Parse a TOML file, turning I/O and syntax errors into :class:`ParameterFileError`."""
     p = Path(path)
     try:
-        with p.open("rb") as fh:
+        # non-blocking: a FIFO is refused, not waited on; fstat tells what was opened
+        fd = os.open(p, os.O_RDONLY | os.O_NONBLOCK)
+        with os.fdopen(fd, "rb") as fh:
+            mode = os.fstat(fh.fileno()).st_mode
+            if stat.S_ISDIR(mode):
+                raise IsADirectoryError
+            if not stat.S_ISREG(mode):
+                raise ParameterFileError(p, "", "is not a regular file, expected a TOML file")
             data = fh.read(MAX_TOML_BYTES + 1)  # bounded: /dev/zero is not a parameter file
     except FileNotFoundError:
         raise ParameterFileError(p, "", "file not found") from None
@@ -55,9 +64,31 @@ def read_toml(path: str | Path) -> dict[str, Any]:
             "levels at most)",
         ) from None
     except ValueError as exc:  # tomllib's integer of more than 4300 digits
+        line, digits = _longest_digit_run(data.decode("utf-8-sig", "replace"))
+        if digits > MAX_INT_DIGITS:
+            raise ParameterFileError(
+                p,
+                "",
+                f"line {line}: an integer of {digits} digits; expected one within TOML's "
+                "64-bit range",
+            ) from None
         raise ParameterFileError(p, "", f"invalid TOML: {exc}") from None
     _check_values(p, parsed, "", 0)
     return parsed
+
+
+#: Python converts integers of at most this many digits (``sys.get_int_max_str_digits``).
+MAX_INT_DIGITS = 4300
+
+
+def _longest_digit_run(text: str) -> tuple[int, int]:
+    """The line (1-based) holding the longest run of digits, and its length."""
+    best = (0, 0)
+    for number, line in enumerate(text.splitlines(), start=1):
+        for run in re.findall(r"\d+", line):
+            if len(run) > best[1]:
+                best = (number, len(run))
+    return best
 
 
 #: Deepest nesting of tables and arrays in a parameter file (cadcog's own use 3).

@@ -232,6 +232,32 @@ def context_for_setup(setup: Any, cad_cov_kg2_mm4: FloatArray) -> InertiaContext
     )
 
 
+#: A hang's record longer than this (s) is not a swing in seconds (t_s in ms?).
+MAX_RECORD_S = 3600.0
+#: The record's median rate must exceed the highest predicted mode by this factor (Nyquist's
+#: 2, with room for the fit).
+MIN_RATE_OVER_MODE = 2.5
+
+
+def _record_problem(sw: Swing, highest_hz: float) -> str | None:
+    """Why a hang's record cannot show its modes whatever the fit: a duration that is not
+    seconds, or a rate too low for the highest mode the model predicts (or None)."""
+    duration = float(sw.t_s[-1] - sw.t_s[0])
+    if duration > MAX_RECORD_S:
+        return (
+            f"hang {sw.point_id}: its record lasts {duration:.6g} s (expected seconds: is t_s "
+            "in milliseconds?)"
+        )
+    rate = 1.0 / float(np.median(np.diff(sw.t_s)))
+    if rate < MIN_RATE_OVER_MODE * highest_hz:
+        return (
+            f"hang {sw.point_id}: sampled at {rate:.3g} Hz, too slow for its modes up to "
+            f"{highest_hz:.3g} Hz (at least {MIN_RATE_OVER_MODE * highest_hz:.3g} Hz; record at "
+            "20 samples/s or more)"
+        )
+    return None
+
+
 def _pair(
     swings: Sequence[Swing], suspensions: Sequence[Suspension], source: str
 ) -> list[tuple[Swing, Suspension]]:
@@ -406,6 +432,10 @@ def measure_inertia(
                 f"hang {sw.point_id}: {len(sw.t_s)} swing samples, the fit needs "
                 f"{MIN_SAMPLES} (record from the release until it settles)"
             )
+            continue
+        record = _record_problem(sw, float(np.max(predicted.frequencies_hz)))
+        if record is not None:
+            dropped.append(record)
             continue
         try:  # a hang whose swing shows no body mode is left out, not the whole run
             fit = body_modes(fit_swing(sw, predicted.frequencies_hz), n_modes, sw.point_id)

@@ -126,7 +126,11 @@ def run_campaign(
     if swings is not None:
         refuse_overwriting_inputs(swings, inputs)
         if str(swings) not in ("", "-") and Path(swings).resolve() == Path(out).resolve():
-            raise CadcogError("--swings and --out name the same file")
+            raise CadcogError(f"--swings and --out name the same file: {out}")
+        if Path(swings).exists() and not Path(swings).is_file():  # a device takes its bytes
+            raise CadcogError(  # after the readings are in place: all or nothing fails
+                f"{swings}: exists and is not a regular file: give another --swings"
+            )
     if setup is None:
         assert rig is not None
         if points is not None:

@@ -20,7 +20,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core import bounds, tolerances
-from cadcog.core.errors import CadcogError
+from cadcog.core.errors import CadcogError, ParameterFileError
 from cadcog.core.paramfile import TableReader, read_toml
 from cadcog.mass.properties import MassProperties
 from cadcog.method.errormodel import ErrorModel
@@ -369,6 +369,10 @@ def load_setup(path: str | Path) -> Setup:
             t.finish()
     cand_t.finish()
     swing = swing_options(root.table("swing")) if root.has("swing") else rig.swing
+    if swing.sensor_position_mm is not None:
+        problem = _sensor_problem(np.asarray(swing.sensor_position_mm), lo, hi, volumes)
+        if problem is not None:
+            raise ParameterFileError(p, "swing.sensor_position_mm", problem)
     root.finish()
     if len(cands) < 2:
         raise CadcogError(f"{p}: fewer than two candidate suspension points")
@@ -384,6 +388,24 @@ def load_setup(path: str | Path) -> Setup:
         limits,
         tuple(massprops.bodies),
         swing,
+    )
+
+
+def _sensor_problem(
+    sensor_mm: FloatArray, lo: FloatArray, hi: FloatArray, volumes: Sequence[MEVolume]
+) -> str | None:
+    """Why the inclinometer cannot sense at ``sensor_mm``: it sits on the object or its ME,
+    so it lies within their boxes (to :data:`~cadcog.core.tolerances.ME_BASE_MAX_GAP_MM`)."""
+    boxes_lo = [lo, *(np.asarray(v.center_mm) - np.asarray(v.size_mm) / 2 for v in volumes)]
+    boxes_hi = [hi, *(np.asarray(v.center_mm) + np.asarray(v.size_mm) / 2 for v in volumes)]
+    a, b = np.min(boxes_lo, axis=0), np.max(boxes_hi, axis=0)
+    gap = float(np.linalg.norm(np.maximum(0.0, np.maximum(a - sensor_mm, sensor_mm - b))))
+    if gap <= tolerances.ME_BASE_MAX_GAP_MM:
+        return None
+    return (
+        f"{sensor_mm.tolist()} mm is {gap:.4g} mm from the object and its measurement "
+        f"equipment (expected within {tolerances.ME_BASE_MAX_GAP_MM:g} mm of them: the "
+        "inclinometer sits on the ME; a length in m or in.?)"
     )
 
 
