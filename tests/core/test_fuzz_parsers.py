@@ -198,5 +198,5 @@ def test_endless_inputs_are_refused_without_reading_them_whole(device):
     # refused up front, unread: a random first line can be short valid UTF-8 (1 run in ~200)
     with pytest.raises(CadcogError, match=r"is a character device, expected a regular file"):
         read_readings(device)
-    with pytest.raises(CadcogError, match=r"not a parameter file|not UTF-8|invalid TOML"):
+    with pytest.raises(CadcogError, match=r"is not a regular file, expected a TOML file"):
         load_rig(device)
