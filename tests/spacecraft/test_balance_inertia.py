@@ -63,15 +63,23 @@ def test_the_gradient_is_the_finite_difference(seed):
     )
 
 
-def test_a_product_limit_meets_the_reduced_mass_closed_form():
-    # A 2 kg spacecraft, exact, with P_yz = +600 kg·mm² (the tensor's entry −600), ballast at
-    # (0, a, −a): about the common CoG P'_yz = P_yz − a² M m / (M + m). Meeting 200 needs
-    # M m / (M + m) = 400 / a².
-    big_m, a, limit = 2.0, 60.0, 200.0
+BIG_M, ARM = 2.0, 60.0
+
+
+def _reduced_mass_case():
+    """A 2 kg spacecraft, exact, with P_yz = +600 kg·mm² (the tensor's entry −600) and
+    I_yy − I_zz = 1000, and one ballast location at (0, a, −a): about the common CoG
+    P'_yz = P_yz − a² M m / (M + m), the gap unchanged (the ballast adds a² m_r to both)."""
     inertia = np.diag([5000.0, 4000.0, 3000.0])
     inertia[1, 2] = inertia[2, 1] = -600.0
-    state, prior = _exact(big_m, inertia)
-    spec = BallastSpec((BallastPoint("b", np.array([0.0, a, -a])),))
+    state, prior = _exact(BIG_M, inertia)
+    return state, prior, BallastSpec((BallastPoint("b", np.array([0.0, ARM, -ARM])),))
+
+
+def test_a_product_limit_meets_the_reduced_mass_closed_form():
+    # Meeting 200 needs M m / (M + m) = 400 / a².
+    big_m, a, limit = BIG_M, ARM, 200.0
+    state, prior, spec = _reduced_mass_case()
     k = (600.0 - limit) / a**2
     want = k * big_m / (big_m - k)
     r = least_ballast_with_inertia(
@@ -84,14 +92,10 @@ def test_a_product_limit_meets_the_reduced_mass_closed_form():
 
 
 def test_a_principal_rotation_limit_meets_its_closed_form():
-    # The same spacecraft: the yz pair turns by ½ atan(2 |P'| / (I_yy − I_zz)); the ballast at
-    # (0, a, −a) adds a² m_r to both I_yy and I_zz, so the gap stays 1000 kg·mm², and θ = 5°
-    # needs |P'| = ½ tan(10°) · 1000.
-    big_m, a, theta = 2.0, 60.0, 5.0
-    inertia = np.diag([5000.0, 4000.0, 3000.0])
-    inertia[1, 2] = inertia[2, 1] = -600.0
-    state, prior = _exact(big_m, inertia)
-    spec = BallastSpec((BallastPoint("b", np.array([0.0, a, -a])),))
+    # The yz pair turns by ½ atan(2 |P'| / (I_yy − I_zz)), the gap staying 1000 kg·mm²:
+    # θ = 5° needs |P'| = ½ tan(10°) · 1000.
+    big_m, a, theta = BIG_M, ARM, 5.0
+    state, prior, spec = _reduced_mass_case()
     target = 0.5 * np.tan(np.deg2rad(2 * theta)) * 1000.0
     k = (600.0 - target) / a**2
     r = least_ballast_with_inertia(
