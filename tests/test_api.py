@@ -257,9 +257,13 @@ def test_the_command_and_the_api_call_one_composition(command, composition, step
 
     package = Path(cadcog.__file__).parent
     cli = ast.parse((package / "cli" / f"{command}.py").read_text(encoding="utf-8"))
-    tree = ast.parse((package / "api.py").read_text(encoding="utf-8"))
     name = {"setup": "setup_init"}.get(command, command)
-    api_function = next(n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == name)
+    api_function = next(
+        n
+        for path in sorted((package / "api").glob("*.py"))
+        for n in ast.parse(path.read_text(encoding="utf-8")).body
+        if isinstance(n, ast.FunctionDef) and n.name == name
+    )
     for node in (cli, api_function):
         names = {n.id for n in ast.walk(node) if isinstance(n, ast.Name)}
         assert composition in names

@@ -1,0 +1,137 @@
+"""A set-up drafted and a test run: ``cadcog setup init``, ``acquire``."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Literal
+
+from cadcog.core.arguments import check_choice
+from cadcog.core.errors import CadcogError
+
+if TYPE_CHECKING:
+    from cadcog.rig.parameters import Rig
+    from cadcog.runs.acquire import AcquireRun
+    from cadcog.runs.setup_init import SetupDraft
+    from cadcog.spacecraft.setup import Setup
+
+
+from cadcog.api._checks import (
+    _numbers,
+    _one_blas_thread,
+    _path,
+    _point_ids,
+)
+from cadcog.api.model import _rig, _setup
+
+
+@_one_blas_thread
+def setup_init(
+    model: str | Path,
+    *,
+    out: str | Path | None = None,
+    units: str | None = None,
+    force: bool = False,
+) -> SetupDraft:
+    """Draft a set-up file and its materials file from a STEP model (``cadcog setup init``).
+
+    Parameters
+    ----------
+    model : str or Path
+        The STEP file.
+    out : str or Path, optional
+        The set-up file (default: ``MODEL_setup.toml`` beside the model); the materials file
+        goes beside it.
+    units : str, optional
+        The file's true length unit, when its declared unit is wrong.
+    force : bool
+        Replace existing files.
+
+    Returns
+    -------
+    SetupDraft
+        The files written and what they hold; ``to_dict()`` is the command's ``--json``.
+    """
+    from cadcog.core.units import UNIT_CHOICES
+    from cadcog.runs.setup_init import run_setup_init
+
+    if units is not None:
+        check_choice("setup_init", "units", units, UNIT_CHOICES)
+    return run_setup_init(
+        _path("setup_init", "model", model),
+        out=None if out is None else _path("setup_init", "out", out),
+        units=units,
+        force=bool(force),
+    )
+
+
+@_one_blas_thread
+def acquire(
+    out: str | Path,
+    *,
+    rig: Rig | str | Path | None = None,
+    setup: Setup | str | Path | None = None,
+    points: Sequence[str] | None = None,
+    swings: str | Path | None = None,
+    port: str | None = None,
+    seed: int = 0,
+    device: Literal["analog", "digital"] = "analog",
+    time_scale: float = 20.0,
+    report: str | Path | None = None,
+) -> AcquireRun:
+    """A test run recorded into ``out`` (``cadcog acquire --non-interactive``): from a simulated
+    device by default (``--simulate``: a dry run of the whole bench, as a notebook would run
+    it), or from the serial ``port``. Every hang is appended durably: the same call resumes.
+
+    Parameters
+    ----------
+    out : str or Path
+        The readings CSV.
+    rig : Rig, str or Path, optional
+        The rig (default: the paper's).
+    setup : Setup, str or Path, optional
+        A spacecraft's set-up instead.
+    points : sequence of str, optional
+        The hangs, in order (default: every rig point, or the set ``plan`` recommends); each
+        set-up point is checked as ``plan`` checks it before the first hang.
+    swings : str or Path, optional
+        The swing file (default: beside ``out``).
+    port : str, optional
+        A serial port instead of the simulated device.
+    seed : int
+        The simulated device's seed.
+    device : "analog" or "digital"
+        The simulated device's kind.
+    time_scale : float
+        Simulated seconds per real second.
+    report : str or Path, optional
+        A folder for the record page.
+
+    Returns
+    -------
+    AcquireRun
+        The estimate, its comparison with the CAD, the inertia from the swings (or why none);
+        ``to_dict()`` is the command's ``--json``.
+    """
+    from cadcog.runs.acquire import Simulation, acquire_target, run_acquire
+
+    f = "acquire"
+    _numbers(f, seed=seed, time_scale=time_scale)
+    check_choice(f, "device", device, ("analog", "digital"))
+    out_path = _path(f, "out", out)
+    if setup is not None and rig is not None:
+        raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
+    _point_ids(f, points)
+    target = acquire_target(
+        rig=None if setup is not None else _rig(f, rig),
+        setup=None if setup is None else _setup(f, setup),
+        points=points,
+    )
+    return run_acquire(
+        target,
+        out_path,
+        swings=None if swings is None else _path(f, "swings", swings),
+        port=port,
+        simulation=None if port is not None else Simulation(device, None, seed, time_scale),
+        report=None if report is None else _path(f, "report", report),
+    )
