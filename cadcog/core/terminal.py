@@ -4,8 +4,9 @@ Body names, ids and paths come from the user's files; a control character in one
 sequence that recolours or clears the terminal, a NUL, a lone surrogate that standard output
 cannot even encode) must be shown as text. :class:`SafeStream` wraps standard output and error
 for the length of a command and writes every such character as a ``\\uXXXX`` escape
-(``\\u001b``, ``\\ud800``); newlines and tabs pass. JSON text stays valid JSON (JSON escapes
-the C0 characters itself; DEL, C1 and a lone surrogate become the JSON escapes they are).
+(``\\u001b``, ``\\ud800``); newlines, tabs and carriage returns pass. JSON text stays valid JSON
+(JSON escapes the C0 characters itself; DEL, C1 and a lone surrogate become the JSON escapes
+they are).
 """
 
 from __future__ import annotations
@@ -13,8 +14,9 @@ from __future__ import annotations
 import re
 from typing import Any, TextIO
 
-#: C0 and C1 control characters but tab and newline, DEL, and lone surrogates.
-_UNSAFE = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\ud800-\udfff]")
+#: C0 and C1 control characters but tab, newline and carriage return (the live status line of
+#: ``acquire`` and the progress bars redraw with it), DEL, and lone surrogates.
+_UNSAFE = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ud800-\udfff]")
 
 
 def printable(text: str) -> str:
