@@ -6,6 +6,13 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
+from cadcog.api._checks import (
+    _numbers,
+    _one_blas_thread,
+    _path,
+    _point_ids,
+)
+from cadcog.api.model import _rig, _setup
 from cadcog.core.arguments import check_choice
 from cadcog.core.errors import CadcogError
 
@@ -14,15 +21,6 @@ if TYPE_CHECKING:
     from cadcog.runs.acquire import AcquireRun
     from cadcog.runs.setup_init import SetupDraft
     from cadcog.spacecraft.setup import Setup
-
-
-from cadcog.api._checks import (
-    _numbers,
-    _one_blas_thread,
-    _path,
-    _point_ids,
-)
-from cadcog.api.model import _rig, _setup
 
 
 @_one_blas_thread

@@ -7,17 +7,6 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from cadcog.core import tolerances
-from cadcog.core.errors import CadcogError
-
-if TYPE_CHECKING:
-    from cadcog.dynamics.result import InertiaResult
-    from cadcog.method.estimate import CogEstimate
-    from cadcog.rig.parameters import Rig
-    from cadcog.spacecraft.setup import Setup
-    from cadcog.spacecraft.update import UpdateResult
-
-
 from cadcog.api._checks import (
     _as_user_error,
     _fail,
@@ -28,6 +17,15 @@ from cadcog.api._checks import (
     _positive,
 )
 from cadcog.api.model import _rig, _setup
+from cadcog.core import tolerances
+from cadcog.core.errors import CadcogError
+
+if TYPE_CHECKING:
+    from cadcog.dynamics.result import InertiaResult
+    from cadcog.method.estimate import CogEstimate
+    from cadcog.rig.parameters import Rig
+    from cadcog.spacecraft.setup import Setup
+    from cadcog.spacecraft.update import UpdateResult
 
 
 @_one_blas_thread

@@ -6,6 +6,12 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
+from cadcog.api._checks import (
+    _fail,
+    _numbers,
+    _one_blas_thread,
+    _path,
+)
 from cadcog.core.arguments import check_choice, check_text
 from cadcog.core.errors import CadcogError
 
@@ -14,14 +20,6 @@ if TYPE_CHECKING:
     from cadcog.spacecraft.configurations import Configuration
     from cadcog.spacecraft.mass_summary import MassReport
     from cadcog.spacecraft.setup import Setup
-
-
-from cadcog.api._checks import (
-    _fail,
-    _numbers,
-    _one_blas_thread,
-    _path,
-)
 
 
 @_one_blas_thread

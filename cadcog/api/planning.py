@@ -6,15 +6,6 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
-from cadcog.core.arguments import check_choice
-
-if TYPE_CHECKING:
-    from cadcog.spacecraft.balance import BalanceResult
-    from cadcog.spacecraft.plan import Plan
-    from cadcog.spacecraft.requirements import CheckResult
-    from cadcog.spacecraft.setup import Setup
-
-
 from cadcog.api._checks import (
     _fail,
     _given,
@@ -24,6 +15,13 @@ from cadcog.api._checks import (
     _positive,
 )
 from cadcog.api.model import _setup
+from cadcog.core.arguments import check_choice
+
+if TYPE_CHECKING:
+    from cadcog.spacecraft.balance import BalanceResult
+    from cadcog.spacecraft.plan import Plan
+    from cadcog.spacecraft.requirements import CheckResult
+    from cadcog.spacecraft.setup import Setup
 
 
 @_one_blas_thread

@@ -7,17 +7,6 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from cadcog.core.arguments import check_choice
-from cadcog.core.errors import CadcogError
-
-if TYPE_CHECKING:
-    from cadcog.rig.parameters import Rig
-    from cadcog.runs.campaign import CampaignRun
-    from cadcog.spacecraft.setup import Setup
-    from cadcog.uncertainty.random_points import SimulationReport
-    from cadcog.validation.verification import CampaignValidation
-
-
 from cadcog.api._checks import (
     _as_user_error,
     _fail,
@@ -27,6 +16,15 @@ from cadcog.api._checks import (
     _point_ids,
 )
 from cadcog.api.model import _rig, _setup
+from cadcog.core.arguments import check_choice
+from cadcog.core.errors import CadcogError
+
+if TYPE_CHECKING:
+    from cadcog.rig.parameters import Rig
+    from cadcog.runs.campaign import CampaignRun
+    from cadcog.spacecraft.setup import Setup
+    from cadcog.uncertainty.random_points import SimulationReport
+    from cadcog.validation.verification import CampaignValidation
 
 
 @_one_blas_thread

@@ -388,12 +388,13 @@ def _face_values(
     limits: FloatArray,
     z: FloatArray,
 ) -> FloatArray:
-    """The CoG's six faces at these masses (met when ≤ 0, in mm): ``±(c' − o) + z σ' − L``."""
+    """The CoG's six faces at these masses, each relative to its half-width (met when ≤ 0):
+    ``(±(c' − o) + z σ' − L) / L``."""
     _, _, cog, cov = with_ballast(state, positions, masses)
     sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
     return np.array(
         [
-            sign * (cog[k] - centre[k]) + z[f] * sd[k] - limits[k]
+            (sign * (cog[k] - centre[k]) + z[f] * sd[k] - limits[k]) / limits[k]
             for f, (k, sign) in enumerate(FACES6)
         ]
     )
@@ -424,10 +425,8 @@ def _search(
         v, s = conditions(objectives, state, prior, positions, x)
         return -v / s
 
-    face_limits = np.array([limits[k] for k, _ in FACES6])
-
     def faces_part(x: FloatArray) -> FloatArray:
-        return -_face_values(state, positions, x, centre, limits, z) / face_limits
+        return -_face_values(state, positions, x, centre, limits, z)
 
     cons = [{"type": "ineq", "fun": inertia_part}, {"type": "ineq", "fun": faces_part}]
     if cap is not None:
@@ -471,10 +470,7 @@ def _meets(
     """Every condition met, evaluated directly (not the solver's word)."""
     v, s = conditions(objectives, state, prior, positions, x)
     faces = _face_values(state, positions, x, centre, limits, z)
-    face_limits = np.array([limits[k] for k, _ in FACES6])
-    ok = bool(np.all(v <= CONDITION_RTOL * s)) and bool(
-        np.all(faces <= CONDITION_RTOL * face_limits)
-    )
+    ok = bool(np.all(v <= CONDITION_RTOL * s)) and bool(np.all(faces <= CONDITION_RTOL))
     return ok and (cap is None or float(x.sum()) <= cap * (1.0 + CONDITION_RTOL))
 
 
