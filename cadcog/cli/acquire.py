@@ -48,6 +48,21 @@ def add_parser(sub: Any) -> None:
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--port", help="serial port of the device (e.g. /dev/ttyACM0, COM3)")
     src.add_argument("--simulate", action="store_true", help="dry run against a simulated device")
+    src.add_argument(
+        "--log",
+        type=Path,
+        metavar="LOG",
+        help="a recorded accelerometer log instead of a device (a phone's phyphox export, or a "
+        "t_s,ax,ay,az CSV): cut into the hangs of --points in that order; the set-up's "
+        '[inclinometer] must declare device = "accelerometer" (docs/bench.md)',
+    )
+    p.add_argument(
+        "--log-format",
+        choices=("phyphox", "csv"),
+        default="phyphox",
+        help='phyphox: its "Acceleration with g" CSV export (default); csv: a header t_s,ax,ay,az '
+        "(m/s²) or t_s,ax_g,ay_g,az_g (g)",
+    )
     p.add_argument("--baud", type=int, default=DEFAULT_BAUD, help=f"default {DEFAULT_BAUD}")
     p.add_argument(
         "--average-s", type=float, default=10.0, help="seconds averaged per hang (default 10)"
@@ -117,7 +132,7 @@ def add_parser(sub: Any) -> None:
         help="write the test record (hangs, link, CoG, CAD comparison) as an HTML page to DIR",
     )
     p.add_argument("--json", action="store_true", help="print the run's summary as JSON")
-    p.set_defaults(func=run, also_written=lambda a: [default_or(a.swings, a.out)])
+    p.set_defaults(func=run, also_written=lambda a: [] if a.log else [default_or(a.swings, a.out)])
 
 
 def _target(args: argparse.Namespace) -> Any:
@@ -179,21 +194,11 @@ def default_or(swings: Path | None, out: Path) -> Path:
     return default_swing_path(out) if swings is None else swings
 
 
-def run(args: argparse.Namespace) -> int:
-    from cadcog.bench.session import ConsoleOperator, SessionQuit
+def _criterion(args: argparse.Namespace) -> Any:
     from cadcog.bench.swing import SettleCriterion
-    from cadcog.runs.acquire import Recording, Simulation, check_report_folder, run_acquire
 
-    _check_numbers(args)
-    refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
-    if args.swings is not None:
-        refuse_overwriting_inputs(
-            args.swings, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
-        )
-    check_report_folder(args.report)  # before the CAD
-    target = _target(args)
     try:
-        criterion = SettleCriterion(
+        return SettleCriterion(
             args.settle_threshold_deg,
             args.settle_window_s,
             args.settle_hold_s,
@@ -201,6 +206,71 @@ def run(args: argparse.Namespace) -> int:
         )
     except ValueError as exc:
         raise CadcogError(f"settle options: {exc}") from None
+
+
+def _run_log(args: argparse.Namespace) -> int:
+    """``--log``: the hangs cut from a recorded log."""
+    from cadcog.cli.estimate import print_cad_comparison, print_estimate
+    from cadcog.runs.acquire_log import acquire_log
+
+    for option, value in (("--swings", args.swings), ("--report", args.report)):
+        if value is not None:
+            raise CadcogError(
+                f"{option}: not written from a log yet (a device run writes it: --port)"
+            )
+    if args.setup is not None and args.points is None:
+        raise CadcogError(
+            "--log with --setup: give --points, the hangs in the order the log holds them"
+        )
+    refuse_overwriting_inputs(
+        args.out, {"--rig": args.rig, "--setup": args.setup, "--log": args.log}
+    )
+    target = _target(args)
+    run = acquire_log(
+        target,
+        args.log,
+        args.out,
+        fmt=args.log_format,
+        criterion=_criterion(args),
+        min_average_s=args.average_s,
+        say=lambda text: print(text, file=sys.stderr),
+    )
+    est = run.estimate
+    if args.json:
+        print(dumps_json(run.data), end="")
+    else:
+        print(f"hangs cut from {args.log}:")
+        for h in run.data["hangs"]:
+            spans = ", ".join(f"{a:.1f}-{b:.1f}" for a, b in h["averaged_s"])
+            print(
+                f"  {h['id']:<8} settled {h['settled_s']:8.1f} s  averaged {spans} s "
+                f"({h['bins']} bins, noise {1000 * h['noise_g']:.2f} mg)"
+            )
+        print(f"\nestimate from {args.out}:\n")
+        print_estimate(est)
+        if run.cad is not None:
+            print_cad_comparison(run.cad)
+    print(f"report: {args.out}", file=sys.stderr)
+    for w in (*run.warnings, *est.warnings):
+        print(f"cadcog: warning: {w}", file=sys.stderr)
+    return 0
+
+
+def run(args: argparse.Namespace) -> int:
+    from cadcog.bench.session import ConsoleOperator, SessionQuit
+    from cadcog.runs.acquire import Recording, Simulation, check_report_folder, run_acquire
+
+    _check_numbers(args)
+    if args.log is not None:
+        return _run_log(args)
+    refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
+    if args.swings is not None:
+        refuse_overwriting_inputs(
+            args.swings, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
+        )
+    check_report_folder(args.report)  # before the CAD
+    target = _target(args)
+    criterion = _criterion(args)
     live = _Live()
     say = live.say if not args.json else (lambda text: print(text, file=sys.stderr))
     interactive = not args.non_interactive and sys.stdin.isatty()

@@ -35,6 +35,10 @@ class ParameterFileError(CadcogError, ValueError):
         super().__init__(f"{where}: {message}")
 
 
+class UnsupportedSensorError(CadcogError):
+    """A command that simulates or predicts readings was given a sensor it does not model."""
+
+
 class DegenerateGeometryError(CadcogError, ArithmeticError):
     """A geometric computation has no meaningful answer (e.g. parallel lines)."""
 

@@ -55,6 +55,7 @@ from cadcog.mass.properties import MassProperties, box_properties, combine
 from cadcog.method.errormodel import ErrorModel, wire_shape_factor
 from cadcog.method.estimate import BodyBox, CogEstimate
 from cadcog.method.readings import Suspension
+from cadcog.rig.inclinometer import require_angle_sensor
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
 
 FloatArray = npt.NDArray[np.float64]
@@ -195,6 +196,7 @@ def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaConte
     """The paper rig (or another): the proof mass is the object, exact."""
     from cadcog.method.estimate import BodyBox
 
+    require_angle_sensor(rig.inclinometer.device, "the swing fit (cadcog inertia)")
     opts = rig.error_options
     sw = swing or rig.swing
     return InertiaContext(
@@ -215,6 +217,7 @@ def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaConte
 def context_for_setup(setup: Any, cad_cov_kg2_mm4: FloatArray) -> InertiaContext:
     """A spacecraft set-up: its CAD with the stated uncertainty ``cad_cov_kg2_mm4``."""
     rig = setup.rig
+    require_angle_sensor(rig.inclinometer.device, "the swing fit (cadcog inertia)")
     opts = rig.error_options
     sw = setup.swing
     return InertiaContext(

@@ -26,7 +26,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.units import deg_to_rad
-from cadcog.rig.inclinometer import InclinometerConfig, SensorModel
+from cadcog.rig.inclinometer import InclinometerConfig, SensorModel, require_angle_sensor
 from cadcog.rig.parameters import (
     INCLINOMETER_MODELS,
     WIRE_MODELS,
@@ -266,6 +266,11 @@ class ErrorModel:
         zero offset and sensitivity error, uniform within ±, and the mounting rotation, uniform
         in angle up to the figure about a uniformly random axis; drawn once per test, part of
         the inclinometer source.
+    device : "inclinometer" or "accelerometer"
+        The sensor (:class:`~cadcog.rig.inclinometer.InclinometerConfig`): an accelerometer's
+        shared parameters are :data:`cadcog.rig.accelerometer.ACCEL_SHARED_PARAMETERS`.
+    sensor_offset_g : float
+        An accelerometer's zero offset figure (each axis within ±, g).
     sources : tuple of str
         Enabled sources, from :data:`SOURCES`; a disabled source is zero in the draws and in
         the estimator's covariance alike.
@@ -288,6 +293,8 @@ class ErrorModel:
     sensor_scale_rel: float = InclinometerConfig.scale_error_rel
     mounting_misalignment_deg: float = InclinometerConfig.mounting_misalignment_deg
     sources: tuple[str, ...] = SOURCES
+    device: str = InclinometerConfig.device
+    sensor_offset_g: float = InclinometerConfig.offset_g
 
     def __post_init__(self) -> None:
         if self.inclinometer_model not in INCLINOMETER_MODELS:
@@ -324,6 +331,8 @@ class ErrorModel:
             sensor_offset_deg=rig.inclinometer.offset_deg,
             sensor_scale_rel=rig.inclinometer.scale_error_rel,
             mounting_misalignment_deg=rig.inclinometer.mounting_misalignment_deg,
+            device=rig.inclinometer.device,
+            sensor_offset_g=rig.inclinometer.offset_g,
         )
 
     def paper(self) -> ErrorModel:
@@ -341,6 +350,7 @@ class ErrorModel:
             sensor_offset_deg=0.0,
             sensor_scale_rel=0.0,
             mounting_misalignment_deg=0.0,
+            sensor_offset_g=0.0,
         )
 
     def only(self, *sources: str) -> ErrorModel:
@@ -436,8 +446,9 @@ class ErrorModel:
     @property
     def shared_sensor_sigmas(self) -> FloatArray:
         """Prior standard deviations of the shared sensor parameters, in the order of
-        :data:`cadcog.rig.inclinometer.SHARED_SENSOR_PARAMETERS` (deg, deg, rel, rel, deg ×3);
-        zeros when the inclinometer source is off.
+        :data:`cadcog.rig.inclinometer.SHARED_SENSOR_PARAMETERS` (deg, deg, rel, rel, deg ×3),
+        or for an accelerometer :data:`cadcog.rig.accelerometer.ACCEL_SHARED_PARAMETERS` (g ×3,
+        rel ×3, deg ×3); zeros when the inclinometer source is off.
 
         A uniform ±a has σ = a/√3; a rotation uniform in angle on [0, m] about a random axis
         has ``E|r|² = m²/3``, so σ = m/3 per component.
@@ -448,16 +459,30 @@ class ErrorModel:
         array([0.1732, 0.1732])
         """
         if "inclinometer" not in self.sources:
-            return np.zeros(7)
-        b = self.sensor_offset_deg / np.sqrt(3.0)
+            return np.zeros(9 if self.accelerometer else 7)
         s = self.sensor_scale_rel / np.sqrt(3.0)
         m = self.mounting_misalignment_deg / 3.0
+        if self.accelerometer:
+            b = self.sensor_offset_g / np.sqrt(3.0)
+            return np.array([b, b, b, s, s, s, m, m, m])
+        b = self.sensor_offset_deg / np.sqrt(3.0)
         return np.array([b, b, s, s, m, m, m])
+
+    @property
+    def accelerometer(self) -> bool:
+        """Whether the sensor is a three-axis accelerometer (its shared parameters then are
+        :data:`cadcog.rig.accelerometer.ACCEL_SHARED_PARAMETERS`, in
+        :attr:`shared_sensor_sigmas`)."""
+        return self.device == "accelerometer"
 
     @property
     def has_shared_sensor(self) -> bool:
         """Whether any shared sensor figure is declared (and the inclinometer source is on)."""
         return bool(np.any(self.shared_sensor_sigmas > 0.0))
+
+    def require_angle_sensor(self, what: str) -> None:
+        """:func:`cadcog.rig.inclinometer.require_angle_sensor` of this model's device."""
+        require_angle_sensor(self.device, what)
 
     def sample_shared_sensor(self, rng: np.random.Generator, n: int) -> FloatArray:
         """Shared sensor parameters of ``n`` tests (one sensor each), shape (7, n).
@@ -466,6 +491,7 @@ class ErrorModel:
         angle uniform on [0, figure] about an axis uniform on the sphere. Nothing is drawn (and
         ``rng`` is not advanced) when no figure is declared.
         """
+        self.require_angle_sensor("a simulated sensor")
         out = np.zeros((7, n))
         if not self.has_shared_sensor:
             return out

@@ -16,7 +16,7 @@ import numpy.typing as npt
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError, DegenerateGeometryError, ReadingsError
 from cadcog.core.results import JsonResult
-from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.core.units import STANDARD_GRAVITY_M_S2, deg_to_rad
 from cadcog.method import gls, sharedfit
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.plumblines import (
@@ -31,7 +31,7 @@ from cadcog.method.plumblines import (
 )
 from cadcog.method.readings import Suspension, suspension_verticals
 from cadcog.rig.geometry import FloatArray, axes_beyond_range, face_normal_of_point, same_point
-from cadcog.rig.inclinometer import SHARED_SENSOR_PARAMETERS, InclinometerConfig
+from cadcog.rig.inclinometer import InclinometerConfig
 from cadcog.rig.parameters import Rig
 
 
@@ -285,11 +285,36 @@ def default_model(config: InclinometerConfig | None = None) -> ErrorModel:
         (1.0,),
         (0.0,),
         accuracy_deg=cfg.accuracy_deg,
-        lsb_deg=cfg.sensor.lsb_deg,
+        lsb_deg=0.0 if cfg.accelerometer else cfg.sensor.lsb_deg,
         sensor_offset_deg=cfg.offset_deg,
         sensor_scale_rel=cfg.scale_error_rel,
         mounting_misalignment_deg=cfg.mounting_misalignment_deg,
+        device=cfg.device,
+        sensor_offset_g=cfg.offset_g,
     )
+
+
+def accelerometer_variances(
+    suspensions: Sequence[Suspension], cfg: InclinometerConfig, mdl: ErrorModel
+) -> tuple[FloatArray, FloatArray]:
+    """Each accelerometer hang's variances: its vertical's along each direction ⊥ u (rad²) and
+    its gravity norm's (g²).
+
+    The mean of n readings has the noise its samples show: the largest axis's sample variance
+    over n (the error model's sensor noise where a hang has one sample), plus the per-hang
+    accuracy (uniform ±``accuracy_deg``) for the vertical and ``gravity_norm_sigma_g²`` for the
+    norm (what the offsets and sensitivities do not model).
+    """
+    noise = np.array(
+        [
+            max(s.std_acc_g) ** 2 / s.n_samples
+            if s.std_acc_g is not None
+            else float(deg_to_rad(mdl.sensor_noise_deg)) ** 2
+            for s in suspensions
+        ]
+    )
+    accuracy = float(deg_to_rad(cfg.accuracy_deg)) ** 2 / 3.0
+    return noise + accuracy, noise + cfg.gravity_norm_sigma_g**2
 
 
 def estimate_cog(
@@ -395,6 +420,11 @@ def estimate_cog(
                 f"({prior.scale_mm:.2f} mm) is not corrected; it is counted as an isotropic "
                 "point error instead"
             )
+    if cfg.accelerometer and angle_sigma_deg is None:
+        reading_var, _ = accelerometer_variances(suspensions, cfg, mdl)
+        errors = replace(errors, reading_var_rad2=reading_var, isotropic_reading=True)
+    elif cfg.accelerometer:
+        errors = replace(errors, isotropic_reading=True)
     p = np.array([s.position_mm for s in suspensions], dtype=float).T[:, :, None]
     u = v.u.T[:, :, None]
     nrm = normals.T[:, :, None]
@@ -403,7 +433,7 @@ def estimate_cog(
         [PlumbLine(s.id, p[:, j, 0], v.u[j]) for j, s in enumerate(suspensions)], min_angle_deg
     )
     shared_info: dict[str, Any] | None = None
-    if mdl.has_shared_sensor:
+    if mdl.has_shared_sensor or cfg.accelerometer:
         joint, verticals, shared_info = _joint_with_shared_sensor(
             suspensions, cfg, mdl, normals, errors, wire, body is not None, min_angle_deg,
             warnings,
@@ -522,6 +552,11 @@ def _joint_with_shared_sensor(
     """The joint estimate with the sensor's shared offsets, sensitivities and mounting
     estimated alongside (:func:`cadcog.method.sharedfit.fit_shared`): the estimate, the
     corrected verticals and what became of each shared parameter."""
+    acc = None
+    norm_var = None
+    if cfg.accelerometer:
+        acc = [s.acc_g for s in suspensions]
+        norm_var = accelerometer_variances(suspensions, cfg, mdl)[1]
     fit = sharedfit.fit_shared(
         [s.position_mm for s in suspensions],
         [s.inc_x_deg for s in suspensions],
@@ -534,6 +569,8 @@ def _joint_with_shared_sensor(
         cfg,
         [s.id for s in suspensions],
         sensor_turned=[s.sensor_turned for s in suspensions],
+        acc_g=acc,
+        norm_var_g2=norm_var,
     )
     _check_normal_matrix(np.asarray(np.linalg.inv(fit.cov_mm2), dtype=float))
     wire_scale = None
@@ -541,7 +578,8 @@ def _joint_with_shared_sensor(
         wire_scale = _wire_scale(
             fit.scale_mm, fit.scale_sigma_mm**2, fit.scale_identified, wire, warnings
         )
-    near = np.sin(np.radians(mdl.mounting_misalignment_deg))
+    # An accelerometer reads the whole vector: no hang is ambiguous.
+    near = 0.0 if cfg.accelerometer else np.sin(np.radians(mdl.mounting_misalignment_deg))
     for s, u in zip(suspensions, fit.verticals, strict=True):
         if near > 0 and abs(u[2]) < near:
             warnings.append(
@@ -549,13 +587,16 @@ def _joint_with_shared_sensor(
                 f"({mdl.mounting_misalignment_deg:g}°) of the horizontal, where which way up the "
                 "sensor reads is ambiguous; hang it from a point whose vertical is steeper"
             )
-    bounds = np.array([mdl.sensor_offset_deg] * 2 + [mdl.sensor_scale_rel] * 2)
+    names = sharedfit.shared_parameter_names(cfg)
+    n_ch = 3 if cfg.accelerometer else 2  # channels: offsets and sensitivities each
+    offset_bound = mdl.sensor_offset_g if cfg.accelerometer else mdl.sensor_offset_deg
+    bounds = np.array([offset_bound] * n_ch + [mdl.sensor_scale_rel] * n_ch)
     beyond = [
         f"{name} = {fit.shared[j]:+.3g}"
-        for j, name in enumerate(SHARED_SENSOR_PARAMETERS[:4])
+        for j, name in enumerate(names[: 2 * n_ch])
         if bounds[j] > 0 and abs(fit.shared[j]) > bounds[j]
     ]
-    angle = float(np.linalg.norm(fit.shared[4:]))
+    angle = float(np.linalg.norm(fit.shared[2 * n_ch :]))
     if mdl.mounting_misalignment_deg > 0 and angle > mdl.mounting_misalignment_deg:
         beyond.append(f"mounting {angle:.3g}°")
     if beyond:
@@ -572,16 +613,20 @@ def _joint_with_shared_sensor(
     carried = [
         f"{name} (σ {sigma:.2g} of {prior:.2g})"
         for name, c, sigma, prior in zip(
-            SHARED_SENSOR_PARAMETERS, fit.calibrated, fit.shared_sigma, fit.prior_sigma, strict=True
+            names, fit.calibrated, fit.shared_sigma, fit.prior_sigma, strict=True
         )
         if prior > 0 and not c
     ]
     if carried:
-        hint = (
-            ""
-            if any(s.sensor_turned for s in suspensions)
-            else "; a reversal calibrates the offsets: docs/bench.md"
-        )
+        if cfg.accelerometer:
+            hint = (
+                "; hangs in more orientations, or a reversal, calibrate an accelerometer's "
+                "offsets and sensitivities: docs/bench.md"
+            )
+        elif any(s.sensor_turned for s in suspensions):
+            hint = ""
+        else:
+            hint = "; a reversal calibrates the offsets: docs/bench.md"
         warnings.append(
             "these hangs do not calibrate the sensor's shared "
             f"{', '.join(carried)}: what is left of their declared figures is carried into "

@@ -142,12 +142,17 @@ class LineErrors:
         Each axis of a hang's mean reading.
     point_var_mm2 : float, optional
         An isotropic point variance replacing the play and axial terms (a user override).
+    isotropic_reading : bool
+        False (an inclinometer): ``reading_var_rad2`` is each angle's, and the vertical's error
+        follows ``∂u/∂X`` and ``∂u/∂Y``. True (an accelerometer, which reads the vector itself):
+        it is the vertical's own variance along each direction ⊥ ``u``.
     """
 
     play_var_mm2: float
     axial_var_mm2: float
     reading_var_rad2: float | FloatArray
     point_var_mm2: float | None = None
+    isotropic_reading: bool = False
 
     @classmethod
     def from_model(
@@ -270,17 +275,33 @@ def _lateral_parts(
     rinv = 1.0 / np.sqrt(rho2)
     e1 = (uz * rinv, -ux * rinv)
     e2 = (-ux * uy * rinv, rho2 * rinv, -uy * uz * rinv)
-    if errors.point_var_mm2 is not None:
-        c1 = c2 = errors.point_var_mm2
-    else:
-        c1, c2 = errors.play_var_mm2, errors.axial_var_mm2
     uz_safe = np.copysign(np.maximum(np.abs(uz), MIN_UZ), uz)
     var = errors.reading_var_rad2
+    if errors.isotropic_reading:
+        zero = np.zeros_like(rho2)
+        m_iso = (zero + var, zero, zero + var)
+        return _lateral_point(e1, e2, normals, errors, rho2, m_iso)
     hx = var * (1.0 - ux * ux) * rho2 / (uz_safe * uz_safe)
     hy = var * (1.0 - uy * uy) / rho2
     a1 = ux * uy / uz_safe
     ha = hy * a1
     m_l = (hx + ha * a1, ha, hy)
+    return _lateral_point(e1, e2, normals, errors, rho2, m_l)
+
+
+def _lateral_point(
+    e1: tuple[FloatArray, FloatArray],
+    e2: Vec,
+    normals: Comp,
+    errors: LineErrors,
+    rho2: FloatArray,
+    m_l: Vec,
+) -> tuple[tuple[FloatArray, FloatArray], Vec, Vec, Vec]:
+    """:func:`_lateral_parts` once the reading's part ``mᴸ`` is known: the point's part ``m⁰``."""
+    if errors.point_var_mm2 is not None:
+        c1 = c2 = errors.point_var_mm2
+    else:
+        c1, c2 = errors.play_var_mm2, errors.axial_var_mm2
     base = c1 + LATERAL_FLOOR_MM2
     if c2 == c1:
         zero = np.zeros_like(rho2)

@@ -31,9 +31,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from cadcog.core import bounds
 from cadcog.core.errors import ReadingsError, quote
 from cadcog.core.fileio import not_a_regular_file, note_input
+from cadcog.core.units import rad_to_deg
+from cadcog.rig.accelerometer import ACCEL_SHARED_PARAMETERS, accel_angles_deg, accel_verticals
 from cadcog.rig.inclinometer import InclinometerConfig, Verticals, verticals_from_readings
 
 # The format's columns, here only: the writers (cadcog.validation.campaign for virtual
@@ -49,6 +53,11 @@ TURNED_COLUMN = "sensor_turned"
 #: The two readings: angles in degrees, or raw ADC counts.
 DEG_COLUMNS = ("inc_x_deg", "inc_y_deg")
 COUNT_COLUMNS = ("inc_x_counts", "inc_y_counts")
+#: An accelerometer's reading (``device = "accelerometer"``): the specific force along the
+#: sensor's own x, y, z axes in g; such a file has no ``top_face_up`` (the reading says it).
+ACC_COLUMNS = ("acc_x_g", "acc_y_g", "acc_z_g")
+#: Largest accelerometer component a settled reading may have (g): far beyond any part's range.
+MAX_ACC_G = 20.0
 
 
 def header_columns(value_columns: Sequence[str], extra: Sequence[str] = ()) -> tuple[str, ...]:
@@ -90,6 +99,13 @@ class Suspension:
         Line of the file where the suspension first appears.
     sensor_turned : bool
         Read with the sensor turned 180° on its mount (a reversal; default False).
+    acc_g : tuple of 3 floats or None
+        An accelerometer's mean reading (g, its own axes); None for an inclinometer. Then
+        ``inc_x_deg``, ``inc_y_deg``, ``top_face_up`` and the standard deviations are what a
+        dual-axis inclinometer in the sensor's axes would give
+        (:func:`cadcog.rig.accelerometer.accel_angles_deg`), for display.
+    std_acc_g : tuple of 3 floats or None
+        The accelerometer's sample standard deviations (g; None for one sample).
     """
 
     id: str
@@ -102,6 +118,8 @@ class Suspension:
     std_y_deg: float | None
     line: int
     sensor_turned: bool = False
+    acc_g: tuple[float, float, float] | None = None
+    std_acc_g: tuple[float, float, float] | None = None
 
 
 #: Longest line read (characters): a readings row is under 200.
@@ -140,6 +158,7 @@ class _Group:
     raw_flag: str = ""
     turned: bool = False
     raw_turned: str = ""
+    z: _Running | None = None  # an accelerometer's third axis
 
 
 def _number(fields: list[str], col: dict[str, int], column: str, line: int, fail: Any) -> float:
@@ -243,7 +262,7 @@ def read_readings(path: str | Path, config: InclinometerConfig | None = None) ->
         raise ReadingsError(
             f"{p}: {len(groups)} distinct suspension point(s); the method needs at least two"
         )
-    return [_average(pid, g) for pid, g in groups.items()]
+    return [_average(pid, g, p) for pid, g in groups.items()]
 
 
 def data_rows(rows: Any, fail: Any) -> Iterator[tuple[int, list[str]]]:
@@ -287,23 +306,29 @@ def _read_groups(
                     f"column {quote(twice)} appears twice (fields {first} and {second}): "
                     "expected each column once",
                 )
-            missing = [c for c in BASE_COLUMNS if c not in header]
+            acc = _accelerometer_header(header, cfg, line, fail)
+            missing = [c for c in (POSITION_COLUMNS if acc else BASE_COLUMNS) if c not in header]
             has_deg = all(c in header for c in DEG_COLUMNS)
             has_counts = all(c in header for c in COUNT_COLUMNS)
             if has_deg and has_counts:
                 raise fail(line, "give angles either in degrees or in counts, not both")
-            if not (has_deg or has_counts):
+            if not (has_deg or has_counts or acc):
                 missing += [c for c in DEG_COLUMNS if c not in header]
             if missing:
-                raise fail(
-                    line,
-                    f"missing column(s) {', '.join(missing)}; expected header "
-                    f"{','.join(BASE_COLUMNS[:4] + DEG_COLUMNS + BASE_COLUMNS[4:])} "
-                    f"(or {', '.join(COUNT_COLUMNS)} instead of the degree columns)",
+                expected = (
+                    ",".join(POSITION_COLUMNS + ACC_COLUMNS)
+                    if acc
+                    else f"{','.join(BASE_COLUMNS[:4] + DEG_COLUMNS + BASE_COLUMNS[4:])} "
+                    f"(or {', '.join(COUNT_COLUMNS)} instead of the degree columns)"
                 )
-            angle_cols = DEG_COLUMNS if has_deg else COUNT_COLUMNS
-            counts = not has_deg
-            col = {name: header.index(name) for name in (*BASE_COLUMNS, *angle_cols)}
+                raise fail(
+                    line, f"missing column(s) {', '.join(missing)}; expected header {expected}"
+                )
+            angle_cols = ACC_COLUMNS if acc else DEG_COLUMNS if has_deg else COUNT_COLUMNS
+            counts = has_counts and not has_deg
+            col = {name: header.index(name) for name in (*POSITION_COLUMNS, *angle_cols)}
+            if not acc:
+                col[FACE_COLUMN] = header.index(FACE_COLUMN)
             if TURNED_COLUMN in header:
                 col[TURNED_COLUMN] = header.index(TURNED_COLUMN)
             continue
@@ -311,7 +336,7 @@ def _read_groups(
             raise fail(line, f"expected {len(header)} fields as in the header, got {len(fields)}")
         pid = fields[col["point_id"]].strip()
         raw_position = (fields[col["x_mm"]], fields[col["y_mm"]], fields[col["z_mm"]])
-        raw_flag = fields[col["top_face_up"]]
+        raw_flag = fields[col[FACE_COLUMN]] if FACE_COLUMN in col else "true"
         raw_turned = fields[col[TURNED_COLUMN]] if TURNED_COLUMN in col else ""
         group = groups.get(pid)
         if (
@@ -345,7 +370,7 @@ def _read_groups(
             if group is None:
                 group = groups[pid] = _Group(
                     position, flag, line, _Running(), _Running(), raw_position, raw_flag,
-                    turned, raw_turned,
+                    turned, raw_turned, _Running() if FACE_COLUMN not in col else None,
                 )  # fmt: skip
             elif position != group.position:
                 raise fail(
@@ -361,8 +386,16 @@ def _read_groups(
                     f"point {pid}: {TURNED_COLUMN} differs from line {group.line} (a reversal "
                     "is its own point_id at the same position)",
                 )
-        for column, running in zip(angle_cols, (group.x, group.y), strict=True):
+        runs = (group.x, group.y) if group.z is None else (group.x, group.y, group.z)
+        for column, running in zip(angle_cols, runs, strict=True):
             value = _number(fields, col, column, line, fail)
+            if group.z is not None:
+                if abs(value) > MAX_ACC_G:
+                    raise fail(
+                        line, f"column {column}: {value:g} g is beyond ±{MAX_ACC_G:g} g at rest"
+                    )
+                running.add(value)
+                continue
             if counts:
                 if not 0 <= value <= max_counts:
                     raise fail(
@@ -375,6 +408,38 @@ def _read_groups(
                 raise fail(line, f"column {column}: angle {value:g}° is beyond ±90°")
             running.add(value)
     return header, groups
+
+
+def _accelerometer_header(header: list[str], cfg: InclinometerConfig, line: int, fail: Any) -> bool:
+    """Whether a header is an accelerometer's (its three columns), checked against the
+    sensor the set-up declares."""
+    acc = [c for c in ACC_COLUMNS if c in header]
+    if not acc:
+        if cfg.accelerometer:
+            raise fail(
+                line,
+                f'the set-up\'s sensor is an accelerometer (device = "accelerometer"): expected '
+                f"the columns {', '.join(ACC_COLUMNS)} (g, the sensor's axes)",
+            )
+        return False
+    if len(acc) < 3:
+        missing = [c for c in ACC_COLUMNS if c not in header]
+        raise fail(line, f"missing column(s) {', '.join(missing)} beside {', '.join(acc)}")
+    if not cfg.accelerometer:
+        raise fail(
+            line,
+            f"columns {', '.join(ACC_COLUMNS)} are an accelerometer's readings, but the "
+            "set-up's [inclinometer] declares an angle-reading inclinometer: add "
+            'device = "accelerometer" (docs/bench.md)',
+        )
+    clash = [c for c in (*DEG_COLUMNS, *COUNT_COLUMNS, FACE_COLUMN) if c in header]
+    if clash:
+        raise fail(
+            line,
+            f"column {clash[0]} beside an accelerometer's {', '.join(ACC_COLUMNS)}: the "
+            "acceleration is the whole reading (which face is up included); drop it",
+        )
+    return True
 
 
 def suspension_from_samples(
@@ -394,7 +459,33 @@ def suspension_from_samples(
     return _average(pid, g)
 
 
-def _average(pid: str, g: _Group) -> Suspension:
+def _average(pid: str, g: _Group, path: Path | None = None) -> Suspension:
+    if g.z is not None:
+        mean = (g.x.mean, g.y.mean, g.z.mean)
+        if math.hypot(*mean) < 0.1:
+            where = f"{path}, line {g.line}" if path is not None else f"line {g.line}"
+            raise ReadingsError(
+                f"{where}: point {pid}: the mean acceleration is {math.hypot(*mean):.3g} "
+                "g, not gravity: are the columns in g (not m/s²), and was the object at rest?"
+            )
+        x, y, top = accel_angles_deg([mean])
+        stds = (g.x.std(), g.y.std(), g.z.std())
+        std_acc = None if stds[0] is None else (stds[0], stds[1] or 0.0, stds[2] or 0.0)
+        std_deg = None if std_acc is None else float(rad_to_deg(max(std_acc[:2])))
+        return Suspension(
+            id=pid,
+            position_mm=g.position,
+            top_face_up=bool(top[0]),
+            n_samples=g.x.n,
+            inc_x_deg=float(x[0]),
+            inc_y_deg=float(y[0]),
+            std_x_deg=std_deg,
+            std_y_deg=std_deg,
+            line=g.line,
+            sensor_turned=g.turned,
+            acc_g=mean,
+            std_acc_g=std_acc,
+        )
     return Suspension(
         id=pid,
         position_mm=g.position,
@@ -414,6 +505,13 @@ def suspension_verticals(
 ) -> Verticals:
     """Upward verticals (eq. 2) of averaged suspensions, in their order (a hang read with the
     sensor turned has its angles negated first: :func:`cadcog.rig.inclinometer.sensor_readings`)."""
+    if config is not None and config.accelerometer:
+        return accel_verticals(
+            [_acc(s) for s in suspensions],
+            np.zeros(len(ACCEL_SHARED_PARAMETERS)),
+            config.axes,
+            [s.sensor_turned for s in suspensions],
+        )
     flip = [-1.0 if s.sensor_turned else 1.0 for s in suspensions]
     return verticals_from_readings(
         [f * s.inc_x_deg for f, s in zip(flip, suspensions, strict=True)],
@@ -421,3 +519,12 @@ def suspension_verticals(
         [s.top_face_up for s in suspensions],
         config,
     )
+
+
+def _acc(s: Suspension) -> tuple[float, float, float]:
+    if s.acc_g is None:
+        raise ReadingsError(
+            f"suspension {s.id}: an inclinometer's angles, but the set-up's sensor is an "
+            "accelerometer: read the file with its set-up"
+        )
+    return s.acc_g

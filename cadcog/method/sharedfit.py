@@ -40,6 +40,7 @@ from cadcog.core.errors import DegenerateGeometryError
 from cadcog.method import gls
 from cadcog.method.errormodel import wire_shape_factor
 from cadcog.method.plumblines import LineResidual, PlumbLine, flag_lines
+from cadcog.rig.accelerometer import ACCEL_SHARED_PARAMETERS, accel_norms, accel_verticals
 from cadcog.rig.inclinometer import (
     SHARED_SENSOR_PARAMETERS,
     InclinometerConfig,
@@ -47,6 +48,12 @@ from cadcog.rig.inclinometer import (
 )
 
 FloatArray = npt.NDArray[np.float64]
+
+
+def shared_parameter_names(config: InclinometerConfig) -> tuple[str, ...]:
+    """The shared parameters of ``config``'s sensor, in the order of every vector of them."""
+    return ACCEL_SHARED_PARAMETERS if config.accelerometer else SHARED_SENSOR_PARAMETERS
+
 
 #: Gauss-Newton iterations at most; the step is below :data:`STEP_TOL_MM` in 3-5 on every
 #: tested campaign (the problem is nearly linear: θ is a fraction of a degree).
@@ -72,11 +79,11 @@ class SharedFit:
         The CoG's covariance, marginal over the shared parameters and λ.
     scale_mm, scale_sigma_mm : float
         The wire scale λ and its σ (0 when it is known).
-    shared : ndarray, shape (7,)
+    shared : ndarray, shape (7,) or (9,)
         The shared sensor parameters' estimates (0 where no figure is declared).
-    shared_sigma : ndarray, shape (7,)
+    shared_sigma : ndarray, shape (7,) or (9,)
         Their posterior σ (0 where no figure is declared).
-    prior_sigma : ndarray, shape (7,)
+    prior_sigma : ndarray, shape (7,) or (9,) (an accelerometer: :func:`shared_parameter_names`)
     verticals : ndarray, shape (k, 3)
         Each hang's vertical with the shared errors removed.
     points_mm : ndarray, shape (k, 3)
@@ -110,7 +117,7 @@ class SharedFit:
     @property
     def calibrated(self) -> npt.NDArray[np.bool_]:
         """Which shared parameters the hangs determined (posterior σ below
-        :data:`CALIBRATED_FRACTION` of the prior's), shape (7,)."""
+        :data:`CALIBRATED_FRACTION` of the prior's), shape (7,) or (9,)."""
         with np.errstate(invalid="ignore", divide="ignore"):
             ratio = self.shared_sigma / self.prior_sigma
         return np.asarray((self.prior_sigma > 0) & (ratio < CALIBRATED_FRACTION))
@@ -118,7 +125,8 @@ class SharedFit:
     def to_dict(self) -> dict[str, object]:
         """Each declared shared parameter: estimate, σ, prior σ, whether the hangs calibrated it."""
         out: dict[str, object] = {}
-        for j, name in enumerate(SHARED_SENSOR_PARAMETERS):
+        names = ACCEL_SHARED_PARAMETERS if len(self.prior_sigma) == 9 else SHARED_SENSOR_PARAMETERS
+        for j, name in enumerate(names):
             if self.prior_sigma[j] > 0:
                 out[name] = {
                     "estimate": float(self.shared[j]),
@@ -140,25 +148,24 @@ class _Lines:
     n: FloatArray  # (k, 3) bolt axes
     errors: gls.LineErrors
     wire: gls.WireTerm
-    prior_sigma: FloatArray  # (7,)
+    prior_sigma: FloatArray  # (7,), or (9,) for an accelerometer
     config: InclinometerConfig
     turned: npt.NDArray[np.bool_]  # (k,) read with the sensor turned 180° on its mount
+    acc: FloatArray | None = None  # (k, 3) an accelerometer's mean readings (g)
+    norm_var: FloatArray | None = None  # (k,) variance of each one's gravity norm (g²)
 
     def take(self, rows: Sequence[int]) -> _Lines:
         idx = np.asarray(rows)
         reading = self.errors.reading_var_rad2
         if isinstance(reading, np.ndarray) and reading.ndim and reading.shape[0] == len(self.p):
-            errors = gls.LineErrors(
-                self.errors.play_var_mm2,
-                self.errors.axial_var_mm2,
-                reading[idx],
-                self.errors.point_var_mm2,
-            )
+            errors = replace(self.errors, reading_var_rad2=reading[idx])
         else:
             errors = self.errors
         return _Lines(
             self.p[idx], self.x_deg[idx], self.y_deg[idx], self.top[idx], self.n[idx], errors,
             self.wire, self.prior_sigma, self.config, self.turned[idx],
+            None if self.acc is None else self.acc[idx],
+            None if self.norm_var is None else self.norm_var[idx],
         )  # fmt: skip
 
 
@@ -176,6 +183,11 @@ class _State:
     weights: FloatArray  # (k, 3, 3)
     scale_information: float
     residuals: FloatArray  # (k, 3): rᵢ = (I − uᵢuᵢᵀ)(G − qᵢ)
+    # An accelerometer's gravity norms |(aᵢ − b)/(1 + s)| − 1, their design ∂/∂x and weights
+    # (zero-sized for an inclinometer).
+    norm_residuals: FloatArray  # (k,)
+    norm_design: FloatArray  # (k, m)
+    norm_weights: FloatArray  # (k,)
 
 
 def _layout(lines: _Lines) -> tuple[bool, npt.NDArray[np.intp]]:
@@ -184,9 +196,33 @@ def _layout(lines: _Lines) -> tuple[bool, npt.NDArray[np.intp]]:
 
 
 def _verticals(lines: _Lines, theta: FloatArray) -> FloatArray:
+    if lines.acc is not None:
+        return accel_verticals(lines.acc, theta, lines.config.axes, lines.turned).u
     return corrected_verticals(
         lines.x_deg, lines.y_deg, lines.top, theta, lines.config, lines.turned
     ).u
+
+
+def _norm_terms(
+    lines: _Lines, theta: FloatArray, active: npt.NDArray[np.intp], m: int
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """An accelerometer's gravity-norm residuals, their design (k, m) over the unknowns and
+    weights; empty for an inclinometer. The norms depend on θ only (the columns of G and λ are
+    0), by central differences with the plumb lines' step."""
+    if lines.acc is None or lines.norm_var is None:
+        return np.zeros(0), np.zeros((0, m)), np.zeros(0)
+    r = accel_norms(lines.acc, theta) - 1.0
+    design = np.zeros((len(r), m))
+    steps = JACOBIAN_STEP * lines.prior_sigma[active]
+    first = m - len(active)
+    for c, (j, h) in enumerate(zip(active, steps, strict=True)):
+        up, down = theta.copy(), theta.copy()
+        up[j] += h
+        down[j] -= h
+        design[:, first + c] = (accel_norms(lines.acc, up) - accel_norms(lines.acc, down)) / (
+            2.0 * h
+        )
+    return r, design, 1.0 / lines.norm_var
 
 
 def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _State:
@@ -196,7 +232,7 @@ def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _St
     k = len(lines.p)
     g = x[:3]
     lam = x[3] if with_lam else lines.wire.scale_mm
-    theta = np.zeros(7)
+    theta = np.zeros(len(lines.prior_sigma))
     theta[active] = x[3 + with_lam :]
     u = _verticals(lines, theta)
     shape = (
@@ -230,6 +266,10 @@ def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _St
     design = np.einsum("kij,kjm->kim", proj, np.concatenate(cols, axis=2))
     normal = np.einsum("kai,kab,kbj->ij", design, w, design)
     chi2 = float(np.einsum("ka,kab,kb->", r, w, r))
+    nr, nd, nw = _norm_terms(lines, theta, active, design.shape[2])
+    if len(nr):
+        normal = normal + np.einsum("ki,k,kj->ij", nd, nw, nd)
+        chi2 += float(np.sum(nw * nr * nr))
     info = 0.0
     if with_lam and information:
         # What the lines alone say about λ once G and θ are free (the prior left out).
@@ -244,7 +284,7 @@ def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _St
             info = float(normal[lam_col, lam_col] - cross @ np.linalg.solve(others, cross))
         except np.linalg.LinAlgError:
             info = 0.0  # G is not determined without λ's prior: nothing said about λ alone
-    return _State(x, normal, chi2, u, q, shape, design, w, max(info, 0.0), r)
+    return _State(x, normal, chi2, u, q, shape, design, w, max(info, 0.0), r, nr, nd, nw)
 
 
 def _prior_precision(lines: _Lines, *, exclude_lam: bool = False) -> FloatArray:
@@ -273,6 +313,7 @@ def _solve(lines: _Lines, start: FloatArray) -> tuple[_State, FloatArray]:
     for _ in range(MAX_ITERATIONS):
         st = _evaluate(lines, x)
         grad = np.einsum("kai,kab,kb->i", st.design, st.weights, st.residuals) + prec @ (x - mean)
+        grad += st.norm_design.T @ (st.norm_weights * st.norm_residuals)
         total = st.normal + prec
         try:
             step = -np.linalg.solve(total, grad)
@@ -300,7 +341,7 @@ def _solve(lines: _Lines, start: FloatArray) -> tuple[_State, FloatArray]:
 def _start(lines: _Lines) -> FloatArray:
     """The equal-weight point of the uncorrected lines, λ at its prior, θ = 0."""
     with_lam, active = _layout(lines)
-    u = _verticals(lines, np.zeros(7))
+    u = _verticals(lines, np.zeros(len(lines.prior_sigma)))
     g = gls.equal_weight_point(lines.p.T[:, :, None], u.T[:, :, None])[:, 0]
     return np.concatenate([g, [lines.wire.scale_mm] * with_lam, np.zeros(len(active))])
 
@@ -317,13 +358,18 @@ def _loo_statistic(state: _State, hessian: FloatArray, local: int) -> float:
     u = state.u[local]
     uu = np.outer(u, u)
     m, w, r = state.design[local], state.weights[local], state.residuals[local]
+    pull = m.T @ (w @ r)  # what the line pulls the joint estimate by
+    if len(state.norm_residuals):  # the hang's gravity norm leaves with it
+        dn, wn = state.norm_design[local], state.norm_weights[local]
+        hessian = hessian - wn * np.outer(dn, dn)
+        pull = pull + dn * (wn * state.norm_residuals[local])
     try:
         h_inv = np.linalg.inv(hessian - m.T @ w @ m)
     except np.linalg.LinAlgError:
         return 0.0  # the others do not determine an estimate: nothing to test against
     if not np.all(np.isfinite(h_inv)) or np.any(np.diag(h_inv) < 0):
         return 0.0
-    r_other = r + m @ (h_inv @ (m.T @ (w @ r)))
+    r_other = r + m @ (h_inv @ pull)
     lateral = np.linalg.inv(w + uu) - uu
     v = lateral + m @ h_inv @ m.T
     wv = np.linalg.inv(v + uu) - uu
@@ -343,6 +389,9 @@ def fit_shared(
     ids: Sequence[str] | None = None,
     outlier_probability: float = tolerances.OUTLIER_PROBABILITY,
     sensor_turned: npt.ArrayLike | None = None,
+    *,
+    acc_g: npt.ArrayLike | None = None,
+    norm_var_g2: npt.ArrayLike | None = None,
 ) -> SharedFit:
     """The CoG of one test's hangs with the shared sensor parameters (and λ) estimated jointly.
 
@@ -358,7 +407,7 @@ def fit_shared(
     errors : LineErrors
         The per-hang errors (play, wire scatter, the reading's own errors).
     wire : WireTerm
-    prior_sigma : array_like, shape (7,)
+    prior_sigma : array_like, shape (7,) or (9,)
         Prior σ of each shared parameter (0: known to be 0, not estimated).
     config : InclinometerConfig, optional
     ids : sequence of str, optional
@@ -367,6 +416,12 @@ def fit_shared(
     sensor_turned : array_like of bool, shape (k,), optional
         Hangs read with the sensor turned 180° on its mount (reversals; default none): with
         the same point hung both ways, the zero offsets are determined.
+    acc_g : array_like, shape (k, 3), optional
+        An accelerometer's mean readings (g, its own axes; ``config.device`` must be
+        ``"accelerometer"``): they replace the angles (pass zeros for those), the shared
+        parameters are :data:`cadcog.rig.accelerometer.ACCEL_SHARED_PARAMETERS` (``prior_sigma``
+        of shape (9,)), and each hang's gravity norm is a residual of its own
+        (:func:`cadcog.rig.accelerometer.accel_norms`), with variance ``norm_var_g2`` (k,).
 
     Raises
     ------
@@ -394,6 +449,10 @@ def fit_shared(
     p = np.atleast_2d(np.asarray(positions_mm, dtype=float))
     k = len(p)
     names = [str(j) for j in range(k)] if ids is None else list(ids)
+    cfg = config or InclinometerConfig()
+    if (acc_g is not None) != cfg.accelerometer or (acc_g is not None) != (norm_var_g2 is not None):
+        raise ValueError("acc_g and norm_var_g2 go together, with an accelerometer's config")
+    n_shared = len(shared_parameter_names(cfg))
     lines = _Lines(
         p,
         np.asarray(inc_x_deg, dtype=float).reshape(k),
@@ -402,11 +461,13 @@ def fit_shared(
         np.atleast_2d(np.asarray(normals, dtype=float)),
         errors,
         wire,
-        np.asarray(prior_sigma, dtype=float).reshape(7),
-        config or InclinometerConfig(),
+        np.asarray(prior_sigma, dtype=float).reshape(n_shared),
+        cfg,
         np.zeros(k, dtype=bool)
         if sensor_turned is None
         else np.asarray(sensor_turned, dtype=bool).reshape(k),
+        None if acc_g is None else np.asarray(acc_g, dtype=float).reshape(k, 3),
+        None if norm_var_g2 is None else np.asarray(norm_var_g2, dtype=float).reshape(k),
     )
     if np.any(lines.prior_sigma < 0):
         raise ValueError("prior σ of the shared sensor parameters must be non-negative")
@@ -417,12 +478,13 @@ def fit_shared(
             state.scale_information, state.shape, np.trace(state.weights, axis1=1, axis2=2)
         )
     )
-    shared = np.zeros(7)
-    shared_sigma = np.zeros(7)
+    shared = np.zeros(n_shared)
+    shared_sigma = np.zeros(n_shared)
     off = 3 + with_lam
     shared[active] = state.x[off:]
     shared_sigma[active] = np.sqrt(np.diag(cov)[off:])
-    dof = 2 * k - 3 - (1 if wire.estimate else 0)
+    # Each hang's gravity norm is one more observation.
+    dof = 2 * k - 3 - (1 if wire.estimate else 0) + len(state.norm_residuals)
     residuals = _residuals(lines, state, names, dof, outlier_probability)
     return SharedFit(
         state.x[:3].copy(),

@@ -19,8 +19,9 @@ import numpy as np
 from cadcog.core import tolerances
 from cadcog.core.paramfile import TableReader, read_toml
 from cadcog.core.tolerances import MIN_SOLID_DIMENSION_MM
+from cadcog.rig.accelerometer import SQUARE_AXES, axes_problem
 from cadcog.rig.geometry import AXIS_NAMES, FACES, face_plane_mm
-from cadcog.rig.inclinometer import InclinometerConfig, SensorModel
+from cadcog.rig.inclinometer import DEVICES, InclinometerConfig, SensorModel
 from cadcog.rig.parameters import (
     INCLINOMETER_MODELS,
     WIRE_MODELS,
@@ -146,8 +147,22 @@ def load_rig(path: str | Path) -> Rig:
 MAX_ADC_STEP_DEG = 1.0
 
 
+#: Keys of an ``[inclinometer]`` table that only an angle-reading device has.
+_ANGLE_ONLY_KEYS = (
+    "range_deg", "sign_x", "sign_y", "adc_bits", "adc_reference_v", "sensitivity_v_per_deg",
+    "zero_v", "offset_deg",
+)  # fmt: skip
+
+
 def _inclinometer(t: TableReader) -> InclinometerConfig:
-    """The ``[inclinometer]`` table: range required, the rest defaulting to the paper's rig."""
+    """The ``[inclinometer]`` table: range required, the rest defaulting to the paper's rig
+    (or, with ``device = "accelerometer"``, :func:`_accelerometer`)."""
+    device = t.string("device", choices=DEVICES, default="inclinometer")
+    if device == "accelerometer":
+        return _accelerometer(t)
+    for key in ("axes", "offset_g", "gravity_norm_sigma_g"):
+        if t.has(key):
+            raise t.error(key, 'an accelerometer\'s figure: declare device = "accelerometer"')
     d, ds = InclinometerConfig(), SensorModel()
     range_deg = t.number("range_deg", positive=True)
     if range_deg > 90.0:
@@ -179,6 +194,51 @@ def _inclinometer(t: TableReader) -> InclinometerConfig:
             f"the ADC step is {lsb:.3g}° (adc_reference_v / 2^adc_bits / sensitivity_v_per_deg): "
             f"expected at most {MAX_ADC_STEP_DEG:g}° for an inclinometer that can locate a CoG",
         )
+    t.finish()
+    return config
+
+
+def _accelerometer(t: TableReader) -> InclinometerConfig:
+    """An ``[inclinometer]`` table with ``device = "accelerometer"``: a three-axis
+    accelerometer (:mod:`cadcog.rig.accelerometer`), its mounting and shared figures."""
+    for key in _ANGLE_ONLY_KEYS:
+        if t.has(key):
+            hint = " (declare offset_g, in g)" if key == "offset_deg" else ""
+            raise t.error(
+                key, f"an angle-reading inclinometer's figure; an accelerometer has none{hint}"
+            )
+    d = InclinometerConfig()
+    axes = tuple(t.strings("axes")) if t.has("axes") else SQUARE_AXES
+    problem = axes_problem(axes)
+    if problem is not None:
+        raise t.error("axes", problem)
+    offset_g = t.number("offset_g", nonnegative=True, default=0.0)
+    if offset_g >= 0.5:
+        raise t.error("offset_g", f"expected a zero offset below 0.5 g, got {offset_g:g}")
+    scale = t.number("scale_error_rel", nonnegative=True, default=d.scale_error_rel)
+    if scale >= 0.5:
+        raise t.error("scale_error_rel", f"expected a fraction below 0.5, got {scale:g}")
+    mounting = t.number(
+        "mounting_misalignment_deg", nonnegative=True, default=d.mounting_misalignment_deg
+    )
+    if mounting > 45.0:
+        raise t.error(
+            "mounting_misalignment_deg",
+            f"expected at most 45° (a larger turn is another axes = [...]); got {mounting:g}",
+        )
+    norm_sigma = t.number("gravity_norm_sigma_g", positive=True, default=d.gravity_norm_sigma_g)
+    if norm_sigma > 0.1:
+        raise t.error("gravity_norm_sigma_g", f"expected at most 0.1 g, got {norm_sigma:g}")
+    config = InclinometerConfig(
+        range_deg=90.0,
+        accuracy_deg=t.number("accuracy_deg", nonnegative=True, default=0.0),
+        scale_error_rel=scale,
+        mounting_misalignment_deg=mounting,
+        device="accelerometer",
+        axes=axes,  # type: ignore[arg-type]
+        offset_g=offset_g,
+        gravity_norm_sigma_g=norm_sigma,
+    )
     t.finish()
     return config
 

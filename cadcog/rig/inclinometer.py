@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from cadcog.core.errors import UnsupportedSensorError
 from cadcog.core.units import deg_to_rad, rad_to_deg
 
 FloatArray = npt.NDArray[np.float64]
@@ -92,6 +93,20 @@ class InclinometerConfig:
     mounting_misalignment_deg : float
         The sensor's axes lie within this angle of the object's (any axis, uniform in angle),
         the same on every hang.
+    device : "inclinometer" or "accelerometer"
+        What the sensor reads: two angles (the default), or the three components of the
+        specific force in g (:mod:`cadcog.rig.accelerometer`; no range limit, and the angle
+        figures above other than the mounting do not apply).
+    axes : tuple of 3 str
+        An accelerometer's nominal mounting: which object axis each sensor axis lies along
+        (:func:`cadcog.rig.accelerometer.axes_matrix`).
+    offset_g : float
+        An accelerometer's zero offset: each axis's within ±offset_g (uniform), the same on
+        every hang.
+    gravity_norm_sigma_g : float
+        How far (1σ) a settled accelerometer reading's calibrated magnitude may stray from 1 g
+        for reasons the offsets and sensitivities do not model (nonlinearity, drift): the
+        weight of the gravity-norm calibration (:func:`cadcog.rig.accelerometer.accel_norms`).
 
     The three shared figures are what one sensor brings to every hang of a test
     (:func:`sensor_readings` is their definition); the estimator calibrates them jointly with
@@ -106,6 +121,39 @@ class InclinometerConfig:
     offset_deg: float = 0.0
     scale_error_rel: float = 0.0
     mounting_misalignment_deg: float = 0.0
+    device: str = "inclinometer"
+    axes: tuple[str, str, str] = ("+x", "+y", "+z")
+    offset_g: float = 0.0
+    gravity_norm_sigma_g: float = 0.002
+
+    @property
+    def accelerometer(self) -> bool:
+        """Whether the sensor is a three-axis accelerometer."""
+        return self.device == "accelerometer"
+
+
+#: The devices an ``[inclinometer]`` table may declare.
+DEVICES = ("inclinometer", "accelerometer")
+
+
+def require_angle_sensor(device: str, what: str) -> None:
+    """Raise :class:`~cadcog.core.errors.UnsupportedSensorError` unless ``device`` is a
+    dual-axis inclinometer: ``what`` (a simulation, a prediction) models only its readings.
+
+    Examples
+    --------
+    >>> require_angle_sensor("inclinometer", "cadcog budget")
+    >>> require_angle_sensor("accelerometer", "cadcog budget")
+    Traceback (most recent call last):
+    ...
+    cadcog.core.errors.UnsupportedSensorError: cadcog budget models a dual-axis inclinometer ...
+    """
+    if device == "accelerometer":
+        raise UnsupportedSensorError(
+            f"{what} models a dual-axis inclinometer only; this set-up's [inclinometer] declares "
+            'device = "accelerometer", which cadcog estimate and cadcog acquire --log take '
+            "(docs/bench.md: a phone or an accelerometer)"
+        )
 
 
 @dataclass(frozen=True)

@@ -218,6 +218,7 @@ def plan_test(
     checks = [check_candidate(setup, c) for c in setup.candidates]
     usable = tuple(c for c, k in zip(setup.candidates, checks, strict=True) if k.usable)
     model = setup.error_model()
+    model.require_angle_sensor("cadcog plan")
 
     def nothing(reason: str) -> Plan:
         """The plan that recommends nothing, and why."""

@@ -224,6 +224,7 @@ def draw_perturbations(
     shared errors, when the model declares them, are drawn last (one sensor per campaign), so a
     model without them draws the same numbers as before they existed.
     """
+    model.require_angle_sensor("the Monte Carlo")
     me = model.sample_me_errors(rng, n)
     play = model.sample_play(rng, n, k)
     wire = model.sample_wire(rng, n, k)

@@ -1,0 +1,211 @@
+"""A test from a recorded log: ``cadcog acquire --log`` (a phone's phyphox export, or any
+accelerometer's log).
+
+:func:`acquire_log` reads the log (:mod:`cadcog.bench.accellog`), cuts it into hangs with the
+bench's settle criterion (:mod:`cadcog.bench.logsegments`), gives them the planned points in
+the order given, writes the readings CSV (an accelerometer's columns, one row per 0.05 s bin
+of each averaged span) and estimates the CoG from that file exactly as ``cadcog estimate``
+does. Nothing is written unless every hang was found and the estimate could be computed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from cadcog.bench.accellog import LogError, LogFormat, read_log
+from cadcog.bench.logsegments import BIN_S, LogHang, Segmentation, segment_log
+from cadcog.core.errors import CadcogError
+from cadcog.core.fileio import staged_file
+from cadcog.core.results import JsonResult
+from cadcog.core.units import rad_to_deg
+from cadcog.method.readings import ACC_COLUMNS, POSITION_COLUMNS, TURNED_COLUMN, format_face
+from cadcog.rig.accelerometer import axes_matrix
+
+#: A found hang whose direction is further than this (degrees) from what the CAD predicts for
+#: its planned point is reported: the order of the hangs may not be the order given.
+ORDER_WARNING_DEG = 10.0
+
+
+@dataclass(frozen=True, repr=False)
+class LogRun(JsonResult):
+    """What a log held and what it gives.
+
+    Attributes
+    ----------
+    data : dict
+        The command's ``--json``: the hangs found (time spans, samples, noise), what was not a
+        hang, the estimate and (set-ups) the comparison with the CAD.
+    estimate : CogEstimate
+    cad : dict or None
+    warnings : tuple of str
+        About the log (the estimate's own are in ``estimate.warnings``).
+    """
+
+    data: dict[str, Any]
+    estimate: Any
+    cad: dict[str, Any] | None
+    warnings: tuple[str, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        return self.data
+
+
+def _span(a: float, b: float) -> str:
+    return f"{a:.1f}-{b:.1f} s"
+
+
+def _count_problem(seg: Segmentation, hangs: Sequence[Any], log_path: Path) -> str | None:
+    """Why the log's hangs cannot be given the planned points (None when they can)."""
+    found, wanted = len(seg.hangs), len(hangs)
+    if found == wanted:
+        return None
+    spans = ", ".join(_span(h.settled_s, h.end_s) for h in seg.hangs) or "none"
+    parts = [f"{log_path}: {found} settled hang(s) in the log for {wanted} point(s) "]
+    parts.append(f"({', '.join(h.id for h in hangs)}); settled: {spans}")
+    for u in seg.unsettled:
+        parts.append(
+            f"; a hang never settled at {_span(u.start_s, u.end_s)} (its swing stayed above "
+            f"{u.amplitude_deg:.2f}°): redo it, or leave its point out of --points"
+        )
+    if seg.rests:
+        parts.append(
+            "; still but not released (no swing before it, a rest on a table?): "
+            + ", ".join(_span(a, b) for a, b in seg.rests)
+        )
+    if seg.short_spans:
+        parts.append(
+            "; settled too briefly to average (below --average-s): "
+            + ", ".join(_span(a, b) for a, b in seg.short_spans)
+        )
+    return "".join(parts)
+
+
+def readings_text(planned: Sequence[Any], found: Sequence[LogHang], log_path: Path) -> str:
+    """The readings CSV of the hangs: one row per averaged bin, a comment per hang."""
+    turned = any(h.sensor_turned for h in planned)
+    head = [*POSITION_COLUMNS, *ACC_COLUMNS, *((TURNED_COLUMN,) if turned else ()), "t_s"]
+    lines = [
+        f"# cadcog acquire --log {log_path.name}: one row per {BIN_S:g} s bin of each settled span",
+        ",".join(head),
+    ]
+    for p, h in zip(planned, found, strict=True):
+        x, y, z = (f"{float(c):.3f}" for c in p.position_mm)
+        flag = f",{format_face(p.sensor_turned)}" if turned else ""
+        lines.append(
+            f"# hang {p.id}: released {h.start_s:.2f} s, settled {h.settled_s:.2f} s, averaged "
+            + ", ".join(_span(a, b) for a, b in h.spans_s)
+            + f" ({len(h.t_s)} bins), swing {h.swing_start_deg:.2f}° after release"
+        )
+        for t, a in zip(h.t_s, h.acc_g, strict=True):
+            lines.append(f"{p.id},{x},{y},{z},{a[0]:.7f},{a[1]:.7f},{a[2]:.7f}{flag},{t:.3f}")
+    return "\n".join(lines) + "\n"
+
+
+def _order_warnings(target: Any, found: Sequence[LogHang]) -> list[str]:
+    """Hangs whose direction is far from the CAD's for their planned point."""
+    cfg = target.inclinometer
+    a = axes_matrix(cfg.axes)
+    g = target.assembly.cog_mm
+    out = []
+    for p, h in zip(target.hangs, found, strict=True):
+        u = np.asarray(p.position_mm, dtype=float) - g
+        expected = a @ (u / np.linalg.norm(u))
+        if p.sensor_turned:
+            expected[:2] *= -1.0
+        angle = float(rad_to_deg(np.arccos(np.clip(expected @ h.direction, -1.0, 1.0))))
+        if angle > ORDER_WARNING_DEG:
+            out.append(
+                f"hang {p.id} (settled {_span(h.settled_s, h.end_s)}) hangs {angle:.0f}° away "
+                f"from what the CAD predicts for {p.id}: were the hangs made in the order of "
+                "--points, and is [inclinometer] axes right?"
+            )
+    return out
+
+
+def acquire_log(
+    target: Any,
+    log_path: Path,
+    out: Path,
+    *,
+    fmt: LogFormat = "phyphox",
+    criterion: Any = None,
+    min_average_s: float = 10.0,
+    say: Callable[[str], None] = lambda _text: None,
+) -> LogRun:
+    """Cut the log at ``log_path`` into ``target``'s hangs, write ``out``, estimate the CoG.
+
+    Raises
+    ------
+    CadcogError
+        The set-up's sensor is not an accelerometer; the log cannot be read
+        (:class:`~cadcog.bench.accellog.LogError`); it holds more or fewer settled hangs than
+        planned points (naming the spans found, a hang that never settled and its span); the
+        estimate cannot be computed. Nothing is written then.
+    """
+    from cadcog.bench.swing import SettleCriterion
+    from cadcog.bench.target import estimate_hangs
+    from cadcog.method.readings import read_readings
+
+    cfg = target.inclinometer
+    if not cfg.accelerometer:
+        raise CadcogError(
+            f"--log: {target.source}: its [inclinometer] is an angle-reading inclinometer; a "
+            'log is an accelerometer\'s: declare device = "accelerometer" and its axes '
+            "(docs/bench.md: a phone or an accelerometer)"
+        )
+    log = read_log(log_path, fmt)
+    seg = segment_log(log, criterion or SettleCriterion(), min_average_s)
+    problem = _count_problem(seg, target.hangs, log_path)
+    if problem is not None:
+        raise LogError(problem)
+    say(
+        f"{log_path}: {len(log.t_s)} samples at {log.rate_hz:.0f} Hz over "
+        f"{log.t_s[-1] - log.t_s[0]:.0f} s; {len(seg.hangs)} hangs found"
+    )
+    warnings = _order_warnings(target, seg.hangs)
+    with staged_file(out) as staged:
+        staged.write_text(readings_text(target.hangs, seg.hangs, log_path))
+        suspensions = read_readings(staged, cfg)
+        estimate = estimate_hangs(target, suspensions)
+        cad = None
+        if target.setup is not None:
+            from cadcog.spacecraft.compare import compare_with_cad
+
+            cad = compare_with_cad(
+                target.setup, estimate.cog_mm, estimate.cov_mm2, estimate.compensation
+            )
+    data: dict[str, Any] = {
+        "log": {
+            "path": str(log_path),
+            "samples": len(log.t_s),
+            "rate_hz": log.rate_hz,
+            "duration_s": float(log.t_s[-1] - log.t_s[0]),
+        },
+        "hangs": [
+            {
+                "id": p.id,
+                "released_s": h.start_s,
+                "settled_s": h.settled_s,
+                "averaged_s": [list(s) for s in h.spans_s],
+                "bins": len(h.t_s),
+                "noise_g": float(np.max(h.acc_g.std(axis=0, ddof=1))),
+                "swing_after_release_deg": h.swing_start_deg,
+            }
+            for p, h in zip(target.hangs, seg.hangs, strict=True)
+        ],
+        "not_hangs": {
+            "rests_s": [list(r) for r in seg.rests],
+            "short_s": [list(r) for r in seg.short_spans],
+        },
+        "readings": str(out),
+        "estimate": estimate.to_dict(),
+        "warnings": warnings,
+    }
+    if cad is not None:
+        data["cad"] = cad
+    return LogRun(data, estimate, cad, tuple(warnings))
