@@ -4,14 +4,18 @@ Every line is ASCII, at most :data:`MAX_LINE_BYTES` long, ends with ``\\n`` (a `
 is ignored) and reads ``$BODY*CC``: ``CC`` is the CRC-8 of ``BODY`` (polynomial 0x07, initial
 value 0, no reflection, no final XOR: CRC-8/SMBUS) as two upper-case hex digits. Two kinds:
 
-- header ``$CCH,proto=1,device=...,sensor=...,value=adc_sum|angle,rate_hz=...,...*CC``: comma
-  separated ``key=value`` fields (unknown keys are ignored). ``value=adc_sum``: each sample is
-  the sum of ``oversample`` conversions of an ``adc_bits``-bit ADC with reference ``vref_v``
-  volts. ``value=angle``: each sample is an angle in units of ``deg_per_lsb`` degrees. The
-  device sends it at start, every few seconds, and when it receives ``?``;
-- sample ``$CCS,seq,t_ms,x,y,status*CC``: integers; ``seq`` counts samples (uint32, wraps),
-  ``t_ms`` is the device clock in ms (uint32, wraps), ``x`` and ``y`` the two axes in the
-  header's unit, ``status`` 0 when the device saw no fault.
+- header ``$CCH,proto=1,device=...,sensor=...,value=adc_sum|angle|accel,rate_hz=...,...*CC``:
+  comma separated ``key=value`` fields (unknown keys are ignored). ``value=adc_sum``: each sample
+  is the sum of ``oversample`` conversions of an ``adc_bits``-bit ADC with reference ``vref_v``
+  volts. ``value=angle``: each sample is an angle in units of ``deg_per_lsb`` degrees.
+  ``value=accel``: each sample is a three-axis acceleration in units of ``lsb_g`` g (standard
+  gravity), from an accelerometer set to a range of ±``full_scale_g`` g. The device sends it at
+  start, every few seconds, and when it receives ``?``;
+- sample ``$CCS,seq,t_ms,x,y,status*CC``, or ``$CCS,seq,t_ms,x,y,z,status*CC`` (six fields)
+  from a three-axis ``accel`` device: integers; ``seq`` counts samples (uint32, wraps), ``t_ms``
+  is the device clock in ms (uint32, wraps), ``x``, ``y`` (and ``z``) the axes in the header's
+  unit, ``status`` 0 when the device saw no fault. An ``accel`` device sends six fields, every
+  other kind five; a sample of the other form than its header's is malformed.
 
 A malformed line (bad checksum, bad field, too long, not ASCII) is counted and skipped: noise on
 the link never stops a run. Reference: ``docs/bench.md``.
@@ -25,6 +29,18 @@ Examples
 >>> text = format_header(ANALOG_EXAMPLE) + "\\n" + line + "\\n"
 >>> [type(e).__name__ for e in p.feed(text.encode())]
 ['Header', 'Sample']
+
+A three-axis accelerometer (the ADXL355 at ±2 g: 256 000 LSB per g):
+
+>>> format_header(ACCEL_EXAMPLE).split(",")[4:]
+['value=accel', 'rate_hz=20', 'lsb_g=3.90625e-06', 'full_scale_g=2*55']
+>>> line = format_sample(8, 1550, -1024, 512, z=255000)
+>>> line
+'$CCS,8,1550,-1024,512,255000,0*4B'
+>>> p = LineParser()
+>>> header, sample = p.feed((format_header(ACCEL_EXAMPLE) + "\\n" + line + "\\n").encode())
+>>> sample.z, round(sample.z * header.lsb_g, 6)
+(255000, 0.996094)
 """
 
 from __future__ import annotations
@@ -40,7 +56,7 @@ PROTOCOL_VERSION = 1
 #: Longest line accepted, terminator excluded (bytes). Longer runs are noise.
 MAX_LINE_BYTES = 160
 
-ValueKind = Literal["adc_sum", "angle"]
+ValueKind = Literal["adc_sum", "angle", "accel"]
 
 _CRC_TABLE: list[int] = []
 for _i in range(256):
@@ -72,7 +88,7 @@ class Header:
     ----------
     device, sensor : str
         Free names (e.g. ``arduino-uno``, ``ACS-060``).
-    value : "adc_sum" or "angle"
+    value : "adc_sum", "angle" or "accel"
     rate_hz : float
         Samples per second.
     adc_bits : int or None
@@ -80,11 +96,15 @@ class Header:
     vref_v : float or None
         ``adc_sum`` only: ADC reference voltage (V).
     oversample : int
-        ``adc_sum``: conversions summed per sample; 1 for ``angle``.
+        ``adc_sum``: conversions summed per sample; 1 for ``angle`` and ``accel``.
     deg_per_lsb : float or None
         ``angle`` only: degrees per unit of x and y.
     proto : int
         Protocol version.
+    lsb_g : float or None
+        ``accel`` only: acceleration per unit of x, y and z, in g (standard gravity).
+    full_scale_g : float or None
+        ``accel`` only: the accelerometer's configured range, ±``full_scale_g`` g.
     """
 
     device: str
@@ -96,11 +116,15 @@ class Header:
     oversample: int = 1
     deg_per_lsb: float | None = None
     proto: int = PROTOCOL_VERSION
+    lsb_g: float | None = None
+    full_scale_g: float | None = None
 
     def describe(self) -> str:
         """One line for people: ``arduino-uno/ACS-060, 10-bit ADC at 5 V, ×16, 20 Hz``."""
         if self.value == "adc_sum":
             unit = f"{self.adc_bits}-bit ADC at {self.vref_v:g} V, x{self.oversample}"
+        elif self.value == "accel":
+            unit = f"3-axis accelerations of {self.lsb_g:g} g per LSB, ±{self.full_scale_g:g} g"
         else:
             unit = f"angles of {self.deg_per_lsb:g} deg per LSB"
         return f"{self.device}/{self.sensor}, {unit}, {self.rate_hz:g} Hz"
@@ -108,6 +132,9 @@ class Header:
 
 #: The paper's equipment as the analog sketch describes it (for examples and tests).
 ANALOG_EXAMPLE = Header("arduino-uno", "ACS-060", "adc_sum", 20.0, 10, 5.0, 16)
+
+#: The ADXL355 sketch's header at its ±2 g range (for examples and tests).
+ACCEL_EXAMPLE = Header("arduino", "ADXL355", "accel", 20.0, lsb_g=1 / 256_000, full_scale_g=2.0)
 
 
 @dataclass(frozen=True)
@@ -124,6 +151,8 @@ class Sample:
         Raw values in the header's unit.
     status : int
         0 when the device saw no fault.
+    z : int or None
+        The third axis of an ``accel`` device (a six-field line); None for the others.
     """
 
     seq: int
@@ -131,6 +160,7 @@ class Sample:
     x: int
     y: int
     status: int
+    z: int | None = None
 
 
 @dataclass
@@ -187,14 +217,22 @@ def format_header(h: Header) -> str:
     ]
     if h.value == "adc_sum":
         fields += [f"adc_bits={h.adc_bits}", f"vref_v={h.vref_v:g}", f"oversample={h.oversample}"]
+    elif h.value == "accel":
+        fields += [f"lsb_g={h.lsb_g!r}", f"full_scale_g={h.full_scale_g:g}"]
     else:
         fields.append(f"deg_per_lsb={h.deg_per_lsb!r}")
     return _checked(",".join(fields))
 
 
-def format_sample(seq: int, t_ms: int, x: int, y: int, status: int = 0) -> str:
-    """A sample line (no terminator); ``seq`` and ``t_ms`` are taken modulo 2³²."""
-    return _checked(f"CCS,{seq % 2**32},{t_ms % 2**32},{x},{y},{status}")
+def format_sample(
+    seq: int, t_ms: int, x: int, y: int, status: int = 0, *, z: int | None = None
+) -> str:
+    """A sample line (no terminator); ``seq`` and ``t_ms`` are taken modulo 2³².
+
+    With ``z`` (an ``accel`` device), the six-field form ``$CCS,seq,t_ms,x,y,z,status``.
+    """
+    axes = f"{x},{y}" if z is None else f"{x},{y},{z}"
+    return _checked(f"CCS,{seq % 2**32},{t_ms % 2**32},{axes},{status}")
 
 
 _NAME = re.compile(r"^[A-Za-z0-9_.+-]{1,32}$")
@@ -256,7 +294,17 @@ def parse_header(body: str) -> Header:
             deg_per_lsb=num("deg_per_lsb"),
             proto=proto,
         )
-    raise LineError(f"header value={value!r}: expected adc_sum or angle")
+    if value == "accel":
+        return Header(
+            kv["device"],
+            kv["sensor"],
+            "accel",
+            num("rate_hz"),
+            proto=proto,
+            lsb_g=num("lsb_g"),
+            full_scale_g=num("full_scale_g"),
+        )
+    raise LineError(f"header value={value!r}: expected adc_sum, angle or accel")
 
 
 def split_line(raw: bytes) -> tuple[str, str]:
@@ -282,14 +330,18 @@ def split_line(raw: bytes) -> tuple[str, str]:
     return kind, body
 
 
-def _parse_sample_fields(body: str) -> tuple[int, int, int, int, int]:
+def _parse_sample_fields(body: str) -> tuple[int, int, int, int, int | None, int]:
+    """``seq, t_ms, x, y, z, status`` of a sample body; ``z`` None in the five-field form."""
     parts = body.split(",")
-    if len(parts) != 6 or not all(_INT.match(p) for p in parts[1:]):
-        raise LineError("sample line needs 5 integers")
-    seq, t_ms, x, y, status = (int(p) for p in parts[1:])
+    if len(parts) not in (6, 7) or not all(_INT.match(p) for p in parts[1:]):
+        raise LineError("sample line needs 5 integers (6 with z)")
+    values = [int(p) for p in parts[1:]]
+    seq, t_ms, x, y = values[:4]
+    z = values[4] if len(values) == 6 else None
+    status = values[-1]
     if not (0 <= seq < 2**32 and 0 <= t_ms < 2**32 and status >= 0):
         raise LineError("sample seq/t_ms/status out of range")
-    return seq, t_ms, x, y, status
+    return seq, t_ms, x, y, z, status
 
 
 @dataclass
@@ -348,10 +400,14 @@ class LineParser:
             self.header = header
             self.stats.headers += 1
             return header
-        seq, t_ms, x, y, status = _parse_sample_fields(body)
+        seq, t_ms, x, y, z, status = _parse_sample_fields(body)
         if self.header is None:
             self.stats.before_header += 1
             return None
+        if (z is not None) != (self.header.value == "accel"):
+            raise LineError(
+                "an accel device's sample has x, y and z, any other device's x and y only"
+            )
         if self._last_seq is not None:
             gap = (seq - self._last_seq - 1) % 2**32
             if gap < 2**16:  # a larger jump is a restart, not a loss
@@ -363,4 +419,4 @@ class LineParser:
             self.stats.faults += 1
             return None
         self.stats.samples += 1
-        return Sample(seq, (t_ms + self._wraps * 2**32) / 1000.0, x, y, status)
+        return Sample(seq, (t_ms + self._wraps * 2**32) / 1000.0, x, y, status, z)

@@ -103,6 +103,8 @@ NAMED_BOUNDS: dict[str, Bound] = {
     "offset_deg": Bound(0.0, 5.0, "a sensor's zero offset per channel; datasheets: tenths of °"),
     "scale_error_rel": Bound(0.0, 0.2, "a channel's sensitivity error, a fraction (1 % is 0.01)"),
     "mounting_misalignment_deg": Bound(0.0, 10.0, "the sensor's axes against the object's"),
+    "offset_g": Bound(0.0, 0.3, "an accelerometer's zero offset per axis; datasheets: tens of mg"),
+    "gravity_norm_sigma_g": Bound(0.0, 0.1, "what an accelerometer's offsets and scales leave"),
     "frequency_model_rel": Bound(0.0, 0.1, "the swing model's relative frequency error (5e-4)"),
     "me_inertia_rel": Bound(0.0, 1.0, "the ME's inertia uncertainty, a fraction (0.3)"),
     "total_mass_kg": Bound(1e-6, MASS_MAX_KG, "a weighed total from 1 mg to 10 t"),

@@ -2,7 +2,8 @@
  *
  * Every line is "$BODY*CC" + "\r\n", CC the CRC-8/SMBUS (poly 0x07, init 0) of BODY in two
  * upper-case hex digits. Header: "$CCH,proto=1,device=...,sensor=...,value=...,..."; sample:
- * "$CCS,seq,t_ms,x,y,status". Specification: docs/bench.md; reader: cadcog/bench/protocol.py.
+ * "$CCS,seq,t_ms,x,y,status", or "$CCS,seq,t_ms,x,y,z,status" from a three-axis accelerometer
+ * (value=accel). Specification: docs/bench.md; reader: cadcog/bench/protocol.py.
  *
  * Plain C, no Arduino dependency (tests/bench/test_firmware.py compiles it on the host).
  * The same file sits in every sketch folder (the Arduino IDE compiles a sketch's own folder
@@ -52,6 +53,14 @@ static inline size_t cadcog_format_sample(char *buf, size_t cap, uint32_t seq, u
                                            (long)y, (unsigned)status));
 }
 
+/* One sample of a three-axis device (value=accel): x, y and z. */
+static inline size_t cadcog_format_sample3(char *buf, size_t cap, uint32_t seq, uint32_t t_ms,
+                                           int32_t x, int32_t y, int32_t z, uint8_t status) {
+  return cadcog_checked(buf, cap, snprintf(buf, cap, "$CCS,%lu,%lu,%ld,%ld,%ld,%u",
+                                           (unsigned long)seq, (unsigned long)t_ms, (long)x,
+                                           (long)y, (long)z, (unsigned)status));
+}
+
 /* Header of an ADC device: x and y are sums of `oversample` conversions. Numbers that may not
  * be integers are passed as text (avr-libc's printf has no %f). */
 static inline size_t cadcog_format_header_adc(char *buf, size_t cap, const char *device,
@@ -74,6 +83,20 @@ static inline size_t cadcog_format_header_angle(char *buf, size_t cap, const cha
                                  "$CCH,proto=%d,device=%s,sensor=%s,value=angle,rate_hz=%s,"
                                  "deg_per_lsb=%s",
                                  CADCOG_PROTOCOL_VERSION, device, sensor, rate_hz, deg_per_lsb));
+}
+
+/* Header of a three-axis accelerometer sending raw counts of `lsb_g` g (standard gravity) each,
+ * set to a range of +-`full_scale_g` g. The host's reader writes lsb_g as Python's repr() of the
+ * float and full_scale_g in its shortest %g form: pass them so for byte-identical lines. */
+static inline size_t cadcog_format_header_accel(char *buf, size_t cap, const char *device,
+                                                const char *sensor, const char *rate_hz,
+                                                const char *lsb_g, const char *full_scale_g) {
+  return cadcog_checked(buf, cap,
+                        snprintf(buf, cap,
+                                 "$CCH,proto=%d,device=%s,sensor=%s,value=accel,rate_hz=%s,"
+                                 "lsb_g=%s,full_scale_g=%s",
+                                 CADCOG_PROTOCOL_VERSION, device, sensor, rate_hz, lsb_g,
+                                 full_scale_g));
 }
 
 #endif /* CADCOG_PROTOCOL_H */

@@ -7,6 +7,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from cadcog.bench.protocol import (
+    ACCEL_EXAMPLE,
     ANALOG_EXAMPLE,
     Header,
     LineParser,
@@ -139,4 +140,114 @@ def test_bad_headers_are_rejected_with_a_reason(body, reason):
     p = LineParser()
     line = f"${body}*{crc8(body.encode()):02X}\n"
     assert p.feed(line.encode()) == []
+    assert reason in p.stats.first_rejected
+
+
+# Three-axis accelerometers: value=accel headers and six-field samples.
+
+MPU6050_EXAMPLE = Header("arduino", "MPU-6050", "accel", 20.0, lsb_g=1 / 16384, full_scale_g=2.0)
+
+
+@given(seq=U32, t_ms=U32, x=I32, y=I32, z=I32, status=st.integers(0, 255))
+def test_six_field_sample_lines_round_trip(seq, t_ms, x, y, z, status):
+    line = format_sample(seq, t_ms, x, y, status, z=z)
+    assert line.startswith(f"$CCS,{seq},{t_ms},{x},{y},{z},{status}*")
+    p = LineParser()
+    events = p.feed((format_header(ACCEL_EXAMPLE) + "\n" + line + "\r\n").encode())
+    if status == 0:
+        assert events[1:] == [Sample(seq, t_ms / 1000.0, x, y, 0, z)]
+    else:
+        assert events[1:] == [] and p.stats.faults == 1
+    assert p.stats.rejected == 0
+
+
+@pytest.mark.parametrize(
+    "header",
+    [
+        ACCEL_EXAMPLE,
+        MPU6050_EXAMPLE,
+        Header("uno", "ADXL355", "accel", 50.0, lsb_g=1 / 64_000, full_scale_g=8.0),
+    ],
+)
+def test_accel_headers_round_trip(header):
+    line = format_header(header)
+    assert f",value=accel,rate_hz={header.rate_hz:g},lsb_g=" in line
+    assert LineParser().feed((line + "\n").encode()) == [header]
+
+
+@given(
+    lsb_g=st.floats(min_value=1e-12, max_value=1e3, allow_nan=False, allow_infinity=False),
+    full_scale_g=st.sampled_from([2.0, 4.0, 8.0, 16.0, 2.048, 200.0]),
+)
+def test_any_accel_unit_round_trips_exactly(lsb_g, full_scale_g):
+    header = Header("uno", "acc", "accel", 20.0, lsb_g=lsb_g, full_scale_g=full_scale_g)
+    assert LineParser().feed((format_header(header) + "\n").encode()) == [header]
+
+
+def test_the_accel_fields_are_new_and_optional():
+    # Headers of the other kinds are built, written and read as before.
+    assert ANALOG_EXAMPLE.lsb_g is None and ANALOG_EXAMPLE.full_scale_g is None
+    assert "lsb_g" not in format_header(ANALOG_EXAMPLE)
+    assert ACCEL_EXAMPLE.describe() == (
+        "arduino/ADXL355, 3-axis accelerations of 3.90625e-06 g per LSB, ±2 g, 20 Hz"
+    )
+
+
+def test_five_field_samples_are_unchanged():
+    line = format_sample(7, 1500, 8123, 8201)
+    assert line == "$CCS,7,1500,8123,8201,0*BF"  # the bytes of protocol version 1 as first defined
+    assert format_sample(7, 1500, 8123, 8201, 0, z=None) == line
+    p = LineParser()
+    events = p.feed((format_header(ANALOG_EXAMPLE) + "\n" + line + "\n").encode())
+    assert events[1:] == [Sample(7, 1.5, 8123, 8201, 0)] and events[1].z is None
+
+
+@pytest.mark.parametrize(
+    ("header", "sample"),
+    [
+        (ANALOG_EXAMPLE, format_sample(1, 50, 10, 20, z=30)),  # z from a two-axis device
+        (ACCEL_EXAMPLE, format_sample(1, 50, 10, 20)),  # an accelerometer's sample without z
+    ],
+)
+def test_a_sample_of_the_wrong_form_for_its_header_is_rejected(header, sample):
+    p = LineParser()
+    events = p.feed((format_header(header) + "\n" + sample + "\n").encode())
+    assert events == [header]
+    assert p.stats.rejected == 1 and p.stats.samples == 0
+    assert "x, y and z" in p.stats.first_rejected
+
+
+def test_a_sample_needs_five_or_six_integers():
+    p = LineParser()
+    p.feed((format_header(ACCEL_EXAMPLE) + "\n").encode())
+    for body in ("CCS,1,50,10,20,30,40,0", "CCS,1,50,10", "CCS,1,50,10,20,x,0"):
+        assert p.feed(f"${body}*{crc8(body.encode()):02X}\n".encode()) == []
+    assert p.stats.rejected == 3 and "6 with z" in p.stats.first_rejected
+
+
+@pytest.mark.parametrize(
+    ("body", "reason"),
+    [
+        ("CCH,proto=1,device=a,sensor=b,value=accel,rate_hz=20,full_scale_g=2", "lacks lsb_g"),
+        ("CCH,proto=1,device=a,sensor=b,value=accel,rate_hz=20,lsb_g=1e-05", "lacks full_scale_g"),
+        ("CCH,proto=1,device=a,sensor=b,value=accel,rate_hz=20,lsb_g=0,full_scale_g=2", "positive"),
+        (
+            "CCH,proto=1,device=a,sensor=b,value=accel,rate_hz=20,lsb_g=1e-05,full_scale_g=-2",
+            "positive",
+        ),
+        (
+            "CCH,proto=1,device=a,sensor=b,value=accel,rate_hz=20,lsb_g=nan,full_scale_g=2",
+            "positive",
+        ),
+        (
+            "CCH,proto=1,device=a,sensor=b,value=accel,rate_hz=20,lsb_g=1e-05,full_scale_g=two",
+            "not a number",
+        ),
+    ],
+)
+def test_bad_accel_headers_are_rejected_with_a_reason(body, reason):
+    p = LineParser()
+    line = f"${body}*{crc8(body.encode()):02X}\n"
+    assert p.feed(line.encode()) == []
+    assert p.stats.rejected == 1 and p.header is None
     assert reason in p.stats.first_rejected

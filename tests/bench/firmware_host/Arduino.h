@@ -7,6 +7,8 @@
 
 #define A0 14
 #define A1 15
+#define SDA 18  // the Uno's A4
+#define SCL 19  // the Uno's A5
 #define LOW 0
 #define HIGH 1
 #define OUTPUT 1

@@ -1,10 +1,13 @@
 // Runs a sketch's setup() and loop() for RUN_S virtual seconds, printing its serial output.
 // Analog: conversion k of channel X reads 300 + k % 7, of channel Y 700 + (3 k) % 11.
-// SCL3300: an emulated sensor answers each frame during the next one (off-frame protocol), with
-// its own CRC (table-driven, independent of the sketch's); ANG_X of read k is -8000 + 3 k,
-// ANG_Y is 12000 - 5 k. Every request's CRC is checked; the commands go to stderr.
+// The host asks for a header ('?') once, at 1.5 s. The SPI and I2C buses go to the emulated chip
+// linked in with the harness (chip_*.cpp, see host_chip.h); options --NAME=VALUE are the chip's.
+#include <stdlib.h>
+
 #include "Arduino.h"
 #include "SPI.h"
+#include "Wire.h"
+#include "host_chip.h"
 
 #ifndef RUN_S
 #define RUN_S 5
@@ -12,8 +15,12 @@
 
 HostSerial Serial;
 HostSPI SPI;
+TwoWire Wire;
 static uint64_t now_us = 1000;
 static uint32_t conv_x, conv_y;
+
+uint64_t host_now_us() { return now_us; }
+void host_advance_us(uint32_t us) { now_us += us; }
 
 uint32_t micros() { return (uint32_t)now_us; }
 uint32_t millis() { return (uint32_t)(now_us / 1000); }
@@ -33,61 +40,89 @@ int HostSerial::read() {
   return '?';
 }
 
-static uint8_t crc_table[256];
-static uint8_t emu_crc(uint32_t frame) {
-  if (!crc_table[1]) {
-    for (int i = 0; i < 256; i++) {
-      uint8_t c = (uint8_t)i;
-      for (int b = 0; b < 8; b++) c = (c & 0x80) ? (uint8_t)((c << 1) ^ 0x1D) : (uint8_t)(c << 1);
-      crc_table[i] = c;
-    }
-  }
-  uint8_t c = 0xFF;
-  for (int shift = 24; shift >= 8; shift -= 8) c = crc_table[c ^ (uint8_t)(frame >> shift)];
-  return (uint8_t)~c;
-}
-static uint32_t pending = 0, request = 0, out_frame = 0;
-static int byte_index = 0;
-static uint32_t reads_x, reads_y;
+void digitalWrite(uint8_t pin, uint8_t value) { chip_pin(pin, value); }
+uint8_t HostSPI::transfer(uint8_t b) { return chip_spi_transfer(b); }
 
-static uint32_t respond(uint32_t req) {
-  uint8_t rs = emu_crc(req) == (uint8_t)(req & 0xFF) ? 1 : 3;
-  uint32_t op = req >> 24;  // R/W bit and address, as sent
-  uint16_t data = 0;
-  if (op == 0x24) data = (uint16_t)(int16_t)(-8000 + 3 * (int32_t)reads_x++);
-  else if (op == 0x28) data = (uint16_t)(int16_t)(12000 - 5 * (int32_t)reads_y++);
-  else if (op == 0x40) data = 0x00C1;
-  else if (op & 0x80) data = (uint16_t)((req >> 8) & 0xFFFF);  // a write echoes its data
-  uint32_t f = (op << 24) | ((uint32_t)rs << 24) | ((uint32_t)data << 8);
-  return f | emu_crc(f);
+// I2C at 400 kHz: about 25 us a byte with its acknowledge bit, start and stop included.
+void TwoWire::beginTransmission(uint8_t address) {
+  tx_address_ = address;
+  tx_len_ = 0;
 }
-void digitalWrite(uint8_t pin, uint8_t value) {
-  if (pin != 10) return;
-  if (value == LOW) {
-    out_frame = pending;
-    request = 0;
-    byte_index = 0;
-  } else {
-    fprintf(stderr, "SPI %08lX\n", (unsigned long)request);
-    pending = respond(request);
+size_t TwoWire::write(uint8_t b) {
+  if (tx_len_ >= sizeof tx_) return 0;
+  tx_[tx_len_++] = b;
+  return 1;
+}
+uint8_t TwoWire::endTransmission(bool) {
+  now_us += 25 * (tx_len_ + 1);
+  return chip_i2c_write(tx_address_, tx_, tx_len_) ? 0 : 2;
+}
+uint8_t TwoWire::requestFrom(uint8_t address, uint8_t quantity, bool) {
+  rx_len_ = rx_pos_ = 0;
+  if (quantity > sizeof rx_) quantity = sizeof rx_;
+  now_us += 25 * (quantity + 1);
+  if (!chip_i2c_read(address, rx_, quantity)) return 0;
+  rx_len_ = quantity;
+  return quantity;
+}
+int TwoWire::available() { return (int)(rx_len_ - rx_pos_); }
+int TwoWire::read() { return rx_pos_ < rx_len_ ? rx_[rx_pos_++] : -1; }
+
+static int host_argc;
+static char **host_argv;
+const char *host_option(const char *name) {
+  size_t n = strlen(name);
+  for (int i = 1; i < host_argc; i++) {
+    const char *a = host_argv[i];
+    if (a[0] == '-' && a[1] == '-' && strncmp(a + 2, name, n) == 0 && a[2 + n] == '=')
+      return a + 3 + n;
   }
+  return nullptr;
 }
-uint8_t HostSPI::transfer(uint8_t b) {
-  request = (request << 8) | b;
-  uint8_t out = (uint8_t)(out_frame >> (24 - 8 * byte_index));
-  byte_index++;
-  now_us += 4;
-  return out;
+
+static int32_t (*vectors)[3];
+static size_t n_vectors, next_vector;
+static void load_vectors() {
+  const char *path = host_option("vectors");
+  if (!path) return;
+  FILE *f = fopen(path, "r");
+  if (!f) {
+    fprintf(stderr, "cannot open %s\n", path);
+    exit(2);
+  }
+  long x, y, z;
+  size_t cap = 0;
+  while (fscanf(f, "%ld %ld %ld", &x, &y, &z) == 3) {
+    if (n_vectors == cap) {
+      cap = cap ? 2 * cap : 256;
+      vectors = (int32_t(*)[3])realloc(vectors, cap * sizeof *vectors);
+    }
+    vectors[n_vectors][0] = (int32_t)x;
+    vectors[n_vectors][1] = (int32_t)y;
+    vectors[n_vectors][2] = (int32_t)z;
+    n_vectors++;
+  }
+  fclose(f);
+}
+void host_next_xyz(int32_t xyz[3]) {
+  size_t k = next_vector++;
+  for (int i = 0; i < 3; i++)
+    xyz[i] = n_vectors ? vectors[k % n_vectors][i] : (int32_t)(1000 * (i + 1) + 7 * (int32_t)k);
 }
 
 void setup();
 void loop();
 
-int main() {
+int main(int argc, char **argv) {
+  host_argc = argc;
+  host_argv = argv;
+  load_vectors();
+  chip_start();
   setup();
   while (now_us < (uint64_t)RUN_S * 1000000ull) {
     loop();
     now_us += 50;
   }
+  chip_finish();
   return 0;
 }

@@ -1,0 +1,159 @@
+"""Recorded accelerometer logs (phyphox, plain CSV) and the readings file's acceleration columns."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cadcog.bench.accellog import LogError, log_text, read_log, write_log
+from cadcog.core.errors import ReadingsError
+from cadcog.method.readings import read_readings
+from cadcog.rig.inclinometer import InclinometerConfig
+
+G = 9.80665
+PHYPHOX_HEAD = (
+    '"Time (s)","Acceleration x (m/s^2)","Acceleration y (m/s^2)","Acceleration z (m/s^2)"'
+)
+ACCEL = InclinometerConfig(device="accelerometer")
+
+
+def _still(n: int = 300, rate: float = 100.0) -> tuple[np.ndarray, np.ndarray]:
+    t = np.arange(n) / rate
+    return t, np.tile([0.1, -0.2, 0.97467943], (n, 1))
+
+
+@given(
+    st.lists(
+        st.tuples(st.floats(-2.0, 2.0), st.floats(-2.0, 2.0), st.floats(0.7, 1.3)),
+        min_size=20,
+        max_size=60,
+    ),
+    st.sampled_from(["phyphox", "csv"]),
+)
+@settings(max_examples=40, deadline=None)
+def test_a_written_log_reads_back(tmp_path_factory, rows, fmt):
+    path = tmp_path_factory.mktemp("log") / "log.csv"
+    a = np.array([(x, y, np.sqrt(z * z)) for x, y, z in rows]) * 0.0
+    a[:, 2] = 1.0  # a magnitude that is gravity; the other axes as drawn, small
+    a[:, 0] = np.array([r[0] for r in rows]) * 0.01
+    t = 0.02 * np.arange(len(rows)) + 3.5
+    write_log(path, t, a, fmt)
+    log = read_log(path, fmt)
+    np.testing.assert_allclose(log.t_s, t, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(log.acc_g, a, rtol=1e-8, atol=1e-7)
+    assert log.lines.tolist() == list(range(2, len(rows) + 2))
+
+
+def test_phyphox_in_semicolons_with_decimal_commas_reads_as_in_commas(tmp_path):
+    t, a = _still()
+    text = log_text(t, a, "phyphox")
+    european = "\n".join(
+        ";".join(f.replace(".", ",") for f in line.split(",")) for line in text.splitlines()
+    )
+    (tmp_path / "eu.csv").write_text(european + "\n")
+    (tmp_path / "us.csv").write_text(text)
+    np.testing.assert_array_equal(
+        read_log(tmp_path / "eu.csv").acc_g, read_log(tmp_path / "us.csv").acc_g
+    )
+
+
+def test_the_unit_is_converted_in_one_place(tmp_path):
+    (tmp_path / "l.csv").write_text(
+        "t_s,ax,ay,az\n" + "".join(f"{i / 50},0,0,{G}\n" for i in range(100))
+    )
+    assert read_log(tmp_path / "l.csv", "csv").acc_g[0].tolist() == [0.0, 0.0, 1.0]
+
+
+@pytest.mark.parametrize(
+    ("text", "fmt", "message"),
+    [
+        ("a,b,c\n1,2,3\n", "phyphox", r"line 1: expected phyphox's header"),
+        ("ax,ay,az\n0,0,9.8\n", "csv", r"line 1: expected the header t_s,ax,ay,az"),
+        (
+            '"Time (s)","Linear Acceleration x (m/s^2)","Linear Acceleration y (m/s^2)",'
+            '"Linear Acceleration z (m/s^2)"\n0,0,0,0\n',
+            "phyphox",
+            "Linear Acceleration",
+        ),
+        (PHYPHOX_HEAD + "\n0,0,0,9.8\n0.01,0,zero,9.8\n", "phyphox", r"line 3: column "),
+        (PHYPHOX_HEAD + "\n0,0,0,9.8\n0.01,0,0\n", "phyphox", r"line 3: expected 4 fields"),
+        (PHYPHOX_HEAD + "\n0,0,0,9.8\n0.01,0,nan,9.8\n", "phyphox", r"line 3: .*not finite"),
+        (
+            PHYPHOX_HEAD + "\n0,0,0,9.8\n0.02,0,0,9.8\n0.01,0,0,9.8\n",
+            "phyphox",
+            r"line 4: time 0.01 s does not increase",
+        ),
+        (PHYPHOX_HEAD + "\n", "phyphox", r"0 sample\(s\)"),
+        ("", "phyphox", "empty file"),
+    ],
+)
+def test_bad_logs_name_the_file_and_line(tmp_path, text, fmt, message):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(LogError, match=message) as info:
+        read_log(path, fmt)
+    assert str(path) in str(info.value)
+
+
+def test_a_log_too_slow_for_a_swing_is_refused(tmp_path):
+    t = np.arange(40) * 0.2  # 5 Hz
+    write_log(tmp_path / "slow.csv", t, np.tile([0, 0, 1.0], (40, 1)), "phyphox")
+    with pytest.raises(LogError, match=r"every 200 ms \(5 Hz.*too slow"):
+        read_log(tmp_path / "slow.csv")
+
+
+@pytest.mark.parametrize(("scale", "shown"), [(0.0, "0 m/s²"), (1000.0, "9.81e\\+03 m/s²")])
+def test_a_magnitude_that_cannot_be_gravity_is_refused(tmp_path, scale, shown):
+    t, a = _still()
+    write_log(tmp_path / "l.csv", t, a * scale, "phyphox")
+    with pytest.raises(LogError, match=f"median magnitude is {shown}, which cannot be gravity"):
+        read_log(tmp_path / "l.csv")
+
+
+def test_a_binary_file_and_a_folder_are_refused(tmp_path):
+    (tmp_path / "b.csv").write_bytes(b"\x00\x01" * 10)
+    with pytest.raises(LogError, match="binary"):
+        read_log(tmp_path / "b.csv")
+    with pytest.raises(LogError, match="is a directory"):
+        read_log(tmp_path)
+
+
+# --- the readings file's acceleration columns -------------------------------------------------
+HEAD = "point_id,x_mm,y_mm,z_mm,acc_x_g,acc_y_g,acc_z_g"
+
+
+def test_acceleration_rows_average_per_point(tmp_path):
+    p = tmp_path / "r.csv"
+    p.write_text(
+        HEAD + "\nS1,0,0,10,0.6,0.0,0.8\nS1,0,0,10,0.62,0.0,0.78\nS2,10,0,0,0,0,-1.0\n"
+    )
+    s1, s2 = read_readings(p, ACCEL)
+    assert s1.n_samples == 2 and s1.acc_g == pytest.approx((0.61, 0.0, 0.79))
+    assert s1.std_acc_g == pytest.approx((0.01 * 2**0.5, 0.0, 0.01 * 2**0.5))
+    assert s1.top_face_up and not s2.top_face_up
+    assert np.sin(np.radians(s1.inc_x_deg)) == pytest.approx(0.61 / np.hypot(0.61, 0.79))
+
+
+@pytest.mark.parametrize(
+    ("text", "config", "message"),
+    [
+        (HEAD + "\nS1,0,0,1,0,0,1\n", InclinometerConfig(), "an accelerometer's readings"),
+        (
+            "point_id,x_mm,y_mm,z_mm,inc_x_deg,inc_y_deg,top_face_up\nS1,0,0,1,0,0,true\n",
+            ACCEL,
+            "expected the columns acc_x_g",
+        ),
+        (HEAD + ",top_face_up\nS1,0,0,1,0,0,1,true\n", ACCEL, "column top_face_up beside"),
+        ("point_id,x_mm,y_mm,z_mm,acc_x_g,acc_y_g\nS1,0,0,1,0,0\n", ACCEL, "missing column"),
+        (HEAD + "\nS1,0,0,1,0,0,25\n", ACCEL, "line 2: column acc_z_g: 25 g is beyond"),
+        (HEAD + "\nS1,0,0,1,0,0,0.01\nS2,1,0,0,0,0,1\n", ACCEL, "line 2: point S1: the mean"),
+    ],
+)
+def test_bad_acceleration_readings_name_the_file_and_line(tmp_path, text, config, message):
+    p = tmp_path / "r.csv"
+    p.write_text(text)
+    with pytest.raises(ReadingsError, match=message) as info:
+        read_readings(p, config)
+    assert str(p) in str(info.value)
