@@ -13,19 +13,20 @@ it is cut offline:
    translation that does not tilt is not stillness either), each less the sensor noise's share
    (estimated in the same window from consecutive bins' differences, which a swing of a few Hz
    hardly moves): a phone's noise alone would otherwise read as a swing of 0.1°;
-3. a run of still bins longer than ``hold_s`` is settled from ``hold_s`` after its start to its
-   end;
+3. a run of still bins longer than ``hold_s`` is settled from ``hold_s`` after its start to one
+   window before its end (the window that ended it already held the start of the motion);
 4. consecutive settled spans whose mean directions agree within :data:`SAME_HANG_DEG` are one
    hang (a knock during the averaging, the swing settling again at the same rest); one whose
    spans add up to less than ``min_average_s`` is a pause in the handling, not a hang;
 5. a hang was released: between the end of the handling before it (the last bin whose
-   magnitude strays more than :data:`SWING_MAGNITUDE_G` from 1 g) and its settling, once the
+   magnitude strays more than :data:`SWING_MAGNITUDE_G` from the hang's own rest magnitude: an
+   uncalibrated part reads 1 g within its offsets and sensitivities) and its settling, once the
    window is clear of the handling, it swung above :data:`SWING_FACTOR` × the threshold. A
    settled stretch without that swing is a rest (the object set down on a table, the phone
    before it was fixed), not a hang;
 6. what lies between two hangs is handling, unless it looks like a swing that never settled:
-   magnitude within :data:`SWING_MAGNITUDE_G` of 1 g and the amplitude above the threshold
-   throughout, for longer than twice ``hold_s``.
+   magnitude within :data:`SWING_MAGNITUDE_G` of the hangs' median rest magnitude and the
+   amplitude above the threshold throughout, for longer than twice ``hold_s``.
 """
 
 from __future__ import annotations
@@ -220,7 +221,9 @@ def segment_log(
     amp = amplitudes_deg(mean, full, window)
     still = full & (amp < criterion.threshold_deg)
     hold = round(criterion.hold_s / BIN_S)
-    spans = [(a + hold, b) for a, b in _runs(still) if b - a > hold]
+    # A run ends when the window ending at a bin first spreads beyond the threshold: the motion
+    # began up to a window earlier, so the run's last window is not averaged.
+    spans = [(a + hold, b - window) for a, b in _runs(still) if b - window - a > hold]
     found = _merge(spans, t, mean, full, amp, window)
     short = [(h.settled_s, h.end_s) for h in found if h.averaged_s < min_average_s]
     found = [h for h in found if h.averaged_s >= min_average_s]
@@ -262,10 +265,11 @@ def _merge(
         # or the end of the previous hang.
         lo = previous_end
         mag = np.linalg.norm(np.where(full[:, None], mean, 1.0), axis=1)
-        handled = np.flatnonzero(np.abs(mag[lo:first] - 1.0) > SWING_MAGNITUDE_G)
-        release = lo + (int(handled[-1]) + 1 if len(handled) else 0)
         idx = np.concatenate([np.arange(a, b) for a, b in group])
         idx = idx[full[idx]]
+        rest = float(np.linalg.norm(mean[idx].mean(axis=0)))
+        handled = np.flatnonzero(np.abs(mag[lo:first] - rest) > SWING_MAGNITUDE_G)
+        release = lo + (int(handled[-1]) + 1 if len(handled) else 0)
         start_amp = amp[min(release + window, first)]
         swung = amp[release + window : first]
         swung = swung[np.isfinite(swung)]
@@ -300,10 +304,11 @@ def _unsettled(
     for h in hangs:
         inside[(t >= h.start_s) & (t <= h.end_s)] = True
     mag = np.linalg.norm(np.where(full[:, None], mean, 0.0), axis=1)
+    rest = float(np.median([np.linalg.norm(h.acc_g.mean(axis=0)) for h in hangs])) if hangs else 1.0
     swinging = (
         full
         & ~inside
-        & (np.abs(mag - 1.0) <= SWING_MAGNITUDE_G)
+        & (np.abs(mag - rest) <= SWING_MAGNITUDE_G)
         & np.isfinite(amp)
         & (amp >= threshold_deg)
     )

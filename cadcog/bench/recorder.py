@@ -89,8 +89,15 @@ def device_units(header: Header, config: InclinometerConfig, port: str) -> Devic
     ------
     LinkError
         If an ADC device's resolution or reference differs from the configured sensor model
-        (its counts would be converted to the wrong angles).
+        (its counts would be converted to the wrong angles), or the device is an accelerometer
+        (recorded as a log instead: :mod:`cadcog.bench.logrecorder`).
     """
+    if header.value == "accel":
+        raise LinkError(
+            f"{port}: the device is a three-axis accelerometer ({header.describe()}), but the "
+            "set-up's [inclinometer] declares an angle-reading inclinometer: declare "
+            'device = "accelerometer" and its axes (docs/bench.md)'
+        )
     if header.value == "adc_sum":
         s = config.sensor
         if header.adc_bits != s.adc_bits or abs((header.vref_v or 0.0) - s.adc_reference_v) > 1e-3:

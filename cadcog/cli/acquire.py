@@ -57,6 +57,19 @@ def add_parser(sub: Any) -> None:
         '[inclinometer] must declare device = "accelerometer" (docs/bench.md)',
     )
     p.add_argument(
+        "--log-out",
+        type=Path,
+        metavar="LOG",
+        help="--port with an accelerometer: where the recording goes, a t_s,ax_g,ay_g,az_g CSV "
+        "(default: beside --out, NAME.log.csv)",
+    )
+    p.add_argument(
+        "--duration-s",
+        type=float,
+        help="--port with an accelerometer: record this long (device time), then cut the hangs "
+        "(default: until Ctrl-C)",
+    )
+    p.add_argument(
         "--log-format",
         choices=("phyphox", "csv"),
         default="phyphox",
@@ -132,7 +145,23 @@ def add_parser(sub: Any) -> None:
         help="write the test record (hangs, link, CoG, CAD comparison) as an HTML page to DIR",
     )
     p.add_argument("--json", action="store_true", help="print the run's summary as JSON")
-    p.set_defaults(func=run, also_written=lambda a: [] if a.log else [default_or(a.swings, a.out)])
+    p.set_defaults(func=run, also_written=_also_written)
+
+
+def _also_written(args: argparse.Namespace) -> list[Path]:
+    """What a run writes beside ``--out``: the swings of a device run; a recording's log."""
+    if args.log is not None:
+        return []
+    if args.port is not None and (args.log_out is not None or args.duration_s is not None):
+        return [default_log(args)]
+    return [default_or(args.swings, args.out)]
+
+
+def default_log(args: argparse.Namespace) -> Path:
+    """Where a recording goes: ``--log-out``, else beside ``--out`` as NAME.log.csv."""
+    if args.log_out is not None:
+        return Path(args.log_out)
+    return Path(args.out).with_name(Path(args.out).stem + ".log.csv")
 
 
 def _target(args: argparse.Namespace) -> Any:
@@ -208,20 +237,25 @@ def _criterion(args: argparse.Namespace) -> Any:
         raise CadcogError(f"settle options: {exc}") from None
 
 
-def _run_log(args: argparse.Namespace) -> int:
-    """``--log``: the hangs cut from a recorded log."""
-    from cadcog.cli.estimate import print_cad_comparison, print_estimate
-    from cadcog.runs.acquire_log import acquire_log
-
+def _log_checks(args: argparse.Namespace, what: str) -> None:
+    """What a run from a log (or recorded as one) does not take."""
     for option, value in (("--swings", args.swings), ("--report", args.report)):
         if value is not None:
-            raise CadcogError(
-                f"{option}: not written from a log yet (a device run writes it: --port)"
-            )
+            raise CadcogError(f"{option}: not written from {what} yet (an inclinometer's is)")
     if args.setup is not None and args.points is None:
         raise CadcogError(
-            "--log with --setup: give --points, the hangs in the order the log holds them"
+            f"{what} with --setup: give --points, the hangs in the order they are made"
         )
+
+
+def _run_log(args: argparse.Namespace) -> int:
+    """``--log``: the hangs cut from a recorded log."""
+    from cadcog.runs.acquire_log import acquire_log
+
+    _log_checks(args, "a log")
+    for option in ("--log-out", "--duration-s"):
+        if getattr(args, option[2:].replace("-", "_")) is not None:
+            raise CadcogError(f"{option}: for recording from --port, not with --log")
     refuse_overwriting_inputs(
         args.out, {"--rig": args.rig, "--setup": args.setup, "--log": args.log}
     )
@@ -235,11 +269,41 @@ def _run_log(args: argparse.Namespace) -> int:
         min_average_s=args.average_s,
         say=lambda text: print(text, file=sys.stderr),
     )
+    return _print_log_run(args, run, args.log)
+
+
+def _run_recorded(args: argparse.Namespace, target: Any) -> int:
+    """``--port`` with an accelerometer: the test recorded as one log, then cut."""
+    from cadcog.runs.acquire_log import acquire_recorded
+
+    _log_checks(args, "an accelerometer's recording")
+    log_out = default_log(args)
+    refuse_overwriting_inputs(
+        log_out, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
+    )
+    run = acquire_recorded(
+        target,
+        args.port,
+        args.out,
+        log_out,
+        baud=args.baud,
+        duration_s=args.duration_s,
+        timeout_s=args.timeout_s,
+        criterion=_criterion(args),
+        min_average_s=args.average_s,
+        say=lambda text: print(text, file=sys.stderr),
+    )
+    return _print_log_run(args, run, log_out)
+
+
+def _print_log_run(args: argparse.Namespace, run: Any, log: Path) -> int:
+    from cadcog.cli.estimate import print_cad_comparison, print_estimate
+
     est = run.estimate
     if args.json:
         print(dumps_json(run.data), end="")
     else:
-        print(f"hangs cut from {args.log}:")
+        print(f"hangs cut from {log}:")
         for h in run.data["hangs"]:
             spans = ", ".join(f"{a:.1f}-{b:.1f}" for a, b in h["averaged_s"])
             print(
@@ -263,6 +327,8 @@ def run(args: argparse.Namespace) -> int:
     _check_numbers(args)
     if args.log is not None:
         return _run_log(args)
+    if args.duration_s is not None and not (np.isfinite(args.duration_s) and args.duration_s > 0):
+        raise CadcogError(f"--duration-s must be positive, got {args.duration_s}")
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
     if args.swings is not None:
         refuse_overwriting_inputs(
@@ -270,6 +336,11 @@ def run(args: argparse.Namespace) -> int:
         )
     check_report_folder(args.report)  # before the CAD
     target = _target(args)
+    if target.inclinometer.accelerometer and args.port is not None:
+        return _run_recorded(args, target)
+    for option in ("--log-out", "--duration-s"):
+        if getattr(args, option[2:].replace("-", "_")) is not None:
+            raise CadcogError(f"{option}: for an accelerometer's recording from --port")
     criterion = _criterion(args)
     live = _Live()
     say = live.say if not args.json else (lambda text: print(text, file=sys.stderr))

@@ -271,6 +271,8 @@ class ErrorModel:
         shared parameters are :data:`cadcog.rig.accelerometer.ACCEL_SHARED_PARAMETERS`.
     sensor_offset_g : float
         An accelerometer's zero offset figure (each axis within ±, g).
+    sensor_cross_axis_rel : float
+        An accelerometer's cross-axis sensitivity figure (each coupling within ±).
     sources : tuple of str
         Enabled sources, from :data:`SOURCES`; a disabled source is zero in the draws and in
         the estimator's covariance alike.
@@ -295,6 +297,7 @@ class ErrorModel:
     sources: tuple[str, ...] = SOURCES
     device: str = InclinometerConfig.device
     sensor_offset_g: float = InclinometerConfig.offset_g
+    sensor_cross_axis_rel: float = InclinometerConfig.cross_axis_rel
 
     def __post_init__(self) -> None:
         if self.inclinometer_model not in INCLINOMETER_MODELS:
@@ -333,6 +336,7 @@ class ErrorModel:
             mounting_misalignment_deg=rig.inclinometer.mounting_misalignment_deg,
             device=rig.inclinometer.device,
             sensor_offset_g=rig.inclinometer.offset_g,
+            sensor_cross_axis_rel=rig.inclinometer.cross_axis_rel,
         )
 
     def paper(self) -> ErrorModel:
@@ -351,6 +355,7 @@ class ErrorModel:
             sensor_scale_rel=0.0,
             mounting_misalignment_deg=0.0,
             sensor_offset_g=0.0,
+            sensor_cross_axis_rel=0.0,
         )
 
     def only(self, *sources: str) -> ErrorModel:
@@ -448,7 +453,7 @@ class ErrorModel:
         """Prior standard deviations of the shared sensor parameters, in the order of
         :data:`cadcog.rig.inclinometer.SHARED_SENSOR_PARAMETERS` (deg, deg, rel, rel, deg ×3),
         or for an accelerometer :data:`cadcog.rig.accelerometer.ACCEL_SHARED_PARAMETERS` (g ×3,
-        rel ×3, deg ×3); zeros when the inclinometer source is off.
+        rel ×3, deg ×3, rel ×3); zeros when the inclinometer source is off.
 
         A uniform ±a has σ = a/√3; a rotation uniform in angle on [0, m] about a random axis
         has ``E|r|² = m²/3``, so σ = m/3 per component.
@@ -459,12 +464,16 @@ class ErrorModel:
         array([0.1732, 0.1732])
         """
         if "inclinometer" not in self.sources:
-            return np.zeros(9 if self.accelerometer else 7)
+            return np.zeros(12 if self.accelerometer else 7)
         s = self.sensor_scale_rel / np.sqrt(3.0)
         m = self.mounting_misalignment_deg / 3.0
         if self.accelerometer:
+            # Six couplings within ±c: a symmetric part of σ c/√6 per pair, and an
+            # antisymmetric part of the same σ, a rotation the mounting carries.
+            c = self.sensor_cross_axis_rel / np.sqrt(6.0)
             b = self.sensor_offset_g / np.sqrt(3.0)
-            return np.array([b, b, b, s, s, s, m, m, m])
+            m = float(np.hypot(m, np.degrees(c)))
+            return np.array([b, b, b, s, s, s, m, m, m, c, c, c])
         b = self.sensor_offset_deg / np.sqrt(3.0)
         return np.array([b, b, s, s, m, m, m])
 

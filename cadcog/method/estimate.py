@@ -291,6 +291,7 @@ def default_model(config: InclinometerConfig | None = None) -> ErrorModel:
         mounting_misalignment_deg=cfg.mounting_misalignment_deg,
         device=cfg.device,
         sensor_offset_g=cfg.offset_g,
+        sensor_cross_axis_rel=cfg.cross_axis_rel,
     )
 
 
@@ -301,9 +302,9 @@ def accelerometer_variances(
     its gravity norm's (g²).
 
     The mean of n readings has the noise its samples show: the largest axis's sample variance
-    over n (the error model's sensor noise where a hang has one sample), plus the per-hang
-    accuracy (uniform ±``accuracy_deg``) for the vertical and ``gravity_norm_sigma_g²`` for the
-    norm (what the offsets and sensitivities do not model).
+    over n (the error model's sensor noise where a hang has one sample), plus what the shared
+    figures do not model, each axis within ±``accuracy_g`` (uniform): its variance along each
+    direction ⊥ u (rad² per g² at 1 g) and along u (the norm) alike.
     """
     noise = np.array(
         [
@@ -313,8 +314,8 @@ def accelerometer_variances(
             for s in suspensions
         ]
     )
-    accuracy = float(deg_to_rad(cfg.accuracy_deg)) ** 2 / 3.0
-    return noise + accuracy, noise + cfg.gravity_norm_sigma_g**2
+    accuracy = cfg.accuracy_g**2 / 3.0
+    return noise + accuracy, noise + accuracy
 
 
 def estimate_cog(
@@ -596,7 +597,7 @@ def _joint_with_shared_sensor(
         for j, name in enumerate(names[: 2 * n_ch])
         if bounds[j] > 0 and abs(fit.shared[j]) > bounds[j]
     ]
-    angle = float(np.linalg.norm(fit.shared[2 * n_ch :]))
+    angle = float(np.linalg.norm(fit.shared[2 * n_ch : 2 * n_ch + 3]))
     if mdl.mounting_misalignment_deg > 0 and angle > mdl.mounting_misalignment_deg:
         beyond.append(f"mounting {angle:.3g}°")
     if beyond:

@@ -12,10 +12,14 @@ cannot be mounted). On top of that nominal mounting, the sensor's axes are turne
 rotation (``mounting_misalignment_deg``).
 
 The shared parameters (:data:`ACCEL_SHARED_PARAMETERS`, the same on every hang of a test: one
-sensor) are each axis's zero offset ``b`` (g), each axis's sensitivity error ``s`` (relative)
-and the misalignment rotation ``r`` (degrees). :func:`accel_readings` is their definition: the
-sensor sees ``v = R(r) A u`` and reports ``aⱼ = (1 + sⱼ) vⱼ + bⱼ``. A hang read with the sensor
-turned 180° about its own z axis on its mount (a reversal) sees ``(−vₓ, −v_y, v_z)``.
+sensor) are each axis's zero offset ``b`` (g), each axis's sensitivity error ``s`` (relative),
+the misalignment rotation ``r`` (degrees) and the symmetric part ``k`` of the cross-axis
+coupling (relative). :func:`accel_readings` is their definition: the sensor sees
+``v = R(r) A u`` and reports ``a = (1 + s) ∘ ((I + K) v) + b`` with ``K`` the symmetric matrix
+of zero diagonal whose ``xy``, ``xz``, ``yz`` entries are ``k``. A datasheet's cross-axis
+sensitivity (each of the six couplings within ±c) is that symmetric part plus a small rotation,
+which the mounting carries. A hang read with the sensor turned 180° about its own z axis on its
+mount (a reversal) sees ``(−vₓ, −v_y, v_z)``.
 
 Because the magnitude of a settled reading is 1 g whatever the orientation, every hang also
 says something about the offsets and sensitivities independently of the CoG:
@@ -44,6 +48,9 @@ ACCEL_SHARED_PARAMETERS = (
     "mounting_x_deg",
     "mounting_y_deg",
     "mounting_z_deg",
+    "cross_xy_rel",
+    "cross_xz_rel",
+    "cross_yz_rel",
 )
 
 #: The nominal mounting: sensor x, y, z along object x, y, z.
@@ -105,6 +112,11 @@ def axes_matrix(axes: tuple[str, str, str]) -> FloatArray:
     return _matrix(axes)
 
 
+def _coupling(k: FloatArray) -> FloatArray:
+    """``I + K``: the symmetric cross-axis coupling of ``k`` (xy, xz, yz)."""
+    return np.array([[1.0, k[0], k[1]], [k[0], 1.0, k[2]], [k[1], k[2], 1.0]])
+
+
 def _flip(turned: npt.ArrayLike | None, k: int) -> FloatArray:
     f = np.ones((k, 3))
     if turned is not None:
@@ -125,7 +137,7 @@ def accel_readings(
     ----------
     u : array_like, shape (k, 3)
         Unit upward verticals, object axes.
-    shared : array_like, shape (9,)
+    shared : array_like, shape (12,)
     axes : tuple of 3 str
     turned : array_like of bool, shape (k,), optional
 
@@ -135,20 +147,24 @@ def accel_readings(
 
     Examples
     --------
-    >>> a = accel_readings([[0.0, 0.0, 1.0]], [0.01, 0, 0, 0, 0, 0.02, 0, 0, 0])
+    >>> a = accel_readings([[0.0, 0.0, 1.0]], [0.01, 0, 0, 0, 0, 0.02] + [0.0] * 6)
     >>> np.round(a, 12).tolist()  # level: z reads 1 g, 2 % high; x its 10 mg offset
     [[0.01, 0.0, 1.02]]
     """
     b = np.asarray(shared, dtype=float)
     v = np.atleast_2d(np.asarray(u, dtype=float))
     rot = rotation_matrix(b[6:9]) @ axes_matrix(axes)
-    seen = (v @ rot.T) * _flip(turned, len(v))
-    return np.asarray((1.0 + b[3:6]) * seen + b[0:3])
+    seen = (v @ rot.T) * _flip(turned, len(v))  # what reaches the sensor, in its axes
+    return np.asarray((1.0 + b[3:6]) * (seen @ _coupling(b[9:12]).T) + b[0:3])
 
 
 def _calibrated(acc: npt.ArrayLike, shared: npt.ArrayLike) -> FloatArray:
+    """``(I + K)⁻¹ ((a − b)/(1 + s))``: what the sensor saw, in its own (turned) axes."""
     b = np.asarray(shared, dtype=float)
-    return np.asarray((np.atleast_2d(np.asarray(acc, dtype=float)) - b[0:3]) / (1.0 + b[3:6]))
+    w = (np.atleast_2d(np.asarray(acc, dtype=float)) - b[0:3]) / (1.0 + b[3:6])
+    if not np.any(b[9:12]):
+        return np.asarray(w)
+    return np.asarray(np.linalg.solve(_coupling(b[9:12]), w.T).T)
 
 
 def accel_norms(acc: npt.ArrayLike, shared: npt.ArrayLike) -> FloatArray:
@@ -157,7 +173,7 @@ def accel_norms(acc: npt.ArrayLike, shared: npt.ArrayLike) -> FloatArray:
 
     Examples
     --------
-    >>> shared = [0.02, -0.01, 0.03, 0.01, -0.02, 0.005, 0, 0, 0]
+    >>> shared = [0.02, -0.01, 0.03, 0.01, -0.02, 0.005, 0, 0, 0, 0.01, -0.02, 0.005]
     >>> a = accel_readings([[0.6, 0.0, 0.8], [0.0, -1.0, 0.0]], shared)
     >>> np.round(accel_norms(a, shared), 12).tolist()
     [1.0, 1.0]
@@ -183,7 +199,7 @@ def accel_verticals(
 
     Examples
     --------
-    >>> shared = [0.02, -0.01, 0.03, 0.01, -0.02, 0.005, 0.3, -0.2, 0.5]
+    >>> shared = [0.02, -0.01, 0.03, 0.01, -0.02, 0.005, 0.3, -0.2, 0.5, 0.01, -0.02, 0.005]
     >>> u = np.array([[0.3, -0.2, (1 - 0.13) ** 0.5], [0.0, 0.6, -0.8]])
     >>> a = accel_readings(u, shared, ("-y", "+x", "+z"), turned=[False, True])
     >>> back = accel_verticals(a, shared, ("-y", "+x", "+z"), turned=[False, True]).u
@@ -191,7 +207,8 @@ def accel_verticals(
     True
     """
     b = np.asarray(shared, dtype=float)
-    w = _calibrated(acc, b) * _flip(turned, len(np.atleast_2d(np.asarray(acc))))
+    w = _calibrated(acc, b)
+    w = w * _flip(turned, len(w))
     norm = np.linalg.norm(w, axis=1)
     if np.any(~(norm > 1e-6)):
         raise ValueError("a reading with no direction (a zero or non-finite acceleration)")

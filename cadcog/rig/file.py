@@ -149,8 +149,8 @@ MAX_ADC_STEP_DEG = 1.0
 
 #: Keys of an ``[inclinometer]`` table that only an angle-reading device has.
 _ANGLE_ONLY_KEYS = (
-    "range_deg", "sign_x", "sign_y", "adc_bits", "adc_reference_v", "sensitivity_v_per_deg",
-    "zero_v", "offset_deg",
+    "range_deg", "accuracy_deg", "sign_x", "sign_y", "adc_bits", "adc_reference_v",
+    "sensitivity_v_per_deg", "zero_v", "offset_deg",
 )  # fmt: skip
 
 
@@ -160,7 +160,7 @@ def _inclinometer(t: TableReader) -> InclinometerConfig:
     device = t.string("device", choices=DEVICES, default="inclinometer")
     if device == "accelerometer":
         return _accelerometer(t)
-    for key in ("axes", "offset_g", "gravity_norm_sigma_g"):
+    for key in ("axes", "offset_g", "accuracy_g", "cross_axis_rel"):
         if t.has(key):
             raise t.error(key, 'an accelerometer\'s figure: declare device = "accelerometer"')
     d, ds = InclinometerConfig(), SensorModel()
@@ -203,7 +203,10 @@ def _accelerometer(t: TableReader) -> InclinometerConfig:
     accelerometer (:mod:`cadcog.rig.accelerometer`), its mounting and shared figures."""
     for key in _ANGLE_ONLY_KEYS:
         if t.has(key):
-            hint = " (declare offset_g, in g)" if key == "offset_deg" else ""
+            hint = {
+                "offset_deg": " (declare offset_g, in g)",
+                "accuracy_deg": " (declare accuracy_g, in g)",
+            }.get(key, "")
             raise t.error(
                 key, f"an angle-reading inclinometer's figure; an accelerometer has none{hint}"
             )
@@ -217,16 +220,18 @@ def _accelerometer(t: TableReader) -> InclinometerConfig:
     mounting = t.number(
         "mounting_misalignment_deg", nonnegative=True, default=d.mounting_misalignment_deg
     )
-    norm_sigma = t.number("gravity_norm_sigma_g", positive=True, default=d.gravity_norm_sigma_g)
+    accuracy = t.number("accuracy_g", positive=True, default=d.accuracy_g)
+    cross = t.number("cross_axis_rel", nonnegative=True, default=d.cross_axis_rel)
     config = InclinometerConfig(
         range_deg=90.0,
-        accuracy_deg=t.number("accuracy_deg", nonnegative=True, default=0.0),
+        accuracy_deg=0.0,
         scale_error_rel=scale,
         mounting_misalignment_deg=mounting,
         device="accelerometer",
         axes=axes,  # type: ignore[arg-type]
         offset_g=offset_g,
-        gravity_norm_sigma_g=norm_sigma,
+        accuracy_g=accuracy,
+        cross_axis_rel=cross,
     )
     t.finish()
     return config

@@ -103,10 +103,14 @@ class InclinometerConfig:
     offset_g : float
         An accelerometer's zero offset: each axis's within ±offset_g (uniform), the same on
         every hang.
-    gravity_norm_sigma_g : float
-        How far (1σ) a settled accelerometer reading's calibrated magnitude may stray from 1 g
-        for reasons the offsets and sensitivities do not model (nonlinearity, drift): the
-        weight of the gravity-norm calibration (:func:`cadcog.rig.accelerometer.accel_norms`).
+    cross_axis_rel : float
+        An accelerometer's cross-axis sensitivity: each axis's response to each other axis
+        within ±cross_axis_rel (uniform), the same on every hang.
+    accuracy_g : float
+        An accelerometer's error that the shared figures do not model (nonlinearity, drift,
+        hysteresis): each axis's mean reading of a hang within ±accuracy_g (uniform),
+        independent between hangs. It bounds both the vertical and the gravity norm
+        (:func:`cadcog.rig.accelerometer.accel_norms`) of each hang.
 
     The three shared figures are what one sensor brings to every hang of a test
     (:func:`sensor_readings` is their definition); the estimator calibrates them jointly with
@@ -124,7 +128,8 @@ class InclinometerConfig:
     device: str = "inclinometer"
     axes: tuple[str, str, str] = ("+x", "+y", "+z")
     offset_g: float = 0.0
-    gravity_norm_sigma_g: float = 0.002
+    accuracy_g: float = 0.001
+    cross_axis_rel: float = 0.0
 
     @property
     def accelerometer(self) -> bool:

@@ -209,3 +209,63 @@ def acquire_log(
     if cad is not None:
         data["cad"] = cad
     return LogRun(data, estimate, cad, tuple(warnings))
+
+
+def acquire_recorded(
+    target: Any,
+    port: str,
+    out: Path,
+    log_out: Path,
+    *,
+    baud: int | None = None,
+    duration_s: float | None = None,
+    timeout_s: float = 5.0,
+    criterion: Any = None,
+    min_average_s: float = 10.0,
+    say: Callable[[str], None] = lambda _text: None,
+    link: Any = None,
+) -> LogRun:
+    """Record a three-axis accelerometer on ``port`` into the log ``log_out`` (until
+    ``duration_s`` of device time, or Ctrl-C), then cut it as :func:`acquire_log` does.
+
+    The log is written whole (staged, then renamed) before it is cut: if the hangs cannot be
+    found in it, it stays for another try (``cadcog acquire --log LOG --log-format csv``) and
+    the readings are not written.
+    """
+    from cadcog.bench.accellog import write_log
+    from cadcog.bench.link import DEFAULT_BAUD, SerialLink
+    from cadcog.bench.logrecorder import record_log
+
+    if not target.inclinometer.accelerometer:
+        raise CadcogError("recording a log needs a set-up whose sensor is an accelerometer")
+    say(
+        f"recording {port} into {log_out}: hang {', '.join(h.id for h in target.hangs)} in this "
+        "order, let each swing settle and hold still "
+        + (f"(stopping after {duration_s:g} s)" if duration_s else "(Ctrl-C when done)")
+    )
+    own = link is None
+    link = link if link is not None else SerialLink(port, baud or DEFAULT_BAUD)
+    try:
+        rec = record_log(link, duration_s=duration_s, timeout_s=timeout_s)
+    finally:
+        if own:
+            link.close()
+    if len(rec.t_s) < 2:
+        raise CadcogError(f"{port}: {len(rec.t_s)} sample(s) recorded: nothing to cut")
+    with staged_file(log_out) as staged:
+        write_log(staged, rec.t_s, rec.acc_g, "csv")
+    say(
+        f"{log_out}: {len(rec.t_s)} samples over {rec.t_s[-1] - rec.t_s[0]:.0f} s from "
+        f"{rec.header.describe()}"
+        + (f"; {rec.flagged} flagged samples left out" if rec.flagged else "")
+    )
+    try:
+        return acquire_log(
+            target, log_out, out, fmt="csv", criterion=criterion,
+            min_average_s=min_average_s, say=say,
+        )  # fmt: skip
+    except CadcogError as exc:
+        raise CadcogError(
+            f"{exc} (the recording is kept in {log_out}: cut it again with cadcog acquire "
+            f"--log {log_out} --log-format csv)"
+        ) from None

@@ -52,7 +52,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -126,6 +126,10 @@ class SensorSpec:
     figures of its errors (half-widths of uniform draws, once per test): ``offset_g`` (float or
     per axis), ``scale_rel``, ``cross_axis_rel``, ``misalignment_deg``; per sample: white noise
     ``noise_g`` (σ, g) or ``noise_density_ug_rthz`` × √``bandwidth_hz`` (default rate/2),
+    ``nonlinearity_g`` (each axis reads ``qⱼ vⱼ²`` more, ``vⱼ`` its true reading in g and ``qⱼ``
+    uniform within ±``nonlinearity_g``, drawn once per test from a stream of its own, so a test
+    without it draws what it drew before), ``drift_g`` (each axis's offset drifts linearly over
+    the log by ``dⱼ`` uniform within ±``drift_g``: warming up; the same stream),
     quantisation ``lsb_g`` (0: none), range ``range_g``; timing: ``rate_hz``, ``jitter_ms`` (σ),
     ``drop_prob``."""
 
@@ -143,6 +147,8 @@ class SensorSpec:
     bandwidth_hz: float | None = None
     lsb_g: float = 0.0006
     range_g: float = 8.0
+    nonlinearity_g: float = 0.0
+    drift_g: float = 0.0
 
     def __post_init__(self) -> None:
         axes_matrix(self.axes)
@@ -150,7 +156,8 @@ class SensorSpec:
     def ideal(self) -> SensorSpec:
         """The same sensor without any error (no offset, scale, misalignment, noise, lsb)."""
         return replace(self, offset_g=0.0, scale_rel=0.0, cross_axis_rel=0.0, misalignment_deg=0.0,
-                       noise_g=0.0, noise_density_ug_rthz=None, lsb_g=0.0)  # fmt: skip
+                       noise_g=0.0, noise_density_ug_rthz=None, lsb_g=0.0,
+                       nonlinearity_g=0.0, drift_g=0.0)  # fmt: skip
 
     @property
     def sigma_g(self) -> float:
@@ -206,6 +213,8 @@ class SensorTruth:
     cross_axis: FloatArray
     sigma_g: float
     lsb_g: float
+    quadratic_g: FloatArray = field(default_factory=lambda: np.zeros(3))
+    drift_g: FloatArray = field(default_factory=lambda: np.zeros(3))
 
 
 @dataclass(frozen=True)
@@ -455,8 +464,19 @@ def _finish(plan: _Plan, forces: list[FloatArray], seed: int, step_s: float) -> 
         hangs.append(HangTruth(h["point"], h["up"], h["release"], h["end"], h["averaging"], rest,
                                h["knock"]))  # fmt: skip
     s = plan.sensor
-    g_units = (np.eye(3) + np.diag(s.scale_rel) + s.cross_axis) @ s.mount @ (f / G_M_S2).T
-    read = g_units.T + s.offset_g + plan.noise
+    q = np.zeros(3)
+    drift = np.zeros((len(plan.t), 3))
+    spec_s = plan.spec.sensor
+    if spec_s.nonlinearity_g > 0 or spec_s.drift_g > 0:
+        extra = np.random.default_rng([seed, 34])
+        q = spec_s.nonlinearity_g * extra.uniform(-1, 1, 3)
+        d = spec_s.drift_g * extra.uniform(-1, 1, 3)
+        span = max(float(plan.t[-1] - plan.t[0]), 1e-9)
+        drift = ((plan.t - plan.t[0]) / span)[:, None] * d
+        s = replace(s, quadratic_g=q, drift_g=d)
+    seen = s.mount @ (f / G_M_S2).T
+    g_units = (np.eye(3) + np.diag(s.scale_rel) + s.cross_axis) @ seen + q[:, None] * seen**2
+    read = g_units.T + s.offset_g + drift + plan.noise
     if s.lsb_g > 0:
         read = np.round(read / s.lsb_g) * s.lsb_g
     read = np.clip(read, -plan.spec.sensor.range_g, plan.spec.sensor.range_g)
@@ -531,7 +551,9 @@ def truth_dict(log: PhoneLog, spec: LogSpec | None = None) -> dict:
         "sensor": {"axes": list(s.axes), "mount_body_to_sensor": s.mount.tolist(),
                    "misalignment_rotvec_deg": s.misalignment_deg.tolist(),
                    "offset_g": s.offset_g.tolist(), "scale_rel": s.scale_rel.tolist(),
-                   "cross_axis": s.cross_axis.tolist(), "noise_sigma_g": s.sigma_g,
+                   "cross_axis": s.cross_axis.tolist(), "quadratic_g": s.quadratic_g.tolist(),
+                   "drift_g": s.drift_g.tolist(),
+                   "noise_sigma_g": s.sigma_g,
                    "lsb_g": s.lsb_g},
         "convention": "specific force, m/s^2, sensor axes: +9.81 along the upward axis at rest",
         "rk4_step_s": log.step_s,
@@ -546,21 +568,27 @@ def truth_dict(log: PhoneLog, spec: LogSpec | None = None) -> dict:
 # ---------------------------------------------------------------- scenarios and sensor figures
 #: Phone ("Acceleration with g"): figures typical of phone IMUs (assumptions, as briefed): offset
 #: ±20 mg, sensitivity ±1 %, mounting within 1° (strapped to the object), 2 mg per sample at
-#: 200 Hz, output resolution 0.6 mg, timestamps jittered by ~1 ms, rare dropped samples.
-PHONE = SensorSpec((0.0, 0.0, 0.0))
+#: 200 Hz, output resolution 0.6 mg, timestamps jittered by ~1 ms, rare dropped samples; a
+#: quadratic nonlinearity of up to 3 mg at 1 g and an offset drifting by up to 2 mg over the
+#: test (assumptions: phone IMUs publish neither).
+PHONE = SensorSpec((0.0, 0.0, 0.0), nonlinearity_g=0.003, drift_g=0.002)
 #: InvenSense MPU-6050 (PS-MPU-6000A-00 rev 3.4, table 6.2): ±2 g full scale, 16-bit, 16 384
 #: LSB/g; sensitivity initial tolerance ±3 %; cross-axis ±2 %; zero-g ±50 mg (x, y), ±80 mg (z);
-#: noise 400 µg/√Hz (at 10 Hz, ODR 1 kHz). Assumed: DLPF at 44 Hz, logged at 100 Hz.
+#: noise 400 µg/√Hz (at 10 Hz, ODR 1 kHz); nonlinearity 0.5 % (best-fit line), taken as 5 mg at
+#: 1 g. Assumed: DLPF at 44 Hz, logged at 100 Hz.
 MPU6050 = SensorSpec((0.0, 0.0, 0.0), rate_hz=100.0, drop_prob=0.001, offset_g=(0.05, 0.05, 0.08),
                      scale_rel=0.03, cross_axis_rel=0.02, noise_g=None, noise_density_ug_rthz=400.0,
-                     bandwidth_hz=44.0, lsb_g=1 / 16384, range_g=2.0)  # fmt: skip
+                     bandwidth_hz=44.0, lsb_g=1 / 16384, range_g=2.0,
+                     nonlinearity_g=0.005, drift_g=0.002)  # fmt: skip
 #: Analog Devices ADXL355 (data sheet adxl354_adxl355.pdf): ±2.048 g, 20-bit, 256 000 LSB/g
 #: (3.9 µg); noise density 25 µg/√Hz; 0 g offset ±25 mg typical. Bandwidth ODR/4 (its digital
 #: filter) at 125 Hz. The sensitivity's min-max window is ±8 % as for the ADXL357 (47 104 …
-#: 55 296 LSB/g, ez.analog.com); ±1 % and cross-axis ±1 % are assumed typical values.
+#: 55 296 LSB/g, ez.analog.com); ±1 % and cross-axis ±1 % are assumed typical values, and a
+#: nonlinearity of 2 mg at 1 g (its ±0.1 % of a ±2 g full scale, assumed half-used at 1 g).
 ADXL355 = SensorSpec((0.0, 0.0, 0.0), rate_hz=125.0, drop_prob=0.001, offset_g=0.025,
                      scale_rel=0.01, cross_axis_rel=0.01, noise_g=None, noise_density_ug_rthz=25.0,
-                     bandwidth_hz=31.25, lsb_g=1 / 256000, range_g=2.048)  # fmt: skip
+                     bandwidth_hz=31.25, lsb_g=1 / 256000, range_g=2.048,
+                     nonlinearity_g=0.002, drift_g=0.001)  # fmt: skip
 SENSORS = {"phone": PHONE, "mpu6050": MPU6050, "adxl355": ADXL355}
 
 

@@ -126,9 +126,7 @@ HEAD = "point_id,x_mm,y_mm,z_mm,acc_x_g,acc_y_g,acc_z_g"
 
 def test_acceleration_rows_average_per_point(tmp_path):
     p = tmp_path / "r.csv"
-    p.write_text(
-        HEAD + "\nS1,0,0,10,0.6,0.0,0.8\nS1,0,0,10,0.62,0.0,0.78\nS2,10,0,0,0,0,-1.0\n"
-    )
+    p.write_text(HEAD + "\nS1,0,0,10,0.6,0.0,0.8\nS1,0,0,10,0.62,0.0,0.78\nS2,10,0,0,0,0,-1.0\n")
     s1, s2 = read_readings(p, ACCEL)
     assert s1.n_samples == 2 and s1.acc_g == pytest.approx((0.61, 0.0, 0.79))
     assert s1.std_acc_g == pytest.approx((0.01 * 2**0.5, 0.0, 0.01 * 2**0.5))

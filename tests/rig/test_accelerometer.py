@@ -62,16 +62,19 @@ def test_malformed_mountings_are_refused_with_what_was_expected(axes, message):
 
 def test_a_phone_lying_face_up_reads_plus_one_g_on_its_z():
     # Object level (up = +z); sensor mounted square: reads (0, 0, +1 g).
-    a = accel_readings([[0.0, 0.0, 1.0]], np.zeros(9))
+    a = accel_readings([[0.0, 0.0, 1.0]], np.zeros(12))
     np.testing.assert_allclose(a, [[0.0, 0.0, 1.0]], atol=1e-15)
     # Sensor x along object -y: with the object's +y up, the sensor's x reads -1 g.
-    a = accel_readings([[0.0, 1.0, 0.0]], np.zeros(9), ("-y", "+x", "+z"))
+    a = accel_readings([[0.0, 1.0, 0.0]], np.zeros(12), ("-y", "+x", "+z"))
     np.testing.assert_allclose(a, [[-1.0, 0.0, 0.0]], atol=1e-15)
 
 
 unit = st.tuples(*[st.floats(-1.0, 1.0)] * 3).filter(lambda v: 0.1 < np.linalg.norm(v))
 shared = st.tuples(
-    *[st.floats(-0.08, 0.08)] * 3, *[st.floats(-0.03, 0.03)] * 3, *[st.floats(-2.0, 2.0)] * 3
+    *[st.floats(-0.08, 0.08)] * 3,
+    *[st.floats(-0.03, 0.03)] * 3,
+    *[st.floats(-2.0, 2.0)] * 3,
+    *[st.floats(-0.03, 0.03)] * 3,
 )
 
 
@@ -98,14 +101,14 @@ def test_the_angles_are_an_inclinometers_in_the_sensors_axes(v):
 def test_an_offset_is_a_vertical_error_that_the_hangs_share():
     # 20 mg on x: a level object reads 1.15° of tilt about y, on every hang alike.
     u = np.array([[0.0, 0.0, 1.0]])
-    a = accel_readings(u, [0.02, 0, 0, 0, 0, 0, 0, 0, 0])
-    seen = accel_verticals(a, np.zeros(9)).u[0]
+    a = accel_readings(u, [0.02] + [0.0] * 11)
+    seen = accel_verticals(a, np.zeros(12)).u[0]
     assert np.degrees(np.arcsin(seen[0])) == pytest.approx(np.degrees(np.arctan(0.02)), rel=1e-12)
 
 
 def test_a_zero_reading_has_no_direction():
     with pytest.raises(ValueError, match="no direction"):
-        accel_verticals([[0.0, 0.0, 0.0]], np.zeros(9))
+        accel_verticals([[0.0, 0.0, 0.0]], np.zeros(12))
 
 
 def _accel_rig(tmp_path, **inc):
@@ -124,13 +127,17 @@ def test_an_accelerometer_table_reaches_the_error_model(tmp_path):
             offset_g=0.05,
             scale_error_rel=0.03,
             mounting_misalignment_deg=1.5,
+            cross_axis_rel=0.02,
         )
     )
     cfg = rig.inclinometer
     assert cfg.accelerometer and cfg.axes == ("-y", "+x", "+z") and cfg.range_deg == 90.0
     m = ErrorModel.from_rig(rig)
+    c = 0.02 / 6**0.5  # a symmetric coupling per pair; the antisymmetric rides the mounting
+    mounting = np.hypot(0.5, np.degrees(c))
     np.testing.assert_allclose(
-        m.shared_sensor_sigmas, [0.05 / 3**0.5] * 3 + [0.03 / 3**0.5] * 3 + [0.5] * 3
+        m.shared_sensor_sigmas,
+        [0.05 / 3**0.5] * 3 + [0.03 / 3**0.5] * 3 + [mounting] * 3 + [c] * 3,
     )
 
 
@@ -144,8 +151,10 @@ def test_an_accelerometer_table_reaches_the_error_model(tmp_path):
         ({"offset_g": -0.1}, "offset_g", ">= 0"),
         ({"scale_error_rel": 0.6}, "scale_error_rel", "at most 0.2"),
         ({"mounting_misalignment_deg": 50.0}, "mounting_misalignment_deg", "at most 10"),
-        ({"gravity_norm_sigma_g": 0.5}, "gravity_norm_sigma_g", "at most 0.1"),
-        ({"gravity_norm_sigma_g": 0.0}, "gravity_norm_sigma_g", "positive"),
+        ({"accuracy_g": 0.5}, "accuracy_g", "at most 0.1"),
+        ({"accuracy_deg": 0.1}, "accuracy_deg", "declare accuracy_g"),
+        ({"cross_axis_rel": 0.5}, "cross_axis_rel", "at most 0.1"),
+        ({"accuracy_g": 0.0}, "accuracy_g", "positive"),
         ({"offset_deg": 0.3}, "offset_deg", "declare offset_g"),
         ({"range_deg": 60.0}, "range_deg", "an accelerometer has none"),
         ({"adc_bits": 12}, "adc_bits", "an accelerometer has none"),

@@ -1,0 +1,223 @@
+"""``cadcog acquire --log`` and an accelerometer recorded from ``--port``, end to end, on logs from
+the independent forward model :mod:`tests.bench.phone_logs` (no cadcog code in it)."""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+import tty
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from cadcog.bench.protocol import ACCEL_EXAMPLE, format_header, format_sample
+from cadcog.cli import main
+from tests.bench import phone_logs as pl
+from tests.rigtools import paper_rig_dict, write_rig
+
+CHI2_95 = float(stats.chi2.ppf(0.95, 3))
+
+
+def _phone_rig(folder: Path, axes: tuple[str, str, str], **figures: float) -> Path:
+    data = paper_rig_dict()
+    data["inclinometer"] = {
+        "device": "accelerometer",
+        "axes": list(axes),
+        "offset_g": 0.02,
+        "scale_error_rel": 0.01,
+        "mounting_misalignment_deg": 1.0,
+        **figures,
+    }
+    return write_rig(folder / "phone_rig.toml", data)
+
+
+def _played(spec: pl.LogSpec, seed: int) -> pl.LogSpec:
+    """The paper's 1 mm square of play at each wire exit, drawn per hang (the rig's points
+    stay where the readings say): the generator itself has none."""
+    rng = np.random.default_rng([seed, 7])
+    hangs = []
+    for h in spec.hangs:
+        p = np.asarray(h.point_mm)
+        n = np.zeros(3)
+        k = int(np.argmax(np.concatenate([p - [200.0, 75.0, 78.0], -p])))
+        n[k % 3] = 1.0
+        hangs.append(replace(h, point_mm=tuple(p + rng.uniform(-0.5, 0.5, 3) * (1 - n))))
+    return replace(spec, hangs=tuple(hangs))
+
+
+@pytest.fixture(scope="module")
+def logs(tmp_path_factory):
+    """24 phone logs of the paper rig (and one with a knock, one with a hang that never
+    settles), written as phyphox exports them."""
+    folder = tmp_path_factory.mktemp("logs")
+    seeds = list(range(3400, 3424))
+    specs = [_played(pl.scenario("paper_rig", "phone"), s) for s in seeds]
+    base = specs[0]
+    knocked = list(base.hangs)
+    knocked[2] = replace(knocked[2], knock_after_s=knocked[2].average_s / 2)
+    stuck = list(base.hangs)
+    stuck[3] = replace(stuck[3], never_settles=True)
+    specs += [replace(base, hangs=tuple(knocked)), replace(base, hangs=tuple(stuck))]
+    made = pl.generate_many(specs, [*seeds, 9001, 9002])
+    paths = []
+    for i, log in enumerate(made):
+        path = folder / f"log{i}.csv"
+        pl.write_phyphox_csv(path, log)
+        paths.append(path)
+    rig = _phone_rig(folder, base.sensor.axes)
+    return {"rig": rig, "paths": paths, "logs": made, "folder": folder}
+
+
+def test_a_phone_log_gives_the_same_estimate_as_cadcog_estimate(logs, tmp_path, capsys):
+    out = tmp_path / "run" / "readings.csv"
+    args = ["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][0])]
+    assert main([*args, "--out", str(out), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [h["id"] for h in data["hangs"]] == ["S1", "S2", "S3", "S4", "S5", "S6"]
+    truth = logs["logs"][0]
+    for h, t in zip(data["hangs"], truth.hangs, strict=True):
+        # Every averaged bin lies where the body truly hung still (its settle hold inside it).
+        for a, b in h["averaged_s"]:
+            assert t.release_t_s < a and b <= t.end_t_s + 0.05
+    assert main(["estimate", str(out), "--rig", str(logs["rig"]), "--json"]) == 0
+    again = json.loads(capsys.readouterr().out)
+    np.testing.assert_allclose(again["cog_mm"], data["estimate"]["cog_mm"], rtol=0, atol=1e-12)
+    shared = data["estimate"]["model"]["shared_sensor"]
+    assert set(shared) == {
+        f"{k}_{a}_{u}"
+        for k, u in (("offset", "g"), ("scale", "rel"), ("mounting", "deg"))
+        for a in "xyz"
+    }  # fmt: skip (a phone declares no cross-axis figure)
+
+
+def test_the_estimate_covers_the_truth_over_many_logs(logs, tmp_path, capsys):
+    """A fast subset of benchmarks/study_phone_logs.py: 24 logs, each its own sensor and play."""
+    inside = 0
+    for i, path in enumerate(logs["paths"][:24]):
+        out = tmp_path / f"r{i}.csv"
+        assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(path), "--out",
+                     str(out), "--json"]) == 0  # fmt: skip
+        est = json.loads(capsys.readouterr().out)["estimate"]
+        e = np.asarray(est["assembly_cog_mm"]) - logs["logs"][i].cog_mm
+        inside += float(e @ np.linalg.solve(np.asarray(est["assembly_cov_mm2"]), e)) < CHI2_95
+    # At 95 % coverage, 19 or fewer of 24 happen with probability 0.03.
+    assert inside >= 20
+
+
+def test_a_knock_during_the_averaging_is_one_hang(logs, tmp_path, capsys):
+    out = tmp_path / "r.csv"
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][24]),
+                 "--out", str(out), "--json"]) == 0  # fmt: skip
+    data = json.loads(capsys.readouterr().out)
+    knock = logs["logs"][24].hangs[2].knock_t_s
+    spans = data["hangs"][2]["averaged_s"]
+    assert len(spans) == 2 and spans[0][1] <= knock + 0.05 < spans[1][0]
+
+
+def test_a_hang_that_never_settled_is_named_with_its_time_span(logs, tmp_path, capsys):
+    out = tmp_path / "r.csv"
+    path = logs["paths"][25]
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(path), "--out",
+                 str(out)]) == 2  # fmt: skip
+    err = capsys.readouterr().err
+    assert err.count("cadcog: error:") == 1 and str(path) in err
+    assert "5 settled hang(s) in the log for 6 point(s)" in err
+    stuck = logs["logs"][25].hangs[3]
+    start = float(err.split("a hang never settled at ")[1].split("-")[0])
+    assert stuck.release_t_s - 1.0 <= start <= stuck.release_t_s + 5.0
+    assert not out.exists() and not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--swings", "s.csv"], "--swings: not written from a log yet"),
+        (["--report", "rep"], "--report: not written from a log yet"),
+        (["--duration-s", "5"], "--duration-s: for recording from --port"),
+        (["--points", "S1,S9"], "unknown point(s) S9"),
+    ],
+)
+def test_what_a_log_run_refuses(logs, tmp_path, capsys, extra, message):
+    out = tmp_path / "r.csv"
+    args = ["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][0]), "--out", str(out)]
+    os.chdir(tmp_path)
+    assert main([*args, *extra]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("cadcog: error:") == 1
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_inclinometer_rig_refuses_a_log(logs, tmp_path, capsys):
+    out = tmp_path / "r.csv"
+    assert main(["acquire", "--log", str(logs["paths"][0]), "--out", str(out)]) == 2
+    assert 'declare device = "accelerometer"' in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_a_mounting_given_wrong_is_told(logs, tmp_path, capsys):
+    """The log's phone sits as ("-y", "+x", "+z"); a rig that says square finds hangs that
+    point away from the CAD's prediction, and says so."""
+    rig = _phone_rig(tmp_path, ("+x", "+y", "+z"))
+    out = tmp_path / "r.csv"
+    main(["acquire", "--rig", str(rig), "--log", str(logs["paths"][0]), "--out", str(out)])
+    err = capsys.readouterr().err
+    assert "away from what the CAD predicts for S" in err and "is [inclinometer] axes right?" in err
+
+
+def _feed(master: int, lines: list[bytes], stop: threading.Event) -> None:
+    """Write the lines as the sketch does: its header first and every 200 samples (a reader that
+    opens the port late, or flushes it, sees one soon)."""
+    header = (format_header(ACCEL_EXAMPLE) + "\n").encode()
+    for chunk in range(0, len(lines), 200):
+        if stop.is_set():
+            return
+        try:
+            os.write(master, header + b"".join(lines[chunk : chunk + 200]))
+        except OSError:
+            return
+
+
+def test_an_accelerometer_on_a_port_is_recorded_as_a_log_then_cut(logs, tmp_path, capsys):
+    """The ADXL355 sketch's lines (its header, six-field samples of counts) on a pseudo-terminal:
+    the recording, cut, gives what the same log gives through --log."""
+    log = logs["logs"][1]
+    lsb = ACCEL_EXAMPLE.lsb_g
+    counts = np.round(log.accel_m_s2 / 9.80665 / lsb).astype(np.int64)
+    t_ms = np.round((log.t_s - log.t_s[0]) * 1000).astype(np.int64) + 5
+    keep = np.concatenate([[True], np.diff(t_ms) > 0])  # the device's clock is whole ms
+    lines = [
+        (format_sample(i, int(t), int(c[0]), int(c[1]), z=int(c[2])) + "\n").encode()
+        for i, (t, c) in enumerate(zip(t_ms[keep], counts[keep], strict=True))
+    ]
+    master, slave = os.openpty()
+    tty.setraw(slave)
+    stop = threading.Event()
+    th = threading.Thread(target=_feed, args=(master, lines, stop), daemon=True)
+    th.start()
+    out = tmp_path / "r.csv"
+    duration = float(t_ms[keep][-1] - t_ms[0]) / 1000.0 - 6.0  # the end: handling, quiet
+    try:
+        code = main(["acquire", "--rig", str(logs["rig"]), "--port", os.ttyname(slave),
+                     "--out", str(out), "--duration-s", f"{duration}", "--json",
+                     "--timeout-s", "5"])  # fmt: skip
+    finally:
+        stop.set()
+        th.join(timeout=10)
+        os.close(master)
+        os.close(slave)
+    assert code == 0, capsys.readouterr().err
+    data = json.loads(capsys.readouterr().out)
+    recorded = tmp_path / "r.log.csv"
+    assert recorded.exists()
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(recorded), "--log-format",
+                 "csv", "--out", str(tmp_path / "again.csv"), "--json"]) == 0  # fmt: skip
+    again = json.loads(capsys.readouterr().out)
+    assert again["estimate"]["cog_mm"] == data["estimate"]["cog_mm"]
+    e = np.asarray(data["estimate"]["assembly_cog_mm"]) - log.cog_mm
+    assert e @ np.linalg.solve(np.asarray(data["estimate"]["assembly_cov_mm2"]), e) < float(
+        stats.chi2.ppf(0.999, 3)
+    )
