@@ -46,12 +46,14 @@ GOLDEN_DIR = Path(__file__).parent / "golden"
 #: last and run alone. These start first instead (longest-processing-time-first); the other
 #: files follow in xdist's order. A stale list only costs balance: it selects nothing.
 LONG_FILES_FIRST = (
+    "tests/cli/test_acquire_log_cli.py",  # ~45 s: 18 phone logs of the independent model
     "tests/test_static.py",  # ~32 s: mypy (no cache in a fresh clone)
     "tests/inertia/test_inertia_validation.py",  # ~22 s: 4 simulated campaigns
     "tests/spacecraft/test_calibration.py",  # ~25 s: 480 simulated campaigns
     "tests/spacecraft/test_update.py",  # ~20 s: two coverage tests
     "tests/validation/test_shared_errors.py",  # ~25 s: 280 independent campaigns
     "tests/validation/test_verification.py",  # ~14 s
+    "tests/uncertainty/test_accel_budget.py",  # ~15 s: the accelerometer's plans
     "tests/uncertainty/test_calibration.py",  # ~11 s
     "tests/method/test_plumblines.py",  # ~11 s: hypothesis
     "tests/validation/test_size_adc.py",  # ~9 s

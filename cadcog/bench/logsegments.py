@@ -250,8 +250,7 @@ def _merge(
     groups: list[list[tuple[int, int]]] = []
     for s in spans:
         if groups:
-            last = groups[-1][-1]
-            d0, d1 = _direction(mean, full, *last), _direction(mean, full, *s)
+            d0, d1 = _direction(mean, full, *groups[-1][-1]), _direction(mean, full, *s)
             angle = float(rad_to_deg(np.arccos(np.clip(d0 @ d1, -1.0, 1.0))))
             if angle < SAME_HANG_DEG:
                 groups[-1].append(s)

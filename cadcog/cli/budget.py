@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from cadcog.core.errors import CadcogError
 from cadcog.core.jsontext import dumps_json
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
@@ -22,13 +23,64 @@ def add_parser(sub: Any) -> None:
         "propagation). See docs/montecarlo.md.",
     )
     p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
+    p.add_argument(
+        "--target-mm",
+        type=float,
+        help="an accelerometer's rig: the smallest set of hangs whose predicted 95 %% error is "
+        "within this",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
+
+
+def _accelerometer(args: argparse.Namespace, rig: Any, model: ErrorModel) -> int:
+    """An accelerometer's rig: the estimate's covariance at the CAD's readings, with and
+    without self-calibration, for every point and for the best set of each size."""
+    from cadcog.uncertainty.accel_budget import Hangs, accelerometer_budget
+
+    sc = Scenario.from_rig(rig)
+    hangs = Hangs(sc.ids, sc.points_mm, sc.normals, sc.assembly_cog_mm)
+    budget = accelerometer_budget(hangs, rig.inclinometer, model, target_mm=args.target_mm)
+    if args.json:
+        print(dumps_json(budget.to_dict()), end="")
+        return 0
+    print(f"predicted CoG error of rig {rig.name!r}, read by {model.summary()}\n")
+    a = budget.all_hangs
+    print(
+        f"every point ({', '.join(a.hangs)}): 95 % error {a.q95_mm:.3f} mm, without "
+        f"self-calibration {a.q95_uncalibrated_mm:.3f} mm\n"
+    )
+    print_accel_sizes(budget, args.target_mm)
+    return 0
+
+
+def print_accel_sizes(budget: Any, target_mm: float | None) -> None:
+    """The best set of each size, with and without self-calibration, and the target's."""
+    print(f"{'hangs':<5} {'95 % error mm':>14} {'uncalibrated':>13}  best set (ID~: a reversal)")
+    for s in budget.sizes:
+        print(
+            f"{len(s.hangs):<5} {s.q95_mm:>14.3f} {s.q95_uncalibrated_mm:>13.3f}  "
+            f"{', '.join(s.hangs)}"
+        )
+    if target_mm is not None:
+        m = budget.meets
+        print(
+            f"\nwithin {target_mm:g} mm: "
+            + (
+                f"{len(m.hangs)} hangs, {', '.join(m.hangs)}"
+                if m is not None
+                else "no set of these points gets there: declare a better sensor, or add points"
+            )
+        )
 
 
 def run(args: argparse.Namespace) -> int:
     rig = load_rig(args.rig or default_rig_path())
     model = ErrorModel.from_rig(rig)
+    if rig.inclinometer.accelerometer:
+        return _accelerometer(args, rig, model)
+    if args.target_mm is not None:
+        raise CadcogError("--target-mm: for an accelerometer's rig (cadcog plan --target-mm)")
     budget = error_budget(Scenario.from_rig(rig), model)
     if args.json:
         print(dumps_json(budget.to_dict()), end="")

@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from cadcog.core import numformat
+from cadcog.core.errors import CadcogError
 from cadcog.core.jsontext import dumps_json
 
 
@@ -22,7 +23,18 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("setup", type=Path, help="set-up file (TOML)")
     p.add_argument("--trials", type=int, default=10_000, help="Monte Carlo trials per finalist set")
-    p.add_argument("--max-set", type=int, default=4, help="largest set of hangs to consider")
+    p.add_argument(
+        "--max-set",
+        type=int,
+        default=4,
+        help="largest set of hangs to consider (default 4; an accelerometer's plan shows at "
+        "least 8: its shared errors need more hangs)",
+    )
+    p.add_argument(
+        "--target-mm",
+        type=float,
+        help="an accelerometer's plan: the smallest set whose predicted 95 %% error is within this",
+    )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument(
         "--for",
@@ -50,6 +62,10 @@ def run(args: argparse.Namespace) -> int:
 
     check_plan_options(args.trials, args.max_set, args.seed, args.max_inertia_set)  # before CAD
     setup = load_setup(args.setup)
+    if setup.rig.inclinometer.accelerometer:
+        return _accelerometer_plan(args, setup)
+    if args.target_mm is not None:
+        raise CadcogError("--target-mm: for an accelerometer's set-up (see cadcog budget)")
     plan = run_plan(
         setup,
         trials=args.trials,
@@ -118,6 +134,36 @@ def run(args: argparse.Namespace) -> int:
     elif inertia_refused:
         print(f"\ninertia from the swings: not planned: {inertia_refused}")
     return status
+
+
+def _accelerometer_plan(args: argparse.Namespace, setup: Any) -> int:
+    """``plan`` for a set-up read by an accelerometer: the CoG's hangs, by the estimator's
+    covariance at the CAD's readings."""
+    from cadcog.cli.budget import print_accel_sizes
+    from cadcog.runs.plan import run_accel_plan
+
+    if args.goal != "cog":
+        raise CadcogError(
+            f"--for {args.goal}: the swing fit models a dual-axis inclinometer only; an "
+            "accelerometer's plan is for the CoG"
+        )
+    checks, budget = run_accel_plan(setup, max_set=max(args.max_set, 8), target_mm=args.target_mm)
+    if args.json:
+        out = budget.to_dict()
+        out["checks"] = [{"id": c.id, "usable": c.usable, "reason": c.reason} for c in checks]
+        print(dumps_json(out).rstrip("\n"))
+        return 0
+    bad = [c for c in checks if not c.usable]
+    print(f"{setup.name}: {len(checks) - len(bad)} of {len(checks)} candidates usable")
+    for c in bad:
+        print(f"  {c.id}: cannot work: {c.reason}")
+    print(f"error model: {budget_summary(setup)}\n")
+    print_accel_sizes(budget, args.target_mm)
+    return 0
+
+
+def budget_summary(setup: Any) -> str:
+    return str(setup.error_model().summary())
 
 
 def _print_inertia_plan(inertia: Any, goal: str) -> None:

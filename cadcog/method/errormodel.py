@@ -590,6 +590,15 @@ class ErrorModel:
             "sensor_scale_rel": self.sensor_scale_rel,
             "mounting_misalignment_deg": self.mounting_misalignment_deg,
             "sources": list(self.sources),
+            "device": self.device,
+            **(
+                {
+                    "sensor_offset_g": self.sensor_offset_g,
+                    "sensor_cross_axis_rel": self.sensor_cross_axis_rel,
+                }
+                if self.accelerometer
+                else {}
+            ),
         }
 
     def summary(self) -> str:
@@ -611,7 +620,13 @@ class ErrorModel:
                 f"±{self.wire_stiffness_rel_uncertainty:.0%})"
             )
         incl += f", mean of {self.samples}"
-        if self.has_shared_sensor:
+        if self.accelerometer:
+            incl = (
+                f"offset ±{self.sensor_offset_g * 1000:g} mg, scale "
+                f"±{self.sensor_scale_rel:.1%}, cross-axis ±{self.sensor_cross_axis_rel:.1%}, "
+                f"mounting {self.mounting_misalignment_deg:g}° (one sensor for every hang)"
+            )
+        elif self.has_shared_sensor:
             incl += (
                 f"; one sensor for every hang: offset ±{self.sensor_offset_deg:g}°, "
                 f"scale ±{self.sensor_scale_rel:.1%}, mounting {self.mounting_misalignment_deg:g}°"
@@ -619,4 +634,5 @@ class ErrorModel:
         off = [s for s in SOURCES if s not in self.sources]
         tail = f"; off: {', '.join(off)}" if off else ""
         play = f"play {self.play_mm:g} mm square"
-        return f"{self.inclinometer_model} model: {incl}; {play}; {wire}{tail}"
+        kind = "accelerometer" if self.accelerometer else self.inclinometer_model
+        return f"{kind} model: {incl}; {play}; {wire}{tail}"

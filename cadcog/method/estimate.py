@@ -553,10 +553,11 @@ def _joint_with_shared_sensor(
     """The joint estimate with the sensor's shared offsets, sensitivities and mounting
     estimated alongside (:func:`cadcog.method.sharedfit.fit_shared`): the estimate, the
     corrected verticals and what became of each shared parameter."""
-    acc = None
+    acc: FloatArray | None = None
     norm_var = None
     if cfg.accelerometer:
-        acc = [s.acc_g for s in suspensions]
+        # (read with an accelerometer's configuration, every suspension has its reading)
+        acc = np.array([s.acc_g if s.acc_g is not None else (np.nan,) * 3 for s in suspensions])
         norm_var = accelerometer_variances(suspensions, cfg, mdl)[1]
     fit = sharedfit.fit_shared(
         [s.position_mm for s in suspensions],

@@ -294,7 +294,7 @@ def _read_groups(
     max_counts = cfg.sensor.max_counts
     counts = False
     col: dict[str, int] = {}
-    angle_cols = DEG_COLUMNS
+    angle_cols: tuple[str, ...] = DEG_COLUMNS
     for line, fields in data_rows(rows, fail):
         if header is None:
             header = [f.strip() for f in fields]

@@ -371,9 +371,12 @@ def _loo_statistic(state: _State, hessian: FloatArray, local: int) -> float:
     if not np.all(np.isfinite(h_inv)) or np.any(np.diag(h_inv) < 0):
         return 0.0
     r_other = r + m @ (h_inv @ pull)
-    lateral = np.linalg.inv(w + uu) - uu
-    v = lateral + m @ h_inv @ m.T
-    wv = np.linalg.inv(v + uu) - uu
+    try:
+        lateral = np.linalg.inv(w + uu) - uu
+        v = lateral + m @ h_inv @ m.T
+        wv = np.linalg.inv(v + uu) - uu
+    except np.linalg.LinAlgError:
+        return 0.0  # the others leave this line's residual undetermined: nothing to test
     return max(float(r_other @ wv @ r_other), 0.0)
 
 
@@ -393,6 +396,7 @@ def fit_shared(
     *,
     acc_g: npt.ArrayLike | None = None,
     norm_var_g2: npt.ArrayLike | None = None,
+    verdicts: bool = True,
 ) -> SharedFit:
     """The CoG of one test's hangs with the shared sensor parameters (and λ) estimated jointly.
 
@@ -423,6 +427,9 @@ def fit_shared(
         parameters are :data:`cadcog.rig.accelerometer.ACCEL_SHARED_PARAMETERS` (``prior_sigma``
         of shape (12,)), and each hang's gravity norm is a residual of its own
         (:func:`cadcog.rig.accelerometer.accel_norms`), with variance ``norm_var_g2`` (k,).
+    verdicts : bool
+        Each line's consistency verdict (default); False leaves :attr:`SharedFit.residuals`
+        empty (a prediction at ideal readings needs none).
 
     Raises
     ------
@@ -486,7 +493,7 @@ def fit_shared(
     shared_sigma[active] = np.sqrt(np.diag(cov)[off:])
     # Each hang's gravity norm is one more observation.
     dof = 2 * k - 3 - (1 if wire.estimate else 0) + len(state.norm_residuals)
-    residuals = _residuals(lines, state, names, dof, outlier_probability)
+    residuals = _residuals(lines, state, names, dof, outlier_probability) if verdicts else []
     return SharedFit(
         state.x[:3].copy(),
         cov[:3, :3].copy(),

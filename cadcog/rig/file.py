@@ -201,8 +201,9 @@ def _inclinometer(t: TableReader) -> InclinometerConfig:
 def _accelerometer(t: TableReader) -> InclinometerConfig:
     """An ``[inclinometer]`` table with ``device = "accelerometer"``: a three-axis
     accelerometer (:mod:`cadcog.rig.accelerometer`), its mounting and shared figures."""
+    present = set(t.keys())  # (not t.has: an unknown key's message lists what was asked for)
     for key in _ANGLE_ONLY_KEYS:
-        if t.has(key):
+        if key in present:
             hint = {
                 "offset_deg": " (declare offset_g, in g)",
                 "accuracy_deg": " (declare accuracy_g, in g)",

@@ -156,8 +156,8 @@ def require_angle_sensor(device: str, what: str) -> None:
     if device == "accelerometer":
         raise UnsupportedSensorError(
             f"{what} models a dual-axis inclinometer only; this set-up's [inclinometer] declares "
-            'device = "accelerometer", which cadcog estimate and cadcog acquire --log take '
-            "(docs/bench.md: a phone or an accelerometer)"
+            'device = "accelerometer", which cadcog estimate, acquire (--log, or --port to '
+            "record one), budget and plan take (docs/bench.md: a phone or an accelerometer)"
         )
 
 

@@ -11,7 +11,7 @@ determine the tensor keeps its CoG plan, and the reason is part of the result
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Literal
+from typing import Any, Literal
 
 from cadcog.core.errors import CadcogError, DegenerateGeometryError
 from cadcog.spacecraft.plan import Plan, plan_test
@@ -70,3 +70,44 @@ def run_plan(
     except DegenerateGeometryError as exc:  # valid input, no useful set: said, not an error
         return replace(plan, goal=goal, inertia_refused=str(exc))
     return replace(plan, goal=goal, inertia=inertia)
+
+
+def run_accel_plan(
+    setup: Setup, *, max_set: int = 8, target_mm: float | None = None
+) -> tuple[list[Any], Any]:
+    """An accelerometer's plan (``device = "accelerometer"``): each candidate checked as
+    :func:`cadcog.spacecraft.plan.check_candidate` checks it, then the best set of each size up
+    to ``max_set`` hangs (reversals included) by the estimator's covariance at the CAD's
+    readings (:mod:`cadcog.uncertainty.accel_budget`), and the smallest within ``target_mm``.
+
+    Raises
+    ------
+    CadcogError
+        Fewer than two usable candidates, or no pair of them determines the CoG.
+    """
+    import numpy as np
+
+    from cadcog.spacecraft.plan import check_candidate
+    from cadcog.uncertainty.accel_budget import Hangs, accelerometer_budget
+
+    checks = [check_candidate(setup, c) for c in setup.candidates]
+    usable = [c for c, k in zip(setup.candidates, checks, strict=True) if k.usable]
+    if len(usable) < 2:
+        raise CadcogError(
+            f"{setup.source}: {len(usable)} of {len(checks)} candidates usable, two at least "
+            "are needed"
+        )
+    hangs = Hangs(
+        tuple(c.id for c in usable),
+        np.array([c.position_mm for c in usable], dtype=float),
+        np.array([c.normal for c in usable], dtype=float),
+        np.asarray(setup.assembly_cog_mm, dtype=float),
+    )
+    try:
+        budget = accelerometer_budget(
+            hangs, setup.rig.inclinometer, setup.error_model(), target_mm=target_mm,
+            max_hangs=max_set,
+        )  # fmt: skip
+    except DegenerateGeometryError as exc:
+        raise CadcogError(f"{setup.source}: {exc}") from None
+    return checks, budget

@@ -126,9 +126,12 @@ class Plan(JsonResult):
 def check_candidate(setup: Setup, candidate: Candidate) -> CandidateCheck:
     """Whether a candidate can be hung from: the nominal readings (the ME on, the CAD's CoG)
     within the inclinometer's range, and the vertical at least
-    :data:`~cadcog.core.tolerances.MIN_VERTICAL_ELEVATION_DEG` from its plane; why not."""
+    :data:`~cadcog.core.tolerances.MIN_VERTICAL_ELEVATION_DEG` from its plane; why not. An
+    accelerometer reads the whole vector: every candidate is usable."""
     rng_deg = setup.rig.inclinometer_range_deg
     r = ideal_reading(candidate.position_mm, setup.assembly_cog_mm)
+    if setup.rig.inclinometer.accelerometer:
+        return CandidateCheck(candidate.id, r.inc_x_deg, r.inc_y_deg, True, "")
     bad = axes_beyond_range(r.inc_x_deg, r.inc_y_deg, rng_deg)
     reason = f"{' and '.join(bad)} beyond the ±{rng_deg:g}° range" if bad else ""
     elevation = float(np.degrees(np.arcsin(min(1.0, abs(float(r.vertical[2]))))))
@@ -218,7 +221,7 @@ def plan_test(
     checks = [check_candidate(setup, c) for c in setup.candidates]
     usable = tuple(c for c, k in zip(setup.candidates, checks, strict=True) if k.usable)
     model = setup.error_model()
-    model.require_angle_sensor("cadcog plan")
+    model.require_angle_sensor("the Monte Carlo plan (cadcog.plan)")
 
     def nothing(reason: str) -> Plan:
         """The plan that recommends nothing, and why."""
