@@ -6,7 +6,8 @@ The main entry points are here (:mod:`cadcog.api`): :func:`mass_properties` of a
 campaign, :func:`plan` a spacecraft's test, :func:`update` its CAD from the test,
 :func:`inertia` its tensor from the swings, :func:`check` requirements, :func:`campaign` a
 virtual test written as a lab records it, :func:`acquire` a test run (a simulated device by
-default), :func:`setup_init` a set-up drafted from a STEP
+default), :func:`acquire_log` one from a phone's recorded log, :func:`setup_init` a set-up
+drafted from a STEP
 model; :func:`load_rig` and
 :func:`load_setup` read parameter files. Each returns the result object the command prints,
 with ``to_dict()`` and ``to_json()``.
@@ -30,6 +31,7 @@ from cadcog.core.version import __version__
 if TYPE_CHECKING:
     from cadcog.api import (
         acquire,
+        acquire_log,
         balance,
         campaign,
         check,
@@ -48,6 +50,7 @@ if TYPE_CHECKING:
 __all__ = [
     "__version__",
     "acquire",
+    "acquire_log",
     "balance",
     "campaign",
     "check",

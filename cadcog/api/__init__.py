@@ -25,7 +25,7 @@ True
 from __future__ import annotations
 
 from cadcog.api._checks import _one_blas_thread as _one_blas_thread  # the tests use it
-from cadcog.api.bench import acquire, setup_init
+from cadcog.api.bench import acquire, acquire_log, setup_init
 from cadcog.api.measure import estimate, inertia, update
 from cadcog.api.model import load_rig, load_setup, mass_properties
 from cadcog.api.planning import balance, check, plan
@@ -33,6 +33,7 @@ from cadcog.api.simulation import campaign, simulate, validate
 
 __all__ = [
     "acquire",
+    "acquire_log",
     "balance",
     "campaign",
     "check",

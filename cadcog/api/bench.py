@@ -1,4 +1,4 @@
-"""A set-up drafted and a test run: ``cadcog setup init``, ``acquire``."""
+"""A set-up drafted and a test run: ``cadcog setup init``, ``acquire`` (``--log``)."""
 
 from __future__ import annotations
 
@@ -19,6 +19,7 @@ from cadcog.core.errors import CadcogError
 if TYPE_CHECKING:
     from cadcog.rig.parameters import Rig
     from cadcog.runs.acquire import AcquireRun
+    from cadcog.runs.acquire_log import LogRun
     from cadcog.runs.setup_init import SetupDraft
     from cadcog.spacecraft.setup import Setup
 
@@ -132,4 +133,66 @@ def acquire(
         port=port,
         simulation=None if port is not None else Simulation(device, None, seed, time_scale),
         report=None if report is None else _path(f, "report", report),
+    )
+
+
+@_one_blas_thread
+def acquire_log(
+    log: str | Path,
+    out: str | Path,
+    *,
+    rig: Rig | str | Path | None = None,
+    setup: Setup | str | Path | None = None,
+    points: Sequence[str] | None = None,
+    log_format: Literal["phyphox", "csv"] = "phyphox",
+    average_s: float = 10.0,
+) -> LogRun:
+    """A test from a recorded accelerometer log (``cadcog acquire --log``): a phone's phyphox
+    export or a ``t_s,ax,ay,az`` CSV, cut into the hangs of ``points`` in that order, written
+    to the readings CSV ``out`` and estimated from it.
+
+    Parameters
+    ----------
+    log : str or Path
+        The recorded log.
+    out : str or Path
+        The readings CSV to write.
+    rig, setup : optional
+        The rig (default: the paper's) or a set-up; its ``[inclinometer]`` must declare
+        ``device = "accelerometer"``.
+    points : sequence of str, optional
+        The hangs, in the order the log holds them (default: every rig point; a set-up needs
+        them).
+    log_format : "phyphox" or "csv"
+    average_s : float
+        A settled stretch shorter than this is not a hang.
+
+    Returns
+    -------
+    LogRun
+        The hangs found (their time spans), the estimate, and (set-ups) its comparison with
+        the CAD; ``to_dict()`` is the command's ``--json``.
+    """
+    from cadcog.runs.acquire import acquire_target
+    from cadcog.runs.acquire_log import acquire_log as run_log
+
+    f = "acquire_log"
+    _numbers(f, average_s=average_s)
+    check_choice(f, "log_format", log_format, ("phyphox", "csv"))
+    if setup is not None and rig is not None:
+        raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
+    if setup is not None and points is None:
+        raise CadcogError(f"{f}: a set-up needs points, the hangs in the order they were made")
+    _point_ids(f, points)
+    target = acquire_target(
+        rig=None if setup is not None else _rig(f, rig),
+        setup=None if setup is None else _setup(f, setup),
+        points=points,
+    )
+    return run_log(
+        target,
+        _path(f, "log", log),
+        _path(f, "out", out),
+        fmt=log_format,
+        min_average_s=average_s,
     )

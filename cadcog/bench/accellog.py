@@ -7,11 +7,12 @@ Two formats, each read and written here (the writer for tests, examples and conv
       "Time (s)","Acceleration x (m/s^2)","Acceleration y (m/s^2)","Acceleration z (m/s^2)",...
       0.000000000E0,1.232356191E-1,2.185449600E-1,9.792325974E0,...
 
-  comma separated (phyphox also exports with ``;`` or a tab, and with a decimal comma when
-  the separator is ``;``: all three are read); the absolute column is optional and not used.
+  comma separated (phyphox also exports with ``;`` or a tab, each with a decimal point or a
+  decimal comma: all are read); columns after the three accelerations (phyphox's absolute
+  one) are not used.
   "Linear Acceleration" (without g) reads about 0 at rest and is refused.
 - ``csv``: a plain CSV with a header ``t_s,ax,ay,az`` (m/s², as a phone reports) or
-  ``t_s,ax_g,ay_g,az_g`` (g, as a board's firmware reports).
+  ``t_s,ax_g,ay_g,az_g`` (g, as a board's firmware reports); further columns are not used.
 
 Times are seconds from any origin and must increase; accelerations are the specific force
 along the sensor's axes (at rest, +1 g along the upward axis). The reader converts m/s² to g
@@ -113,6 +114,10 @@ def _open_text(path: Path) -> str:
         raise LogError(f"{path}: cannot read ({exc.strerror or exc})") from None
     if len(data) > MAX_LOG_BYTES:
         raise LogError(f"{path}: larger than {MAX_LOG_BYTES // 1_000_000} MB; cut the log")
+    if data.startswith(b"PK\x03\x04"):
+        raise LogError(
+            f'{path}: a zip archive (phyphox\'s share): unzip it and give its "Raw Data.csv"'
+        )
     if b"\0" in data:
         raise LogError(f"{path}: a binary file, expected a log CSV (text)")
     note_input(path, "the log it reads")
@@ -127,27 +132,30 @@ def _dialect(first_line: str) -> tuple[str, bool]:
     """The separator of a header line, and whether numbers use a decimal comma."""
     for sep in ("\t", ";", ","):
         if sep in first_line:
-            return sep, sep == ";"
+            return sep, sep != ","
     return ",", False
 
 
 def _header_problem(header: list[str], fmt: LogFormat) -> str | None:
     if fmt == "phyphox":
-        if list(header[:4]) != list(PHYPHOX_COLUMNS) or header[4:] not in ([], [PHYPHOX_ABSOLUTE]):
+        if list(header[:4]) != list(PHYPHOX_COLUMNS):
             hint = ""
             if header and header[0] == PHYPHOX_COLUMNS[0] and "Linear" in ",".join(header):
                 hint = ' (a "Linear Acceleration" log, without g: record "Acceleration with g")'
+            elif tuple(header[:4]) in (PLAIN_COLUMNS_M_S2, PLAIN_COLUMNS_G):
+                hint = " (a plain log: --log-format csv)"
             return (
-                "expected phyphox's header "
+                "expected phyphox's columns "
                 + ",".join(f'"{c}"' for c in PHYPHOX_COLUMNS)
-                + f'[,"{PHYPHOX_ABSOLUTE}"]'
+                + " first"
                 + hint
             )
         return None
-    if tuple(header) not in (PLAIN_COLUMNS_M_S2, PLAIN_COLUMNS_G):
+    if tuple(header[:4]) not in (PLAIN_COLUMNS_M_S2, PLAIN_COLUMNS_G):
+        hint = " (phyphox's export: --log-format phyphox)" if header[:1] == ["Time (s)"] else ""
         return (
-            f"expected the header {','.join(PLAIN_COLUMNS_M_S2)} (m/s²) or "
-            f"{','.join(PLAIN_COLUMNS_G)} (g)"
+            f"expected the columns {','.join(PLAIN_COLUMNS_M_S2)} (m/s²) or "
+            f"{','.join(PLAIN_COLUMNS_G)} (g) first{hint}"
         )
     return None
 
@@ -199,8 +207,10 @@ def read_log(path: str | Path, fmt: LogFormat = "phyphox") -> AccelLog:
                 header = [f.strip() for f in fields]
                 problem = _header_problem(header, fmt)
                 if problem is not None:
-                    raise LogError(f"{p}, line {line}: {problem}; got {','.join(header)[:120]}")
-                if fmt == "csv" and tuple(header) == PLAIN_COLUMNS_G:
+                    got = ",".join(header)
+                    got = got if len(got) <= 240 else got[:240] + "…"
+                    raise LogError(f"{p}, line {line}: {problem}; got {got}")
+                if fmt == "csv" and tuple(header[:4]) == PLAIN_COLUMNS_G:
                     scale = 1.0
                 continue
             if len(fields) != len(header):

@@ -126,6 +126,7 @@ class Segmentation:
     rests: tuple[tuple[float, float], ...]
     bin_t_s: FloatArray
     amplitude_deg: FloatArray
+    ends_in_hang: float | None = None
 
 
 def _bins(log: AccelLog) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_]]:
@@ -230,8 +231,21 @@ def segment_log(
     threshold = SWING_FACTOR * criterion.threshold_deg
     hangs = [h for h in found if h.swing_max_deg > threshold]
     rests = [(h.start_s, h.end_s) for h in found if not h.swing_max_deg > threshold]
-    unsettled = _unsettled(found, t, mean, full, amp, hold, criterion.threshold_deg)
-    return Segmentation(tuple(hangs), tuple(unsettled), tuple(short), tuple(rests), t, amp)
+    stills = [(h.settled_s, h.end_s) for h in found] + short
+    swings = _swinging(found, t, mean, full, amp, criterion.threshold_deg)
+    unsettled = _unsettled(swings, stills, criterion.hold_s)
+    # A swing of a window or more (or a stillness too short to average) that the log's end
+    # cuts: the recording stopped during a hang.
+    ends = None
+    tail = t[-1] - window * BIN_S
+    last = [
+        u.start_s for u in swings if u.end_s >= tail and u.end_s - u.start_s >= criterion.window_s
+    ] + [a for a, b in short if b >= tail]
+    if last:
+        ends = min(last)
+        unsettled = [u for u in unsettled if u.end_s < tail]
+        short = [(a, b) for a, b in short if b < tail]
+    return Segmentation(tuple(hangs), tuple(unsettled), tuple(short), tuple(rests), t, amp, ends)
 
 
 def _direction(mean: FloatArray, full: npt.NDArray[np.bool_], a: int, b: int) -> FloatArray:
@@ -288,17 +302,16 @@ def _merge(
     return hangs
 
 
-def _unsettled(
+def _swinging(
     hangs: list[LogHang],
     t: FloatArray,
     mean: FloatArray,
     full: npt.NDArray[np.bool_],
     amp: FloatArray,
-    hold: int,
     threshold_deg: float,
 ) -> list[Unsettled]:
-    """Stretches outside the hangs where the object hung swinging: the magnitude near 1 g for
-    longer than the hold, without settling."""
+    """Every stretch outside the hangs where the object hung swinging: the magnitude near its
+    rest (not handled), the amplitude at or above the threshold."""
     inside = np.zeros(len(t), dtype=bool)
     for h in hangs:
         inside[(t >= h.start_s) & (t <= h.end_s)] = True
@@ -311,12 +324,21 @@ def _unsettled(
         & np.isfinite(amp)
         & (amp >= threshold_deg)
     )
+    return [
+        Unsettled(float(t[a] - 0.5 * BIN_S), float(t[b - 1] + 0.5 * BIN_S), float(amp[a:b].min()))
+        for a, b in _runs(swinging)
+    ]
+
+
+def _unsettled(
+    swings: list[Unsettled], stills: list[tuple[float, float]], hold_s: float
+) -> list[Unsettled]:
+    """The swings longer than twice the hold not followed by a stillness (a swing that then
+    settled, however briefly, is a hang's release, not a hang that never settled)."""
+    starts = np.array(sorted(a for a, _ in stills)) if stills else np.zeros(0)
     out = []
-    for a, b in _runs(swinging):
-        if b - a > 2 * hold:
-            out.append(
-                Unsettled(
-                    float(t[a] - 0.5 * BIN_S), float(t[b - 1] + 0.5 * BIN_S), float(amp[a:b].min())
-                )
-            )
+    for u in swings:
+        after = starts[(starts >= u.end_s - BIN_S) & (starts <= u.end_s + hold_s + BIN_S + 5.0)]
+        if not len(after) and u.end_s - u.start_s > 2 * hold_s:
+            out.append(u)
     return out

@@ -57,6 +57,12 @@ def add_parser(sub: Any) -> None:
         '[inclinometer] must declare device = "accelerometer" (docs/bench.md)',
     )
     p.add_argument(
+        "--drop-hangs",
+        metavar="N,N",
+        help="--log: leave out these hangs of the log (numbered from 1 in its order, as a "
+        "refusal lists them): a hang redone",
+    )
+    p.add_argument(
         "--log-out",
         type=Path,
         metavar="LOG",
@@ -267,9 +273,25 @@ def _run_log(args: argparse.Namespace) -> int:
         fmt=args.log_format,
         criterion=_criterion(args),
         min_average_s=args.average_s,
+        drop=_drops(args.drop_hangs),
         say=lambda text: print(text, file=sys.stderr),
     )
     return _print_log_run(args, run, args.log)
+
+
+def _drops(text: str | None) -> tuple[int, ...]:
+    """``--drop-hangs N,N``: positive whole numbers."""
+    if text is None:
+        return ()
+    try:
+        out = tuple(int(x) for x in text.split(","))
+    except ValueError:
+        raise CadcogError(
+            f"--drop-hangs: expected numbers of hangs such as 3 or 3,5, got {text[:40]!r}"
+        ) from None
+    if any(x < 1 for x in out):
+        raise CadcogError("--drop-hangs: hangs are numbered from 1")
+    return out
 
 
 def _run_recorded(args: argparse.Namespace, target: Any) -> int:
@@ -341,6 +363,8 @@ def run(args: argparse.Namespace) -> int:
     for option in ("--log-out", "--duration-s"):
         if getattr(args, option[2:].replace("-", "_")) is not None:
             raise CadcogError(f"{option}: for an accelerometer's recording from --port")
+    if args.drop_hangs is not None:
+        raise CadcogError("--drop-hangs: for a log (--log)")
     criterion = _criterion(args)
     live = _Live()
     say = live.say if not args.json else (lambda text: print(text, file=sys.stderr))

@@ -33,7 +33,8 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--target-mm",
         type=float,
-        help="an accelerometer's plan: the smallest set whose predicted 95 %% error is within this",
+        help="an accelerometer's plan: the smallest set whose predicted 95 %% error is within "
+        "this (exit 1 when none is)",
     )
     p.add_argument("--seed", type=int, default=0)
     p.add_argument(
@@ -148,18 +149,19 @@ def _accelerometer_plan(args: argparse.Namespace, setup: Any) -> int:
             "accelerometer's plan is for the CoG"
         )
     checks, budget = run_accel_plan(setup, max_set=max(args.max_set, 8), target_mm=args.target_mm)
+    status = 1 if args.target_mm is not None and budget.meets is None else 0
     if args.json:
         out = budget.to_dict()
         out["checks"] = [{"id": c.id, "usable": c.usable, "reason": c.reason} for c in checks]
         print(dumps_json(out).rstrip("\n"))
-        return 0
+        return status
     bad = [c for c in checks if not c.usable]
     print(f"{setup.name}: {len(checks) - len(bad)} of {len(checks)} candidates usable")
     for c in bad:
         print(f"  {c.id}: cannot work: {c.reason}")
     print(f"error model: {budget_summary(setup)}\n")
     print_accel_sizes(budget, args.target_mm)
-    return 0
+    return status
 
 
 def budget_summary(setup: Any) -> str:

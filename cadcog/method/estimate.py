@@ -599,7 +599,12 @@ def _joint_with_shared_sensor(
         if bounds[j] > 0 and abs(fit.shared[j]) > bounds[j]
     ]
     angle = float(np.linalg.norm(fit.shared[2 * n_ch : 2 * n_ch + 3]))
-    if mdl.mounting_misalignment_deg > 0 and angle > mdl.mounting_misalignment_deg:
+    # An accelerometer's mounting carries its couplings' rotation too: each of its three
+    # components within the cross-axis figure (radians).
+    turn = mdl.mounting_misalignment_deg + float(
+        np.degrees(np.sqrt(3.0) * mdl.sensor_cross_axis_rel) if cfg.accelerometer else 0.0
+    )
+    if mdl.mounting_misalignment_deg > 0 and angle > turn:
         beyond.append(f"mounting {angle:.3g}°")
     if beyond:
         warnings.append(
@@ -664,7 +669,17 @@ def _wire_scale(
     warnings: list[str],
 ) -> WireScale:
     """The wire scale of an estimate (λ, its variance, whether the lines determine it); raises
-    if self-calibration cannot determine it."""
+    if self-calibration cannot determine it. A λ more than 3 σ of its prior from the prior's
+    mean (the one wire: 0.5 ± 0.5 mm) is warned of: the lines then meet only with the points
+    moved, which a wire does not do."""
+    prior_sigma = float(np.sqrt(max(wire.scale_var_mm2, 0.0)))
+    if prior_sigma > 0 and abs(scale_mm - wire.scale_mm) > 3.0 * prior_sigma:
+        warnings.append(
+            f"the wire offset λ = {scale_mm:.2f} mm lies far from its prior "
+            f"({wire.scale_mm:.2f} ± {prior_sigma:.2f} mm): the lines meet only with the points "
+            "moved along their bolts; is a point's position where the wire leaves the object "
+            "(a set-up lists it so), and is the sensor's orientation right?"
+        )
     if wire.estimate:
         if not identified:
             raise DegenerateGeometryError(

@@ -428,9 +428,10 @@ def _accelerometer_header(header: list[str], cfg: InclinometerConfig, line: int,
     if not cfg.accelerometer:
         raise fail(
             line,
-            f"columns {', '.join(ACC_COLUMNS)} are an accelerometer's readings, but the "
-            "set-up's [inclinometer] declares an angle-reading inclinometer: add "
-            'device = "accelerometer" (docs/bench.md)',
+            f"columns {', '.join(ACC_COLUMNS)} are an accelerometer's readings, but the rig or "
+            "set-up (the paper's rig when none is given) declares an angle-reading "
+            "inclinometer: give --rig or --setup with the one whose [inclinometer] declares "
+            'device = "accelerometer" (docs/bench.md §8)',
         )
     clash = [c for c in (*DEG_COLUMNS, *COUNT_COLUMNS, FACE_COLUMN) if c in header]
     if clash:

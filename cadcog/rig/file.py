@@ -19,7 +19,7 @@ import numpy as np
 from cadcog.core import tolerances
 from cadcog.core.paramfile import TableReader, read_toml
 from cadcog.core.tolerances import MIN_SOLID_DIMENSION_MM
-from cadcog.rig.accelerometer import SQUARE_AXES, axes_problem
+from cadcog.rig.accelerometer import axes_problem
 from cadcog.rig.geometry import AXIS_NAMES, FACES, face_plane_mm
 from cadcog.rig.inclinometer import DEVICES, InclinometerConfig, SensorModel
 from cadcog.rig.parameters import (
@@ -202,17 +202,31 @@ def _accelerometer(t: TableReader) -> InclinometerConfig:
     """An ``[inclinometer]`` table with ``device = "accelerometer"``: a three-axis
     accelerometer (:mod:`cadcog.rig.accelerometer`), its mounting and shared figures."""
     present = set(t.keys())  # (not t.has: an unknown key's message lists what was asked for)
-    for key in _ANGLE_ONLY_KEYS:
-        if key in present:
-            hint = {
-                "offset_deg": " (declare offset_g, in g)",
-                "accuracy_deg": " (declare accuracy_g, in g)",
-            }.get(key, "")
-            raise t.error(
-                key, f"an angle-reading inclinometer's figure; an accelerometer has none{hint}"
-            )
+    angle = [k for k in _ANGLE_ONLY_KEYS if k in present]
+    if angle:
+        hint = {
+            "offset_deg": " (declare offset_g, in g)",
+            "accuracy_deg": " (declare accuracy_g, in g)",
+        }.get(angle[0], "")
+        others = f" (and {', '.join(angle[1:])})" if len(angle) > 1 else ""
+        raise t.error(
+            angle[0],
+            f"an angle-reading inclinometer's figure{others}; an accelerometer has none{hint}",
+        )
+    # How it sits and what it shares are what a team must think about: no silent perfect sensor.
+    missing = [
+        k
+        for k in ("axes", "offset_g", "scale_error_rel", "mounting_misalignment_deg")
+        if k not in present
+    ]
+    if missing:
+        raise t.error(
+            missing[0],
+            "missing: an accelerometer declares how it sits and its shared figures "
+            f"({', '.join(missing)}; 0 for a figure known to be negligible): docs/bench.md §8",
+        )
     d = InclinometerConfig()
-    axes = tuple(t.strings("axes")) if t.has("axes") else SQUARE_AXES
+    axes = tuple(t.strings("axes"))
     problem = axes_problem(axes)
     if problem is not None:
         raise t.error("axes", problem)

@@ -155,9 +155,10 @@ def require_angle_sensor(device: str, what: str) -> None:
     """
     if device == "accelerometer":
         raise UnsupportedSensorError(
-            f"{what} models a dual-axis inclinometer only; this set-up's [inclinometer] declares "
-            'device = "accelerometer", which cadcog estimate, acquire (--log, or --port to '
-            "record one), budget and plan take (docs/bench.md: a phone or an accelerometer)"
+            f"{what} models a dual-axis inclinometer only, and the [inclinometer] table declares "
+            'device = "accelerometer" (an accelerometer is taken by estimate, acquire --log or '
+            "--port, and by budget --rig and plan SETUP, which predict its error: docs/bench.md "
+            "§8)"
         )
 
 

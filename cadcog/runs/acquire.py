@@ -80,6 +80,11 @@ def acquire_target(
     from cadcog.bench.target import REVERSAL_SUFFIX, point_of, target_from_rig, target_from_setup
 
     ids = None if points is None else [i.strip() for i in points if i.strip()]
+    if setup is not None and ids is None and setup.rig.inclinometer.accelerometer:
+        raise CadcogError(
+            "--points: an accelerometer's test takes its hangs in order (cadcog plan SETUP "
+            "recommends them)"
+        )
     if setup is not None:
         if rig is not None:
             raise CadcogError("give --rig or --setup, not both")

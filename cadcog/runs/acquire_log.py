@@ -11,7 +11,7 @@ does. Nothing is written unless every hang was found and the estimate could be c
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -29,6 +29,9 @@ from cadcog.rig.accelerometer import axes_matrix
 #: A found hang whose direction is further than this (degrees) from what the CAD predicts for
 #: its planned point is reported: the order of the hangs may not be the order given.
 ORDER_WARNING_DEG = 10.0
+#: Further than this and the run is refused: no CAD is that wrong (a CoG 30° off a hang's
+#: vertical is half the lever away); the order or the sensor's axes are.
+ORDER_REFUSAL_DEG = 30.0
 
 
 @dataclass(frozen=True, repr=False)
@@ -56,32 +59,41 @@ class LogRun(JsonResult):
 
 
 def _span(a: float, b: float) -> str:
-    return f"{a:.1f}-{b:.1f} s"
+    return f"{a:.0f}-{b:.0f} s"
+
+
+def _spans(spans: Sequence[tuple[float, float]], most: int = 8) -> str:
+    """Time spans, at most ``most`` of them (a message stays readable)."""
+    shown = ", ".join(_span(a, b) for a, b in spans[:most])
+    return shown + (f" and {len(spans) - most} more" if len(spans) > most else "")
 
 
 def _count_problem(seg: Segmentation, hangs: Sequence[Any], log_path: Path) -> str | None:
-    """Why the log's hangs cannot be given the planned points (None when they can)."""
+    """Why the log's hangs cannot be given the planned points (None when they can): what was
+    found, the most telling first, short enough to be read whole."""
     found, wanted = len(seg.hangs), len(hangs)
     if found == wanted:
         return None
-    spans = ", ".join(_span(h.settled_s, h.end_s) for h in seg.hangs) or "none"
-    parts = [f"{log_path}: {found} settled hang(s) in the log for {wanted} point(s) "]
-    parts.append(f"({', '.join(h.id for h in hangs)}); settled: {spans}")
-    for u in seg.unsettled:
+    parts = [f"{log_path}: {found} settled hang(s) for {wanted} point(s)"]
+    if seg.ends_in_hang is not None:
         parts.append(
-            f"; a hang never settled at {_span(u.start_s, u.end_s)} (its swing stayed above "
+            f"; the log ends during a hang (from {seg.ends_in_hang:.0f} s): record until it has "
+            "been still for --average-s"
+        )
+    for u in seg.unsettled[:3]:
+        parts.append(
+            f"; a hang never settled at {_span(u.start_s, u.end_s)} (swing above "
             f"{u.amplitude_deg:.2f}°): redo it, or leave its point out of --points"
         )
-    if seg.rests:
-        parts.append(
-            "; still but not released (no swing before it, a rest on a table?): "
-            + ", ".join(_span(a, b) for a, b in seg.rests)
-        )
     if seg.short_spans:
-        parts.append(
-            "; settled too briefly to average (below --average-s): "
-            + ", ".join(_span(a, b) for a, b in seg.short_spans)
-        )
+        parts.append(f"; still too briefly to average (< --average-s): {_spans(seg.short_spans)}")
+    if seg.rests:
+        parts.append(f"; still but never released (a rest?): {_spans(seg.rests, 4)}")
+    numbered = [(h.settled_s, h.end_s) for h in seg.hangs]
+    listed = ", ".join(f"#{i} {_span(a, b)}" for i, (a, b) in enumerate(numbered[:12], 1))
+    parts.append(f"; hangs found: {listed or 'none'}")
+    if found > wanted:
+        parts.append("; leave out the extra ones with --drop-hangs (their # above)")
     return "".join(parts)
 
 
@@ -106,24 +118,40 @@ def readings_text(planned: Sequence[Any], found: Sequence[LogHang], log_path: Pa
     return "\n".join(lines) + "\n"
 
 
-def _order_warnings(target: Any, found: Sequence[LogHang]) -> list[str]:
-    """Hangs whose direction is far from the CAD's for their planned point."""
+def _order_check(target: Any, found: Sequence[LogHang], log_path: Path) -> list[str]:
+    """Warnings for hangs whose direction is far from the CAD's for their planned point.
+
+    Raises
+    ------
+    LogError
+        When one is further than :data:`ORDER_REFUSAL_DEG`.
+    """
     cfg = target.inclinometer
     a = axes_matrix(cfg.axes)
     g = target.assembly.cog_mm
     out = []
+    wrong = []
     for p, h in zip(target.hangs, found, strict=True):
         u = np.asarray(p.position_mm, dtype=float) - g
         expected = a @ (u / np.linalg.norm(u))
         if p.sensor_turned:
             expected[:2] *= -1.0
         angle = float(rad_to_deg(np.arccos(np.clip(expected @ h.direction, -1.0, 1.0))))
-        if angle > ORDER_WARNING_DEG:
+        if angle > ORDER_REFUSAL_DEG:
+            wrong.append(f"{p.id} ({_span(h.settled_s, h.end_s)}) {angle:.0f}°")
+        elif angle > ORDER_WARNING_DEG:
             out.append(
                 f"hang {p.id} (settled {_span(h.settled_s, h.end_s)}) hangs {angle:.0f}° away "
                 f"from what the CAD predicts for {p.id}: were the hangs made in the order of "
                 "--points, and is [inclinometer] axes right?"
             )
+    if wrong:
+        raise LogError(
+            f"{log_path}: hangs far from where the CAD says their points hang: "
+            + ", ".join(wrong)
+            + f" (more than {ORDER_REFUSAL_DEG:g}°): give --points in the order the hangs were "
+            f"made, and check [inclinometer] axes = {list(cfg.axes)} (docs/bench.md §8)"
+        )
     return out
 
 
@@ -135,17 +163,23 @@ def acquire_log(
     fmt: LogFormat = "phyphox",
     criterion: Any = None,
     min_average_s: float = 10.0,
+    drop: Sequence[int] = (),
     say: Callable[[str], None] = lambda _text: None,
 ) -> LogRun:
     """Cut the log at ``log_path`` into ``target``'s hangs, write ``out``, estimate the CoG.
 
+    ``drop`` are hangs to leave out, numbered from 1 in the log's order (a hang redone: the
+    refusal lists the hangs with their numbers).
+
     Raises
     ------
     CadcogError
-        The set-up's sensor is not an accelerometer; the log cannot be read
+        The set-up's sensor is not an accelerometer; ``out`` exists (a log is cut once: a
+        new run is a new file); the log cannot be read
         (:class:`~cadcog.bench.accellog.LogError`); it holds more or fewer settled hangs than
-        planned points (naming the spans found, a hang that never settled and its span); the
-        estimate cannot be computed. Nothing is written then.
+        planned points (naming the spans found, a hang that never settled and its span); a hang
+        points far from where the CAD says its point hangs; the estimate cannot be computed.
+        Nothing is written then.
     """
     from cadcog.bench.swing import SettleCriterion
     from cadcog.bench.target import estimate_hangs
@@ -158,8 +192,20 @@ def acquire_log(
             'log is an accelerometer\'s: declare device = "accelerometer" and its axes '
             "(docs/bench.md: a phone or an accelerometer)"
         )
+    if out.exists() or out.is_symlink():
+        raise CadcogError(
+            f"--out {out}: exists; a log's readings go to a new file (remove it, or choose "
+            "another --out)"
+        )
     log = read_log(log_path, fmt)
     seg = segment_log(log, criterion or SettleCriterion(), min_average_s)
+    if drop:
+        bad = [d for d in drop if not 1 <= d <= len(seg.hangs)]
+        if bad:
+            raise CadcogError(
+                f"--drop-hangs: {bad[0]} is not a hang of the log (it holds {len(seg.hangs)})"
+            )
+        seg = replace(seg, hangs=tuple(h for i, h in enumerate(seg.hangs, 1) if i not in set(drop)))
     problem = _count_problem(seg, target.hangs, log_path)
     if problem is not None:
         raise LogError(problem)
@@ -167,7 +213,7 @@ def acquire_log(
         f"{log_path}: {len(log.t_s)} samples at {log.rate_hz:.0f} Hz over "
         f"{log.t_s[-1] - log.t_s[0]:.0f} s; {len(seg.hangs)} hangs found"
     )
-    warnings = _order_warnings(target, seg.hangs)
+    warnings = _order_check(target, seg.hangs, log_path)
     with staged_file(out) as staged:
         staged.write_text(readings_text(target.hangs, seg.hangs, log_path))
         suspensions = read_readings(staged, cfg)

@@ -234,7 +234,7 @@ def error_budget(
     options: EstimatorOptions = EstimatorOptions(),  # noqa: B008 - frozen dataclass
 ) -> Budget:
     """The budget of ``model`` for the representative pair of ``scenario``."""
-    model.require_angle_sensor("cadcog budget")
+    model.require_angle_sensor("the Monte Carlo's error budget")
     pair = representative_pair(scenario)
     bias, covs = linearised_covariance(scenario, model, pair, options)
     total = sum(covs.values(), np.zeros((3, 3)))

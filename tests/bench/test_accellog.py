@@ -69,8 +69,10 @@ def test_the_unit_is_converted_in_one_place(tmp_path):
 @pytest.mark.parametrize(
     ("text", "fmt", "message"),
     [
-        ("a,b,c\n1,2,3\n", "phyphox", r"line 1: expected phyphox's header"),
-        ("ax,ay,az\n0,0,9.8\n", "csv", r"line 1: expected the header t_s,ax,ay,az"),
+        ("a,b,c\n1,2,3\n", "phyphox", r"line 1: expected phyphox's columns"),
+        ("ax,ay,az\n0,0,9.8\n", "csv", r"line 1: expected the columns t_s,ax,ay,az"),
+        ("t_s,ax,ay,az\n0,0,0,9.8\n", "phyphox", r"\(a plain log: --log-format csv\)"),
+        (PHYPHOX_HEAD + "\n0,0,0,9.8\n", "csv", r"\(phyphox's export: --log-format phyphox\)"),
         (
             '"Time (s)","Linear Acceleration x (m/s^2)","Linear Acceleration y (m/s^2)",'
             '"Linear Acceleration z (m/s^2)"\n0,0,0,0\n',
@@ -110,6 +112,30 @@ def test_a_magnitude_that_cannot_be_gravity_is_refused(tmp_path, scale, shown):
     write_log(tmp_path / "l.csv", t, a * scale, "phyphox")
     with pytest.raises(LogError, match=f"median magnitude is {shown}, which cannot be gravity"):
         read_log(tmp_path / "l.csv")
+
+
+def test_extra_columns_are_not_used_and_a_tab_export_may_use_decimal_commas(tmp_path):
+    t, a = _still()
+    text = log_text(t, a, "phyphox")
+    tabbed = "\n".join(
+        "\t".join(f.replace(".", ",") for f in line.split(",")) for line in text.splitlines()
+    )
+    (tmp_path / "tab.csv").write_text(tabbed + "\n")
+    plain = "t_s,ax_g,ay_g,az_g,temperature_c\n" + "".join(
+        f"{ti},{x},{y},{z},21.5\n" for ti, (x, y, z) in zip(t, a, strict=True)
+    )
+    (tmp_path / "plain.csv").write_text(plain)
+    np.testing.assert_allclose(read_log(tmp_path / "tab.csv").acc_g, a, rtol=1e-8)
+    np.testing.assert_allclose(read_log(tmp_path / "plain.csv", "csv").acc_g, a, rtol=1e-12)
+
+
+def test_a_zip_is_named_as_phyphox_shares_it(tmp_path):
+    import zipfile
+
+    with zipfile.ZipFile(tmp_path / "share.zip", "w") as z:
+        z.writestr("Raw Data.csv", "x")
+    with pytest.raises(LogError, match=r'a zip archive .*unzip it and give its "Raw Data\.csv"'):
+        read_log(tmp_path / "share.zip")
 
 
 def test_a_binary_file_and_a_folder_are_refused(tmp_path):

@@ -125,7 +125,7 @@ def test_a_hang_that_never_settled_is_named_with_its_time_span(logs, tmp_path, c
                  str(out)]) == 2  # fmt: skip
     err = capsys.readouterr().err
     assert err.count("cadcog: error:") == 1 and str(path) in err
-    assert "5 settled hang(s) in the log for 6 point(s)" in err
+    assert "5 settled hang(s) for 6 point(s)" in err
     stuck = logs["logs"][17].hangs[3]
     start = float(err.split("a hang never settled at ")[1].split("-")[0])
     assert stuck.release_t_s - 1.0 <= start <= stuck.release_t_s + 5.0
@@ -158,14 +158,61 @@ def test_an_inclinometer_rig_refuses_a_log(logs, tmp_path, capsys):
     assert not out.exists()
 
 
-def test_a_mounting_given_wrong_is_told(logs, tmp_path, capsys):
-    """The log's phone sits as ("-y", "+x", "+z"); a rig that says square finds hangs that
-    point away from the CAD's prediction, and says so."""
+def test_a_mounting_or_an_order_given_wrong_is_refused(logs, tmp_path, capsys):
+    """The log's phone sits as ("-y", "+x", "+z"); a rig that says square, or the hangs given
+    in reverse, put hangs where the CAD says no point hangs: refused, nothing written."""
     rig = _phone_rig(tmp_path, ("+x", "+y", "+z"))
     out = tmp_path / "r.csv"
-    main(["acquire", "--rig", str(rig), "--log", str(logs["paths"][0]), "--out", str(out)])
+    log = str(logs["paths"][0])
+    assert main(["acquire", "--rig", str(rig), "--log", log, "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert "away from what the CAD predicts for S" in err and "is [inclinometer] axes right?" in err
+    assert "hangs far from where the CAD says their points hang" in err
+    assert "check [inclinometer] axes" in err and not out.exists()
+    backwards = "S6,S5,S4,S3,S2,S1"
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", log, "--points", backwards,
+                 "--out", str(out)]) == 2  # fmt: skip
+    assert "give --points in the order the hangs were made" in capsys.readouterr().err
+
+
+def test_an_existing_readings_file_is_never_overwritten(logs, tmp_path, capsys):
+    out = tmp_path / "precious.csv"
+    out.write_text("point_id,x_mm\n")
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][0]),
+                 "--out", str(out)]) == 2  # fmt: skip
+    assert "exists; a log's readings go to a new file" in capsys.readouterr().err
+    assert out.read_text() == "point_id,x_mm\n"
+
+
+def test_a_hang_redone_is_dropped_by_its_number(logs, tmp_path, capsys):
+    """Six hangs for the five points S2-S6: the refusal numbers them, --drop-hangs 1 leaves
+    the first out, and the rest are the points in order."""
+    out = tmp_path / "r.csv"
+    args = ["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][0]), "--points",
+            "S2,S3,S4,S5,S6", "--out", str(out)]  # fmt: skip
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "6 settled hang(s) for 5 point(s)" in err and "#6 " in err
+    assert "--drop-hangs" in err and not out.exists()
+    assert main([*args, "--drop-hangs", "1", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert [h["id"] for h in data["hangs"]] == ["S2", "S3", "S4", "S5", "S6"]
+    args[-1] = str(tmp_path / "other.csv")
+    assert main([*args, "--drop-hangs", "9"]) == 2
+    assert "--drop-hangs: 9 is not a hang of the log (it holds 6)" in capsys.readouterr().err
+
+
+def test_a_log_that_ends_during_a_hang_says_so(logs, tmp_path, capsys):
+    """The log cut 5 s after the last hang's release: not a hang that never settled."""
+    log = logs["logs"][0]
+    cut = log.hangs[-1].release_t_s + 5.0
+    text = logs["paths"][0].read_text().splitlines()
+    keep = [text[0]] + [ln for ln in text[1:] if float(ln.split(",")[0]) < cut]
+    short = tmp_path / "short.csv"
+    short.write_text("\n".join(keep) + "\n")
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(short), "--out",
+                 str(tmp_path / "r.csv")]) == 2  # fmt: skip
+    err = capsys.readouterr().err
+    assert "the log ends during a hang" in err and "never settled" not in err
 
 
 def _feed(master: int, lines: list[bytes], stop: threading.Event) -> None:
@@ -221,3 +268,18 @@ def test_an_accelerometer_on_a_port_is_recorded_as_a_log_then_cut(logs, tmp_path
     assert e @ np.linalg.solve(np.asarray(data["estimate"]["assembly_cov_mm2"]), e) < float(
         stats.chi2.ppf(0.999, 3)
     )
+
+
+def test_the_api_gives_what_the_command_prints(logs, tmp_path, capsys):
+    import cadcog
+
+    out = tmp_path / "cli.csv"
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][2]),
+                 "--out", str(out), "--json"]) == 0  # fmt: skip
+    printed = json.loads(capsys.readouterr().out)
+    run = cadcog.acquire_log(logs["paths"][2], tmp_path / "api.csv", rig=logs["rig"])
+    api = json.loads(run.to_json())
+    assert api["estimate"] == printed["estimate"] and api["hangs"] == printed["hangs"]
+    assert (tmp_path / "api.csv").read_text() == out.read_text()
+    with pytest.raises(cadcog.core.errors.CadcogError, match="a set-up needs points"):
+        cadcog.acquire_log(logs["paths"][2], tmp_path / "x.csv", setup="any.toml")

@@ -111,9 +111,18 @@ def test_a_zero_reading_has_no_direction():
         accel_verticals([[0.0, 0.0, 0.0]], np.zeros(12))
 
 
-def _accel_rig(tmp_path, **inc):
+REQUIRED = {
+    "axes": ["+x", "+y", "+z"],
+    "offset_g": 0.02,
+    "scale_error_rel": 0.01,
+    "mounting_misalignment_deg": 1.0,
+}
+
+
+def _accel_rig(tmp_path, drop=(), **inc):
     data = paper_rig_dict()
-    data["inclinometer"] = {"device": "accelerometer", **inc}
+    table = {"device": "accelerometer", **REQUIRED, **inc}
+    data["inclinometer"] = {k: v for k, v in table.items() if k not in drop}
     return write_rig(tmp_path / "rig.toml", data)
 
 
@@ -167,6 +176,23 @@ def test_bad_accelerometer_tables_name_the_key(tmp_path, inc, key, message):
     with pytest.raises(ParameterFileError, match=message) as info:
         load_rig(path)
     assert info.value.key == f"inclinometer.{key}"
+
+
+def test_an_accelerometer_declares_how_it_sits_and_what_it_shares(tmp_path):
+    """No silent perfect sensor: axes and the three shared figures are required (0 allowed)."""
+    for key in REQUIRED:
+        with pytest.raises(ParameterFileError, match="missing: an accelerometer declares") as e:
+            load_rig(_accel_rig(tmp_path, drop=(key,)))
+        assert e.value.key == f"inclinometer.{key}"
+    cfg = load_rig(_accel_rig(tmp_path, offset_g=0.0, scale_error_rel=0.0)).inclinometer
+    assert cfg.offset_g == 0.0 and cfg.accuracy_g == 0.001 and cfg.cross_axis_rel == 0.0
+
+
+def test_an_inclinometers_leftover_keys_are_named_at_once(tmp_path):
+    path = _accel_rig(tmp_path, range_deg=60.0, sign_x=1, adc_bits=10)
+    with pytest.raises(ParameterFileError, match=r"\(and sign_x, adc_bits\)") as info:
+        load_rig(path)
+    assert info.value.key == "inclinometer.range_deg"
 
 
 def test_an_inclinometer_table_refuses_an_accelerometers_figures(tmp_path):
