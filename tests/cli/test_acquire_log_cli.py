@@ -141,10 +141,10 @@ def test_a_hang_that_never_settled_is_named_with_its_time_span(logs, tmp_path, c
         (["--points", "S1,S9"], "unknown point(s) S9"),
     ],
 )
-def test_what_a_log_run_refuses(logs, tmp_path, capsys, extra, message):
+def test_what_a_log_run_refuses(logs, tmp_path, capsys, monkeypatch, extra, message):
     out = tmp_path / "r.csv"
     args = ["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][0]), "--out", str(out)]
-    os.chdir(tmp_path)
+    monkeypatch.chdir(tmp_path)  # relative outputs land here, and the folder is checked empty
     assert main([*args, *extra]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("cadcog: error:") == 1
