@@ -73,6 +73,9 @@ FloatArray = npt.NDArray[np.float64]
 #: that settles it.
 MAX_FACTOR_ITERATIONS = 20
 SPREAD_RTOL = 1e-9
+#: An exact CoG (no spread) this far beyond a face, relative to the half-width, is on it: the
+#: arithmetic of a CoG the programme puts exactly on a face (the margin check uses the same).
+EXACT_GAP_RTOL = 1e-9
 
 #: A CoG axis with a smaller σ (mm) is exact in :func:`probability_inside` (a subnormal
 #: variance would overflow the integral's inverse).
@@ -454,7 +457,10 @@ def margins(
     gaps = np.array([limits_mm[k] - sign * offset_mm[k] for k, sign in FACES6])
     sd6 = np.array([sd_mm[k] for k, _ in FACES6])
     exact = sd6 < EXACT_SIGMA_MM
-    miss = np.where(exact, (gaps < 0).astype(float), norm_sf(gaps / np.where(exact, 1.0, sd6)))
+    # An exact CoG on its face (the programme puts it there) is inside: a gap of -4e-15 mm is
+    # the arithmetic's, not a miss (which would leave the other faces no budget at all).
+    touch = EXACT_GAP_RTOL * np.array([max(limits_mm[k], 1.0) for k, _ in FACES6])
+    miss = np.where(exact, (gaps < -touch).astype(float), norm_sf(gaps / np.where(exact, 1.0, sd6)))
     rest = alpha - (miss.sum() - miss)  # what each face may spend, the others as they are
     z = np.where(rest > 0, norm_isf(np.clip(rest, 1e-300, 0.5)), Z_MAX)
     face = gaps - np.where(exact, 0.0, z * sd6)
@@ -590,7 +596,7 @@ def least_ballast(
     after = [_figures(st, spec, masses, centre, limits, alpha) for st in states]
     if found is not None:
         for name, fig in zip(names, after, strict=True):
-            if np.any(fig[5] < -1e-9 * np.maximum(limits, 1.0)):
+            if np.any(fig[5] < -EXACT_GAP_RTOL * np.maximum(limits, 1.0)):
                 raise CadcogError(
                     f"the ballast found leaves {name} a margin of {fig[5].tolist()} mm "
                     "(please report)"
