@@ -61,6 +61,9 @@ MIN_RATE_HZ = 10.0
 MAX_GAP_S = 0.5
 #: Largest file read (bytes): a phone at 500 Hz writes about 30 MB an hour.
 MAX_LOG_BYTES = 500_000_000
+#: Longest span a log may cover (s): a test is hours at most, and the cutting holds a few
+#: hundred bytes per 0.05 s of it (a day-long gap in the times would ask for gigabytes).
+MAX_LOG_SPAN_S = 12 * 3600.0
 #: The median magnitude of a log must be within these (g) to be "acceleration with g".
 GRAVITY_RANGE_G = (0.7, 1.3)
 
@@ -246,6 +249,12 @@ def read_log(path: str | Path, fmt: LogFormat = "phyphox") -> AccelLog:
     if len(t) < 2:
         raise LogError(f"{p}: {len(t)} sample(s), expected a recording")
     log = AccelLog(p, np.array(t), np.array(acc), np.array(lines, dtype=np.int64))
+    span = float(log.t_s[-1] - log.t_s[0])
+    if span > MAX_LOG_SPAN_S:
+        raise LogError(
+            f"{p}: its times span {span / 3600.0:.3g} h (lines {log.lines[0]}-{log.lines[-1]}), "
+            f"more than {MAX_LOG_SPAN_S / 3600.0:g} h: cut it to the test"
+        )
     rate = log.rate_hz
     if rate < MIN_RATE_HZ:
         raise LogError(

@@ -129,6 +129,15 @@ def test_extra_columns_are_not_used_and_a_tab_export_may_use_decimal_commas(tmp_
     np.testing.assert_allclose(read_log(tmp_path / "plain.csv", "csv").acc_g, a, rtol=1e-12)
 
 
+def test_a_log_spanning_days_is_refused_before_it_is_cut(tmp_path):
+    t, a = _still()
+    t = t.copy()
+    t[150:] += 2 * 86400.0  # the recording paused for two days
+    write_log(tmp_path / "l.csv", t, a, "phyphox")
+    with pytest.raises(LogError, match=r"its times span 48 h .*cut it to the test"):
+        read_log(tmp_path / "l.csv")
+
+
 def test_a_zip_is_named_as_phyphox_shares_it(tmp_path):
     import zipfile
 
