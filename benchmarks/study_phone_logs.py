@@ -231,7 +231,7 @@ def predictions() -> None:
         cfg = InclinometerConfig(range_deg=90.0, device="accelerometer", **declared(sensor))
         rig = replace(paper, inclinometer=cfg)
         sc = Scenario.from_rig(rig)
-        hangs = Hangs(sc.ids, sc.points_mm, sc.normals, sc.assembly_cog_mm)
+        hangs = Hangs(sc.ids, sc.points_mm, sc.normals, sc.assembly_cog_mm, sc.weight_n)
         b = accelerometer_budget(hangs, cfg, ErrorModel.from_rig(rig), max_hangs=8)
         sat = replace(cubesat, rig=replace(cubesat.rig, inclinometer=cfg))
         _, c = run_accel_plan(sat, max_set=8)

@@ -6,7 +6,8 @@ amplitude, √2 × the largest standard deviation of the tilt along any directio
 amplitude exceeds the threshold again, is averaged. On a log the whole record is at hand, so
 it is cut offline:
 
-1. the samples are averaged into bins of :data:`BIN_S` (a phone's 100-500 Hz noise would
+1. the samples are averaged into bins of :data:`BIN_S`, or two samples' time for a log slower
+   than 40 Hz (:func:`bin_width_s`; a phone's 100-500 Hz noise would
    otherwise hide a settled swing of 0.1°), bins of a gap stay empty;
 2. each bin's amplitude is taken over the window ending at it, frame-free: the tilt's
    covariance on the plane ⊥ the window's mean direction, and the magnitude's spread (a
@@ -45,6 +46,21 @@ FloatArray = npt.NDArray[np.float64]
 #: Width of the bins the samples are averaged into (s): 20 per second, the rate of the bench's
 #: devices (a swing of 0.3-5 Hz is still resolved).
 BIN_S = 0.05
+
+
+def bin_width_s(rate_hz: float) -> float:
+    """The bins of a log sampled at ``rate_hz``: :data:`BIN_S`, or two samples' time when that
+    is longer (a bin must hold a sample even when a clock of whole milliseconds or a little
+    jitter moves one across a boundary: at 20 Hz, 0.05 s bins are a quarter empty).
+
+    Examples
+    --------
+    >>> bin_width_s(200.0), bin_width_s(20.0)
+    (0.05, 0.1)
+    """
+    return max(BIN_S, 2.0 / rate_hz)
+
+
 #: Two settled spans whose mean directions agree within this angle (degrees) are one hang; a
 #: re-hang from another point tilts the object by far more (``cadcog plan`` wants its lines 20°
 #: or more apart).
@@ -127,18 +143,19 @@ class Segmentation:
     bin_t_s: FloatArray
     amplitude_deg: FloatArray
     ends_in_hang: float | None = None
+    bin_s: float = BIN_S
 
 
-def _bins(log: AccelLog) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_]]:
+def _bins(log: AccelLog, width: float) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_]]:
     """Bin times, bin means (g) and which bins hold samples."""
     t0 = log.t_s[0]
-    idx = np.floor((log.t_s - t0) / BIN_S).astype(np.int64)
+    idx = np.floor((log.t_s - t0) / width).astype(np.int64)
     n = int(idx[-1]) + 1
     count = np.bincount(idx, minlength=n).astype(float)
     sums = np.stack([np.bincount(idx, log.acc_g[:, j], minlength=n) for j in range(3)], axis=1)
     full = count > 0
     mean = np.where(full[:, None], sums / np.maximum(count, 1.0)[:, None], np.nan)
-    return t0 + (np.arange(n) + 0.5) * BIN_S, mean, full
+    return t0 + (np.arange(n) + 0.5) * width, mean, full
 
 
 def _window_sums(x: FloatArray, w: int) -> FloatArray:
@@ -166,6 +183,14 @@ def amplitudes_deg(mean_g: FloatArray, full: npt.NDArray[np.bool_], window: int)
     >>> round(float(amplitudes_deg(a, np.ones(len(t), bool), 40)[-1]), 2)
     0.3
     """
+    return _spreads(mean_g, full, window)[0]
+
+
+def _spreads(
+    mean_g: FloatArray, full: npt.NDArray[np.bool_], window: int
+) -> tuple[FloatArray, FloatArray]:
+    """:func:`amplitudes_deg`, and the magnitude's own amplitude (g): handling (the object carried
+    or set down) moves the magnitude by tenths of g, a hung swing hardly at all."""
     ok = full[:, None]
     mag = np.where(full, np.linalg.norm(np.where(ok, mean_g, 1.0), axis=1), 1.0)
     d = np.where(ok, mean_g / mag[:, None], 0.0)
@@ -191,7 +216,9 @@ def amplitudes_deg(mean_g: FloatArray, full: npt.NDArray[np.bool_], window: int)
     mag_var = m2 / nn - (m1 / nn) ** 2
     spread = np.maximum(lam - tilt_noise, mag_var - mag_noise)
     amp = np.sqrt(2.0 * np.maximum(spread, 0.0))
-    return np.where(n >= 0.9 * window, rad_to_deg(amp), np.inf)
+    mag_amp = np.sqrt(2.0 * np.maximum(mag_var - mag_noise, 0.0))
+    filled = n >= 0.9 * window
+    return np.where(filled, rad_to_deg(amp), np.inf), np.where(filled, mag_amp, np.inf)
 
 
 def _runs(flag: npt.NDArray[np.bool_]) -> list[tuple[int, int]]:
@@ -213,31 +240,33 @@ def segment_log(
     min_average_s : float
         A settled stretch shorter than this is not a hang (a pause while handling).
     """
-    t, mean, full = _bins(log)
+    width = bin_width_s(log.rate_hz)
+    t, mean, full = _bins(log, width)
     # A gap in the log breaks any span that would straddle it.
     gaps = np.flatnonzero(np.diff(log.t_s) > MAX_GAP_S)
     for g in gaps:
         full[(t > log.t_s[g]) & (t < log.t_s[g + 1])] = False
-    window = max(round(criterion.window_s / BIN_S), 4)
-    amp = amplitudes_deg(mean, full, window)
+    window = max(round(criterion.window_s / width), 4)
+    amp, mag_amp = _spreads(mean, full, window)
+    handled = full & (mag_amp > SWING_MAGNITUDE_G)  # the window holds handling
     still = full & (amp < criterion.threshold_deg)
-    hold = round(criterion.hold_s / BIN_S)
+    hold = round(criterion.hold_s / width)
     # A run ends when the window ending at a bin first spreads beyond the threshold: the motion
     # began up to a window earlier, so the run's last window is not averaged.
     spans = [(a + hold, b - window) for a, b in _runs(still) if b - window - a > hold]
-    found = _merge(spans, t, mean, full, amp, window)
+    found = _merge(spans, t, mean, full, amp, window, width, handled)
     short = [(h.settled_s, h.end_s) for h in found if h.averaged_s < min_average_s]
     found = [h for h in found if h.averaged_s >= min_average_s]
     threshold = SWING_FACTOR * criterion.threshold_deg
     hangs = [h for h in found if h.swing_max_deg > threshold]
     rests = [(h.start_s, h.end_s) for h in found if not h.swing_max_deg > threshold]
     stills = [(h.settled_s, h.end_s) for h in found] + short
-    swings = _swinging(found, t, mean, full, amp, criterion.threshold_deg)
-    unsettled = _unsettled(swings, stills, criterion.hold_s)
+    swings = _swinging(found, t, mean, full & ~handled, amp, criterion.threshold_deg, width)
+    unsettled = _unsettled(swings, stills, criterion.hold_s, width)
     # A swing of a window or more (or a stillness too short to average) that the log's end
     # cuts: the recording stopped during a hang.
     ends = None
-    tail = t[-1] - window * BIN_S
+    tail = t[-1] - window * width
     last = [
         u.start_s for u in swings if u.end_s >= tail and u.end_s - u.start_s >= criterion.window_s
     ] + [a for a, b in short if b >= tail]
@@ -245,7 +274,9 @@ def segment_log(
         ends = min(last)
         unsettled = [u for u in unsettled if u.end_s < tail]
         short = [(a, b) for a, b in short if b < tail]
-    return Segmentation(tuple(hangs), tuple(unsettled), tuple(short), tuple(rests), t, amp, ends)
+    return Segmentation(
+        tuple(hangs), tuple(unsettled), tuple(short), tuple(rests), t, amp, ends, width
+    )
 
 
 def _direction(mean: FloatArray, full: npt.NDArray[np.bool_], a: int, b: int) -> FloatArray:
@@ -260,13 +291,17 @@ def _merge(
     full: npt.NDArray[np.bool_],
     amp: FloatArray,
     window: int,
+    width: float,
+    handled: npt.NDArray[np.bool_],
 ) -> list[LogHang]:
     groups: list[list[tuple[int, int]]] = []
     for s in spans:
         if groups:
             d0, d1 = _direction(mean, full, *groups[-1][-1]), _direction(mean, full, *s)
             angle = float(rad_to_deg(np.arccos(np.clip(d0 @ d1, -1.0, 1.0))))
-            if angle < SAME_HANG_DEG:
+            # the same rest, and no handling between: a knock, not a re-hang that happens to
+            # point the same way
+            if angle < SAME_HANG_DEG and not handled[groups[-1][-1][1] : s[0]].any():
                 groups[-1].append(s)
                 continue
         groups.append([s])
@@ -281,17 +316,17 @@ def _merge(
         idx = np.concatenate([np.arange(a, b) for a, b in group])
         idx = idx[full[idx]]
         rest = float(np.linalg.norm(mean[idx].mean(axis=0)))
-        handled = np.flatnonzero(np.abs(mag[lo:first] - rest) > SWING_MAGNITUDE_G)
-        release = lo + (int(handled[-1]) + 1 if len(handled) else 0)
+        away = np.flatnonzero(np.abs(mag[lo:first] - rest) > SWING_MAGNITUDE_G)
+        release = lo + (int(away[-1]) + 1 if len(away) else 0)
         start_amp = amp[min(release + window, first)]
         swung = amp[release + window : first]
         swung = swung[np.isfinite(swung)]
         hangs.append(
             LogHang(
-                float(t[release] - 0.5 * BIN_S),
-                float(t[last - 1] + 0.5 * BIN_S),
-                float(t[first] - 0.5 * BIN_S),
-                tuple((float(t[a] - 0.5 * BIN_S), float(t[b - 1] + 0.5 * BIN_S)) for a, b in group),
+                float(t[release] - 0.5 * width),
+                float(t[last - 1] + 0.5 * width),
+                float(t[first] - 0.5 * width),
+                tuple((float(t[a] - 0.5 * width), float(t[b - 1] + 0.5 * width)) for a, b in group),
                 t[idx],
                 mean[idx],
                 float(start_amp) if np.isfinite(start_amp) else float("nan"),
@@ -309,9 +344,11 @@ def _swinging(
     full: npt.NDArray[np.bool_],
     amp: FloatArray,
     threshold_deg: float,
+    width: float,
 ) -> list[Unsettled]:
     """Every stretch outside the hangs where the object hung swinging: the magnitude near its
-    rest (not handled), the amplitude at or above the threshold."""
+    rest and no handling in the window (``full`` has those bins off), the amplitude at or above
+    the threshold."""
     inside = np.zeros(len(t), dtype=bool)
     for h in hangs:
         inside[(t >= h.start_s) & (t <= h.end_s)] = True
@@ -325,20 +362,20 @@ def _swinging(
         & (amp >= threshold_deg)
     )
     return [
-        Unsettled(float(t[a] - 0.5 * BIN_S), float(t[b - 1] + 0.5 * BIN_S), float(amp[a:b].min()))
+        Unsettled(float(t[a] - 0.5 * width), float(t[b - 1] + 0.5 * width), float(amp[a:b].min()))
         for a, b in _runs(swinging)
     ]
 
 
 def _unsettled(
-    swings: list[Unsettled], stills: list[tuple[float, float]], hold_s: float
+    swings: list[Unsettled], stills: list[tuple[float, float]], hold_s: float, width: float
 ) -> list[Unsettled]:
     """The swings longer than twice the hold not followed by a stillness (a swing that then
     settled, however briefly, is a hang's release, not a hang that never settled)."""
     starts = np.array(sorted(a for a, _ in stills)) if stills else np.zeros(0)
     out = []
     for u in swings:
-        after = starts[(starts >= u.end_s - BIN_S) & (starts <= u.end_s + hold_s + BIN_S + 5.0)]
+        after = starts[(starts >= u.end_s - width) & (starts <= u.end_s + hold_s + width + 5.0)]
         if not len(after) and u.end_s - u.start_s > 2 * hold_s:
             out.append(u)
     return out

@@ -300,6 +300,12 @@ def _run_recorded(args: argparse.Namespace, target: Any) -> int:
 
     _log_checks(args, "an accelerometer's recording")
     log_out = default_log(args)
+    for option, path in (("--out", args.out), ("--log-out", log_out)):
+        if path.exists() or path.is_symlink():  # before recording, not after
+            raise CadcogError(
+                f"{option} {path}: exists; a recording and its readings go to new files "
+                f"(remove it, or choose another {option})"
+            )
     refuse_overwriting_inputs(
         log_out, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
     )
@@ -357,14 +363,15 @@ def run(args: argparse.Namespace) -> int:
             args.swings, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
         )
     check_report_folder(args.report)  # before the CAD
+    if args.drop_hangs is not None:
+        raise CadcogError("--drop-hangs: for a log (--log); cut a recording again with --log")
     target = _target(args)
     if target.inclinometer.accelerometer and args.port is not None:
         return _run_recorded(args, target)
     for option in ("--log-out", "--duration-s"):
         if getattr(args, option[2:].replace("-", "_")) is not None:
             raise CadcogError(f"{option}: for an accelerometer's recording from --port")
-    if args.drop_hangs is not None:
-        raise CadcogError("--drop-hangs: for a log (--log)")
+
     criterion = _criterion(args)
     live = _Live()
     say = live.say if not args.json else (lambda text: print(text, file=sys.stderr))

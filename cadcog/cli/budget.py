@@ -42,7 +42,7 @@ def _accelerometer(args: argparse.Namespace, rig: Any, model: ErrorModel) -> int
     from cadcog.uncertainty.accel_budget import Hangs, accelerometer_budget
 
     sc = Scenario.from_rig(rig)
-    hangs = Hangs(sc.ids, sc.points_mm, sc.normals, sc.assembly_cog_mm)
+    hangs = Hangs(sc.ids, sc.points_mm, sc.normals, sc.assembly_cog_mm, sc.weight_n)
     budget = accelerometer_budget(hangs, rig.inclinometer, model, target_mm=args.target_mm)
     # A target no set reaches: said, exit 1 (valid input, as a requirement that fails).
     status = 1 if args.target_mm is not None and budget.meets is None else 0

@@ -453,7 +453,7 @@ class ErrorModel:
         """Prior standard deviations of the shared sensor parameters, in the order of
         :data:`cadcog.rig.inclinometer.SHARED_SENSOR_PARAMETERS` (deg, deg, rel, rel, deg ×3),
         or for an accelerometer :data:`cadcog.rig.accelerometer.ACCEL_SHARED_PARAMETERS` (g ×3,
-        rel ×3, deg ×3, rel ×3); zeros when the inclinometer source is off.
+        rel ×3, deg ×3, rel ×6); zeros when the inclinometer source is off.
 
         A uniform ±a has σ = a/√3; a rotation uniform in angle on [0, m] about a random axis
         has ``E|r|² = m²/3``, so σ = m/3 per component.
@@ -464,16 +464,15 @@ class ErrorModel:
         array([0.1732, 0.1732])
         """
         if "inclinometer" not in self.sources:
-            return np.zeros(12 if self.accelerometer else 7)
+            return np.zeros(15 if self.accelerometer else 7)
         s = self.sensor_scale_rel / np.sqrt(3.0)
         m = self.mounting_misalignment_deg / 3.0
         if self.accelerometer:
-            # Six couplings within ±c: a symmetric part of σ c/√6 per pair, and an
-            # antisymmetric part of the same σ, a rotation the mounting carries.
+            # Six couplings within ±c: a symmetric and an antisymmetric part, each of σ c/√6
+            # per pair.
             c = self.sensor_cross_axis_rel / np.sqrt(6.0)
             b = self.sensor_offset_g / np.sqrt(3.0)
-            m = float(np.hypot(m, np.degrees(c)))
-            return np.array([b, b, b, s, s, s, m, m, m, c, c, c])
+            return np.array([b, b, b, s, s, s, m, m, m, c, c, c, c, c, c])
         b = self.sensor_offset_deg / np.sqrt(3.0)
         return np.array([b, b, s, s, m, m, m])
 

@@ -423,7 +423,8 @@ def estimate_cog(
             )
     if cfg.accelerometer and angle_sigma_deg is None:
         reading_var, _ = accelerometer_variances(suspensions, cfg, mdl)
-        errors = replace(errors, reading_var_rad2=reading_var, isotropic_reading=True)
+        # (k, 1): a line per row, as LineErrors.from_model shapes per-line variances
+        errors = replace(errors, reading_var_rad2=reading_var[:, None], isotropic_reading=True)
     elif cfg.accelerometer:
         errors = replace(errors, isotropic_reading=True)
     p = np.array([s.position_mm for s in suspensions], dtype=float).T[:, :, None]

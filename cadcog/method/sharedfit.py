@@ -79,11 +79,11 @@ class SharedFit:
         The CoG's covariance, marginal over the shared parameters and λ.
     scale_mm, scale_sigma_mm : float
         The wire scale λ and its σ (0 when it is known).
-    shared : ndarray, shape (7,) or (12,)
+    shared : ndarray, shape (7,) or (15,)
         The shared sensor parameters' estimates (0 where no figure is declared).
-    shared_sigma : ndarray, shape (7,) or (12,)
+    shared_sigma : ndarray, shape (7,) or (15,)
         Their posterior σ (0 where no figure is declared).
-    prior_sigma : ndarray, shape (7,) or (12,) (an accelerometer: :func:`shared_parameter_names`)
+    prior_sigma : ndarray, shape (7,) or (15,) (an accelerometer: :func:`shared_parameter_names`)
     verticals : ndarray, shape (k, 3)
         Each hang's vertical with the shared errors removed.
     points_mm : ndarray, shape (k, 3)
@@ -117,7 +117,7 @@ class SharedFit:
     @property
     def calibrated(self) -> npt.NDArray[np.bool_]:
         """Which shared parameters the hangs determined (posterior σ below
-        :data:`CALIBRATED_FRACTION` of the prior's), shape (7,) or (12,)."""
+        :data:`CALIBRATED_FRACTION` of the prior's), shape (7,) or (15,)."""
         with np.errstate(invalid="ignore", divide="ignore"):
             ratio = self.shared_sigma / self.prior_sigma
         return np.asarray((self.prior_sigma > 0) & (ratio < CALIBRATED_FRACTION))
@@ -412,7 +412,7 @@ def fit_shared(
     errors : LineErrors
         The per-hang errors (play, wire scatter, the reading's own errors).
     wire : WireTerm
-    prior_sigma : array_like, shape (7,) or (12,)
+    prior_sigma : array_like, shape (7,) or (15,)
         Prior σ of each shared parameter (0: known to be 0, not estimated).
     config : InclinometerConfig, optional
     ids : sequence of str, optional
@@ -425,7 +425,7 @@ def fit_shared(
         An accelerometer's mean readings (g, its own axes; ``config.device`` must be
         ``"accelerometer"``): they replace the angles (pass zeros for those), the shared
         parameters are :data:`cadcog.rig.accelerometer.ACCEL_SHARED_PARAMETERS` (``prior_sigma``
-        of shape (12,)), and each hang's gravity norm is a residual of its own
+        of shape (15,)), and each hang's gravity norm is a residual of its own
         (:func:`cadcog.rig.accelerometer.accel_norms`), with variance ``norm_var_g2`` (k,).
     verdicts : bool
         Each line's consistency verdict (default); False leaves :attr:`SharedFit.residuals`

@@ -13,13 +13,14 @@ rotation (``mounting_misalignment_deg``).
 
 The shared parameters (:data:`ACCEL_SHARED_PARAMETERS`, the same on every hang of a test: one
 sensor) are each axis's zero offset ``b`` (g), each axis's sensitivity error ``s`` (relative),
-the misalignment rotation ``r`` (degrees) and the symmetric part ``k`` of the cross-axis
-coupling (relative). :func:`accel_readings` is their definition: the sensor sees
-``v = R(r) A u`` and reports ``a = (1 + s) ∘ ((I + K) v) + b`` with ``K`` the symmetric matrix
-of zero diagonal whose ``xy``, ``xz``, ``yz`` entries are ``k``. A datasheet's cross-axis
-sensitivity (each of the six couplings within ±c) is that symmetric part plus a small rotation,
-which the mounting carries. A hang read with the sensor turned 180° about its own z axis on its
-mount (a reversal) sees ``(−vₓ, −v_y, v_z)``.
+the misalignment rotation ``r`` (degrees) and the cross-axis coupling, a symmetric part ``k``
+and an antisymmetric part ``w`` (relative). :func:`accel_readings` is their definition: the
+sensor sees ``v = R(r) A u`` and reports ``a = (1 + s) ∘ ((I + K + W) v) + b``, with ``K`` the
+symmetric matrix of zero diagonal whose ``xy``, ``xz``, ``yz`` entries are ``k`` and ``W`` the
+antisymmetric one of the rotation vector ``w``: a datasheet's six couplings within ±c each.
+The coupling belongs to the sensor: a hang read with the sensor turned 180° about its own z
+axis on its mount (a reversal) sees ``(−vₓ, −v_y, v_z)`` before it, where the mounting ``R``
+acts after. (Without a reversal ``W`` and ``R`` act alike, and their priors share them.)
 
 Because the magnitude of a settled reading is 1 g whatever the orientation, every hang also
 says something about the offsets and sensitivities independently of the CoG:
@@ -51,6 +52,9 @@ ACCEL_SHARED_PARAMETERS = (
     "cross_xy_rel",
     "cross_xz_rel",
     "cross_yz_rel",
+    "cross_skew_x_rel",
+    "cross_skew_y_rel",
+    "cross_skew_z_rel",
 )
 
 #: The nominal mounting: sensor x, y, z along object x, y, z.
@@ -112,9 +116,16 @@ def axes_matrix(axes: tuple[str, str, str]) -> FloatArray:
     return _matrix(axes)
 
 
-def _coupling(k: FloatArray) -> FloatArray:
-    """``I + K``: the symmetric cross-axis coupling of ``k`` (xy, xz, yz)."""
-    return np.array([[1.0, k[0], k[1]], [k[0], 1.0, k[2]], [k[1], k[2], 1.0]])
+def _coupling(k: FloatArray, w: FloatArray) -> FloatArray:
+    """``I + K + W``: the cross-axis coupling, symmetric ``k`` (xy, xz, yz) and antisymmetric
+    ``w`` (a rotation vector, radians)."""
+    return np.array(
+        [
+            [1.0, k[0] - w[2], k[1] + w[1]],
+            [k[0] + w[2], 1.0, k[2] - w[0]],
+            [k[1] - w[1], k[2] + w[0], 1.0],
+        ]
+    )
 
 
 def _flip(turned: npt.ArrayLike | None, k: int) -> FloatArray:
@@ -137,7 +148,7 @@ def accel_readings(
     ----------
     u : array_like, shape (k, 3)
         Unit upward verticals, object axes.
-    shared : array_like, shape (12,)
+    shared : array_like, shape (15,)
     axes : tuple of 3 str
     turned : array_like of bool, shape (k,), optional
 
@@ -147,7 +158,7 @@ def accel_readings(
 
     Examples
     --------
-    >>> a = accel_readings([[0.0, 0.0, 1.0]], [0.01, 0, 0, 0, 0, 0.02] + [0.0] * 6)
+    >>> a = accel_readings([[0.0, 0.0, 1.0]], [0.01, 0, 0, 0, 0, 0.02] + [0.0] * 9)
     >>> np.round(a, 12).tolist()  # level: z reads 1 g, 2 % high; x its 10 mg offset
     [[0.01, 0.0, 1.02]]
     """
@@ -155,16 +166,16 @@ def accel_readings(
     v = np.atleast_2d(np.asarray(u, dtype=float))
     rot = rotation_matrix(b[6:9]) @ axes_matrix(axes)
     seen = (v @ rot.T) * _flip(turned, len(v))  # what reaches the sensor, in its axes
-    return np.asarray((1.0 + b[3:6]) * (seen @ _coupling(b[9:12]).T) + b[0:3])
+    return np.asarray((1.0 + b[3:6]) * (seen @ _coupling(b[9:12], b[12:15]).T) + b[0:3])
 
 
 def _calibrated(acc: npt.ArrayLike, shared: npt.ArrayLike) -> FloatArray:
-    """``(I + K)⁻¹ ((a − b)/(1 + s))``: what the sensor saw, in its own (turned) axes."""
+    """``(I + K + W)⁻¹ ((a − b)/(1 + s))``: what the sensor saw, in its own (turned) axes."""
     b = np.asarray(shared, dtype=float)
     w = (np.atleast_2d(np.asarray(acc, dtype=float)) - b[0:3]) / (1.0 + b[3:6])
-    if not np.any(b[9:12]):
+    if not np.any(b[9:15]):
         return np.asarray(w)
-    return np.asarray(np.linalg.solve(_coupling(b[9:12]), w.T).T)
+    return np.asarray(np.linalg.solve(_coupling(b[9:12], b[12:15]), w.T).T)
 
 
 def accel_norms(acc: npt.ArrayLike, shared: npt.ArrayLike) -> FloatArray:
@@ -173,7 +184,7 @@ def accel_norms(acc: npt.ArrayLike, shared: npt.ArrayLike) -> FloatArray:
 
     Examples
     --------
-    >>> shared = [0.02, -0.01, 0.03, 0.01, -0.02, 0.005, 0, 0, 0, 0.01, -0.02, 0.005]
+    >>> shared = [0.02, -0.01, 0.03, 0.01, -0.02, 0.005, 0, 0, 0, 0.01, -0.02, 0.005, 0.01, 0, 0]
     >>> a = accel_readings([[0.6, 0.0, 0.8], [0.0, -1.0, 0.0]], shared)
     >>> np.round(accel_norms(a, shared), 12).tolist()
     [1.0, 1.0]
@@ -200,6 +211,7 @@ def accel_verticals(
     Examples
     --------
     >>> shared = [0.02, -0.01, 0.03, 0.01, -0.02, 0.005, 0.3, -0.2, 0.5, 0.01, -0.02, 0.005]
+    >>> shared += [0.01, -0.005, 0.002]
     >>> u = np.array([[0.3, -0.2, (1 - 0.13) ** 0.5], [0.0, 0.6, -0.8]])
     >>> a = accel_readings(u, shared, ("-y", "+x", "+z"), turned=[False, True])
     >>> back = accel_verticals(a, shared, ("-y", "+x", "+z"), turned=[False, True]).u

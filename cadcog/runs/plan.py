@@ -102,6 +102,7 @@ def run_accel_plan(
         np.array([c.position_mm for c in usable], dtype=float),
         np.array([c.normal for c in usable], dtype=float),
         np.asarray(setup.assembly_cog_mm, dtype=float),
+        setup.scenario().weight_n,
     )
     try:
         budget = accelerometer_budget(

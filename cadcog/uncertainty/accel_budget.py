@@ -35,7 +35,7 @@ from cadcog.core.errors import DegenerateGeometryError
 from cadcog.core.results import JsonResult
 from cadcog.method import gls, sharedfit
 from cadcog.method.errormodel import ErrorModel, wire_shape_factor
-from cadcog.rig.accelerometer import accel_readings
+from cadcog.rig.accelerometer import ACCEL_SHARED_PARAMETERS, accel_readings
 from cadcog.rig.inclinometer import InclinometerConfig
 
 FloatArray = npt.NDArray[np.float64]
@@ -65,12 +65,14 @@ def q95_mm(cov_mm2: npt.ArrayLike, seed: int = 0) -> float:
 
 @dataclass(frozen=True)
 class Hangs:
-    """Candidate hangs: ids, wire exits, bolt axes, the CAD's assembly CoG."""
+    """Candidate hangs: ids, wire exits, bolt axes, the CAD's assembly CoG, and the weight on
+    the wire (N: a stiff wire's offset depends on it)."""
 
     ids: tuple[str, ...]
     points_mm: FloatArray
     normals: FloatArray
     cog_mm: FloatArray
+    weight_n: float
 
     def of(self, chosen: Sequence[str]) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Points, normals and the turned flags of hangs ``chosen`` (``ID~``: a reversal)."""
@@ -110,7 +112,7 @@ def _fit(
     shared: FloatArray | None = None,
 ) -> sharedfit.SharedFit:
     p, n, turned = hangs.of(chosen)
-    wire = gls.WireTerm.from_model(model, 1.0)
+    wire = gls.WireTerm.from_model(model, hangs.weight_n)
     # The CAD's lines: through the expected virtual points (the wire's shape at each hang's
     # angle, as the estimator places them), at the assembly's CoG.
     u = (p - hangs.cog_mm) / np.linalg.norm(p - hangs.cog_mm, axis=1)[:, None]
@@ -122,9 +124,12 @@ def _fit(
         )
         q = p + (wire.scale_mm * shape)[:, None] * n
         u = (q - hangs.cog_mm) / np.linalg.norm(q - hangs.cog_mm, axis=1)[:, None]
-    acc = accel_readings(u, np.zeros(12) if shared is None else shared, cfg.axes, turned)
+    acc = accel_readings(
+        u, np.zeros(len(ACCEL_SHARED_PARAMETERS)) if shared is None else shared, cfg.axes, turned
+    )
     var = np.full(len(p), cfg.accuracy_g**2 / 3.0)
-    errors = gls.LineErrors(model.play_var_mm2, wire_scatter(model), var, isotropic_reading=True)
+    scatter = wire_scatter(model, hangs.weight_n)
+    errors = gls.LineErrors(model.play_var_mm2, scatter, var, isotropic_reading=True)
     zeros = np.zeros(len(p))
     return sharedfit.fit_shared(
         p, zeros, zeros, np.ones(len(p), bool), n, errors, wire, prior, cfg,
@@ -132,9 +137,9 @@ def _fit(
     )  # fmt: skip
 
 
-def wire_scatter(model: ErrorModel) -> float:
+def wire_scatter(model: ErrorModel, weight_n: float) -> float:
     """The wire offset's per-hang scatter along the bolt axis (mm²)."""
-    return float(model.wire_prior(1.0).scatter_var_mm2)
+    return float(model.wire_prior(weight_n).scatter_var_mm2)
 
 
 def predict(

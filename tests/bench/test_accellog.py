@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -190,3 +192,35 @@ def test_bad_acceleration_readings_name_the_file_and_line(tmp_path, text, config
     with pytest.raises(ReadingsError, match=message) as info:
         read_readings(p, config)
     assert str(p) in str(info.value)
+
+
+def test_two_hangs_alike_with_handling_between_are_two_hangs():
+    """A point hung, taken down (handled) and hung again the same way: not one hang."""
+    from cadcog.bench.accellog import AccelLog
+    from cadcog.bench.logsegments import segment_log
+    from cadcog.bench.swing import SettleCriterion
+
+    rate = 100.0
+    d = np.array([0.5, 0.2, 0.84])
+    d /= np.linalg.norm(d)
+    axis = np.cross(d, [1.0, 0.0, 0.0])
+    axis /= np.linalg.norm(axis)
+
+    def hang(n_s: float) -> np.ndarray:
+        s = np.arange(int(n_s * rate)) / rate
+        th = np.radians(3.0) * np.exp(-s / 3.0) * np.sin(2 * np.pi * 1.2 * s)
+        c, sn = np.cos(th)[:, None], np.sin(th)[:, None]
+        return d * c + np.cross(axis, d) * sn
+
+    def handling(n_s: float) -> np.ndarray:
+        s = np.arange(int(n_s * rate)) / rate
+        return np.stack([0.3 * np.sin(3 * s), 0.4 * np.cos(2 * s), 1 + 0.4 * np.sin(5 * s)], 1)
+
+    a = np.concatenate([handling(3), hang(35), handling(4), hang(35), handling(3)])
+    t = np.arange(len(a)) / rate
+    noisy = a + np.random.default_rng(1).normal(0, 0.002, a.shape)
+    seg = segment_log(
+        AccelLog(Path("x"), t, noisy, np.arange(len(t))), SettleCriterion(), min_average_s=10.0
+    )
+    assert len(seg.hangs) == 2
+    assert seg.hangs[0].end_s < 38.0 < seg.hangs[1].settled_s

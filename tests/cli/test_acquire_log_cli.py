@@ -283,3 +283,46 @@ def test_the_api_gives_what_the_command_prints(logs, tmp_path, capsys):
     assert (tmp_path / "api.csv").read_text() == out.read_text()
     with pytest.raises(cadcog.core.errors.CadcogError, match="a set-up needs points"):
         cadcog.acquire_log(logs["paths"][2], tmp_path / "x.csv", setup="any.toml")
+
+
+def test_a_board_at_20_hz_on_whole_milliseconds_is_cut(tmp_path, capsys):
+    """The ADXL355 sketch sends 20 samples a second (its filter at 7.8 Hz) on a clock of whole
+    milliseconds: the same test's log, each 50 ms averaged, is cut into its hangs."""
+    spec = pl.scenario("paper_rig", "adxl355")
+    log = pl.generate(spec, 11)
+    slot = np.floor(log.t_s * 20.0).astype(int)
+    edges = np.flatnonzero(np.diff(slot, prepend=-1) > 0)
+    t = np.round(slot[edges] / 20.0 + 0.003, 3)
+    a = np.add.reduceat(log.accel_m_s2, edges, axis=0) / np.diff(edges, append=len(slot))[:, None]
+    path = tmp_path / "board.csv"
+    path.write_text(
+        "t_s,ax,ay,az\n"
+        + "".join(f"{ti:.3f},{x:.6f},{y:.6f},{z:.6f}\n" for ti, (x, y, z) in zip(t, a, strict=True))
+    )
+    figures = {"offset_g": 0.025, "cross_axis_rel": 0.01}
+    rig = _phone_rig(tmp_path, spec.sensor.axes, **figures)
+    out = tmp_path / "r.csv"
+    assert main(["acquire", "--rig", str(rig), "--log", str(path), "--log-format", "csv",
+                 "--out", str(out), "--json"]) == 0, capsys.readouterr().err  # fmt: skip
+    data = json.loads(capsys.readouterr().out)
+    assert [h["id"] for h in data["hangs"]] == ["S1", "S2", "S3", "S4", "S5", "S6"]
+    e = np.asarray(data["estimate"]["assembly_cog_mm"]) - log.cog_mm
+    cov = np.asarray(data["estimate"]["assembly_cov_mm2"])
+    assert e @ np.linalg.solve(cov, e) < float(stats.chi2.ppf(0.999, 3))
+
+
+def test_a_recording_never_replaces_a_file_and_checks_before_it_records(logs, tmp_path, capsys):
+    out = tmp_path / "r.csv"
+    out.write_text("x\n")
+    # the port does not exist: the refusal comes before any attempt to open it
+    assert main(["acquire", "--rig", str(logs["rig"]), "--port", str(tmp_path / "no-port"),
+                 "--out", str(out), "--duration-s", "5"]) == 2  # fmt: skip
+    assert "--out" in capsys.readouterr().err and out.read_text() == "x\n"
+    (tmp_path / "s.log.csv").write_text("y\n")
+    assert main(["acquire", "--rig", str(logs["rig"]), "--port", str(tmp_path / "no-port"),
+                 "--out", str(tmp_path / "s.csv"), "--duration-s", "5"]) == 2  # fmt: skip
+    assert "--log-out" in capsys.readouterr().err
+    assert (tmp_path / "s.log.csv").read_text() == "y\n"
+    assert main(["acquire", "--rig", str(logs["rig"]), "--port", "x", "--out",
+                 str(tmp_path / "t.csv"), "--drop-hangs", "1"]) == 2  # fmt: skip
+    assert "--drop-hangs: for a log" in capsys.readouterr().err

@@ -62,10 +62,10 @@ def test_malformed_mountings_are_refused_with_what_was_expected(axes, message):
 
 def test_a_phone_lying_face_up_reads_plus_one_g_on_its_z():
     # Object level (up = +z); sensor mounted square: reads (0, 0, +1 g).
-    a = accel_readings([[0.0, 0.0, 1.0]], np.zeros(12))
+    a = accel_readings([[0.0, 0.0, 1.0]], np.zeros(15))
     np.testing.assert_allclose(a, [[0.0, 0.0, 1.0]], atol=1e-15)
     # Sensor x along object -y: with the object's +y up, the sensor's x reads -1 g.
-    a = accel_readings([[0.0, 1.0, 0.0]], np.zeros(12), ("-y", "+x", "+z"))
+    a = accel_readings([[0.0, 1.0, 0.0]], np.zeros(15), ("-y", "+x", "+z"))
     np.testing.assert_allclose(a, [[-1.0, 0.0, 0.0]], atol=1e-15)
 
 
@@ -74,7 +74,7 @@ shared = st.tuples(
     *[st.floats(-0.08, 0.08)] * 3,
     *[st.floats(-0.03, 0.03)] * 3,
     *[st.floats(-2.0, 2.0)] * 3,
-    *[st.floats(-0.03, 0.03)] * 3,
+    *[st.floats(-0.03, 0.03)] * 6,
 )
 
 
@@ -89,6 +89,22 @@ def test_verticals_invert_readings_for_any_mounting_and_errors(v, theta, axes, t
     assert accel_norms(a, theta)[0] == pytest.approx(1.0, abs=1e-12)
 
 
+@given(unit, st.lists(st.floats(-0.03, 0.03), min_size=6, max_size=6), st.booleans())
+def test_any_coupling_matrix_is_its_symmetric_and_antisymmetric_parts(v, off, turned):
+    """A datasheet's six couplings, as a full matrix I + C acting on what the sensor sees (after
+    a reversal's turn: the coupling is the sensor's), are the model's k and w."""
+    u = np.asarray(v) / np.linalg.norm(v)
+    c = np.zeros((3, 3))
+    c[0, 1], c[0, 2], c[1, 0], c[1, 2], c[2, 0], c[2, 1] = off
+    seen = u * (np.array([-1.0, -1.0, 1.0]) if turned else 1.0)
+    direct = (np.eye(3) + c) @ seen
+    sym, anti = (c + c.T) / 2, (c - c.T) / 2
+    theta = np.zeros(15)
+    theta[9:12] = sym[0, 1], sym[0, 2], sym[1, 2]
+    theta[12:15] = anti[2, 1], anti[0, 2], anti[1, 0]  # W v = w × v
+    np.testing.assert_allclose(accel_readings([u], theta, turned=[turned])[0], direct, atol=1e-15)
+
+
 @given(unit)
 def test_the_angles_are_an_inclinometers_in_the_sensors_axes(v):
     u = np.asarray(v) / np.linalg.norm(v)
@@ -101,14 +117,14 @@ def test_the_angles_are_an_inclinometers_in_the_sensors_axes(v):
 def test_an_offset_is_a_vertical_error_that_the_hangs_share():
     # 20 mg on x: a level object reads 1.15° of tilt about y, on every hang alike.
     u = np.array([[0.0, 0.0, 1.0]])
-    a = accel_readings(u, [0.02] + [0.0] * 11)
-    seen = accel_verticals(a, np.zeros(12)).u[0]
+    a = accel_readings(u, [0.02] + [0.0] * 14)
+    seen = accel_verticals(a, np.zeros(15)).u[0]
     assert np.degrees(np.arcsin(seen[0])) == pytest.approx(np.degrees(np.arctan(0.02)), rel=1e-12)
 
 
 def test_a_zero_reading_has_no_direction():
     with pytest.raises(ValueError, match="no direction"):
-        accel_verticals([[0.0, 0.0, 0.0]], np.zeros(12))
+        accel_verticals([[0.0, 0.0, 0.0]], np.zeros(15))
 
 
 REQUIRED = {
@@ -142,11 +158,10 @@ def test_an_accelerometer_table_reaches_the_error_model(tmp_path):
     cfg = rig.inclinometer
     assert cfg.accelerometer and cfg.axes == ("-y", "+x", "+z") and cfg.range_deg == 90.0
     m = ErrorModel.from_rig(rig)
-    c = 0.02 / 6**0.5  # a symmetric coupling per pair; the antisymmetric rides the mounting
-    mounting = np.hypot(0.5, np.degrees(c))
+    c = 0.02 / 6**0.5  # the symmetric and the antisymmetric coupling of each pair
     np.testing.assert_allclose(
         m.shared_sensor_sigmas,
-        [0.05 / 3**0.5] * 3 + [0.03 / 3**0.5] * 3 + [mounting] * 3 + [c] * 3,
+        [0.05 / 3**0.5] * 3 + [0.03 / 3**0.5] * 3 + [0.5] * 3 + [c] * 6,
     )
 
 

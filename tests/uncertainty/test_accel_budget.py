@@ -31,7 +31,7 @@ def phone(tmp_path_factory):
     path = write_rig(tmp_path_factory.mktemp("rig") / "phone.toml", data)
     rig = load_rig(path)
     sc = Scenario.from_rig(rig)
-    return path, rig, Hangs(sc.ids, sc.points_mm, sc.normals, sc.assembly_cog_mm)
+    return path, rig, Hangs(sc.ids, sc.points_mm, sc.normals, sc.assembly_cog_mm, sc.weight_n)
 
 
 def test_q95_is_the_chi_distributions_for_an_isotropic_normal():
@@ -47,7 +47,7 @@ def test_the_prediction_is_what_the_estimate_will_state(phone):
     _, rig, hangs = phone
     cfg, model = rig.inclinometer, ErrorModel.from_rig(rig)
     pr = predict(hangs, hangs.ids, cfg, model)
-    lam = model.wire_prior(1.0).scale_mm
+    lam = model.wire_prior(hangs.weight_n).scale_mm
     u = (hangs.points_mm - hangs.cog_mm) / np.linalg.norm(hangs.points_mm - hangs.cog_mm, axis=1)[
         :, None
     ]
@@ -55,7 +55,7 @@ def test_the_prediction_is_what_the_estimate_will_state(phone):
         half = np.arccos(np.clip(np.einsum("ij,ij->i", u, hangs.normals), -1, 1)) / 2
         q = hangs.points_mm + (lam / np.cos(half))[:, None] * hangs.normals
         u = (q - hangs.cog_mm) / np.linalg.norm(q - hangs.cog_mm, axis=1)[:, None]
-    acc = accel_readings(u, np.zeros(12), cfg.axes)
+    acc = accel_readings(u, np.zeros(15), cfg.axes)
     x, y, up = accel_angles_deg(acc)
     sus = [
         Suspension(
@@ -129,3 +129,25 @@ def test_the_plan_of_a_cubesat_read_by_a_phone(cubesat_setup):
     assert all(c.usable for c in checks)  # an accelerometer reads every orientation
     assert [len(s.hangs) for s in budget.sizes] == [2, 3, 4, 5, 6]
     assert budget.meets is not None and budget.meets.q95_mm <= 0.6
+
+
+def test_each_hang_keeps_its_own_noise_whatever_the_order(phone):
+    """A noisy hang weighs less wherever it stands in the list (each line its own variance)."""
+    _, rig, hangs = phone
+    cfg = rig.inclinometer
+    u = (hangs.points_mm - hangs.cog_mm) / np.linalg.norm(hangs.points_mm - hangs.cog_mm, axis=1)[
+        :, None
+    ]
+    acc = accel_readings(u, np.zeros(15), cfg.axes)
+    std = [0.05, 0.0005, 0.0005, 0.0005, 0.0005, 0.0005]  # the first hang 100 times noisier
+    x, y, up = accel_angles_deg(acc)
+    sus = [
+        Suspension(
+            i, tuple(p), bool(t), 200, float(a), float(b), None, None, 2, False, tuple(g), (s, s, s)
+        )
+        for i, p, a, b, t, g, s in zip(hangs.ids, hangs.points_mm, x, y, up, acc, std, strict=True)
+    ]
+    first = estimate_for_rig(rig, sus)
+    last = estimate_for_rig(rig, [*sus[1:], sus[0]])
+    np.testing.assert_allclose(last.joint.cov_mm2, first.joint.cov_mm2, rtol=1e-6, atol=1e-12)
+    np.testing.assert_allclose(last.joint.cog_mm, first.joint.cog_mm, atol=1e-9)
