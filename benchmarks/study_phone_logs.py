@@ -170,7 +170,7 @@ def run_row(name: str, sensor: str, variant: str, seeds: list[int], work: Path) 
     for seed, spec, log in zip(seeds, specs, logs, strict=True):
         path = work / f"{name}_{sensor}_{variant}_{seed}.csv"
         pl.write_phyphox_csv(path, log)
-        out = work / f"r_{seed}.csv"
+        out = work / f"r_{name}_{sensor}_{variant}_{seed}.csv"  # a log's readings are new files
         try:
             if rig is not None:
                 target = target_from_rig(rig)
@@ -191,6 +191,7 @@ def run_row(name: str, sensor: str, variant: str, seeds: list[int], work: Path) 
         sig.append(float(np.sqrt(np.trace(cov))))
         flagged += any(r.inconsistent for r in est.joint.residuals)
         path.unlink()
+        out.unlink()
     n = len(seeds)
     row = {"row": f"{name} {sensor} {variant}", "logs": n, "cut": cut / n}
     if variant == "never-settles":
