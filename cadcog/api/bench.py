@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from cadcog.api._checks import (
     _numbers,
@@ -112,20 +112,13 @@ def acquire(
         The estimate, its comparison with the CAD, the inertia from the swings (or why none);
         ``to_dict()`` is the command's ``--json``.
     """
-    from cadcog.runs.acquire import Simulation, acquire_target, run_acquire
+    from cadcog.runs.acquire import Simulation, run_acquire
 
     f = "acquire"
     _numbers(f, seed=seed, time_scale=time_scale)
     check_choice(f, "device", device, ("analog", "digital"))
     out_path = _path(f, "out", out)
-    if setup is not None and rig is not None:
-        raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
-    _point_ids(f, points)
-    target = acquire_target(
-        rig=None if setup is not None else _rig(f, rig),
-        setup=None if setup is None else _setup(f, setup),
-        points=points,
-    )
+    target = _target(f, rig, setup, points)
     return run_acquire(
         target,
         out_path,
@@ -173,26 +166,41 @@ def acquire_log(
         The hangs found (their time spans), the estimate, and (set-ups) its comparison with
         the CAD; ``to_dict()`` is the command's ``--json``.
     """
-    from cadcog.runs.acquire import acquire_target
+    from cadcog.bench.accellog import LOG_FORMATS
     from cadcog.runs.acquire_log import acquire_log as run_log
 
     f = "acquire_log"
     _numbers(f, average_s=average_s)
-    check_choice(f, "log_format", log_format, ("phyphox", "csv"))
-    if setup is not None and rig is not None:
-        raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
-    if setup is not None and points is None:
-        raise CadcogError(f"{f}: a set-up needs points, the hangs in the order they were made")
-    _point_ids(f, points)
-    target = acquire_target(
-        rig=None if setup is not None else _rig(f, rig),
-        setup=None if setup is None else _setup(f, setup),
-        points=points,
-    )
+    check_choice(f, "log_format", log_format, LOG_FORMATS)
+    target = _target(f, rig, setup, points, set_up_needs_points=True)
     return run_log(
         target,
         _path(f, "log", log),
         _path(f, "out", out),
         fmt=log_format,
         min_average_s=average_s,
+    )
+
+
+def _target(
+    f: str,
+    rig: Rig | str | Path | None,
+    setup: Setup | str | Path | None,
+    points: Sequence[str] | None,
+    *,
+    set_up_needs_points: bool = False,
+) -> Any:
+    """The hangs of a run (:func:`cadcog.runs.acquire.acquire_target`), the arguments checked
+    as ``f``'s (``set_up_needs_points``: a log's hangs are in the order they were made)."""
+    from cadcog.runs.acquire import acquire_target
+
+    if setup is not None and rig is not None:
+        raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
+    if set_up_needs_points and setup is not None and points is None:
+        raise CadcogError(f"{f}: a set-up needs points, the hangs in the order they were made")
+    _point_ids(f, points)
+    return acquire_target(
+        rig=None if setup is not None else _rig(f, rig),
+        setup=None if setup is None else _setup(f, setup),
+        points=points,
     )

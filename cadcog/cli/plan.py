@@ -159,13 +159,9 @@ def _accelerometer_plan(args: argparse.Namespace, setup: Any) -> int:
     print(f"{setup.name}: {len(checks) - len(bad)} of {len(checks)} candidates usable")
     for c in bad:
         print(f"  {c.id}: cannot work: {c.reason}")
-    print(f"error model: {budget_summary(setup)}\n")
+    print(f"error model: {setup.error_model().summary()}\n")
     print_accel_sizes(budget, args.target_mm)
     return status
-
-
-def budget_summary(setup: Any) -> str:
-    return str(setup.error_model().summary())
 
 
 def _print_inertia_plan(inertia: Any, goal: str) -> None:

@@ -297,9 +297,9 @@ def default_model(config: InclinometerConfig | None = None) -> ErrorModel:
 
 def accelerometer_variances(
     suspensions: Sequence[Suspension], cfg: InclinometerConfig, mdl: ErrorModel
-) -> tuple[FloatArray, FloatArray]:
-    """Each accelerometer hang's variances: its vertical's along each direction ⊥ u (rad²) and
-    its gravity norm's (g²).
+) -> FloatArray:
+    """Each accelerometer hang's variance, shape (k,): its vertical's along each direction ⊥ u
+    (rad²) and its gravity norm's (g²) alike.
 
     The mean of n readings has the noise its samples show: the largest axis's sample variance
     over n (the error model's sensor noise where a hang has one sample), plus what the shared
@@ -314,8 +314,7 @@ def accelerometer_variances(
             for s in suspensions
         ]
     )
-    accuracy = cfg.accuracy_g**2 / 3.0
-    return noise + accuracy, noise + accuracy
+    return np.asarray(noise + cfg.accuracy_g**2 / 3.0)
 
 
 def estimate_cog(
@@ -421,11 +420,11 @@ def estimate_cog(
                 f"({prior.scale_mm:.2f} mm) is not corrected; it is counted as an isotropic "
                 "point error instead"
             )
-    if cfg.accelerometer and angle_sigma_deg is None:
-        reading_var, _ = accelerometer_variances(suspensions, cfg, mdl)
+    acc_var = accelerometer_variances(suspensions, cfg, mdl) if cfg.accelerometer else None
+    if acc_var is not None and angle_sigma_deg is None:
         # (k, 1): a line per row, as LineErrors.from_model shapes per-line variances
-        errors = replace(errors, reading_var_rad2=reading_var[:, None], isotropic_reading=True)
-    elif cfg.accelerometer:
+        errors = replace(errors, reading_var_rad2=acc_var[:, None], isotropic_reading=True)
+    elif acc_var is not None:
         errors = replace(errors, isotropic_reading=True)
     p = np.array([s.position_mm for s in suspensions], dtype=float).T[:, :, None]
     u = v.u.T[:, :, None]
@@ -438,7 +437,7 @@ def estimate_cog(
     if mdl.has_shared_sensor or cfg.accelerometer:
         joint, verticals, shared_info = _joint_with_shared_sensor(
             suspensions, cfg, mdl, normals, errors, wire, body is not None, min_angle_deg,
-            warnings,
+            warnings, acc_var,
         )  # fmt: skip
     else:
         joint = _joint(suspensions, p, u, nrm, errors, wire, body is not None, min_angle_deg,
@@ -550,16 +549,16 @@ def _joint_with_shared_sensor(
     has_body: bool,
     min_angle_deg: float,
     warnings: list[str],
+    norm_var: FloatArray | None = None,
 ) -> tuple[JointEstimate, FloatArray, dict[str, Any]]:
     """The joint estimate with the sensor's shared offsets, sensitivities and mounting
     estimated alongside (:func:`cadcog.method.sharedfit.fit_shared`): the estimate, the
-    corrected verticals and what became of each shared parameter."""
+    corrected verticals and what became of each shared parameter. An accelerometer's hangs
+    come with ``norm_var`` (:func:`accelerometer_variances`), their gravity norms' variance."""
     acc: FloatArray | None = None
-    norm_var = None
     if cfg.accelerometer:
         # (read with an accelerometer's configuration, every suspension has its reading)
         acc = np.array([s.acc_g if s.acc_g is not None else (np.nan,) * 3 for s in suspensions])
-        norm_var = accelerometer_variances(suspensions, cfg, mdl)[1]
     fit = sharedfit.fit_shared(
         [s.position_mm for s in suspensions],
         [s.inc_x_deg for s in suspensions],
