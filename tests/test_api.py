@@ -86,7 +86,7 @@ SAME_DEFAULTS = {
     "update": {"mass_sigma_kg": "mass_sigma_kg", "unmodelled_mass_kg": "unmodelled_mass_kg"},
     "campaign": {"seed": "seed", "samples": "samples", "noise_deg": "noise_deg"},
     "acquire": {"seed": "seed", "device": "device", "time_scale": "time_scale"},
-    "acquire_log": {"log_format": "log_format", "average_s": "average_s"},
+    "acquire_log": {"log_format": "log_format", "average_s": "average_s", "swings": "swings"},
 }
 COMMAND = {"mass_properties": "massprops", "acquire_log": "acquire"}
 #: Options whose command default is None only so that giving them alone can be refused

@@ -139,10 +139,12 @@ def acquire_log(
     points: Sequence[str] | None = None,
     log_format: Literal["phyphox", "csv"] = "phyphox",
     average_s: float = 10.0,
+    swings: str | Path | None = None,
 ) -> LogRun:
     """A test from a recorded accelerometer log (``cadcog acquire --log``): a phone's phyphox
     export or a ``t_s,ax,ay,az`` CSV, cut into the hangs of ``points`` in that order, written
-    to the readings CSV ``out`` and estimated from it.
+    to the readings CSV ``out`` and estimated from it (and, with ``swings``, each hang's swing
+    written there and the inertia tensor estimated from it).
 
     Parameters
     ----------
@@ -159,12 +161,16 @@ def acquire_log(
     log_format : "phyphox" or "csv"
     average_s : float
         A settled stretch shorter than this is not a hang.
+    swings : str or Path, optional
+        A new swing CSV for ``cadcog inertia``: each hang's samples from just after its release
+        to the end of its first averaged span, in object-axis angles (docs/bench.md §8).
 
     Returns
     -------
     LogRun
         The hangs found (their time spans), the estimate, and (set-ups) its comparison with
-        the CAD; ``to_dict()`` is the command's ``--json``.
+        the CAD; with ``swings``, ``inertia`` (or ``inertia_note``: why there is none);
+        ``to_dict()`` is the command's ``--json``.
     """
     from cadcog.bench.accellog import LOG_FORMATS
     from cadcog.runs.acquire_log import acquire_log as run_log
@@ -179,6 +185,7 @@ def acquire_log(
         _path(f, "out", out),
         fmt=log_format,
         min_average_s=average_s,
+        swings=None if swings is None else _path(f, "swings", swings),
     )
 
 

@@ -178,7 +178,7 @@ def inertia(
     >>> import tempfile, pathlib, cadcog
     >>> from cadcog.validation.campaign import (
     ...     campaign_suspensions, virtual_campaign, write_campaign)
-    >>> from cadcog.dynamics.measure import context_for_rig
+    >>> from cadcog.dynamics.context import context_for_rig
     >>> from cadcog.dynamics.swingfile import write_swings
     >>> from cadcog.dynamics.virtual import virtual_swings
     >>> rig = cadcog.load_rig()

@@ -40,6 +40,8 @@ import numpy.typing as npt
 from cadcog.bench.accellog import MAX_GAP_S, AccelLog
 from cadcog.bench.swing import SettleCriterion
 from cadcog.core.units import rad_to_deg
+from cadcog.dynamics.swingfile import Swing
+from cadcog.rig.accelerometer import swing_angles_deg
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -379,3 +381,36 @@ def _unsettled(
         if not len(after) and u.end_s - u.start_s > 2 * hold_s:
             out.append(u)
     return out
+
+
+#: A swing taken from a log starts this long (s) after the release found: the hand's last
+#: motion before it let go stays within the magnitude test (0.7-0.9 s in the study's logs) and
+#: is not a swing (the fit took it for a mode of 1.6 Hz and 2°).
+SWING_SKIP_S = 2.0
+
+
+def hang_swing(
+    log: AccelLog, hang: LogHang, point_id: str, axes: tuple[str, str, str], turned: bool = False
+) -> Swing:
+    """The swing of a found hang, as a swing file holds it (``cadcog inertia``): the log's own
+    samples (not the bins) from :data:`SWING_SKIP_S` after the release to the end of its first
+    averaged span (the swing goes on decaying below the settle threshold, and a longer record
+    resolves its modes better; a knock ends the span), in object-axis angles
+    (:func:`cadcog.rig.accelerometer.swing_angles_deg`), the log's clock. ``turned``: the hang
+    was read with the sensor turned 180° about its z axis on its mount (a reversal), so both
+    angles change sign.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> t = np.arange(0.0, 5.0, 0.5)
+    >>> log = AccelLog(Path("x.csv"), t, np.tile([0.0, 0.5, 0.75**0.5], (10, 1)), np.arange(10))
+    >>> hang = LogHang(0.5, 5.0, 3.5, ((3.5, 5.0),), t[7:], log.acc_g[7:], 0.0)
+    >>> sw = hang_swing(log, hang, "S1", ("-y", "+x", "+z"))
+    >>> sw.t_s.tolist(), sw.inc_deg.round(6).tolist()
+    ([2.5, 3.0, 3.5, 4.0, 4.5], [[30.0, 0.0], [30.0, 0.0], [30.0, 0.0], [30.0, 0.0], [30.0, 0.0]])
+    """
+    end = hang.spans_s[0][1]
+    keep = (log.t_s >= hang.start_s + SWING_SKIP_S) & (log.t_s <= end)
+    deg = swing_angles_deg(log.acc_g[keep], axes)
+    return Swing(point_id, log.t_s[keep], -deg if turned else deg)

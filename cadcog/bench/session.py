@@ -31,6 +31,7 @@ from cadcog.bench.target import (
     estimate_hangs,
     estimate_summary,
     inconsistent_ids,
+    inertia_hangs,
     line_check,
 )
 from cadcog.core.errors import CadcogError
@@ -308,18 +309,15 @@ def _inertia(
     target: BenchTarget, swings: SwingLog, suspensions: list[Suspension]
 ) -> tuple[Any, str]:
     """The tensor from the recorded swings, or why there is none."""
-    from cadcog.dynamics.measure import inertia_for_rig, inertia_for_setup
     from cadcog.dynamics.swingfile import read_swings
 
     if len(swings.done) < 3:
         return None, f"{len(swings.done)} hang(s) with a swing: the tensor needs 3 or more"
     try:
         recorded = read_swings(swings.path)
-        if target.setup is None:
-            return inertia_for_rig(target.rig, recorded, suspensions), ""
-        return inertia_for_setup(target.setup, recorded, suspensions), ""
     except CadcogError as exc:
         return None, str(exc)
+    return inertia_hangs(target, recorded, suspensions)
 
 
 def report_with(report: HangReport, attempt: int, outcome: str | None = None) -> HangReport:

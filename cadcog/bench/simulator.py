@@ -41,7 +41,7 @@ from cadcog.rig.inclinometer import sensor_readings
 from cadcog.uncertainty.montecarlo import draw_perturbations, hang
 
 if TYPE_CHECKING:
-    from cadcog.dynamics.measure import InertiaContext
+    from cadcog.dynamics.context import InertiaContext
 
 #: ``deg_per_lsb`` of the Murata SCL3300's angle outputs: angle = raw / 2¹⁴ × 90°.
 SCL3300_DEG_PER_LSB = 90.0 / 2**14
@@ -506,7 +506,7 @@ class PtyDevice:
 def _swing_context(target: BenchTarget) -> InertiaContext | None:
     """The swing's context (wire, sensing point, pivots) of the target's set-up or rig, or None
     when it does not say where the inclinometer senses."""
-    from cadcog.dynamics.measure import context_for_rig, context_for_setup
+    from cadcog.dynamics.context import context_for_rig, context_for_setup
 
     try:
         if target.setup is not None:

@@ -205,6 +205,25 @@ def estimate_hangs(target: BenchTarget, suspensions: Sequence[Suspension]) -> Co
     return estimate_for_setup(target.setup, suspensions)
 
 
+def inertia_hangs(
+    target: BenchTarget, swings: Sequence[Any], suspensions: Sequence[Suspension]
+) -> tuple[Any, str]:
+    """The inertia tensor from the hangs' swings (``cadcog.dynamics.swingfile.Swing``), as
+    ``cadcog inertia`` computes it, or ``None`` and why there is none: what a run reports
+    beside its CoG (a run's readings stand without it)."""
+    from cadcog.core.errors import CadcogError
+    from cadcog.dynamics.measure import inertia_for_rig, inertia_for_setup
+
+    if len(swings) < 3:
+        return None, f"{len(swings)} hang(s) with a swing: the tensor needs 3 or more"
+    try:
+        if target.setup is None:
+            return inertia_for_rig(target.rig, swings, suspensions), ""
+        return inertia_for_setup(target.setup, swings, suspensions), ""
+    except CadcogError as exc:
+        return None, str(exc)
+
+
 @dataclass(frozen=True)
 class LineCheck:
     """How one suspension's plumb line agrees with the others.

@@ -35,7 +35,8 @@ def add_parser(sub: Any) -> None:
         "--swings",
         type=Path,
         help="swing CSV to create or resume: each hang's samples from release to settle, for "
-        "cadcog inertia (default: beside --out, NAME.swings.csv)",
+        "cadcog inertia (default: beside --out, NAME.swings.csv; from a log or an "
+        "accelerometer's recording, only when given)",
     )
     p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
     p.add_argument("--setup", type=Path, help="spacecraft set-up file instead of a rig")
@@ -156,10 +157,11 @@ def add_parser(sub: Any) -> None:
 
 def _also_written(args: argparse.Namespace) -> list[Path]:
     """What a run writes beside ``--out``: the swings of a device run; a recording's log."""
+    swings = [] if args.swings is None else [args.swings]
     if args.log is not None:
-        return []
+        return swings
     if args.port is not None and (args.log_out is not None or args.duration_s is not None):
-        return [default_log(args)]
+        return [default_log(args), *swings]
     return [default_or(args.swings, args.out)]
 
 
@@ -245,9 +247,8 @@ def _criterion(args: argparse.Namespace) -> Any:
 
 def _log_checks(args: argparse.Namespace, what: str) -> None:
     """What a run from a log (or recorded as one) does not take."""
-    for option, value in (("--swings", args.swings), ("--report", args.report)):
-        if value is not None:
-            raise CadcogError(f"{option}: not written from {what} yet (an inclinometer's is)")
+    if args.report is not None:
+        raise CadcogError(f"--report: not written from {what} yet (an inclinometer's is)")
     if args.setup is not None and args.points is None:
         raise CadcogError(
             f"{what} with --setup: give --points, the hangs in the order they are made"
@@ -262,9 +263,11 @@ def _run_log(args: argparse.Namespace) -> int:
     for option in ("--log-out", "--duration-s"):
         if getattr(args, option[2:].replace("-", "_")) is not None:
             raise CadcogError(f"{option}: for recording from --port, not with --log")
-    refuse_overwriting_inputs(
-        args.out, {"--rig": args.rig, "--setup": args.setup, "--log": args.log}
-    )
+    for output in (args.out, args.swings):
+        if output is not None:
+            refuse_overwriting_inputs(
+                output, {"--rig": args.rig, "--setup": args.setup, "--log": args.log}
+            )
     target = _target(args)
     run = acquire_log(
         target,
@@ -274,6 +277,7 @@ def _run_log(args: argparse.Namespace) -> int:
         criterion=_criterion(args),
         min_average_s=args.average_s,
         drop=_drops(args.drop_hangs),
+        swings=args.swings,
         say=lambda text: print(text, file=sys.stderr),
     )
     return _print_log_run(args, run, args.log)
@@ -300,8 +304,8 @@ def _run_recorded(args: argparse.Namespace, target: Any) -> int:
 
     _log_checks(args, "an accelerometer's recording")
     log_out = default_log(args)
-    for option, path in (("--out", args.out), ("--log-out", log_out)):
-        if path.exists() or path.is_symlink():  # before recording, not after
+    for option, path in (("--out", args.out), ("--log-out", log_out), ("--swings", args.swings)):
+        if path is not None and (path.exists() or path.is_symlink()):  # before recording
             raise CadcogError(
                 f"{option} {path}: exists; a recording and its readings go to new files "
                 f"(remove it, or choose another {option})"
@@ -309,6 +313,10 @@ def _run_recorded(args: argparse.Namespace, target: Any) -> int:
     refuse_overwriting_inputs(
         log_out, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
     )
+    if args.swings is not None:
+        refuse_overwriting_inputs(
+            args.swings, {"--rig": args.rig, "--setup": args.setup, "--log-out": log_out}
+        )
     run = acquire_recorded(
         target,
         args.port,
@@ -319,6 +327,7 @@ def _run_recorded(args: argparse.Namespace, target: Any) -> int:
         timeout_s=args.timeout_s,
         criterion=_criterion(args),
         min_average_s=args.average_s,
+        swings=args.swings,
         say=lambda text: print(text, file=sys.stderr),
     )
     return _print_log_run(args, run, log_out)
@@ -342,10 +351,27 @@ def _print_log_run(args: argparse.Namespace, run: Any, log: Path) -> int:
         print_estimate(est)
         if run.cad is not None:
             print_cad_comparison(run.cad)
-    print(f"report: {args.out}", file=sys.stderr)
+        if args.swings is not None:
+            _print_log_inertia(run, args.swings)
+    for path in (args.out, args.swings):
+        if path is not None:
+            print(f"report: {path}", file=sys.stderr)
     for w in (*run.warnings, *est.warnings):
         print(f"cadcog: warning: {w}", file=sys.stderr)
+    if run.inertia is not None:
+        for w in run.inertia.warnings:
+            print(f"cadcog: warning: inertia: {w}", file=sys.stderr)
     return 0
+
+
+def _print_log_inertia(run: Any, swings: Path) -> None:
+    if run.inertia is None:
+        print(f"\nno inertia from the swings: {run.inertia_note}")
+        return
+    from cadcog.cli.inertia import print_inertia
+
+    print(f"\ninertia from the swings in {swings}:\n")
+    print_inertia(run.inertia)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -145,8 +145,9 @@ def _accelerometer_plan(args: argparse.Namespace, setup: Any) -> int:
 
     if args.goal != "cog":
         raise CadcogError(
-            f"--for {args.goal}: the swing fit models a dual-axis inclinometer only; an "
-            "accelerometer's plan is for the CoG"
+            f"--for {args.goal}: an accelerometer's plan is for the CoG only (its swings give "
+            "the inertia, cadcog acquire --log --swings, but the inertia's plan is not yet made "
+            "for an accelerometer's set-up)"
         )
     checks, budget = run_accel_plan(setup, max_set=max(args.max_set, 8), target_mm=args.target_mm)
     status = 1 if args.target_mm is not None and budget.meets is None else 0

@@ -24,8 +24,8 @@ import numpy.typing as npt
 from cadcog.core.errors import DegenerateGeometryError
 from cadcog.core.results import JsonResult
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.dynamics.context import InertiaContext
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
-from cadcog.dynamics.measure import InertiaContext
 from cadcog.dynamics.modalfit import UNRESOLVED_BINS
 from cadcog.dynamics.result import principal_with_sigma
 from cadcog.dynamics.tensorfit import compensate, direct_jacobian, entries, nuisances, tensor
@@ -323,7 +323,7 @@ def plan_inertia_for_setup(
     """``cadcog plan --for inertia|both``: the set-up's usable candidates (from the CoG plan's
     checks), the CoG covariance of the CoG plan's recommended set (isotropic, from its 95 %
     error), a weighing of 1 g or the CAD's mass uncertainty."""
-    from cadcog.dynamics.measure import context_for_setup
+    from cadcog.dynamics.context import context_for_setup
     from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
 
     usable = {c.id for c in cog_plan.checks if c.usable}

@@ -13,7 +13,6 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -24,6 +23,7 @@ from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError, ReadingsError
 from cadcog.core.fittest import TEST_LEVEL, FitTest, chi2_sf
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.dynamics.context import InertiaContext, context_for_rig, context_for_setup
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
 from cadcog.dynamics.modalfit import ModalFit, fit_swing
 from cadcog.dynamics.result import (
@@ -51,12 +51,10 @@ from cadcog.dynamics.tensorfit import (
     tensor,
     weighted_chi2,
 )
-from cadcog.mass.properties import MassProperties, box_properties, combine
-from cadcog.method.errormodel import ErrorModel, wire_shape_factor
-from cadcog.method.estimate import BodyBox, CogEstimate
+from cadcog.mass.properties import combine
+from cadcog.method.estimate import CogEstimate
 from cadcog.method.readings import Suspension
-from cadcog.rig.inclinometer import require_angle_sensor
-from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
+from cadcog.rig.parameters import Rig
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -70,169 +68,6 @@ BUDGET_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("pivots (play, wire offset)", ("exit ",)),
     ("ME CoGs", ("ME ",)),
 )
-
-
-@dataclass(frozen=True)
-class InertiaContext:
-    """Everything besides the data that the chain needs, from a rig or a set-up.
-
-    Attributes
-    ----------
-    object_cad : MassProperties
-        The object (without ME) as its CAD says.
-    cad_cov_kg2_mm4 : ndarray, shape (6, 6)
-        The CAD tensor's stated uncertainty (zeros for a rig's exact proof mass).
-    me_parts : tuple of MassProperties
-        Each ME volume (a homogeneous box).
-    me_cog_sigma_mm : tuple of float
-        Per-axis 1 σ of each volume's CoG (its uncertainty cube's edge / √12).
-    swing : SwingOptions
-    sensor_mm : ndarray, shape (3,)
-    body : BodyBox
-        The box the suspension points sit on: each bolt's axis.
-    error_model : ErrorModel
-        The static estimate's: the points' play, the wire's offset along the bolt axis.
-    bending_stiffness_n_mm2, bending_rel_sigma : float
-        The wire's EI and its relative 1 σ (the top clamp's hinge is ``√(EI/T)``).
-    signs : (int, int)
-    """
-
-    object_cad: MassProperties
-    cad_cov_kg2_mm4: FloatArray
-    me_parts: tuple[MassProperties, ...]
-    me_cog_sigma_mm: tuple[float, ...]
-    swing: SwingOptions
-    sensor_mm: FloatArray
-    body: BodyBox
-    error_model: ErrorModel
-    bending_stiffness_n_mm2: float
-    bending_rel_sigma: float
-    signs: tuple[int, int]
-
-    def top_hinge_mm(self, weight_n: float) -> tuple[float, float]:
-        """The top clamp's hinge ``λ = √(EI/T)`` and its 1 σ (EI's relative σ halved)."""
-        lam = float(np.sqrt(self.bending_stiffness_n_mm2 / weight_n))
-        return lam, 0.5 * self.bending_rel_sigma * lam
-
-    def pivots(
-        self, positions_mm: FloatArray, cog_mm: FloatArray, weight_n: float
-    ) -> tuple[FloatArray, FloatArray]:
-        """Each hang's pivot and its covariance, shapes (k, 3) and (k, 3, 3).
-
-        The pivot is the static estimate's virtual suspension point: the wire exit moved along
-        the bolt axis ``n`` by the wire's expected offset (the far-field wire turns about it);
-        its covariance is the point's play in the face plane and the offset's spread along
-        ``n`` (the elastica's shared scale taken per hang: a planning approximation).
-        """
-        model = self.error_model
-        prior = model.wire_prior(weight_n)
-        pos = np.asarray(positions_mm, dtype=float).reshape(-1, 3)
-        pivots = np.empty_like(pos)
-        covs = np.empty((len(pos), 3, 3))
-        for i, p in enumerate(pos):
-            n = self.body.normal_at(p)
-            u = p - np.asarray(cog_mm, dtype=float)
-            u = u / np.linalg.norm(u)
-            f = float(wire_shape_factor(np.array([n @ u]), model.wire_model)[0])
-            pivots[i] = p + prior.scale_mm * f * n
-            var_n = prior.scatter_var_mm2 + prior.scale_var_mm2 * f * f
-            covs[i] = model.play_var_mm2 * (np.eye(3) - np.outer(n, n)) + var_n * np.outer(n, n)
-        return pivots, covs
-
-    def pivot_terms(
-        self,
-        positions_mm: FloatArray,
-        cog_mm: FloatArray,
-        weight_n: float,
-        scale: tuple[float, float] | None = None,
-    ) -> tuple[FloatArray, FloatArray]:
-        """Each hang's pivot, shape (k, 3), and the pivots' joint covariance, (3k, 3k), with the
-        wire's offset scale λ **one unknown shared by every hang** (one wire hangs them all).
-
-        ``scale``: λ and its variance as the CoG's estimate found them (its joint fit takes λ
-        as an unknown of the test); default the error model's prior. Each hang's pivot is the
-        exit moved by ``λ fᵢ`` along its bolt axis ``nᵢ``; its own covariance is the play in the
-        face plane and the per-hang scatter along ``nᵢ``, and every pair of hangs shares
-        ``var(λ) (fᵢnᵢ)(fⱼnⱼ)ᵀ``: an error of λ moves every pivot at once and does not average
-        out over the hangs (:meth:`pivots` takes it per hang, for planning).
-        """
-        model = self.error_model
-        prior = model.wire_prior(weight_n)
-        lam, lam_var = (prior.scale_mm, prior.scale_var_mm2) if scale is None else scale
-        pos = np.asarray(positions_mm, dtype=float).reshape(-1, 3)
-        k = len(pos)
-        pivots = np.empty_like(pos)
-        cov = np.zeros((3 * k, 3 * k))
-        along = np.zeros(3 * k)
-        for i, p in enumerate(pos):
-            n = self.body.normal_at(p)
-            u = p - np.asarray(cog_mm, dtype=float)
-            u = u / np.linalg.norm(u)
-            f = float(wire_shape_factor(np.array([n @ u]), model.wire_model)[0])
-            pivots[i] = p + lam * f * n
-            own = model.play_var_mm2 * (np.eye(3) - np.outer(n, n))
-            cov[3 * i : 3 * i + 3, 3 * i : 3 * i + 3] = own + prior.scatter_var_mm2 * np.outer(n, n)
-            along[3 * i : 3 * i + 3] = f * n
-        return pivots, cov + lam_var * np.outer(along, along)
-
-
-def sensor_position_mm(
-    options: SwingOptions, volumes: Sequence[MEVolume], source: str
-) -> FloatArray:
-    """``[swing] sensor_position_mm``, else the centre of the ME volume named *inclinometer*."""
-    if options.sensor_position_mm is not None:
-        return np.asarray(options.sensor_position_mm, dtype=float)
-    named = [v for v in volumes if "inclinometer" in v.name.lower()]
-    if len(named) != 1:
-        raise ReadingsError(
-            f"{source}: [swing] sensor_position_mm is not given and "
-            f"{'no' if not named else 'more than one'} measurement-equipment volume has "
-            "'inclinometer' in its name: say where the inclinometer senses (mm, object frame)"
-        )
-    return np.asarray(named[0].center_mm, dtype=float)
-
-
-def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaContext:
-    """The paper rig (or another): the proof mass is the object, exact."""
-    from cadcog.method.estimate import BodyBox
-
-    require_angle_sensor(rig.inclinometer.device, "the swing fit (cadcog inertia)")
-    opts = rig.error_options
-    sw = swing or rig.swing
-    return InertiaContext(
-        rig.analytic_proof_mass,
-        np.zeros((6, 6)),
-        tuple(rig.analytic_me_volume(v) for v in rig.me_volumes),
-        tuple(v.cog_uncertainty_cube_mm / np.sqrt(12.0) for v in rig.me_volumes),
-        sw,
-        sensor_position_mm(sw, rig.me_volumes, f"rig {rig.source}"),
-        BodyBox.of_rig(rig),
-        ErrorModel.from_rig(rig),
-        opts.wire_bending_stiffness_n_mm2,
-        opts.wire_stiffness_rel_uncertainty,
-        (rig.inclinometer.sign_x, rig.inclinometer.sign_y),
-    )
-
-
-def context_for_setup(setup: Any, cad_cov_kg2_mm4: FloatArray) -> InertiaContext:
-    """A spacecraft set-up: its CAD with the stated uncertainty ``cad_cov_kg2_mm4``."""
-    rig = setup.rig
-    require_angle_sensor(rig.inclinometer.device, "the swing fit (cadcog inertia)")
-    opts = rig.error_options
-    sw = setup.swing
-    return InertiaContext(
-        setup.mass,
-        np.asarray(cad_cov_kg2_mm4, dtype=float),
-        tuple(box_properties(v.size_mm, v.center_mm, mass_kg=v.mass_kg) for v in setup.me_volumes),
-        tuple(v.cog_uncertainty_cube_mm / np.sqrt(12.0) for v in setup.me_volumes),
-        sw,
-        sensor_position_mm(sw, setup.me_volumes, f"setup {setup.source}"),
-        setup.body(),
-        setup.error_model(),
-        opts.wire_bending_stiffness_n_mm2,
-        opts.wire_stiffness_rel_uncertainty,
-        (rig.inclinometer.sign_x, rig.inclinometer.sign_y),
-    )
 
 
 #: A hang's record longer than this (s) is not a swing in seconds (t_s in ms?).

@@ -17,8 +17,8 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
+from cadcog.dynamics.context import InertiaContext
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
-from cadcog.dynamics.measure import InertiaContext
 from cadcog.dynamics.swingfile import Swing
 from cadcog.mass.properties import combine
 from cadcog.method.readings import Suspension

@@ -245,3 +245,34 @@ def accel_angles_deg(acc: npt.ArrayLike) -> tuple[FloatArray, FloatArray, npt.ND
     x = rad_to_deg(np.arcsin(np.clip(unit[:, 0], -1.0, 1.0)))
     y = rad_to_deg(np.arcsin(np.clip(unit[:, 1], -1.0, 1.0)))
     return np.asarray(x), np.asarray(y), np.asarray(unit[:, 2] > 0.0)
+
+
+def swing_angles_deg(acc: npt.ArrayLike, axes: tuple[str, str, str]) -> FloatArray:
+    """A swing's readings as the swing fit takes them: the samples turned into object axes by
+    the nominal mounting ``axes``, then ``X = asin(âₓ)``, ``Y = asin(â_y)`` (degrees, ``â`` the
+    unit reading). The swing model (:mod:`cadcog.dynamics.hungbody`) is an accelerometer's: the
+    direction of the specific force at the sensing point in object axes. The shared errors
+    (offsets, sensitivities, misalignment) move the angles by a fixed amount and scale them by
+    about 1 %: the frequencies, which carry the inertia, do not see them.
+
+    Parameters
+    ----------
+    acc : array_like, shape (n, 3)
+        Samples (g or any unit, sensor axes).
+    axes : tuple of 3 str
+        The mounting (:func:`axes_matrix`).
+
+    Returns
+    -------
+    ndarray, shape (n, 2)
+
+    Examples
+    --------
+    >>> swing_angles_deg([[0.0, 0.5, 0.75**0.5]], ("-y", "+x", "+z")).round(9).tolist()
+    [[30.0, 0.0]]
+
+    (sensor y lies along object x, and reads half of gravity: the object's +x is tilted 30° up.)
+    """
+    a = np.atleast_2d(np.asarray(acc, dtype=float)) @ axes_matrix(axes)  # (Aᵀ v)ᵀ = vᵀ A
+    x, y, _ = accel_angles_deg(a)
+    return np.column_stack([x, y])

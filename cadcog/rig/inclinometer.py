@@ -157,8 +157,8 @@ def require_angle_sensor(device: str, what: str) -> None:
         raise UnsupportedSensorError(
             f"{what} models a dual-axis inclinometer only, and the [inclinometer] table declares "
             'device = "accelerometer" (an accelerometer is taken by estimate, acquire --log or '
-            "--port, and by budget --rig and plan SETUP, which predict its error: docs/bench.md "
-            "§8)"
+            "--port, inertia, and by budget --rig and plan SETUP, which predict its error: "
+            "docs/bench.md §8)"
         )
 
 

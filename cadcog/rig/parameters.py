@@ -131,8 +131,8 @@ class SwingOptions:
     wire_length_sigma_mm : float
         1 σ of that length (a tape measure's reading, the clamp's own play).
     sensor_position_mm : tuple of 3 floats or None
-        The inclinometer's sensing point, object frame; None: the centre of the ME volume whose
-        name contains ``inclinometer``.
+        The sensor's sensing point, object frame; None: the centre of the ME volume whose name
+        contains ``inclinometer``, ``accelerometer`` or ``phone``.
     sensor_position_sigma_mm : float
         1 σ per axis of that point.
     frequency_model_rel : float

@@ -5,12 +5,16 @@ accelerometer's log).
 bench's settle criterion (:mod:`cadcog.bench.logsegments`), gives them the planned points in
 the order given, writes the readings CSV (an accelerometer's columns, one row per 0.05 s bin
 of each averaged span) and estimates the CoG from that file exactly as ``cadcog estimate``
-does. Nothing is written unless every hang was found and the estimate could be computed.
+does. With ``swings``, each hang's swing (the log's samples from the release to the settling,
+in object-axis angles) goes to a swing file and the inertia tensor is estimated from it as
+``cadcog inertia`` does. Nothing is written unless every hang was found and the estimate could
+be computed; the readings and the swings are written together or not at all.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from contextlib import ExitStack
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -18,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.bench.accellog import LogError, LogFormat, read_log
-from cadcog.bench.logsegments import BIN_S, LogHang, Segmentation, segment_log
+from cadcog.bench.logsegments import BIN_S, LogHang, Segmentation, hang_swing, segment_log
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import staged_file
 from cadcog.core.results import JsonResult
@@ -47,12 +51,17 @@ class LogRun(JsonResult):
     cad : dict or None
     warnings : tuple of str
         About the log (the estimate's own are in ``estimate.warnings``).
+    inertia : InertiaResult or None
+        With swings written: the tensor from them, or None (``inertia_note`` says why).
+    inertia_note : str
     """
 
     data: dict[str, Any]
     estimate: Any
     cad: dict[str, Any] | None
     warnings: tuple[str, ...]
+    inertia: Any = None
+    inertia_note: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         return self.data
@@ -164,18 +173,21 @@ def acquire_log(
     criterion: Any = None,
     min_average_s: float = 10.0,
     drop: Sequence[int] = (),
+    swings: Path | None = None,
     say: Callable[[str], None] = lambda _text: None,
 ) -> LogRun:
     """Cut the log at ``log_path`` into ``target``'s hangs, write ``out``, estimate the CoG.
 
     ``drop`` are hangs to leave out, numbered from 1 in the log's order (a hang redone: the
-    refusal lists the hangs with their numbers).
+    refusal lists the hangs with their numbers). ``swings``: also write each hang's swing
+    there (a new file, as ``out``) and estimate the inertia tensor from it (a tensor that
+    cannot be estimated is a note, ``LogRun.inertia_note``: the readings stand without it).
 
     Raises
     ------
     CadcogError
-        The set-up's sensor is not an accelerometer; ``out`` exists (a log is cut once: a
-        new run is a new file); the log cannot be read
+        The set-up's sensor is not an accelerometer; ``out`` or ``swings`` exists (a log is cut
+        once: a new run is a new file), or they are one file; the log cannot be read
         (:class:`~cadcog.bench.accellog.LogError`); it holds more or fewer settled hangs than
         planned points (naming the spans found, a hang that never settled and its span); a hang
         points far from where the CAD says its point hangs; the estimate cannot be computed.
@@ -192,11 +204,14 @@ def acquire_log(
             'log is an accelerometer\'s: declare device = "accelerometer" and its axes '
             "(docs/bench.md: a phone or an accelerometer)"
         )
-    if out.exists() or out.is_symlink():
-        raise CadcogError(
-            f"--out {out}: exists; a log's readings go to a new file (remove it, or choose "
-            "another --out)"
-        )
+    for option, path in (("--out", out), ("--swings", swings)):
+        if path is not None and (path.exists() or path.is_symlink()):
+            raise CadcogError(
+                f"{option} {path}: exists; a log's readings and swings go to new files (remove "
+                f"it, or choose another {option})"
+            )
+    if swings is not None and swings.absolute() == out.absolute():
+        raise CadcogError(f"--swings and --out name the same file: {out}")
     log = read_log(log_path, fmt)
     seg = segment_log(log, criterion or SettleCriterion(), min_average_s)
     if drop:
@@ -214,7 +229,21 @@ def acquire_log(
         f"{log.t_s[-1] - log.t_s[0]:.0f} s; {len(seg.hangs)} hangs found"
     )
     warnings = _order_check(target, seg.hangs, log_path)
-    with staged_file(out) as staged:
+    inertia, note, n_swing = None, "", []
+    # Both staged and filled before either is put in place (the last entered is renamed first).
+    with ExitStack() as stack:
+        if swings is not None:
+            from cadcog.bench.target import inertia_hangs
+            from cadcog.dynamics.swingfile import read_swings, swings_text
+
+            staged_swings = stack.enter_context(staged_file(swings))
+            hung = [
+                hang_swing(log, h, p.id, cfg.axes, p.sensor_turned)
+                for p, h in zip(target.hangs, seg.hangs, strict=True)
+            ]
+            staged_swings.write_text(swings_text(hung), encoding="utf-8")
+            n_swing = [len(s.t_s) for s in hung]
+        staged = stack.enter_context(staged_file(out))
         staged.write_text(readings_text(target.hangs, seg.hangs, log_path))
         suspensions = read_readings(staged, cfg)
         estimate = estimate_hangs(target, suspensions)
@@ -225,6 +254,8 @@ def acquire_log(
             cad = compare_with_cad(
                 target.setup, estimate.cog_mm, estimate.cov_mm2, estimate.compensation
             )
+        if swings is not None:  # from the file as written, as cadcog inertia reads it
+            inertia, note = inertia_hangs(target, read_swings(staged_swings), suspensions)
     data: dict[str, Any] = {
         "log": {
             "path": str(log_path),
@@ -241,8 +272,9 @@ def acquire_log(
                 "bins": len(h.t_s),
                 "noise_g": float(np.max(h.acc_g.std(axis=0, ddof=1))),
                 "swing_after_release_deg": h.swing_start_deg,
+                **({"swing_samples": n_swing[i]} if n_swing else {}),
             }
-            for p, h in zip(target.hangs, seg.hangs, strict=True)
+            for i, (p, h) in enumerate(zip(target.hangs, seg.hangs, strict=True))
         ],
         "not_hangs": {
             "rests_s": [list(r) for r in seg.rests],
@@ -254,7 +286,10 @@ def acquire_log(
     }
     if cad is not None:
         data["cad"] = cad
-    return LogRun(data, estimate, cad, tuple(warnings))
+    if swings is not None:
+        data["swings"] = str(swings)
+        data["inertia"] = inertia.to_dict() if inertia is not None else {"not_estimated": note}
+    return LogRun(data, estimate, cad, tuple(warnings), inertia, note)
 
 
 def acquire_recorded(
@@ -268,6 +303,7 @@ def acquire_recorded(
     timeout_s: float = 5.0,
     criterion: Any = None,
     min_average_s: float = 10.0,
+    swings: Path | None = None,
     say: Callable[[str], None] = lambda _text: None,
     link: Any = None,
 ) -> LogRun:
@@ -276,7 +312,7 @@ def acquire_recorded(
 
     The log is written whole (staged, then renamed) before it is cut: if the hangs cannot be
     found in it, it stays for another try (``cadcog acquire --log LOG --log-format csv``) and
-    the readings are not written.
+    the readings (and ``swings``) are not written.
     """
     from cadcog.bench.accellog import write_log
     from cadcog.bench.link import DEFAULT_BAUD, SerialLink
@@ -308,7 +344,7 @@ def acquire_recorded(
     try:
         return acquire_log(
             target, log_out, out, fmt="csv", criterion=criterion,
-            min_average_s=min_average_s, say=say,
+            min_average_s=min_average_s, swings=swings, say=say,
         )  # fmt: skip
     except CadcogError as exc:
         raise CadcogError(

@@ -159,7 +159,7 @@ def run_campaign(
         n_hangs = len(ids)
     swing_text = None
     if swings is not None:
-        from cadcog.dynamics.measure import context_for_rig, context_for_setup
+        from cadcog.dynamics.context import context_for_rig, context_for_setup
         from cadcog.dynamics.swingfile import swings_text
         from cadcog.dynamics.virtual import virtual_swings
 

@@ -135,7 +135,7 @@ def test_a_hang_that_never_settled_is_named_with_its_time_span(logs, tmp_path, c
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--swings", "s.csv"], "--swings: not written from a log yet"),
+        (["--swings", "r.csv"], "--swings and --out name the same file"),
         (["--report", "rep"], "--report: not written from a log yet"),
         (["--duration-s", "5"], "--duration-s: for recording from --port"),
         (["--points", "S1,S9"], "unknown point(s) S9"),
@@ -148,6 +148,15 @@ def test_what_a_log_run_refuses(logs, tmp_path, capsys, monkeypatch, extra, mess
     assert main([*args, *extra]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("cadcog: error:") == 1
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_nothing_is_written_when_the_log_cannot_be_cut(logs, tmp_path, capsys):
+    """The readings and the swings are written together or not at all."""
+    out, swings = tmp_path / "r.csv", tmp_path / "s.csv"
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][17]),
+                 "--out", str(out), "--swings", str(swings)]) == 2  # fmt: skip
+    assert "a hang never settled" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
 
 
@@ -179,8 +188,15 @@ def test_an_existing_readings_file_is_never_overwritten(logs, tmp_path, capsys):
     out.write_text("point_id,x_mm\n")
     assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][0]),
                  "--out", str(out)]) == 2  # fmt: skip
-    assert "exists; a log's readings go to a new file" in capsys.readouterr().err
+    assert "exists; a log's readings and swings go to new files" in capsys.readouterr().err
     assert out.read_text() == "point_id,x_mm\n"
+    swings = tmp_path / "precious.swings.csv"
+    swings.write_text("point_id,t_s,inc_x_deg,inc_y_deg\n")
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][0]),
+                 "--out", str(tmp_path / "new.csv"), "--swings", str(swings)]) == 2  # fmt: skip
+    assert f"--swings {swings}: exists" in capsys.readouterr().err
+    assert swings.read_text() == "point_id,t_s,inc_x_deg,inc_y_deg\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["precious.csv", "precious.swings.csv"]
 
 
 def test_a_hang_redone_is_dropped_by_its_number(logs, tmp_path, capsys):
@@ -326,3 +342,91 @@ def test_a_recording_never_replaces_a_file_and_checks_before_it_records(logs, tm
     assert main(["acquire", "--rig", str(logs["rig"]), "--port", "x", "--out",
                  str(tmp_path / "t.csv"), "--drop-hangs", "1"]) == 2  # fmt: skip
     assert "--drop-hangs: for a log" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ the swings of a log: inertia
+#: The MPU-6050 board's package as the generator carries it (kg, mm) and where it senses.
+MPU_PACKAGE = (0.176, (101.6, 37.5, 112.2), (68.6, 53.4, 60.0))
+
+
+def _mpu_rig(folder: Path, spec: pl.LogSpec) -> Path:
+    """The paper rig read by the MPU-6050 board: its package as the ME (on a 0.1 g spacer down
+    to the top face), the generator's declared figures, and a ``[swing]`` table."""
+    data = paper_rig_dict()
+    s = spec.sensor
+    data["inclinometer"] = {
+        "device": "accelerometer", "axes": list(s.axes), "offset_g": 0.08,
+        "scale_error_rel": s.scale_rel, "cross_axis_rel": s.cross_axis_rel,
+        "mounting_misalignment_deg": s.misalignment_deg,
+    }  # fmt: skip
+    mass, centre, size = MPU_PACKAGE
+    gap = centre[2] - size[2] / 2 - 78.0
+    data["measurement_equipment"]["volumes"] = [
+        {"name": "mpu6050_accelerometer", "size_mm": list(size), "center_mm": list(centre),
+         "mass_kg": mass, "cog_uncertainty_cube_mm": 5.0},
+        {"name": "spacer", "size_mm": [10.0, 10.0, gap], "mass_kg": 1e-4,
+         "center_mm": [centre[0], centre[1], 78.0 + gap / 2], "cog_uncertainty_cube_mm": 1.0},
+    ]  # fmt: skip
+    data["swing"] = {"wire_length_mm": 300.0, "wire_length_sigma_mm": 2.0}
+    return write_rig(folder / "mpu_rig.toml", data)
+
+
+@pytest.fixture(scope="module")
+def swing_log(tmp_path_factory):
+    """One MPU-6050 log of the paper rig left to swing (decay 12 s, released at 4-6°) and the
+    rig that describes it."""
+    folder = tmp_path_factory.mktemp("swing_log")
+    spec = _played(pl.scenario("paper_rig", "mpu6050"), 3434)
+    rng = np.random.default_rng(3434)
+    hangs = []
+    for h in spec.hangs:
+        release = float(rng.uniform(4.0, 6.0))
+        hangs.append(replace(h, release_deg=release, decay_time_s=12.0,
+                             settle_s=12.0 * np.log(1.3 * release / 0.05)))  # fmt: skip
+    spec = replace(spec, hangs=tuple(hangs))
+    log = pl.generate(spec, 3434)
+    path = folder / "mpu.csv"
+    pl.write_phyphox_csv(path, log)
+    return {"rig": _mpu_rig(folder, spec), "path": path, "log": log}
+
+
+def test_a_logs_swings_give_the_tensor_cadcog_inertia_gives(swing_log, tmp_path, capsys):
+    """``--swings``: each hang's swing from after the release to the end of its averaging, in
+    order; the tensor the run reports is the one ``cadcog inertia`` computes from the files it
+    wrote, and it covers the generator's object (the steel box without the package)."""
+    out, swings = tmp_path / "r.csv", tmp_path / "s.csv"
+    rig = str(swing_log["rig"])
+    assert main(["acquire", "--rig", rig, "--log", str(swing_log["path"]), "--out", str(out),
+                 "--swings", str(swings), "--json"]) == 0  # fmt: skip
+    data = json.loads(capsys.readouterr().out)
+    assert data["swings"] == str(swings)
+    from cadcog.dynamics.swingfile import read_swings
+
+    read = read_swings(swings)
+    assert [s.point_id for s in read] == ["S1", "S2", "S3", "S4", "S5", "S6"]
+    for s, h, t in zip(read, data["hangs"], swing_log["log"].hangs, strict=True):
+        assert t.release_t_s < s.t_s[0] and s.t_s[-1] <= h["averaged_s"][0][1] <= t.end_t_s
+        assert h["swing_samples"] == len(s.t_s) > 3000  # ≥ 30 s at 100 Hz
+    assert main(["inertia", str(swings), "--readings", str(out), "--rig", rig, "--json"]) == 0
+    again = json.loads(capsys.readouterr().out)
+    np.testing.assert_allclose(
+        again["inertia_kg_mm2"], data["inertia"]["inertia_kg_mm2"], rtol=1e-12
+    )
+    j = np.asarray(again["inertia_kg_mm2"])
+    truth = pl._box(9.2, (200.0, 75.0, 78.0))
+    idx = ([0, 1, 2, 0, 0, 1], [0, 1, 2, 1, 2, 2])
+    d = j[idx] - truth[idx]
+    chi2 = float(d @ np.linalg.solve(np.asarray(again["inertia_cov"]), d))
+    assert chi2 < stats.chi2.ppf(0.999, 6)
+
+
+def test_a_log_that_shows_no_tensor_still_gives_its_readings(logs, tmp_path, capsys):
+    """Fewer than three hangs (the tensor needs three): the readings and swings are written,
+    the run says why there is no tensor, exit 0."""
+    out, swings = tmp_path / "r.csv", tmp_path / "s.csv"
+    assert main(["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][1]),
+                 "--points", "S1,S2", "--drop-hangs", "3,4,5,6", "--out", str(out),
+                 "--swings", str(swings)]) == 0  # fmt: skip
+    text = capsys.readouterr().out
+    assert "no inertia from the swings: 2 hang(s) with a swing: the tensor needs 3" in text
+    assert out.exists() and swings.exists()

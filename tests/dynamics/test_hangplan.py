@@ -10,8 +10,8 @@ import pytest
 
 import cadcog
 from cadcog.cli import main
+from cadcog.dynamics.context import context_for_setup
 from cadcog.dynamics.hangplan import plan_inertia
-from cadcog.dynamics.measure import context_for_setup
 
 SETUP = "parts/cubesat_3u_setup.toml"
 POINTS = ["+x_-30_-30", "-x_30_-30", "+y_30_-30", "-y_-30_-30", "+x_30_90", "-y_30_90", "Z1"]

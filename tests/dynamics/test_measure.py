@@ -15,8 +15,9 @@ import pytest
 
 import cadcog
 from cadcog.core.errors import DegenerateGeometryError, ReadingsError
+from cadcog.dynamics.context import context_for_rig
 from cadcog.dynamics.hungbody import HangGeometry
-from cadcog.dynamics.measure import context_for_rig, measure_inertia
+from cadcog.dynamics.measure import measure_inertia
 from cadcog.dynamics.tensorfit import entries
 from cadcog.dynamics.virtual import virtual_swing
 from cadcog.mass.properties import MassProperties, combine
