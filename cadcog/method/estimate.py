@@ -14,11 +14,13 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core import tolerances
-from cadcog.core.errors import CadcogError, DegenerateGeometryError, ReadingsError
+from cadcog.core.errors import DegenerateGeometryError
 from cadcog.core.results import JsonResult
 from cadcog.core.units import STANDARD_GRAVITY_M_S2, deg_to_rad
 from cadcog.method import gls, sharedfit
+from cadcog.method.bodybox import BodyBox
 from cadcog.method.errormodel import ErrorModel
+from cadcog.method.medata import MEData
 from cadcog.method.plumblines import (
     Compensation,
     JointEstimate,
@@ -30,137 +32,9 @@ from cadcog.method.plumblines import (
     pair_diagnostics,
 )
 from cadcog.method.readings import Suspension, suspension_verticals
-from cadcog.rig.geometry import FloatArray, axes_beyond_range, face_normal_of_point, same_point
+from cadcog.rig.geometry import FloatArray, axes_beyond_range, same_point
 from cadcog.rig.inclinometer import InclinometerConfig
 from cadcog.rig.parameters import Rig
-
-
-@dataclass(frozen=True)
-class MEData:
-    """What compensation needs: masses, the ME's CAD CoG and that CoG's covariance.
-
-    ``object_mass_sigma_kg`` is the object mass's 1 σ (a weighing's, or the CAD's), propagated
-    into the compensated CoG; ``object_mass_source`` says which ("rig", "CAD", "weighed").
-    """
-
-    object_mass_kg: float
-    me_mass_kg: float
-    me_cog_mm: FloatArray
-    me_cog_cov_mm2: FloatArray
-    source: str
-    object_mass_sigma_kg: float = 0.0
-    object_mass_source: str = "given"
-
-    @classmethod
-    def from_rig(cls, rig: Rig) -> MEData:
-        """Object = proof mass; ME mass, CoG and covariance from the rig's CAD model.
-
-        The closed forms used here equal the B-rep ground truth to 1e-9 (``tests/cad``), and
-        need no CAD kernel.
-        """
-        me = rig.analytic_me
-        return cls(
-            rig.proof_mass.mass_kg,
-            me.mass_kg,
-            me.cog_mm,
-            rig.me_cog_cov_mm2,
-            f"rig {rig.source}",
-            object_mass_source="rig",
-        )
-
-    def weighed(self, mass_kg: float, sigma_kg: float) -> MEData:
-        """The same ME with the object's weighed mass and the weighing's 1 σ.
-
-        Raises
-        ------
-        CadcogError
-            A weighed mass beyond :data:`WEIGHED_TO_MODEL` times the model's either way (a
-            weighing in g given as kg, or the wrong object), or a σ below
-            :data:`MIN_WEIGHING_SIGMA_REL` of it (no scale resolves that; the update's
-            matrices would be singular).
-        """
-        lo, hi = 1.0 / WEIGHED_TO_MODEL, WEIGHED_TO_MODEL
-        if not (mass_kg > 0 and lo * self.object_mass_kg <= mass_kg <= hi * self.object_mass_kg):
-            raise CadcogError(
-                f"--weighed-mass-kg {mass_kg:g}: {mass_kg / self.object_mass_kg:.3g}× the "
-                f"model's {self.object_mass_kg:.6g} kg ({self.source}); expected within "
-                f"{lo:g}× to {hi:g}× of it (is the weighing in kg, and of this object?)"
-            )
-        if not sigma_kg >= MIN_WEIGHING_SIGMA_REL * mass_kg:
-            raise CadcogError(
-                f"--mass-sigma-kg {sigma_kg:g}: below {MIN_WEIGHING_SIGMA_REL:g} of the weighed "
-                f"{mass_kg:g} kg; no scale resolves that"
-            )
-        return replace(
-            self,
-            object_mass_kg=mass_kg,
-            object_mass_sigma_kg=sigma_kg,
-            object_mass_source="weighed",
-        )
-
-
-#: A weighed mass more than this factor from the model's (either way) is refused: a unit slip
-#: (g for kg is 1000×) or another object; a CAD that is merely incomplete (a structure-only
-#: model of a tenth of the spacecraft, whose gap ``update`` is there to find) passes.
-WEIGHED_TO_MODEL = 100.0
-
-#: A weighing's 1 σ below this fraction of the mass is refused (0.1 ppm: beyond any balance).
-MIN_WEIGHING_SIGMA_REL = 1e-7
-
-
-@dataclass(frozen=True)
-class BodyBox:
-    """The box whose faces the suspension points sit on (or above): it gives the bolt axes.
-
-    The paper rig's proof mass ``[0, size]``; a spacecraft's bounding box, and the points the
-    set-up lists on the model itself with their face (``known``: position and outward normal),
-    which may lie anywhere inside the box.
-    """
-
-    lo_mm: FloatArray
-    hi_mm: FloatArray
-    source: str
-    known: tuple[tuple[FloatArray, FloatArray], ...] = ()
-
-    def normal_at(self, position_mm: npt.ArrayLike) -> FloatArray:
-        """Bolt axis (outward normal, shape (3,)) at a suspension point.
-
-        A point the set-up lists (within :data:`~cadcog.core.tolerances.SUSPENSION_ON_FACE_MM`
-        on every axis) takes the face it names; any other point the box face it sits on.
-
-        Raises
-        ------
-        ValueError
-            If the point is neither listed nor on the box's surface.
-        """
-        p = np.asarray(position_mm, dtype=float)
-        for q, n in self.known:
-            if same_point(p, q):
-                return np.array(n, dtype=float)
-        return face_normal_of_point(p, self.lo_mm, self.hi_mm)
-
-    def normals(self, suspensions: Sequence[Suspension]) -> FloatArray:
-        """Bolt axis (outward face normal) of each suspension point, shape (k, 3)."""
-        out = []
-        for s in suspensions:
-            try:
-                out.append(self.normal_at(s.position_mm))
-            except ValueError:
-                listed = (
-                    "; are these the readings of this set-up? (a point from another set-up's list)"
-                    if self.known
-                    else ""
-                )
-                raise ReadingsError(
-                    f"line {s.line}: suspension {s.id} at {list(s.position_mm)} mm lies inside "
-                    f"the bounding box of the body ({self.source}) and is none of its listed "
-                    f"points: a suspension point must be on its surface{listed}"
-                ) from None
-        return np.array(out)
-
-    @classmethod
-    def of_rig(cls, rig: Rig) -> BodyBox:
-        return cls(np.zeros(3), np.asarray(rig.proof_mass.size_mm, float), f"rig {rig.source}")
 
 
 @dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
