@@ -17,7 +17,7 @@ from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError
 from cadcog.core.results import JsonResult
 from cadcog.core.units import STANDARD_GRAVITY_M_S2, deg_to_rad
-from cadcog.method import gls, sharedfit
+from cadcog.method import gls, sharedfit, sym3
 from cadcog.method.bodybox import BodyBox
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.medata import MEData
@@ -383,7 +383,7 @@ def _joint(
 ) -> JointEstimate:
     """The lines' joint estimate when nothing is shared but the wire (the per-hang GLS)."""
     batch = gls.plumb_gls(p, u, nrm, errors, wire)
-    _check_normal_matrix(gls.sym_to_full(batch.weights.sum(axis=1))[0])
+    _check_normal_matrix(sym3.sym_to_full(batch.weights.sum(axis=1))[0])
     wire_scale = None
     if has_body and (wire.scale_mm or wire.estimate):
         wire_scale = _wire_scale(
@@ -403,7 +403,7 @@ def _joint(
     )  # fmt: skip
     return JointEstimate(
         cog,
-        gls.sym_to_full(batch.cov_mm2[:, 0]),
+        sym3.sym_to_full(batch.cov_mm2[:, 0]),
         tuple(residuals),
         tuple(pairs),
         tuple(skipped),

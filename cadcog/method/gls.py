@@ -25,7 +25,6 @@ numbers.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,6 +33,18 @@ import numpy.typing as npt
 from cadcog.core import tolerances
 from cadcog.core.units import deg_to_rad
 from cadcog.method.errormodel import ErrorModel, wire_shape_factor
+from cadcog.method.sym3 import (
+    Comp,
+    Sym,
+    Vec,
+    dot3,
+    lines_sum,
+    projector,
+    rows_sum,
+    sym_inv,
+    sym_matvec,
+    sym_outer,
+)
 from cadcog.rig.parameters import WireModel
 
 FloatArray = npt.NDArray[np.float64]
@@ -44,87 +55,6 @@ LATERAL_FLOOR_MM2 = 1e-9
 
 #: Smallest |u_z| used in the reading Jacobian (eq. 2 is singular at the horizontal).
 MIN_UZ = 1e-9
-
-
-# --- packed symmetric 3 × 3 algebra --------------------------------------------------------------
-#: Component-first vectors (3, ...) or packed matrices (6, ...): an array, or its components.
-Comp = FloatArray | Sequence[FloatArray]
-Vec = tuple[FloatArray, ...]
-Sym = tuple[FloatArray, ...]
-
-
-def sym_outer(a: Comp) -> Sym:
-    """``a aᵀ`` packed, for component-first ``a`` of shape (3, ...)."""
-    return (a[0] * a[0], a[1] * a[1], a[2] * a[2], a[0] * a[1], a[0] * a[2], a[1] * a[2])
-
-
-def sym_matvec(m: Comp, v: Comp) -> Vec:
-    """``M v`` for packed ``M`` (6, ...) and ``v`` (3, ...)."""
-    return (
-        m[0] * v[0] + m[3] * v[1] + m[4] * v[2],
-        m[3] * v[0] + m[1] * v[1] + m[5] * v[2],
-        m[4] * v[0] + m[5] * v[1] + m[2] * v[2],
-    )
-
-
-def sym_inv(m: Comp) -> tuple[Sym, FloatArray]:
-    """Inverse of packed symmetric matrices by the adjugate, and their determinants."""
-    c00 = m[1] * m[2] - m[5] * m[5]
-    c11 = m[0] * m[2] - m[4] * m[4]
-    c22 = m[0] * m[1] - m[3] * m[3]
-    c01 = m[4] * m[5] - m[3] * m[2]
-    c02 = m[3] * m[5] - m[4] * m[1]
-    c12 = m[3] * m[4] - m[0] * m[5]
-    det = m[0] * c00 + m[3] * c01 + m[4] * c02
-    r = 1.0 / det
-    return (c00 * r, c11 * r, c22 * r, c01 * r, c02 * r, c12 * r), np.asarray(det)
-
-
-def sym_to_full(m: Comp) -> FloatArray:
-    """Packed (6, ...) → full (..., 3, 3)."""
-    xx, yy, zz, xy, xz, yz = (np.asarray(c, dtype=float) for c in m)
-    full = np.stack([np.stack([xx, xy, xz]), np.stack([xy, yy, yz]), np.stack([xz, yz, zz])])
-    return np.asarray(np.moveaxis(full, (0, 1), (-2, -1)))
-
-
-def sym_from_full(a: npt.ArrayLike) -> FloatArray:
-    """Full (..., 3, 3) → packed (6, ...)."""
-    f = np.asarray(a, dtype=float)
-    return np.stack(
-        [f[..., 0, 0], f[..., 1, 1], f[..., 2, 2], f[..., 0, 1], f[..., 0, 2], f[..., 1, 2]]
-    )
-
-
-def _dot(a: Comp, b: Comp) -> FloatArray:
-    return np.asarray(a[0] * b[0] + a[1] * b[1] + a[2] * b[2])
-
-
-def _add_all(terms: Sequence[FloatArray] | FloatArray) -> FloatArray:
-    """``terms[0] + terms[1] + …`` in order, into one new array (a lone term is returned as is);
-    ``terms`` a sequence of arrays, or an array whose rows are added."""
-    if len(terms) == 1:
-        return np.asarray(terms[0])
-    total = terms[0] + terms[1]
-    for term in terms[2:]:
-        total += term
-    return np.asarray(total)
-
-
-def _rows_sum(c: FloatArray) -> FloatArray:
-    """Sum over the first axis, row by row: what ``c.sum(axis=0)`` gives (numpy adds the rows of
-    an outer axis in order), without a reduction's overhead for the usual two or three lines."""
-    return _add_all(c)
-
-
-def _lines_sum(x: tuple[FloatArray, ...]) -> tuple[FloatArray, ...]:
-    """Sum each component over the lines (its first axis)."""
-    return tuple(_rows_sum(c) for c in x)
-
-
-def projector(u: Comp) -> Sym:
-    """``I − u uᵀ`` packed, for unit ``u`` (3, ...)."""
-    ux, uy, uz = u[0], u[1], u[2]
-    return (1.0 - ux * ux, 1.0 - uy * uy, 1.0 - uz * uz, -ux * uy, -ux * uz, -uy * uz)
 
 
 # --- the error model as the estimator sees it ----------------------------------------------------
@@ -257,7 +187,7 @@ class GLSBatch:
 
 
 # --- kernels -------------------------------------------------------------------------------------
-def _lateral_parts(
+def lateral_parts(
     u: Comp, normals: Comp, errors: LineErrors
 ) -> tuple[tuple[FloatArray, FloatArray], Vec, Vec, Vec]:
     """``Sᵢ`` in an orthonormal basis of the plane ⊥ ``u``, as ``m⁰ + L² mᴸ``.
@@ -297,7 +227,7 @@ def _lateral_point(
     rho2: FloatArray,
     m_l: Vec,
 ) -> tuple[tuple[FloatArray, FloatArray], Vec, Vec, Vec]:
-    """:func:`_lateral_parts` once the reading's part ``mᴸ`` is known: the point's part ``m⁰``."""
+    """:func:`lateral_parts` once the reading's part ``mᴸ`` is known: the point's part ``m⁰``."""
     if errors.point_var_mm2 is not None:
         c1 = c2 = errors.point_var_mm2
     else:
@@ -313,15 +243,15 @@ def _lateral_point(
     return e1, e2, (base + dm1 * m1, dm1 * m2, base + d * m2 * m2), m_l
 
 
-def _lateral_2d(
+def lateral_2d(
     u: Comp, normals: Comp, dist2_mm2: FloatArray, errors: LineErrors
 ) -> tuple[tuple[FloatArray, FloatArray], Vec, Vec]:
-    """``(e₁, e₂, (m₁₁, m₁₂, m₂₂))`` of :func:`_lateral_parts` at squared distances ``L²``."""
-    e1, e2, m0, m_l = _lateral_parts(u, normals, errors)
+    """``(e₁, e₂, (m₁₁, m₁₂, m₂₂))`` of :func:`lateral_parts` at squared distances ``L²``."""
+    e1, e2, m0, m_l = lateral_parts(u, normals, errors)
     return e1, e2, tuple(a + dist2_mm2 * b for a, b in zip(m0, m_l, strict=True))
 
 
-def _assemble(
+def assemble(
     e1: tuple[FloatArray, FloatArray], e2: Vec, a: FloatArray, b: FloatArray, c: FloatArray
 ) -> Sym:
     """``a e₁e₁ᵀ + b (e₁e₂ᵀ + e₂e₁ᵀ) + c e₂e₂ᵀ`` packed; ``e₁`` has no y component and is given
@@ -341,7 +271,7 @@ def _assemble(
     )
 
 
-def _inverse_2d(m: Vec) -> tuple[FloatArray, FloatArray, FloatArray]:
+def inverse_2d(m: Vec) -> tuple[FloatArray, FloatArray, FloatArray]:
     """``(a, b, c)`` of the inverse of ``[[m₁₁, m₁₂], [m₁₂, m₂₂]]``."""
     r = 1.0 / (m[0] * m[2] - m[1] * m[1])
     return m[2] * r, -m[1] * r, m[0] * r
@@ -349,8 +279,8 @@ def _inverse_2d(m: Vec) -> tuple[FloatArray, FloatArray, FloatArray]:
 
 def line_weights(u: Comp, normals: Comp, dist_mm: FloatArray, errors: LineErrors) -> Sym:
     """``Wᵢ = Sᵢ⁺``, packed (6, k, n): the inverse of ``Sᵢ`` on the plane ⊥ ``u``."""
-    e1, e2, m = _lateral_2d(u, normals, dist_mm * dist_mm, errors)
-    return _assemble(e1, e2, *_inverse_2d(m))
+    e1, e2, m = lateral_2d(u, normals, dist_mm * dist_mm, errors)
+    return assemble(e1, e2, *inverse_2d(m))
 
 
 @dataclass(frozen=True)
@@ -392,8 +322,8 @@ class LineTerms:
             tuple(np.asarray(w) for w in weights),
             tuple(np.asarray(v) for v in wp),
             tuple(shape * w for w in wn),
-            np.asarray(shape * shape * _dot(normals, wn)),
-            np.asarray(shape * _dot(normals, wp)),
+            np.asarray(shape * shape * dot3(normals, wn)),
+            np.asarray(shape * dot3(normals, wp)),
         )
 
     def take(self, index: npt.NDArray[np.int64]) -> LineTerms:
@@ -414,13 +344,13 @@ class LineTerms:
         self, wire: WireTerm
     ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
         """:func:`solve_lines` of these lines, summed over the first axis."""
-        a = _lines_sum(self.w)
-        b = _lines_sum(self.wp)
+        a = lines_sum(self.w)
+        b = lines_sum(self.wp)
         ainv, _ = sym_inv(a)
-        c = _lines_sum(self.swn)
+        c = lines_sum(self.swn)
         ac = sym_matvec(ainv, c)
         d = self.ssnwn.sum(axis=0)
-        info = np.maximum(d - _dot(c, ac), 0.0)  # what the lines say about λ once G is free
+        info = np.maximum(d - dot3(c, ac), 0.0)  # what the lines say about λ once G is free
         x0 = sym_matvec(ainv, b)
         if wire.fixed:
             lam = np.full(info.shape, wire.scale_mm)
@@ -432,7 +362,7 @@ class LineTerms:
         s = info + prior
         with np.errstate(divide="ignore", invalid="ignore"):
             var = 1.0 / s
-            lam = (e + _dot(c, x0)) * var
+            lam = (e + dot3(c, x0)) * var
             x = np.stack([x0[i] + ac[i] * lam for i in range(3)])
             cov = np.stack([m + o * var for m, o in zip(ainv, sym_outer(ac), strict=True)])
             cxl = np.stack([ac[i] * var for i in range(3)])
@@ -480,149 +410,11 @@ def wire_scale_identified(
 
 def equal_weight_point(points_mm: Comp, u: Comp) -> FloatArray:
     """Least-squares point of lines with equal weights ``Pᵢ`` (eq. 8 for a pair): (3, n)."""
-    a = _lines_sum(projector(u))
-    uq = _dot(u, points_mm)
-    b = tuple(_rows_sum(points_mm[i] - uq * u[i]) for i in range(3))
+    a = lines_sum(projector(u))
+    uq = dot3(u, points_mm)
+    b = tuple(rows_sum(points_mm[i] - uq * u[i]) for i in range(3))
     ainv, _ = sym_inv(a)
     return np.stack(sym_matvec(ainv, b))
-
-
-@dataclass(frozen=True)
-class PreparedLines:
-    """What the estimator needs of each line before it knows the others, for a known wire scale.
-
-    A line's weight depends on the other lines only through its distance ``L`` to the CoG, and
-    only through the reading term: its lateral covariance in the plane ⊥ ``u`` is
-    ``M = M⁰ + L² Mᴸ`` (:func:`_lateral_parts`), and since the adjugate of a 2 × 2 matrix is
-    linear, ``W = E adj(M) Eᵀ / det M = (W⁰ + L² W¹) / (d₀ + d₁ L² + d₂ L⁴)`` with
-    ``W⁰ = E adj(M⁰) Eᵀ``, ``W¹ = E adj(Mᴸ) Eᵀ`` and ``E = [e₁ e₂]``. Built once per line by
-    :func:`prepare_lines`; :func:`combine_lines` then estimates groups of them. The Monte Carlo
-    prepares every hang of its simulated campaigns once and combines them group by group. Each
-    attribute is a tuple of arrays of shape (k, n), or (k, 1) for what does not vary between
-    trials.
-
-    Attributes
-    ----------
-    q_mm : tuple of 3 arrays
-        Virtual suspension points (the nominal ones moved by the expected wire offset).
-    proj : tuple of 6 arrays
-        ``Pᵢ = I − uᵢuᵢᵀ`` packed.
-    proj_q_mm : tuple of 3 arrays
-        ``Pᵢ qᵢ``.
-    w0, w1 : tuple of 6 arrays
-        ``W⁰`` (1/mm²) and ``W¹`` (1/rad²), packed.
-    det : tuple of 3 arrays
-        ``(d₀, d₁, d₂)``.
-    w0_q, w1_q : tuple of 3 arrays
-        ``W⁰ qᵢ`` and ``W¹ qᵢ``.
-    weighted : bool
-        False: only the equal-weight parts were prepared.
-    """
-
-    q_mm: Vec
-    proj: Sym
-    proj_q_mm: Vec
-    w0: Sym
-    w1: Sym
-    det: Vec
-    w0_q: Vec
-    w1_q: Vec
-    weighted: bool
-
-    def take(self, rows: int | slice | npt.NDArray[np.intp]) -> PreparedLines:
-        """Some of the lines: ``rows`` an index (a view, shape (1, n)), a slice (a view) or an
-        array of indices (a copy, shape (len(rows), n))."""
-        pick = slice(rows, rows + 1) if isinstance(rows, int) else rows
-        parts = (self.q_mm, self.proj, self.proj_q_mm, self.w0, self.w1, self.det, self.w0_q,
-                 self.w1_q)  # fmt: skip
-        q, proj, proj_q, w0, w1, det, w0_q, w1_q = (tuple(c[pick] for c in p) for p in parts)
-        return PreparedLines(q, proj, proj_q, w0, w1, det, w0_q, w1_q, self.weighted)
-
-
-#: Arrays of one prepared line that may vary between trials (``q_mm`` does only with the
-#: elastica wire): what a Monte Carlo chunk holds per hang and campaign, at most.
-PREPARED_ROWS = 33
-
-
-def prepare_lines(
-    points_mm: Comp,
-    u: Comp,
-    normals: Comp,
-    errors: LineErrors,
-    wire: WireTerm,
-    *,
-    weighted: bool = True,
-) -> PreparedLines:
-    """The per-line parts of :func:`cog_only` for lines ``(3, k, n)`` and a known wire scale."""
-    if not wire.fixed:
-        raise ValueError("prepared lines need a known wire scale (no prior spread, no estimate)")
-    if wire.scale_mm:
-        shape = 1.0 if wire.model == "paper" else wire_shape_factor(_dot(u, normals), wire.model)
-        q = tuple(points_mm[i] + (wire.scale_mm * shape) * normals[i] for i in range(3))
-    else:
-        q = tuple(points_mm[i] for i in range(3))
-    uq = _dot(u, q)
-    proj_q = tuple(q[i] - uq * u[i] for i in range(3))
-    if not weighted:
-        return PreparedLines(q, projector(u), proj_q, (), (), (), (), (), weighted)
-    e1, e2, (a0, b0, c0), (a1, b1, c1) = _lateral_parts(u, normals, errors)
-    w0 = _assemble(e1, e2, c0, -b0, a0)  # E adj(M⁰) Eᵀ
-    w1 = _assemble(e1, e2, c1, -b1, a1)
-    det = (a0 * c0 - b0 * b0, a0 * c1 + a1 * c0 - 2.0 * b0 * b1, a1 * c1 - b1 * b1)
-    return PreparedLines(
-        q, projector(u), proj_q, w0, w1, det, sym_matvec(w0, q), sym_matvec(w1, q), weighted
-    )
-
-
-def _sum_slots(slots: Sequence[Vec]) -> tuple[FloatArray, ...]:
-    """Sum packed parts over the slots (element-wise: line by line)."""
-    return tuple(_add_all(parts) for parts in zip(*slots, strict=True))
-
-
-def combine_lines(slots: Sequence[PreparedLines]) -> FloatArray:
-    """CoGs of groups of prepared lines, as :func:`cog_only` estimates them: shape (3, m, n).
-
-    ``slots`` holds two or more sets of m lines each (:meth:`PreparedLines.take`): group ``j`` is
-    made of line ``j`` of every set.
-    """
-    if len(slots) < 2:
-        raise ValueError("a group needs at least two lines")
-    ainv, _ = sym_inv(_sum_slots([s.proj for s in slots]))
-    g0 = sym_matvec(ainv, _sum_slots([s.proj_q_mm for s in slots]))
-    if not slots[0].weighted:
-        return np.stack(np.broadcast_arrays(*g0))
-    weights, rhs = [], []
-    for slot in slots:
-        q = slot.q_mm
-        diff = (g0[0] - q[0], g0[1] - q[1], g0[2] - q[2])
-        l2 = _dot(diff, diff)
-        d0, d1, d2 = slot.det
-        r = 1.0 / (d0 + l2 * (d1 + l2 * d2))
-        weights.append(tuple((w0 + l2 * w1) * r for w0, w1 in zip(slot.w0, slot.w1, strict=True)))
-        rhs.append(tuple((a + l2 * b) * r for a, b in zip(slot.w0_q, slot.w1_q, strict=True)))
-    ainv, _ = sym_inv(_sum_slots(weights))
-    return np.stack(np.broadcast_arrays(*sym_matvec(ainv, _sum_slots(rhs))))
-
-
-def cog_only(
-    points_mm: FloatArray,
-    u: FloatArray,
-    normals: FloatArray,
-    errors: LineErrors,
-    wire: WireTerm,
-    *,
-    weighted: bool = True,
-) -> FloatArray:
-    """The CoG of :func:`plumb_gls` alone, (3, n): the Monte Carlo's fast path.
-
-    For a known wire scale (the common case) the same equations without the covariances and λ
-    (:func:`prepare_lines` then :func:`combine_lines`); otherwise it calls :func:`plumb_gls`.
-    """
-    if not wire.fixed:
-        return plumb_gls(points_mm, u, normals, errors, wire, weighted=weighted).cog_mm
-    prepared = prepare_lines(points_mm, u, normals, errors, wire, weighted=weighted)
-    slots = [prepared.take(i) for i in range(len(prepared.proj[0]))]
-    return combine_lines(slots)[:, 0, :]
 
 
 def plumb_gls(
@@ -666,7 +458,7 @@ def plumb_gls(
     shape = (
         np.ones(u.shape[1:])
         if wire.model == "paper"
-        else wire_shape_factor(_dot(u, normals), wire.model)
+        else wire_shape_factor(dot3(u, normals), wire.model)
     )
     q0 = points_mm + (wire.scale_mm * shape) * normals if wire.scale_mm else points_mm
     if not weighted:
@@ -679,9 +471,9 @@ def plumb_gls(
             np.stack(proj),
         )  # fmt: skip
     diff = equal_weight_point(q0, u)[:, None, :] - q0
-    e1, e2, m = _lateral_2d(u, normals, _dot(diff, diff), errors)
-    lateral = _assemble(e1, e2, *m)
-    w = _assemble(e1, e2, *_inverse_2d(m))
+    e1, e2, m = lateral_2d(u, normals, dot3(diff, diff), errors)
+    lateral = assemble(e1, e2, *m)
+    w = assemble(e1, e2, *inverse_2d(m))
     x, cov, lam, var, cxl, info = solve_lines(points_mm, u, normals, shape, w, wire)
     pts = points_mm + (lam * shape) * normals
     return GLSBatch(

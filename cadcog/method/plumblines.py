@@ -20,7 +20,7 @@ from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError, IllConditionedError
 from cadcog.core.fittest import FitTest, chi2_sf
 from cadcog.core.results import JsonResult
-from cadcog.method import gls
+from cadcog.method import gls, sym3
 from cadcog.rig.geometry import angle_between_lines_deg, ideal_reading
 
 FloatArray = npt.NDArray[np.float64]
@@ -322,10 +322,10 @@ def joint_estimate(
     p = np.array([ln.point_mm for ln in lines]).T[:, :, None]
     u = np.array([ln.vertical for ln in lines]).T[:, :, None]
     var = np.array([ln.sigma_mm**2 for ln in lines])[:, None]
-    proj = np.stack(gls.projector(u))
+    proj = np.stack(sym3.projector(u))
     lateral = proj * var
     weights = proj / var
-    _check_normal_matrix(gls.sym_to_full(weights.sum(axis=1))[0])
+    _check_normal_matrix(sym3.sym_to_full(weights.sum(axis=1))[0])
     zero = np.zeros_like(p)
     shape = np.ones(var.shape)
     x, cov, *_ = gls.solve_lines(p, u, zero, shape, weights, gls.WireTerm())
@@ -333,7 +333,7 @@ def joint_estimate(
         [ln.id for ln in lines], p, u, zero, shape, weights, lateral, gls.WireTerm(), x[:, 0],
         outlier_probability,
     )  # fmt: skip
-    full = gls.sym_to_full(cov[:, 0])
+    full = sym3.sym_to_full(cov[:, 0])
     return JointEstimate(x[:, 0], full, tuple(residuals), tuple(pairs), tuple(skipped), chi2, dof)
 
 
@@ -437,7 +437,7 @@ def _scale_at(
 
 def _chi2(virtual: FloatArray, weights: FloatArray, cog_mm: FloatArray) -> float:
     r = cog_mm[:, None, None] - virtual
-    return float(np.sum(gls._dot(r, gls.sym_matvec(weights, r))))
+    return float(np.sum(sym3.dot3(r, sym3.sym_matvec(weights, r))))
 
 
 def _loo_statistic(
@@ -463,10 +463,10 @@ def _loo_statistic(
     ui = u[:, i, 0]
     proj = np.eye(3) - np.outer(ui, ui)
     r = proj @ (x[:, 0] - points_mm[:, i, 0] - lam[0] * f * n)
-    c_g = gls.sym_to_full(cov[:, 0])
+    c_g = sym3.sym_to_full(cov[:, 0])
     c_gl = cxl[:, 0]
     jcj = c_g - f * (np.outer(n, c_gl) + np.outer(c_gl, n)) + f * f * var[0] * np.outer(n, n)
-    v = gls.sym_to_full(lateral[:, i, 0]) + proj @ jcj @ proj
+    v = sym3.sym_to_full(lateral[:, i, 0]) + proj @ jcj @ proj
     w = np.linalg.inv(v + np.outer(ui, ui)) - np.outer(ui, ui)
     return float(r @ w @ r)
 

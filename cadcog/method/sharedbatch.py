@@ -25,7 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.errors import DegenerateGeometryError
-from cadcog.method import gls
+from cadcog.method import gls, sym3
 from cadcog.method.errormodel import wire_shape_factor
 from cadcog.method.sharedfit import JACOBIAN_STEP, MAX_ITERATIONS, STEP_TOL_MM
 
@@ -182,15 +182,15 @@ def fit_shared_cog(
         shape = (
             np.ones(u.shape[1:])
             if wire.model == "paper"
-            else wire_shape_factor(gls._dot(u, nrm), wire.model)
+            else wire_shape_factor(sym3.dot3(u, nrm), wire.model)
         )
         q = p + (lam * shape) * nrm
         d = xs[:3, None, :] - q
-        dist2 = gls._dot(d, d)
-        e1, e2, mm = gls._lateral_2d(u, nrm, dist2, errors)
-        w = gls._assemble(e1, e2, *gls._inverse_2d(mm))
-        along = gls._dot(u, d)
-        proj = gls.projector(u)
+        dist2 = sym3.dot3(d, d)
+        e1, e2, mm = gls.lateral_2d(u, nrm, dist2, errors)
+        w = gls.assemble(e1, e2, *gls.inverse_2d(mm))
+        along = sym3.dot3(u, d)
+        proj = sym3.projector(u)
         cols = np.zeros((3, m, k, len(todo)))
         for a in range(3):
             cols[a, a] = 1.0
@@ -203,15 +203,15 @@ def fit_shared_cog(
             du = (verticals(up_x, todo) - verticals(down_x, todo)) / (2.0 * h)
             cols[:, theta_at + c] = -along * du
         design = _sym_apply(proj, cols)  # every column on the plane ⊥ uᵢ
-        r = np.stack(gls.sym_matvec(proj, d))
+        r = np.stack(sym3.sym_matvec(proj, d))
         wd = _sym_apply(w, design)  # (3, m, k, n)
-        # Sums over the hangs row by row (gls._rows_sum): numpy's reduction would add eight or
+        # Sums over the hangs row by row (sym3.rows_sum): numpy's reduction would add eight or
         # more hangs in another order for a lone campaign than in a batch.
         normal = np.empty((len(todo), m, m))
         for c in range(m):
             per_hang = np.sum(design[:, c][:, None] * wd, axis=0)  # (m, k, n)
-            normal[:, c, :] = gls._rows_sum(np.moveaxis(per_hang, 1, 0)).T
-        grad = gls._rows_sum(np.moveaxis(np.sum(wd * r[:, None], axis=0), 1, 0))
+            normal[:, c, :] = sym3.rows_sum(np.moveaxis(per_hang, 1, 0)).T
+        grad = sym3.rows_sum(np.moveaxis(np.sum(wd * r[:, None], axis=0), 1, 0))
         grad = grad + prec[:, None] * (xs - mean[:, None])
         normal[:, np.arange(m), np.arange(m)] += prec
         try:

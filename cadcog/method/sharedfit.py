@@ -37,7 +37,7 @@ import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError
-from cadcog.method import gls
+from cadcog.method import gls, sym3
 from cadcog.method.errormodel import wire_shape_factor
 from cadcog.method.plumblines import LineResidual, PlumbLine, flag_lines
 from cadcog.rig.accelerometer import ACCEL_SHARED_PARAMETERS, accel_norms, accel_verticals
@@ -245,7 +245,7 @@ def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _St
     d = g - q
     dist = np.linalg.norm(d, axis=1)
     packed = gls.line_weights(u.T[:, :, None], lines.n.T[:, :, None], dist[:, None], lines.errors)
-    w = gls.sym_to_full(np.stack([np.asarray(c)[:, 0] for c in packed]))  # (k, 3, 3)
+    w = sym3.sym_to_full(np.stack([np.asarray(c)[:, 0] for c in packed]))  # (k, 3, 3)
     proj = np.eye(3) - u[:, :, None] * u[:, None, :]
     r = np.einsum("kij,kj->ki", proj, d)
     along = np.einsum("ki,ki->k", u, d)  # Lᵢ, signed

@@ -16,7 +16,7 @@ import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.results import JsonResult
-from cadcog.method import gls
+from cadcog.method import gls, sym3
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.reversal import ReversalAdvice, best_reversal
 from cadcog.rig.geometry import axes_beyond_range, ideal_reading
@@ -270,7 +270,7 @@ def plan_test(
         """Compensated linearised covariances (m, 3, 3) of sets (m, k)."""
         cov = terms.take(groups.T).solve(wire)[1]  # the lines' terms (k, m), summed over k
         return np.asarray(
-            (1 + ratio) ** 2 * gls.sym_to_full(cov) + ratio**2 * model.me_sigma_mm**2 * np.eye(3)
+            (1 + ratio) ** 2 * sym3.sym_to_full(cov) + ratio**2 * model.me_sigma_mm**2 * np.eye(3)
         )
 
     pair_idx = _combinations(n, 2)

@@ -33,14 +33,8 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.method.errormodel import ErrorModel
-from cadcog.method.gls import (
-    PREPARED_ROWS,
-    LineErrors,
-    PreparedLines,
-    WireTerm,
-    combine_lines,
-    prepare_lines,
-)
+from cadcog.method.gls import LineErrors, WireTerm
+from cadcog.method.preparedlines import PREPARED_ROWS, PreparedLines, combine_lines, prepare_lines
 from cadcog.rig.geometry import FACES, face_normal, face_plane_mm, ideal_reading
 from cadcog.rig.parameters import Rig
 

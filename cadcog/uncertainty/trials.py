@@ -20,13 +20,8 @@ import numpy.typing as npt
 
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.method.errormodel import ErrorModel, wire_shape_factor
-from cadcog.method.gls import (
-    GLSBatch,
-    LineErrors,
-    WireTerm,
-    cog_only,
-    plumb_gls,
-)
+from cadcog.method.gls import GLSBatch, LineErrors, WireTerm, plumb_gls
+from cadcog.method.preparedlines import cog_only
 from cadcog.method.sharedbatch import fit_shared_cog, sensor_errors_deg
 from cadcog.rig.parameters import Rig
 
@@ -341,7 +336,7 @@ def group_errors(
     """CoG errors (estimated − true, mm), shape (n, 3), of ``group``'s estimates from readings.
 
     The estimator of ``cadcog estimate`` on the nominal points and the measured verticals ``u``
-    (3, k, n), through its CoG-only path :func:`cadcog.method.gls.cog_only`, then the ME
+    (3, k, n), through its CoG-only path :func:`cadcog.method.preparedlines.cog_only`, then the ME
     compensation with the ME's CAD CoG. When the model declares the sensor's shared errors,
     ``cadcog estimate`` fits them with the CoG, and so does this
     (:func:`cadcog.method.sharedbatch.fit_shared_cog` of the readings ``u`` gives back); the

@@ -25,7 +25,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.results import JsonResult
-from cadcog.method import gls
+from cadcog.method import gls, sym3
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox
 from cadcog.method.readings import Suspension, suspension_verticals
@@ -234,11 +234,11 @@ def line_statistic(
     if wire.model == "paper":
         shape = np.ones(u.shape[1:])
     else:
-        shape = gls.wire_shape_factor(gls._dot(u, nrm), wire.model)
+        shape = gls.wire_shape_factor(sym3.dot3(u, nrm), wire.model)
     q = p + wire.scale_mm * shape * nrm
     g = scenario.assembly_cog_mm[:, None, None]
     diff = g - q
-    dist = np.sqrt(gls._dot(diff, diff))
+    dist = np.sqrt(sym3.dot3(diff, diff))
     prior = model.wire_prior(scenario.weight_n)
     # The wire scale's spread (elastica) is shared by the hangs; as a statistic of each line
     # alone it is counted in every line's axial variance.
@@ -250,7 +250,7 @@ def line_statistic(
             errors.reading_var_rad2,
         )
     w = gls.line_weights(u, nrm, dist, errors)
-    return np.asarray(gls._dot(diff, gls.sym_matvec(w, diff)).sum(axis=0))
+    return np.asarray(sym3.dot3(diff, sym3.sym_matvec(w, diff)).sum(axis=0))
 
 
 def _pair_errors(

@@ -11,7 +11,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from cadcog.core.errors import DegenerateGeometryError
-from cadcog.method import gls
+from cadcog.method import gls, preparedlines, sym3
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox, MEData, estimate_cog
 from cadcog.method.readings import Suspension
@@ -119,7 +119,7 @@ def test_kernel_equals_a_dense_implementation(spokes, mode, wire_model, seed):
     # An entry that cancels to near zero is compared at the covariance's own scale (a fresh
     # local run found one at −2.0e-7 of 0.086, off by 7e-11).
     np.testing.assert_allclose(
-        gls.sym_to_full(batch.cov_mm2[:, 0]), cov, rtol=1e-5, atol=1e-8 * np.max(np.abs(cov))
+        sym3.sym_to_full(batch.cov_mm2[:, 0]), cov, rtol=1e-5, atol=1e-8 * np.max(np.abs(cov))
     )
     assert batch.scale_mm[0] == pytest.approx(lam, abs=1e-6 * np.sqrt(lam_var_dense) + 1e-9)
 
@@ -217,7 +217,7 @@ def test_monte_carlo_runs_the_estimate_commands_estimator(paper_rig, group, opti
         np.testing.assert_allclose(est.assembly_cog_mm, batch.cog_mm[:, t], atol=1e-9)
         np.testing.assert_allclose(est.cog_mm - sc.pm_cog_mm, errors[t], atol=1e-9)
         np.testing.assert_allclose(
-            est.joint.cov_mm2, gls.sym_to_full(batch.cov_mm2[:, t]), rtol=1e-9, atol=1e-15
+            est.joint.cov_mm2, sym3.sym_to_full(batch.cov_mm2[:, t]), rtol=1e-9, atol=1e-15
         )
 
 
@@ -273,19 +273,19 @@ def test_prepared_lines_give_the_full_estimators_cog(k, wire_model, weighted, sc
     u /= np.linalg.norm(u, axis=0, keepdims=True)
     errors = gls.LineErrors(0.08, 0.05, 1.2e-6)
     wire = gls.WireTerm(wire_model, scale)
-    prepared = gls.prepare_lines(p.T[:, :, None], u, nrm.T[:, :, None], errors, wire,
+    prepared = preparedlines.prepare_lines(p.T[:, :, None], u, nrm.T[:, :, None], errors, wire,
                                  weighted=weighted)  # fmt: skip
     groups = [sorted(rng.choice(hangs, size=k, replace=False).tolist()) for _ in range(3)]
     idx = np.array(groups)  # three groups at once: slot i holds the i-th hang of each
-    combined = gls.combine_lines([prepared.take(idx[:, i]) for i in range(k)])
+    combined = preparedlines.combine_lines([prepared.take(idx[:, i]) for i in range(k)])
     assert combined.shape == (3, 3, n)
     for j, group in enumerate(groups):
         full = gls.plumb_gls(p[group].T[:, :, None], u[:, group], nrm[group].T[:, :, None],
                              errors, wire, weighted=weighted)  # fmt: skip
-        scale_mm = np.sqrt(np.max(gls.sym_to_full(full.cov_mm2[:, 0]).diagonal()))
+        scale_mm = np.sqrt(np.max(sym3.sym_to_full(full.cov_mm2[:, 0]).diagonal()))
         np.testing.assert_allclose(combined[:, j], full.cog_mm, atol=1e-9 * max(scale_mm, 1.0))
     with pytest.raises(ValueError, match="at least two lines"):
-        gls.combine_lines([prepared.take(0)])
+        preparedlines.combine_lines([prepared.take(0)])
     with pytest.raises(ValueError, match="known wire scale"):
-        gls.prepare_lines(p.T[:, :, None], u, nrm.T[:, :, None], errors,
+        preparedlines.prepare_lines(p.T[:, :, None], u, nrm.T[:, :, None], errors,
                           gls.WireTerm(wire_model, scale, 0.01))  # fmt: skip

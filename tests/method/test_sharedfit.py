@@ -9,7 +9,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from cadcog.method import gls
+from cadcog.method import gls, sym3
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.sharedfit import fit_shared
 from cadcog.rig.inclinometer import (
@@ -133,7 +133,7 @@ def test_without_shared_figures_it_is_the_per_hang_estimator():
     batch = gls.plumb_gls(p.T[:, :, None], uu.T[:, :, None], n.T[:, :, None], errors,
                           gls.WireTerm())  # fmt: skip
     np.testing.assert_allclose(fit.cog_mm, batch.cog_mm[:, 0], atol=5e-3)
-    np.testing.assert_allclose(fit.cov_mm2, gls.sym_to_full(batch.cov_mm2[:, 0]), rtol=0.02)
+    np.testing.assert_allclose(fit.cov_mm2, sym3.sym_to_full(batch.cov_mm2[:, 0]), rtol=0.02)
     assert not fit.shared.any() and not fit.calibrated.any()
 
 

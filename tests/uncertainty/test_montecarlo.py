@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from cadcog.method.errormodel import SOURCES, ErrorModel
-from cadcog.method.gls import sym_to_full
+from cadcog.method.sym3 import sym_to_full
 from cadcog.rig.geometry import ideal_reading
 from cadcog.uncertainty import montecarlo
 from cadcog.uncertainty.error_budget import linearised_covariance, representative_pair
