@@ -18,7 +18,7 @@ from cadcog.api.model import _setup
 from cadcog.core.arguments import check_choice
 
 if TYPE_CHECKING:
-    from cadcog.spacecraft.balance import BalanceResult
+    from cadcog.spacecraft.balance_result import BalanceResult
     from cadcog.spacecraft.plan import Plan
     from cadcog.spacecraft.requirements import CheckResult
     from cadcog.spacecraft.setup import Setup

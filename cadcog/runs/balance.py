@@ -22,8 +22,10 @@ import numpy as np
 
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError, ParameterFileError
-from cadcog.spacecraft.balance import BalanceResult, BallastSpec, UncertainMass, least_ballast
+from cadcog.spacecraft.balance import least_ballast
+from cadcog.spacecraft.balance_result import BalanceResult
 from cadcog.spacecraft.ballast_file import load_ballast
+from cadcog.spacecraft.ballast_spec import BallastSpec, UncertainMass
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM, source_for
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG, items_from_bodies, linear_prior
 from cadcog.spacecraft.setup_draft import form_factor_mismatch

@@ -47,7 +47,6 @@ by how much (at least that much: the relaxation's).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -55,7 +54,7 @@ import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
-from cadcog.core.results import JsonResult
+from cadcog.spacecraft.balance_result import BalanceResult
 from cadcog.spacecraft.ballast_programme import (
     FACES6,
     Z_MAX,
@@ -66,6 +65,7 @@ from cadcog.spacecraft.ballast_programme import (
     solve_joint,
 )
 from cadcog.spacecraft.ballast_programme import shortfall as face_shortfall
+from cadcog.spacecraft.ballast_spec import BallastSpec, UncertainMass
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -85,114 +85,6 @@ EXACT_SIGMA_MM = 1e-9
 #: least: the inner programme keeps 0.1 % of the budget in hand
 #: (:data:`cadcog.spacecraft.ballast_programme.INNER_MARGIN`), which costs less than that.
 PROVEN_RTOL = 2e-3
-
-
-@dataclass(frozen=True)
-class BallastPoint:
-    """An allowed ballast location: its id, position (mm) and most mass it takes (kg)."""
-
-    id: str
-    position_mm: FloatArray
-    max_mass_kg: float | None = None
-
-
-@dataclass(frozen=True)
-class BallastSpec:
-    """The allowed locations, the discrete sizes available (kg; None: any mass), the most
-    ballast in all (kg) and where the spec came from."""
-
-    points: tuple[BallastPoint, ...]
-    sizes_kg: tuple[float, ...] | None = None
-    max_total_mass_kg: float | None = None
-    source: str = ""
-
-
-@dataclass(frozen=True)
-class UncertainMass:
-    """What is balanced: a mass and CoG with their first-order uncertainty.
-
-    Attributes
-    ----------
-    mass_kg, mass_sigma_kg : float
-    cog_mm : ndarray, shape (3,)
-    cog_cov_mm2 : ndarray, shape (3, 3)
-    cog_mass_cov_mm_kg : ndarray, shape (3,)
-        ``Cov(c, M)``: zero for a weighed mass.
-    source : str
-        What the figures are (``"CAD"``, ``"update"`` ...).
-    """
-
-    mass_kg: float
-    mass_sigma_kg: float
-    cog_mm: FloatArray
-    cog_cov_mm2: FloatArray
-    cog_mass_cov_mm_kg: FloatArray
-    source: str
-
-    @classmethod
-    def from_prior(cls, prior: Any, source: str = "CAD") -> UncertainMass:
-        """The CAD's figures (:class:`cadcog.spacecraft.items.LinearPrior`: its mass, CoG and
-        their first-order covariance)."""
-        return cls(
-            prior.mass_kg,
-            prior.mass_sigma_kg,
-            np.asarray(prior.cog_mm, dtype=float),
-            np.asarray(prior.cog_cov_mm2, dtype=float),
-            np.asarray(prior.cog_mass_cov_mm_kg, dtype=float),
-            source,
-        )
-
-    def shifted(
-        self,
-        mass_kg: float,
-        moment_kg_mm: npt.ArrayLike,
-        moment_cov_kg2_mm2: npt.ArrayLike,
-        source: str,
-        *,
-        mass_var_kg2: float = 0.0,
-        moment_mass_cov_kg2_mm: npt.ArrayLike | None = None,
-    ) -> UncertainMass:
-        """The same spacecraft with a change of mass ``ΔM`` and first moment ``ΔS`` (ballast,
-        exact; or a configuration's, with their covariance, taken as independent of these
-        figures): ``G' = (M G + ΔS) / (M + ΔM)``, its covariance and ``Cov(G', M')`` to first
-        order (``∂G'/∂G = M/T``, ``∂G'/∂M = (G - G')/T``, ``∂G'/∂ΔS = 1/T``, ``∂G'/∂ΔM =
-        -G'/T``, ``T = M + ΔM``: the change's share ``ΔS - G' ΔM`` does not depend on where
-        the origin is).
-
-        Examples
-        --------
-        >>> s = UncertainMass(2.0, 0.0, np.zeros(3), np.eye(3), np.zeros(3), "test")
-        >>> t = s.shifted(0.0, [20.0, 0, 0], np.zeros((3, 3)), "moved")
-        >>> t.cog_mm.tolist(), np.diag(t.cog_cov_mm2).tolist()
-        ([10.0, 0.0, 0.0], [1.0, 1.0, 1.0])
-        """
-        total = self.mass_kg + mass_kg
-        if not total > 0:
-            raise CadcogError(f"{source}: no mass left ({total:g} kg)")
-        cog = (self.mass_kg * self.cog_mm + np.asarray(moment_kg_mm, dtype=float)) / total
-        jc = self.mass_kg / total
-        jm = (self.cog_mm - cog) / total
-        s = self.cog_mass_cov_mm_kg
-        cross = (
-            np.zeros(3)
-            if moment_mass_cov_kg2_mm is None
-            else np.asarray(moment_mass_cov_kg2_mm, dtype=float)
-        )
-        change = (
-            np.asarray(moment_cov_kg2_mm2, dtype=float)
-            - np.outer(cross, cog)
-            - np.outer(cog, cross)
-            + mass_var_kg2 * np.outer(cog, cog)
-        )  # Cov(ΔS - G' ΔM)
-        cov = (
-            jc**2 * self.cog_cov_mm2
-            + jc * (np.outer(s, jm) + np.outer(jm, s))
-            + self.mass_sigma_kg**2 * np.outer(jm, jm)
-            + change / total**2
-        )
-        mass_sigma = float(np.sqrt(self.mass_sigma_kg**2 + mass_var_kg2))
-        with_mass = jc * s + self.mass_sigma_kg**2 * jm + (cross - mass_var_kg2 * cog) / total
-        return UncertainMass(total, mass_sigma, cog, cov, with_mass, source)
 
 
 def face_quantile(confidence: float) -> float:
@@ -259,165 +151,6 @@ def probability_inside(
         rng=np.random.default_rng(0),
     )
     return float(min(max(p, 0.0), 1.0))
-
-
-@dataclass(frozen=True, repr=False)
-class BalanceResult(JsonResult):
-    """The least ballast, or why there is none (:func:`least_ballast`).
-
-    Attributes
-    ----------
-    feasible : bool
-    masses_kg : ndarray, shape (n,)
-        Ballast at each location (zeros when infeasible).
-    counts : ndarray, shape (n, J) or None
-        With discrete sizes: how many of each size at each location.
-    optimal : bool
-        The total is within :data:`PROVEN_RTOL` of ``bound_kg`` and the CoG's spread settled
-        (False also when an integer programme was stopped by its time limit).
-    bound_kg : float or None
-        A proven lower bound on the least total ballast (kg).
-    mass_kg : float
-        The mass after ballast (kg).
-    mass_sigma_kg : float
-        Its 1 σ (kg; the ballast is exact).
-    cog_mm : ndarray, shape (3,)
-        The CoG after ballast (mm).
-    cog_cov_mm2 : ndarray, shape (3, 3)
-        Its covariance (mm²).
-    offset_mm : ndarray, shape (3,)
-        CoG minus the geometric centre (mm).
-    margin_mm : ndarray, shape (3,)
-        Per axis, how far the CoG may still move towards its nearer face with the confidence
-        still met, the other faces as they are (:func:`margins`): 0 on a face that binds,
-        negative when short.
-    probability_inside : float
-        The joint probability that the CoG lies inside the envelope (normal CoG, integrated).
-    before : dict
-        The same figures without ballast.
-    shortfall : list of dict
-        Infeasible: each face short (``axis``, ``side``, ``moment_kg_mm``, ``cog_shift_mm``;
-        ``configuration`` with several).
-    notes : tuple of str
-        What to know about the answer (a dilution, a unit, a form factor).
-    configurations : tuple of dict
-        With other configurations: each one's figures with the same ballast (``name``,
-        ``mass_kg``, ``cog_mm``, ``cog_cov_mm2``, ``offset_mm``, ``margin_mm``,
-        ``probability_inside``, ``face_quantiles``, ``before``).
-    envelope_source : str
-        Where the envelope's limits come from (a PocketQube's are provisional).
-    inertia : dict or None
-        With inertia objectives (:mod:`cadcog.spacecraft.balance_inertia`): the objectives,
-        the tensor's figures ``before`` and ``after`` and how the answer was found.
-    """
-
-    spec: BallastSpec
-    state: UncertainMass
-    geometric_center_mm: FloatArray
-    limits_mm: FloatArray
-    confidence: float
-    face_quantiles: FloatArray
-    feasible: bool
-    masses_kg: FloatArray
-    counts: FloatArray | None
-    optimal: bool
-    bound_kg: float | None
-    mass_kg: float
-    mass_sigma_kg: float
-    cog_mm: FloatArray
-    cog_cov_mm2: FloatArray
-    offset_mm: FloatArray
-    margin_mm: FloatArray
-    probability_inside: float
-    before: dict[str, Any]
-    shortfall: tuple[dict[str, Any], ...]
-    notes: tuple[str, ...] = ()
-    configurations: tuple[dict[str, Any], ...] = ()
-    envelope_source: str = ""
-    inertia: dict[str, Any] | None = None
-
-    @property
-    def total_ballast_kg(self) -> float:
-        """All the ballast (kg)."""
-        return float(self.masses_kg.sum())
-
-    def budget(self) -> list[dict[str, Any]]:
-        """The mass budget with the ballast: the spacecraft, each location used, the total."""
-        rows: list[dict[str, Any]] = [
-            {
-                "name": f"spacecraft ({self.state.source})",
-                "mass_kg": self.state.mass_kg,
-                "mass_sigma_kg": self.state.mass_sigma_kg,
-                "cog_mm": np.asarray(self.state.cog_mm).tolist(),
-            }
-        ]
-        for pt, m in zip(self.spec.points, self.masses_kg, strict=True):
-            if m > 0.0:
-                rows.append(
-                    {
-                        "name": f"ballast {pt.id}",
-                        "mass_kg": float(m),
-                        "mass_sigma_kg": 0.0,
-                        "cog_mm": np.asarray(pt.position_mm).tolist(),
-                    }
-                )
-        rows.append(
-            {
-                "name": "total",
-                "mass_kg": self.mass_kg,
-                "mass_sigma_kg": self.mass_sigma_kg,
-                "cog_mm": self.cog_mm.tolist(),
-            }
-        )
-        return rows
-
-    def to_dict(self) -> dict[str, Any]:
-        ballast = []
-        for k, (pt, m) in enumerate(zip(self.spec.points, self.masses_kg, strict=True)):
-            if m <= 0.0:
-                continue
-            row: dict[str, Any] = {
-                "id": pt.id,
-                "mass_kg": float(m),
-                "position_mm": np.asarray(pt.position_mm).tolist(),
-            }
-            if self.counts is not None and self.spec.sizes_kg is not None:
-                row["pieces"] = [
-                    {"size_kg": s, "count": int(n)}
-                    for s, n in zip(self.spec.sizes_kg, self.counts[k], strict=True)
-                    if n > 0
-                ]
-            ballast.append(row)
-        return {
-            "feasible": self.feasible,
-            "optimal": self.optimal,
-            "bound_kg": self.bound_kg,
-            "confidence": self.confidence,
-            "face_quantiles": self.face_quantiles.tolist(),
-            "face_miss_budget": norm_sf(self.face_quantiles).tolist(),
-            "ballast": ballast,
-            "total_ballast_kg": self.total_ballast_kg,
-            "mass_kg": self.mass_kg,
-            "mass_sigma_kg": self.mass_sigma_kg,
-            "cog_mm": self.cog_mm.tolist(),
-            "cog_cov_mm2": self.cog_cov_mm2.tolist(),
-            "geometric_center_mm": self.geometric_center_mm.tolist(),
-            "limits_mm": self.limits_mm.tolist(),
-            "envelope_source": self.envelope_source,
-            "offset_mm": self.offset_mm.tolist(),
-            "margin_mm": self.margin_mm.tolist(),
-            "probability_inside": self.probability_inside,
-            "before": self.before,
-            "shortfall": list(self.shortfall),
-            "budget": self.budget(),
-            "source": self.state.source,
-            "ballast_file": self.spec.source,
-            "notes": list(self.notes),
-            "configurations": {  # keyed by name, as massprops's
-                c["name"]: {k: v for k, v in c.items() if k != "name"} for c in self.configurations
-            },
-            "inertia": self.inertia,
-        }
 
 
 def _figures(

@@ -42,15 +42,10 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.errors import CadcogError
-from cadcog.spacecraft.balance import (
-    PROVEN_RTOL,
-    BalanceResult,
-    BallastSpec,
-    UncertainMass,
-    least_ballast,
-    with_ballast,
-)
+from cadcog.spacecraft.balance import PROVEN_RTOL, least_ballast, with_ballast
+from cadcog.spacecraft.balance_result import BalanceResult
 from cadcog.spacecraft.ballast_programme import FACES6, norm_isf
+from cadcog.spacecraft.ballast_spec import BallastSpec, UncertainMass
 
 FloatArray = npt.NDArray[np.float64]
 

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from cadcog.core.paramfile import TableReader, read_toml
-from cadcog.spacecraft.balance import BallastPoint, BallastSpec
+from cadcog.spacecraft.ballast_spec import BallastPoint, BallastSpec
 
 #: A location's id: a label to write on the hardware.
 _ID = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+-]{0,39}")

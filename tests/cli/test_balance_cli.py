@@ -282,7 +282,8 @@ def test_ballast_that_only_dilutes_the_uncertainty_is_told_from_ballast_that_mov
     equal masses on each side, the CoG does not move, its σ shrinks (said); a CoG 10 mm off
     with no uncertainty: the ballast moves it (not said)."""
     from cadcog.runs.balance import mostly_dilutes
-    from cadcog.spacecraft.balance import BallastPoint, BallastSpec, UncertainMass, least_ballast
+    from cadcog.spacecraft.balance import least_ballast
+    from cadcog.spacecraft.ballast_spec import BallastPoint, BallastSpec, UncertainMass
 
     points = (BallastPoint("a", np.array([-50.0, 0, 0])), BallastPoint("b", np.array([50.0, 0, 0])))
     centred = UncertainMass(1.0, 0.0, np.zeros(3), np.diag([2.25, 0.01, 0.01]), np.zeros(3), "")

@@ -13,14 +13,8 @@ from hypothesis import strategies as st
 from scipy.optimize import linprog
 from scipy.stats import norm
 
-from cadcog.spacecraft.balance import (
-    BallastPoint,
-    BallastSpec,
-    UncertainMass,
-    face_quantile,
-    least_ballast,
-    with_ballast,
-)
+from cadcog.spacecraft.balance import face_quantile, least_ballast, with_ballast
+from cadcog.spacecraft.ballast_spec import BallastPoint, BallastSpec, UncertainMass
 
 
 def state(mass=1.0, cog=(0.0, 0.0, 0.0), sigma=(0.0, 0.0, 0.0), mass_sigma=0.0, cross=None):

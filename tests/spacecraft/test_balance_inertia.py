@@ -10,13 +10,13 @@ import pytest
 
 from cadcog.core.errors import CadcogError
 from cadcog.mass.properties import box_properties
-from cadcog.spacecraft.balance import BallastPoint, BallastSpec, UncertainMass
 from cadcog.spacecraft.balance_inertia import (
     InertiaObjectives,
     InertiaPrior,
     least_ballast_with_inertia,
     tensor_and_gradient,
 )
+from cadcog.spacecraft.ballast_spec import BallastPoint, BallastSpec, UncertainMass
 from cadcog.spacecraft.explanations import Model, cad_joint_prior
 from cadcog.spacecraft.items import Item, linear_prior, parameter_prior_cov
 

@@ -302,7 +302,7 @@ def test_a_measured_spacecraft_changed_by_a_configuration_lands_where_the_cad_s_
     configuration changes in the CAD give the configuration's own CoG; the shift's covariance
     comes from the moved items only (zero for a configuration that moves nothing)."""
     import cadcog
-    from cadcog.spacecraft.balance import UncertainMass
+    from cadcog.spacecraft.ballast_spec import UncertainMass
     from cadcog.spacecraft.configurations import (
         configuration_deltas,
         configuration_properties,
