@@ -76,7 +76,8 @@ def ideal_rows(rig: Any, wire_offset_mm: float | None = None) -> list[str]:
     """
     import numpy as np
 
-    from cadcog.method.errormodel import ErrorModel, wire_shape_factor
+    from cadcog.method.errormodel import ErrorModel
+    from cadcog.method.wire import wire_shape_factor
     from cadcog.rig.geometry import ideal_reading
 
     model = ErrorModel.from_rig(rig)

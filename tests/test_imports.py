@@ -69,7 +69,7 @@ def test_commands_without_statistics_load_no_scipy(argv, tmp_path):
 def test_the_normal_cdf_without_scipy_is_scipys():
     from scipy import stats
 
-    from cadcog.method.errormodel import _normal_cdf
+    from cadcog.method.mecog import _normal_cdf
 
     z = np.concatenate([np.linspace(-9.0, 9.0, 721), [0.0, -38.0, 1e-300]])
     ours, theirs = _normal_cdf(z), stats.norm.cdf(z)

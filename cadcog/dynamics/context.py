@@ -14,8 +14,9 @@ import numpy.typing as npt
 
 from cadcog.core.errors import ReadingsError
 from cadcog.mass.properties import MassProperties, box_properties
-from cadcog.method.errormodel import ErrorModel, wire_shape_factor
+from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox
+from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
 
 FloatArray = npt.NDArray[np.float64]

@@ -18,14 +18,13 @@ All lengths mm, angles degrees, forces N.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.core.units import deg_to_rad
+from cadcog.method.wire import elastica_length_mm
 from cadcog.rig.inclinometer import InclinometerConfig, SensorModel, require_angle_sensor
 from cadcog.rig.parameters import (
     INCLINOMETER_MODELS,
@@ -40,110 +39,6 @@ from cadcog.rig.parameters import (
 FloatArray = npt.NDArray[np.float64]
 
 SOURCES = ("me_cog", "inclinometer", "point_play", "wire_offset")
-
-
-# --- ME CoG ------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class MECogPdf:
-    """Exact per-axis PDF of the ME CoG error on a grid.
-
-    Attributes
-    ----------
-    x_mm : ndarray
-        Grid (mm), symmetric about 0.
-    pdf : ndarray
-        Density (1/mm), integrates to 1.
-    sigma_mm : float
-        Standard deviation, exactly ``√(Σ (w_k a_k)²/12)``.
-    max_cdf_difference_from_normal : float
-        ``max |F(x) − Φ(x/σ)|``: how close the PDF is to a normal of the same σ.
-    """
-
-    x_mm: FloatArray
-    pdf: FloatArray
-    sigma_mm: float
-    max_cdf_difference_from_normal: float
-
-    @property
-    def cdf(self) -> FloatArray:
-        dx = self.x_mm[1] - self.x_mm[0]
-        c = np.cumsum(self.pdf) * dx
-        return np.asarray(c - 0.5 * self.pdf * dx)
-
-
-def me_cog_pdf(
-    masses_kg: npt.ArrayLike, edges_mm: npt.ArrayLike, points_per_mm: int = 400
-) -> MECogPdf:
-    """Exact per-axis PDF of the ME CoG error by numerical convolution of uniform PDFs.
-
-    Each uniform PDF (width ``w_k a_k``) is discretised as a box on a common grid of spacing
-    ``1/points_per_mm`` and convolved; the grid error is O(dx²) in σ.
-    """
-    m = np.asarray(masses_kg, dtype=float)
-    widths = m / m.sum() * np.asarray(edges_mm, dtype=float)
-    dx = 1.0 / points_per_mm
-    pdf = np.array([1.0 / dx])  # a delta at 0
-    for w in widths[widths > 0]:
-        n = max(round(w / dx), 1)
-        box = np.full(n, 1.0 / (n * dx))
-        pdf = np.convolve(pdf, box) * dx
-    half = (len(pdf) - 1) / 2.0
-    x = (np.arange(len(pdf)) - half) * dx
-    sigma = me_cog_sigma_mm(m, edges_mm)
-    result = MECogPdf(np.asarray(x, dtype=float), np.asarray(pdf, dtype=float), sigma, 0.0)
-    cdf: FloatArray = np.asarray(result.cdf, dtype=float)
-    diff = float(np.max(np.abs(cdf - _normal_cdf(x / sigma)))) if sigma else 0.0
-    return replace(result, max_cdf_difference_from_normal=diff)
-
-
-def _normal_cdf(z: npt.ArrayLike) -> FloatArray:
-    """Φ(z) of the standard normal, ``erfc(-z/√2)/2`` (accurate in both tails): what
-    ``scipy.stats.norm.cdf`` gives, without importing scipy (~1 s) for one diagnostic."""
-    return np.array([0.5 * math.erfc(-v / math.sqrt(2.0)) for v in np.asarray(z, dtype=float)])
-
-
-# --- wire bending ------------------------------------------------------------------------------
-def elastica_length_mm(bending_stiffness_n_mm2: float, tension_n: float) -> float:
-    """``λ = √(EI/W)``: the length over which the wire straightens under tension (mm)."""
-    return float(np.sqrt(bending_stiffness_n_mm2 / tension_n))
-
-
-def wire_offset_mm(theta_deg: npt.ArrayLike, length_mm: float | FloatArray) -> FloatArray:
-    """Offset of the virtual suspension point along the bolt axis: ``Δ = λ / cos(θ/2)``.
-
-    The wire leaves the clamp along the bolt axis, at ``θ`` from the upward vertical, and under
-    tension W it bends to vertical (elastica ``EI φ'' = W sin φ``). Far away it is a vertical line
-    offset sideways by ``2λ sin(θ/2)``, which meets the bolt axis at ``Δ`` above the clamp: the
-    CoG hangs below that virtual point. Verified against a numerical solution in the tests.
-
-    Examples
-    --------
-    >>> float(wire_offset_mm(0.0, 0.5))
-    0.5
-    >>> round(float(wire_offset_mm(90.0, 0.5)), 6)
-    0.707107
-    """
-    half = 0.5 * deg_to_rad(theta_deg)
-    return np.asarray(length_mm / np.cos(half))
-
-
-def wire_shape_factor(cos_theta: npt.ArrayLike, wire_model: WireModel) -> FloatArray:
-    """How the wire offset scales with the angle θ between the bolt axis and the vertical.
-
-    The offset along the bolt axis is ``λ·f(θ)``: ``f = 1`` for the paper's model (λ is then the
-    mean offset), ``f = 1/cos(θ/2) = √(2/(1 + cos θ))`` for the elastica.
-
-    Examples
-    --------
-    >>> wire_shape_factor(0.0, "elastica").round(6).tolist()  # θ = 90°: 1/cos 45°
-    1.414214
-    >>> wire_shape_factor(0.3, "paper").tolist()
-    1.0
-    """
-    c = np.asarray(cos_theta, dtype=float)
-    if wire_model == "paper":
-        return np.ones_like(c)
-    return np.asarray(np.sqrt(2.0 / np.maximum(1.0 + c, 1e-12)))
 
 
 def quantisation_shared_var_deg2(lsb_deg: float, noise_deg: float) -> float:

@@ -32,7 +32,7 @@ import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.units import deg_to_rad
-from cadcog.method.errormodel import ErrorModel, wire_shape_factor
+from cadcog.method.errormodel import ErrorModel
 from cadcog.method.sym3 import (
     Comp,
     Sym,
@@ -45,6 +45,7 @@ from cadcog.method.sym3 import (
     sym_matvec,
     sym_outer,
 )
+from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.parameters import WireModel
 
 FloatArray = npt.NDArray[np.float64]
@@ -120,7 +121,7 @@ class WireTerm:
     Attributes
     ----------
     model : "paper" or "elastica"
-        Sets the shape ``fᵢ`` (:func:`cadcog.method.errormodel.wire_shape_factor`).
+        Sets the shape ``fᵢ`` (:func:`cadcog.method.wire.wire_shape_factor`).
     scale_mm : float
         ``λ₀``: the expected scale (0: no correction).
     scale_var_mm2 : float

@@ -14,8 +14,8 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.method import gls
-from cadcog.method.errormodel import wire_shape_factor
 from cadcog.method.sym3 import Comp, Sym, Vec, add_all, dot3, projector, sym_inv, sym_matvec
+from cadcog.method.wire import wire_shape_factor
 
 FloatArray = npt.NDArray[np.float64]
 

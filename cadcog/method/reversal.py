@@ -20,7 +20,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.method import gls, sharedfit
-from cadcog.method.errormodel import wire_shape_factor
+from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.inclinometer import SHARED_SENSOR_PARAMETERS, InclinometerConfig, sensor_readings
 
 FloatArray = npt.NDArray[np.float64]

@@ -26,8 +26,8 @@ import numpy.typing as npt
 
 from cadcog.core.errors import DegenerateGeometryError
 from cadcog.method import gls, sym3
-from cadcog.method.errormodel import wire_shape_factor
 from cadcog.method.sharedfit import JACOBIAN_STEP, MAX_ITERATIONS, STEP_TOL_MM
+from cadcog.method.wire import wire_shape_factor
 
 FloatArray = npt.NDArray[np.float64]
 

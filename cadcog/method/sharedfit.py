@@ -38,8 +38,8 @@ import numpy.typing as npt
 from cadcog.core import tolerances
 from cadcog.core.errors import DegenerateGeometryError
 from cadcog.method import gls, sym3
-from cadcog.method.errormodel import wire_shape_factor
 from cadcog.method.plumblines import LineResidual, PlumbLine, flag_lines
+from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.accelerometer import ACCEL_SHARED_PARAMETERS, accel_norms, accel_verticals
 from cadcog.rig.inclinometer import (
     SHARED_SENSOR_PARAMETERS,

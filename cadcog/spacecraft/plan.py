@@ -19,6 +19,7 @@ from cadcog.core.results import JsonResult
 from cadcog.method import gls, sym3
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.reversal import ReversalAdvice, best_reversal
+from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.geometry import axes_beyond_range, ideal_reading
 from cadcog.spacecraft.setup import Candidate, FloatArray, Setup
 from cadcog.uncertainty.montecarlo import EstimatorOptions, simulate
@@ -260,7 +261,7 @@ def plan_test(
     shape_all = (
         np.ones(n)
         if wire.model == "paper"
-        else gls.wire_shape_factor(np.sum(u_nom * scenario.normals, axis=1), wire.model)
+        else wire_shape_factor(np.sum(u_nom * scenario.normals, axis=1), wire.model)
     )
     ratio = scenario.me_mass_kg / scenario.pm_mass_kg
 

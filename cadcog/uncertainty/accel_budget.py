@@ -34,7 +34,8 @@ import numpy.typing as npt
 from cadcog.core.errors import DegenerateGeometryError
 from cadcog.core.results import JsonResult
 from cadcog.method import gls, sharedfit
-from cadcog.method.errormodel import ErrorModel, wire_shape_factor
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.accelerometer import ACCEL_SHARED_PARAMETERS, accel_readings
 from cadcog.rig.inclinometer import InclinometerConfig
 

@@ -20,7 +20,9 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.results import JsonResult
-from cadcog.method.errormodel import SOURCES, ErrorModel, elastica_length_mm, me_cog_pdf
+from cadcog.method.errormodel import SOURCES, ErrorModel
+from cadcog.method.mecog import me_cog_pdf
+from cadcog.method.wire import elastica_length_mm
 from cadcog.rig.geometry import angle_between_lines_deg
 from cadcog.uncertainty.montecarlo import (
     EstimatorOptions,

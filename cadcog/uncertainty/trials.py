@@ -19,10 +19,11 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
-from cadcog.method.errormodel import ErrorModel, wire_shape_factor
+from cadcog.method.errormodel import ErrorModel
 from cadcog.method.gls import GLSBatch, LineErrors, WireTerm, plumb_gls
 from cadcog.method.preparedlines import cog_only
 from cadcog.method.sharedbatch import fit_shared_cog, sensor_errors_deg
+from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.parameters import Rig
 
 FloatArray = npt.NDArray[np.float64]

@@ -29,6 +29,7 @@ from cadcog.method import gls, sym3
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox
 from cadcog.method.readings import Suspension, suspension_verticals
+from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.parameters import Rig
 from cadcog.uncertainty.montecarlo import (
     BLOCK_TRIALS,
@@ -234,7 +235,7 @@ def line_statistic(
     if wire.model == "paper":
         shape = np.ones(u.shape[1:])
     else:
-        shape = gls.wire_shape_factor(sym3.dot3(u, nrm), wire.model)
+        shape = wire_shape_factor(sym3.dot3(u, nrm), wire.model)
     q = p + wire.scale_mm * shape * nrm
     g = scenario.assembly_cog_mm[:, None, None]
     diff = g - q

@@ -9,7 +9,9 @@ from hypothesis import strategies as st
 from scipy import stats
 from scipy.integrate import solve_bvp
 
-from cadcog.method.errormodel import ErrorModel, me_cog_pdf, wire_offset_mm
+from cadcog.method.errormodel import ErrorModel
+from cadcog.method.mecog import me_cog_pdf
+from cadcog.method.wire import wire_offset_mm
 from cadcog.rig.parameters import me_cog_sigma_mm
 
 PAPER_MASSES = (0.025, 0.085, 0.020, 0.046)
