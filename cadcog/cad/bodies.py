@@ -17,7 +17,7 @@ from OCP.TopoDS import TopoDS, TopoDS_Shape
 
 from cadcog.cad.occt import face_area_mm2, placed, surface_properties, volume_properties
 from cadcog.cad.overlaps import bounding_boxes
-from cadcog.cad.stepread import StepBody
+from cadcog.cad.stepmodel import StepBody
 from cadcog.core.parallel import fork_map
 from cadcog.core.units import areal_density_kg_m2_to_kg_mm2, density_kg_m3_to_kg_mm3
 from cadcog.mass.properties import MassProperties

@@ -48,7 +48,7 @@ from cadcog.core.version import __version__
 if TYPE_CHECKING:
     from cadcog.cad.bodies import ProgressFactory
     from cadcog.cad.resolve import OverlapPolicy
-    from cadcog.cad.stepread import StepModel
+    from cadcog.cad.stepmodel import StepModel
 
 #: Bumped when the stored form changes.
 FORMAT = 2

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from cadcog.cad.bodies import Body
-from cadcog.cad.stepread import StepBody
+from cadcog.cad.stepmodel import StepBody
 from cadcog.core.errors import CadcogError
 from cadcog.mass.materials import (
     DENSITY_RANGE_KG_M3,
@@ -42,7 +42,7 @@ def item_rules(
 
 def item_candidates(body: StepBody) -> Sequence[tuple[str, tuple[str, ...]]]:
     """(node path, names a rule may match), the body first, then its assemblies deepest first
-    (:attr:`cadcog.cad.stepread.StepBody.item_candidates`)."""
+    (:attr:`cadcog.cad.stepmodel.StepBody.item_candidates`)."""
     return body.item_candidates
 
 

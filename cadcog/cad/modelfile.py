@@ -32,7 +32,7 @@ from cadcog.core.units import UNIT_CHOICES
 
 if TYPE_CHECKING:
     from cadcog.cad.resolve import OverlapPolicy
-    from cadcog.cad.stepread import StepModel
+    from cadcog.cad.stepmodel import StepModel
     from cadcog.mass.materials import MaterialMap
 
 #: Keys :func:`load_model` reads (a file's other tables are its own).

@@ -54,7 +54,8 @@ from cadcog.cad.massrules import (
     unmatched_rules,
 )
 from cadcog.cad.resolve import OverlapPolicy, handle_overlaps
-from cadcog.cad.stepread import StepModel, length_unit_mm
+from cadcog.cad.stepmodel import StepModel
+from cadcog.cad.stepread import length_unit_mm
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError, quote
 from cadcog.core.units import LENGTH_UNIT_MM, UNIT_CHOICES

@@ -20,7 +20,7 @@ from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS, TopoDS_Shape
 
 from cadcog.cad.overlaps import bounding_boxes
-from cadcog.cad.stepread import StepBody
+from cadcog.cad.stepmodel import StepBody
 
 FloatArray = npt.NDArray[np.float64]
 

@@ -25,7 +25,7 @@ from cadcog.spacecraft.mass_summary import MassReport, build_mass_report, parse_
 
 if TYPE_CHECKING:
     from cadcog.cad.stepmass import ModelMassProperties, OverlapPolicy
-    from cadcog.cad.stepread import StepModel
+    from cadcog.cad.stepmodel import StepModel
     from cadcog.spacecraft.configurations import Configuration
 
 

@@ -28,7 +28,7 @@ from cadcog.spacecraft.mass_budget import budget_rows
 from cadcog.spacecraft.mass_summary import MassReport, density_sources
 
 if TYPE_CHECKING:
-    from cadcog.cad.stepread import StepModel
+    from cadcog.cad.stepmodel import StepModel
 
 REPORT_FILE = "index.html"
 

@@ -476,7 +476,7 @@ def cached_overlap_notes(
     """:func:`overlap_notes` of every configuration, cached by the content of the model file
     and the configurations file, the bodies counted and the ``units`` override: one entry
     whichever command asks (``massprops``, ``check``, ``balance``), and a second run reads no
-    CAD. ``read()`` gives the model (a :class:`cadcog.cad.stepread.StepModel`)."""
+    CAD. ``read()`` gives the model (a :class:`cadcog.cad.stepmodel.StepModel`)."""
     from cadcog.cad import cache
 
     kept = sorted(b.path for b in bodies)
