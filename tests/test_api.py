@@ -85,7 +85,12 @@ SAME_DEFAULTS = {
     "estimate": {"self_calibrate_wire": "self_calibrate_wire", "mass_sigma_kg": "mass_sigma_kg"},
     "update": {"mass_sigma_kg": "mass_sigma_kg", "unmodelled_mass_kg": "unmodelled_mass_kg"},
     "campaign": {"seed": "seed", "samples": "samples", "noise_deg": "noise_deg"},
-    "acquire": {"seed": "seed", "device": "device", "time_scale": "time_scale"},
+    "acquire": {
+        "seed": "seed",
+        "device": "device",
+        "time_scale": "time_scale",
+        "duration_s": "duration_s",
+    },
     "acquire_log": {"log_format": "log_format", "average_s": "average_s", "swings": "swings"},
 }
 COMMAND = {"mass_properties": "massprops", "acquire_log": "acquire"}

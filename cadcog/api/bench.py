@@ -6,6 +6,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
+import numpy as np
+
 from cadcog.api._checks import (
     _numbers,
     _one_blas_thread,
@@ -77,7 +79,8 @@ def acquire(
     device: Literal["analog", "digital"] = "analog",
     time_scale: float = 20.0,
     report: str | Path | None = None,
-) -> AcquireRun:
+    duration_s: float | None = None,
+) -> AcquireRun | LogRun:
     """A test run recorded into ``out`` (``cadcog acquire --non-interactive``): from a simulated
     device by default (``--simulate``: a dry run of the whole bench, as a notebook would run
     it), or from the serial ``port``. Every hang is appended durably: the same call resumes.
@@ -96,7 +99,10 @@ def acquire(
     swings : str or Path, optional
         The swing file (default: beside ``out``).
     port : str, optional
-        A serial port instead of the simulated device.
+        A serial port instead of the simulated device. A set-up whose sensor is an accelerometer
+        is recorded whole into a log beside ``out`` (``NAME.log.csv``), then cut as
+        :func:`acquire_log` cuts it (``cadcog acquire --port`` with an accelerometer; its swings
+        written only when ``swings`` is given).
     seed : int
         The simulated device's seed.
     device : "analog" or "digital"
@@ -105,20 +111,46 @@ def acquire(
         Simulated seconds per real second.
     report : str or Path, optional
         A folder for the record page.
+    duration_s : float, optional
+        An accelerometer's recording: stop after this long (device time); default until the
+        device falls silent or Ctrl-C.
 
     Returns
     -------
-    AcquireRun
+    AcquireRun or LogRun
         The estimate, its comparison with the CAD, the inertia from the swings (or why none);
-        ``to_dict()`` is the command's ``--json``.
+        ``to_dict()`` is the command's ``--json``. A recorded accelerometer's: a LogRun.
     """
     from cadcog.runs.acquire import Simulation, run_acquire
 
     f = "acquire"
-    _numbers(f, seed=seed, time_scale=time_scale)
+    _numbers(f, seed=seed, time_scale=time_scale, duration_s=duration_s)
+    if duration_s is not None and not (np.isfinite(duration_s) and duration_s > 0):
+        raise CadcogError(f"acquire: duration_s must be positive, got {duration_s}")
     check_choice(f, "device", device, ("analog", "digital"))
     out_path = _path(f, "out", out)
     target = _target(f, rig, setup, points)
+    if port is not None and target.inclinometer.accelerometer:
+        from cadcog.runs.acquire_log import acquire_recorded
+
+        if report is not None:
+            raise CadcogError("acquire: report is not written from an accelerometer's recording")
+        log_out = out_path.with_name(out_path.stem + ".log.csv")
+        for name, path in (("out", out_path), ("the log", log_out)):
+            if path.exists() or path.is_symlink():
+                raise CadcogError(
+                    f"acquire: {name} {path} exists; a recording and its readings go to new files"
+                )
+        return acquire_recorded(
+            target,
+            port,
+            out_path,
+            log_out,
+            duration_s=duration_s,
+            swings=None if swings is None else _path(f, "swings", swings),
+        )
+    if duration_s is not None:
+        raise CadcogError("acquire: duration_s is for an accelerometer's recording from a port")
     return run_acquire(
         target,
         out_path,

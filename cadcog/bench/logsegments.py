@@ -97,6 +97,11 @@ class LogHang:
     swing_max_deg : float
         The largest amplitude between the release (once the window is clear of the handling)
         and the settling: 0 when nothing swung (a rest, not a hang).
+    swing_end_s : float
+        The end of the release's undisturbed decay: the end of its first averaged span, or of
+        a later one when the amplitude between them stayed below :data:`SWING_FACTOR` × the
+        threshold (a swing hovering at the threshold, not a knock). NaN: not known (the first
+        span's end is taken).
     """
 
     start_s: float
@@ -107,6 +112,7 @@ class LogHang:
     acc_g: FloatArray
     swing_start_deg: float
     swing_max_deg: float = 0.0
+    swing_end_s: float = float("nan")
 
     @property
     def averaged_s(self) -> float:
@@ -256,7 +262,7 @@ def segment_log(
     # A run ends when the window ending at a bin first spreads beyond the threshold: the motion
     # began up to a window earlier, so the run's last window is not averaged.
     spans = [(a + hold, b - window) for a, b in _runs(still) if b - window - a > hold]
-    found = _merge(spans, t, mean, full, amp, window, width, handled)
+    found = _merge(spans, t, mean, full, amp, window, width, handled, criterion.threshold_deg)
     short = [(h.settled_s, h.end_s) for h in found if h.averaged_s < min_average_s]
     found = [h for h in found if h.averaged_s >= min_average_s]
     threshold = SWING_FACTOR * criterion.threshold_deg
@@ -295,6 +301,7 @@ def _merge(
     window: int,
     width: float,
     handled: npt.NDArray[np.bool_],
+    threshold_deg: float,
 ) -> list[LogHang]:
     groups: list[list[tuple[int, int]]] = []
     for s in spans:
@@ -323,6 +330,12 @@ def _merge(
         start_amp = amp[min(release + window, first)]
         swung = amp[release + window : first]
         swung = swung[np.isfinite(swung)]
+        end = group[0][1]
+        for a, b in group[1:]:  # the decay goes on through a span that only hovered
+            between = amp[end:a]
+            if np.any(between[np.isfinite(between)] > SWING_FACTOR * threshold_deg):
+                break
+            end = b
         hangs.append(
             LogHang(
                 float(t[release] - 0.5 * width),
@@ -333,6 +346,7 @@ def _merge(
                 mean[idx],
                 float(start_amp) if np.isfinite(start_amp) else float("nan"),
                 float(swung.max()) if len(swung) else 0.0,
+                float(t[end - 1] + 0.5 * width),
             )
         )
         previous_end = last
@@ -393,12 +407,12 @@ def hang_swing(
     log: AccelLog, hang: LogHang, point_id: str, axes: tuple[str, str, str], turned: bool = False
 ) -> Swing:
     """The swing of a found hang, as a swing file holds it (``cadcog inertia``): the log's own
-    samples (not the bins) from :data:`SWING_SKIP_S` after the release to the end of its first
-    averaged span (the swing goes on decaying below the settle threshold, and a longer record
-    resolves its modes better; a knock ends the span), in object-axis angles
-    (:func:`cadcog.rig.accelerometer.swing_angles_deg`), the log's clock. ``turned``: the hang
-    was read with the sensor turned 180° about its z axis on its mount (a reversal), so both
-    angles change sign.
+    samples (not the bins) from :data:`SWING_SKIP_S` after the release to the end of its
+    undisturbed decay (``LogHang.swing_end_s``: the swing goes on decaying below the settle
+    threshold, and a longer record resolves its modes better; a knock ends it), in object-axis
+    angles (:func:`cadcog.rig.accelerometer.swing_angles_deg`), the log's clock. ``turned``: the
+    hang was read with the sensor turned 180° about its own z axis on its mount (a reversal):
+    its x and y readings change sign before they are turned into object axes.
 
     Examples
     --------
@@ -409,8 +423,14 @@ def hang_swing(
     >>> sw = hang_swing(log, hang, "S1", ("-y", "+x", "+z"))
     >>> sw.t_s.tolist(), sw.inc_deg.round(6).tolist()
     ([2.5, 3.0, 3.5, 4.0, 4.5], [[30.0, 0.0], [30.0, 0.0], [30.0, 0.0], [30.0, 0.0], [30.0, 0.0]])
+
+    A reversal turns the sensor about its own z axis; here that is the object's x axis, about
+    which the reading's x angle does not change:
+
+    >>> hang_swing(log, hang, "S1", ("+y", "+z", "+x"), turned=True).inc_deg[0].round(6).tolist()
+    [60.0, 0.0]
     """
-    end = hang.spans_s[0][1]
+    end = hang.swing_end_s if np.isfinite(hang.swing_end_s) else hang.spans_s[0][1]
     keep = (log.t_s >= hang.start_s + SWING_SKIP_S) & (log.t_s <= end)
-    deg = swing_angles_deg(log.acc_g[keep], axes)
-    return Swing(point_id, log.t_s[keep], -deg if turned else deg)
+    acc = log.acc_g[keep] * (np.array([-1.0, -1.0, 1.0]) if turned else 1.0)
+    return Swing(point_id, log.t_s[keep], swing_angles_deg(acc, axes))

@@ -35,8 +35,9 @@ def add_parser(sub: Any) -> None:
         "--swings",
         type=Path,
         help="swing CSV to create or resume: each hang's samples from release to settle, for "
-        "cadcog inertia (default: beside --out, NAME.swings.csv; from a log or an "
-        "accelerometer's recording, only when given)",
+        "cadcog inertia (default: beside --out, NAME.swings.csv); from a log or an "
+        "accelerometer's recording, a new file written only when given (each hang from 2 s "
+        "after its release to the end of its undisturbed decay)",
     )
     p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
     p.add_argument("--setup", type=Path, help="spacecraft set-up file instead of a rig")

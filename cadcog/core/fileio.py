@@ -26,7 +26,7 @@ import sys
 import tempfile
 import threading
 from collections.abc import Iterator
-from contextlib import contextmanager, suppress
+from contextlib import ExitStack, contextmanager, suppress
 from contextvars import ContextVar
 from pathlib import Path
 
@@ -126,8 +126,8 @@ def _renamed(exc: BaseException, temporary: Path, target: Path | str) -> BaseExc
     return None
 
 
-def _make_dirs(folder: Path) -> list[Path]:
-    """Create ``folder`` and its missing parents; the ones created, outermost first."""
+def _missing_dirs(folder: Path) -> list[Path]:
+    """``folder`` and its parents that do not exist yet, outermost first."""
     missing = []
     p = folder
     while not p.exists():
@@ -135,8 +135,14 @@ def _make_dirs(folder: Path) -> list[Path]:
         if p.parent == p:
             break
         p = p.parent
-    folder.mkdir(parents=True, exist_ok=True)
     return missing[::-1]
+
+
+def _make_dirs(folder: Path) -> list[Path]:
+    """Create ``folder`` and its missing parents; the ones created, outermost first."""
+    missing = _missing_dirs(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    return missing
 
 
 def _remove_empty(created: list[Path]) -> None:
@@ -627,6 +633,41 @@ def staged_file(path: str | Path) -> Iterator[Path]:
     finally:
         if not done:
             _remove_empty(created)
+
+
+@contextmanager
+def staged_files(*paths: str | Path) -> Iterator[list[Path]]:
+    """:func:`staged_file` for several outputs of one command: all are written, or none.
+
+    Each is staged as :func:`staged_file` stages it; when the block succeeds they are put in
+    place one after the other with SIGINT and SIGTERM held off (a signal is delivered once all
+    are in place). If putting one in place fails, those already put in place that did not
+    exist before are removed again.
+    """
+    existed = [Path(p).exists() or Path(p).is_symlink() for p in paths]
+    missing = [_missing_dirs(Path(p).absolute().parent) for p in paths]
+    stack = ExitStack()
+    try:
+        staged = [stack.enter_context(staged_file(p)) for p in paths]
+        yield staged
+    except BaseException:
+        if not stack.__exit__(*sys.exc_info()):
+            raise
+        return  # pragma: no cover - staged_file never swallows an exception
+    before = len(_WRITTEN)
+    with _signals_held():
+        try:
+            stack.close()
+        except BaseException:
+            done = _WRITTEN[before:]
+            for p, was in zip(paths, existed, strict=True):
+                if not was and Path(p) in done and not is_stream(p):
+                    with suppress(OSError):
+                        os.unlink(p)
+                    _WRITTEN.remove(Path(p))
+            for created in missing:
+                _remove_empty(created)
+            raise
 
 
 @contextmanager

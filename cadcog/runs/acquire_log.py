@@ -14,7 +14,6 @@ be computed; the readings and the swings are written together or not at all.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from contextlib import ExitStack
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -24,7 +23,7 @@ import numpy as np
 from cadcog.bench.accellog import LogError, LogFormat, read_log
 from cadcog.bench.logsegments import BIN_S, LogHang, Segmentation, hang_swing, segment_log
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import staged_file
+from cadcog.core.fileio import is_stream, staged_file, staged_files
 from cadcog.core.results import JsonResult
 from cadcog.core.units import rad_to_deg
 from cadcog.method.readings import ACC_COLUMNS, POSITION_COLUMNS, TURNED_COLUMN, format_face
@@ -205,12 +204,19 @@ def acquire_log(
             "(docs/bench.md: a phone or an accelerometer)"
         )
     for option, path in (("--out", out), ("--swings", swings)):
-        if path is not None and (path.exists() or path.is_symlink()):
+        if path is None:
+            continue
+        if is_stream(path):
+            raise CadcogError(
+                f"{option} {path}: expected a new file (a log's readings and swings are files "
+                "that cadcog estimate and cadcog inertia read again)"
+            )
+        if path.exists() or path.is_symlink():
             raise CadcogError(
                 f"{option} {path}: exists; a log's readings and swings go to new files (remove "
                 f"it, or choose another {option})"
             )
-    if swings is not None and swings.absolute() == out.absolute():
+    if swings is not None and swings.resolve() == out.resolve():
         raise CadcogError(f"--swings and --out name the same file: {out}")
     log = read_log(log_path, fmt)
     seg = segment_log(log, criterion or SettleCriterion(), min_average_s)
@@ -230,22 +236,19 @@ def acquire_log(
     )
     warnings = _order_check(target, seg.hangs, log_path)
     inertia, note, n_swing = None, "", []
-    # Both staged and filled before either is put in place (the last entered is renamed first).
-    with ExitStack() as stack:
+    outputs = [out] if swings is None else [out, swings]
+    with staged_files(*outputs) as staged:
+        staged[0].write_text(readings_text(target.hangs, seg.hangs, log_path))
         if swings is not None:
-            from cadcog.bench.target import inertia_hangs
-            from cadcog.dynamics.swingfile import read_swings, swings_text
+            from cadcog.dynamics.swingfile import swings_text
 
-            staged_swings = stack.enter_context(staged_file(swings))
             hung = [
                 hang_swing(log, h, p.id, cfg.axes, p.sensor_turned)
                 for p, h in zip(target.hangs, seg.hangs, strict=True)
             ]
-            staged_swings.write_text(swings_text(hung), encoding="utf-8")
+            staged[1].write_text(swings_text(hung), encoding="utf-8")
             n_swing = [len(s.t_s) for s in hung]
-        staged = stack.enter_context(staged_file(out))
-        staged.write_text(readings_text(target.hangs, seg.hangs, log_path))
-        suspensions = read_readings(staged, cfg)
+        suspensions = read_readings(staged[0], cfg)
         estimate = estimate_hangs(target, suspensions)
         cad = None
         if target.setup is not None:
@@ -255,7 +258,10 @@ def acquire_log(
                 target.setup, estimate.cog_mm, estimate.cov_mm2, estimate.compensation
             )
         if swings is not None:  # from the file as written, as cadcog inertia reads it
-            inertia, note = inertia_hangs(target, read_swings(staged_swings), suspensions)
+            from cadcog.bench.target import inertia_hangs
+            from cadcog.dynamics.swingfile import read_swings
+
+            inertia, note = inertia_hangs(target, read_swings(staged[1]), suspensions)
     data: dict[str, Any] = {
         "log": {
             "path": str(log_path),

@@ -10,7 +10,6 @@ either is written, and written together: a failure (a full disk, a bad path) lea
 from __future__ import annotations
 
 from collections.abc import Sequence
-from contextlib import ExitStack
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -18,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
+from cadcog.core.fileio import refuse_overwriting_inputs, staged_files
 from cadcog.core.results import JsonResult
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.parameters import Rig
@@ -170,12 +169,10 @@ def run_campaign(
         )
         hangs = campaign_suspensions(rows, inclinometer)
         swing_text = swings_text(virtual_swings(context, hangs, seed=seed))
-    # Both staged and filled before either is put in place (staged files are renamed last
-    # entered first: the readings, then their swings).
-    with ExitStack() as stack:
-        if swings is not None and swing_text is not None:
-            tmp_swings = stack.enter_context(staged_file(swings))
-            tmp_swings.write_text(swing_text, encoding="utf-8")
-        tmp = stack.enter_context(staged_file(out))
-        tmp.write_text(campaign_text(rows, comment), encoding="utf-8")
+    # Both staged and filled, then put in place together (or neither).
+    outputs = [out] if swing_text is None else [out, swings]
+    with staged_files(*outputs) as staged:
+        staged[0].write_text(campaign_text(rows, comment), encoding="utf-8")
+        if swing_text is not None:
+            staged[1].write_text(swing_text, encoding="utf-8")
     return CampaignRun(str(out), len(rows), n_hangs, seed, None if swings is None else str(swings))

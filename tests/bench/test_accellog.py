@@ -224,3 +224,37 @@ def test_two_hangs_alike_with_handling_between_are_two_hangs():
     )
     assert len(seg.hangs) == 2
     assert seg.hangs[0].end_s < 38.0 < seg.hangs[1].settled_s
+
+
+@pytest.mark.parametrize(("bump_deg", "through"), [(0.13, True), (0.6, False)])
+def test_a_swing_record_runs_through_a_hover_but_stops_at_a_knock(bump_deg, through):
+    """A swing that rises back just over the settle threshold splits the averaging in two: its
+    decay goes on through both spans (the swing record ends with the second); a knock (a swing
+    of several thresholds) ends the record with the first span."""
+    from cadcog.bench.accellog import AccelLog
+    from cadcog.bench.logsegments import hang_swing, segment_log
+    from cadcog.bench.swing import SettleCriterion
+
+    rate = 100.0
+    d = np.array([0.5, 0.2, 0.84])
+    d /= np.linalg.norm(d)
+    axis = np.cross(d, [1.0, 0.0, 0.0])
+    axis /= np.linalg.norm(axis)
+    s = np.arange(int(90 * rate)) / rate
+    th = np.radians(3.0) * np.exp(-s / 3.0) * np.sin(2 * np.pi * 1.2 * s)
+    bump = (s > 50.0) & (s < 53.0)  # 3 s of a small swing, 35 s into the stillness
+    th = th + np.radians(bump_deg) * bump * np.sin(2 * np.pi * 1.2 * (s - 50.0))
+    hang = d * np.cos(th)[:, None] + np.cross(axis, d) * np.sin(th)[:, None]
+    t_h = np.arange(int(3 * rate)) / rate
+    handling = np.stack(
+        [0.3 * np.sin(3 * t_h), 0.4 * np.cos(2 * t_h), 1 + 0.4 * np.sin(5 * t_h)], 1
+    )
+    a = np.concatenate([handling, hang, handling])
+    t = np.arange(len(a)) / rate
+    log = AccelLog(Path("x"), t, a + np.random.default_rng(2).normal(0, 0.001, a.shape),
+                   np.arange(len(t)))  # fmt: skip
+    (h,) = segment_log(log, SettleCriterion(), min_average_s=10.0).hangs
+    assert len(h.spans_s) == 2 and h.spans_s[0][1] < 53.0 < h.spans_s[1][0]
+    sw = hang_swing(log, h, "S1", ("+x", "+y", "+z"))
+    assert sw.t_s[0] >= h.start_s + 2.0
+    assert sw.t_s[-1] == pytest.approx(h.spans_s[1 if through else 0][1], abs=0.02)

@@ -136,6 +136,9 @@ def test_a_hang_that_never_settled_is_named_with_its_time_span(logs, tmp_path, c
     ("extra", "message"),
     [
         (["--swings", "r.csv"], "--swings and --out name the same file"),
+        (["--swings", "sub/../r.csv"], "--swings and --out name the same file"),
+        (["--swings", "-"], "--swings -: expected a new file"),
+        (["--out", "-"], "--out -: expected a new file"),
         (["--report", "rep"], "--report: not written from a log yet"),
         (["--duration-s", "5"], "--duration-s: for recording from --port"),
         (["--points", "S1,S9"], "unknown point(s) S9"),
@@ -143,7 +146,9 @@ def test_a_hang_that_never_settled_is_named_with_its_time_span(logs, tmp_path, c
 )
 def test_what_a_log_run_refuses(logs, tmp_path, capsys, monkeypatch, extra, message):
     out = tmp_path / "r.csv"
-    args = ["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][0]), "--out", str(out)]
+    args = ["acquire", "--rig", str(logs["rig"]), "--log", str(logs["paths"][0])]
+    if "--out" not in extra:
+        args += ["--out", str(out)]
     monkeypatch.chdir(tmp_path)  # relative outputs land here, and the folder is checked empty
     assert main([*args, *extra]) == 2
     err = capsys.readouterr().err
@@ -284,6 +289,43 @@ def test_an_accelerometer_on_a_port_is_recorded_as_a_log_then_cut(logs, tmp_path
     assert e @ np.linalg.solve(np.asarray(data["estimate"]["assembly_cov_mm2"]), e) < float(
         stats.chi2.ppf(0.999, 3)
     )
+
+
+def test_the_api_records_an_accelerometer_on_a_port_as_the_command_does(logs, tmp_path):
+    """cadcog.acquire(port=...) with an accelerometer's rig: the first two hangs' lines on a
+    pseudo-terminal, recorded into a log beside ``out`` and cut (it said the rig declared an
+    inclinometer, and recorded nothing)."""
+    import cadcog
+
+    log = logs["logs"][1]
+    lsb = ACCEL_EXAMPLE.lsb_g
+    upto = log.t_s <= log.hangs[1].end_t_s + 8.0
+    counts = np.round(log.accel_m_s2[upto] / 9.80665 / lsb).astype(np.int64)
+    t_ms = np.round((log.t_s[upto] - log.t_s[0]) * 1000).astype(np.int64) + 5
+    keep = np.concatenate([[True], np.diff(t_ms) > 0])
+    lines = [
+        (format_sample(i, int(t), int(c[0]), int(c[1]), z=int(c[2])) + "\n").encode()
+        for i, (t, c) in enumerate(zip(t_ms[keep], counts[keep], strict=True))
+    ]
+    master, slave = os.openpty()
+    tty.setraw(slave)
+    stop = threading.Event()
+    th = threading.Thread(target=_feed, args=(master, lines, stop), daemon=True)
+    th.start()
+    out = tmp_path / "r.csv"
+    try:
+        run = cadcog.acquire(out, rig=logs["rig"], points=["S1", "S2"], port=os.ttyname(slave),
+                             duration_s=float(t_ms[keep][-1] - t_ms[0]) / 1000.0 - 6.0)  # fmt: skip
+    finally:
+        stop.set()
+        th.join(timeout=10)
+        os.close(master)
+        os.close(slave)
+    assert [h["id"] for h in run.to_dict()["hangs"]] == ["S1", "S2"]
+    assert (tmp_path / "r.log.csv").exists() and out.exists()
+    again = cadcog.acquire_log(tmp_path / "r.log.csv", tmp_path / "again.csv", rig=logs["rig"],
+                               points=["S1", "S2"], log_format="csv")  # fmt: skip
+    assert again.estimate.cog_mm.tolist() == run.estimate.cog_mm.tolist()
 
 
 def test_the_api_gives_what_the_command_prints(logs, tmp_path, capsys):

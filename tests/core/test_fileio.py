@@ -17,6 +17,7 @@ from cadcog.core.fileio import (
     note_input,
     refuse_overwriting_inputs,
     staged_file,
+    staged_files,
     staged_output_dir,
 )
 
@@ -221,3 +222,33 @@ def test_a_lock_file_that_is_not_a_plain_file_is_refused_untouched(tmp_path, pla
         pass
     assert outside.read_text(encoding="utf-8") == "keep\n"
     assert not (folder / "c.csv").exists()
+
+
+def test_several_outputs_are_written_all_or_none(tmp_path, monkeypatch):
+    """staged_files: both appear on success; an error in the body leaves neither (nor any
+    staging file); a failure putting the second in place takes the first away again."""
+    a, b = tmp_path / "a.csv", tmp_path / "sub" / "b.csv"
+    with staged_files(a, b) as (ta, tb):
+        ta.write_text("A")
+        tb.write_text("B")
+    assert a.read_text() == "A" and b.read_text() == "B"
+    c, d = tmp_path / "c.csv", tmp_path / "new" / "d.csv"
+    with pytest.raises(RuntimeError), staged_files(c, d) as (tc, td):
+        tc.write_text("C")
+        raise RuntimeError("half way")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv", "sub"]
+    calls = []
+    real = os.replace
+
+    def second_fails(src, dst):
+        calls.append(dst)
+        if len(calls) == 2:
+            raise OSError(28, "No space left on device")
+        return real(src, dst)
+
+    monkeypatch.setattr(os, "replace", second_fails)
+    with pytest.raises(CadcogError, match="cannot write here"), staged_files(c, d) as (tc, td):
+        tc.write_text("C")
+        td.write_text("D")
+    assert len(calls) == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv", "sub"]
