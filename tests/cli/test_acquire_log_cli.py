@@ -249,34 +249,46 @@ def _feed(master: int, lines: list[bytes], stop: threading.Event) -> None:
             return
 
 
-def test_an_accelerometer_on_a_port_is_recorded_as_a_log_then_cut(logs, tmp_path, capsys):
-    """The ADXL355 sketch's lines (its header, six-field samples of counts) on a pseudo-terminal:
-    the recording, cut, gives what the same log gives through --log."""
-    log = logs["logs"][1]
-    lsb = ACCEL_EXAMPLE.lsb_g
-    counts = np.round(log.accel_m_s2 / 9.80665 / lsb).astype(np.int64)
-    t_ms = np.round((log.t_s - log.t_s[0]) * 1000).astype(np.int64) + 5
+def _board_lines(log: pl.PhoneLog, upto: np.ndarray | None = None) -> tuple[list[bytes], float]:
+    """The ADXL355 sketch's sample lines of ``log`` (counts, whole-ms clock), and the span of
+    device time they cover (s)."""
+    upto = np.ones(len(log.t_s), bool) if upto is None else upto
+    counts = np.round(log.accel_m_s2[upto] / 9.80665 / ACCEL_EXAMPLE.lsb_g).astype(np.int64)
+    t_ms = np.round((log.t_s[upto] - log.t_s[0]) * 1000).astype(np.int64) + 5
     keep = np.concatenate([[True], np.diff(t_ms) > 0])  # the device's clock is whole ms
     lines = [
         (format_sample(i, int(t), int(c[0]), int(c[1]), z=int(c[2])) + "\n").encode()
         for i, (t, c) in enumerate(zip(t_ms[keep], counts[keep], strict=True))
     ]
+    return lines, float(t_ms[keep][-1] - t_ms[0]) / 1000.0
+
+
+def _on_a_port(lines: list[bytes], record):
+    """``record(port)`` while a thread feeds ``lines`` into a pseudo-terminal."""
     master, slave = os.openpty()
     tty.setraw(slave)
     stop = threading.Event()
     th = threading.Thread(target=_feed, args=(master, lines, stop), daemon=True)
     th.start()
-    out = tmp_path / "r.csv"
-    duration = float(t_ms[keep][-1] - t_ms[0]) / 1000.0 - 6.0  # the end: handling, quiet
     try:
-        code = main(["acquire", "--rig", str(logs["rig"]), "--port", os.ttyname(slave),
-                     "--out", str(out), "--duration-s", f"{duration}", "--json",
-                     "--timeout-s", "5"])  # fmt: skip
+        return record(os.ttyname(slave))
     finally:
         stop.set()
         th.join(timeout=10)
         os.close(master)
         os.close(slave)
+
+
+def test_an_accelerometer_on_a_port_is_recorded_as_a_log_then_cut(logs, tmp_path, capsys):
+    """The ADXL355 sketch's lines (its header, six-field samples of counts) on a pseudo-terminal:
+    the recording, cut, gives what the same log gives through --log."""
+    log = logs["logs"][1]
+    lines, span_s = _board_lines(log)
+    out = tmp_path / "r.csv"
+    duration = span_s - 6.0  # the end: handling, quiet
+    code = _on_a_port(lines, lambda port: main([
+        "acquire", "--rig", str(logs["rig"]), "--port", port, "--out", str(out),
+        "--duration-s", f"{duration}", "--json", "--timeout-s", "5"]))  # fmt: skip
     assert code == 0, capsys.readouterr().err
     data = json.loads(capsys.readouterr().out)
     recorded = tmp_path / "r.log.csv"
@@ -298,29 +310,10 @@ def test_the_api_records_an_accelerometer_on_a_port_as_the_command_does(logs, tm
     import cadcog
 
     log = logs["logs"][1]
-    lsb = ACCEL_EXAMPLE.lsb_g
-    upto = log.t_s <= log.hangs[1].end_t_s + 8.0
-    counts = np.round(log.accel_m_s2[upto] / 9.80665 / lsb).astype(np.int64)
-    t_ms = np.round((log.t_s[upto] - log.t_s[0]) * 1000).astype(np.int64) + 5
-    keep = np.concatenate([[True], np.diff(t_ms) > 0])
-    lines = [
-        (format_sample(i, int(t), int(c[0]), int(c[1]), z=int(c[2])) + "\n").encode()
-        for i, (t, c) in enumerate(zip(t_ms[keep], counts[keep], strict=True))
-    ]
-    master, slave = os.openpty()
-    tty.setraw(slave)
-    stop = threading.Event()
-    th = threading.Thread(target=_feed, args=(master, lines, stop), daemon=True)
-    th.start()
+    lines, span_s = _board_lines(log, log.t_s <= log.hangs[1].end_t_s + 8.0)
     out = tmp_path / "r.csv"
-    try:
-        run = cadcog.acquire(out, rig=logs["rig"], points=["S1", "S2"], port=os.ttyname(slave),
-                             duration_s=float(t_ms[keep][-1] - t_ms[0]) / 1000.0 - 6.0)  # fmt: skip
-    finally:
-        stop.set()
-        th.join(timeout=10)
-        os.close(master)
-        os.close(slave)
+    run = _on_a_port(lines, lambda port: cadcog.acquire(
+        out, rig=logs["rig"], points=["S1", "S2"], port=port, duration_s=span_s - 6.0))  # fmt: skip
     assert [h["id"] for h in run.to_dict()["hangs"]] == ["S1", "S2"]
     assert (tmp_path / "r.log.csv").exists() and out.exists()
     again = cadcog.acquire_log(tmp_path / "r.log.csv", tmp_path / "again.csv", rig=logs["rig"],
