@@ -61,9 +61,9 @@ class DeviceSpec:
     oversample : int
         Conversions per sample (analog).
     noise_deg : float
-        White noise per conversion (analog) or per sample (digital), degrees. The analog default is
-        :data:`cadcog.validation.campaign.DEFAULT_NOISE_DEG`; the digital one about the SCL3300's in
-        its low-noise inclination mode (an assumption).
+        White noise per conversion (analog) or per sample (digital), degrees. The analog default,
+        0.05°, is the paper rig's ``[error_model] sensor_noise_deg``; the digital one about the
+        SCL3300's in its low-noise inclination mode (an assumption).
     """
 
     kind: Literal["analog", "digital"] = "analog"

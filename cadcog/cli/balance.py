@@ -137,7 +137,7 @@ def _vec(v: Any, digits: int = 2) -> str:
 
 
 def print_balance(r: Any) -> None:
-    """Readable report of a :class:`~cadcog.spacecraft.balance.BalanceResult`."""
+    """Readable report of a :class:`~cadcog.spacecraft.balance_result.BalanceResult`."""
     d = r.to_dict()
     conf = f"{r.confidence:.4g}"
     print(

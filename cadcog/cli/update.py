@@ -136,7 +136,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def print_update(r: UpdateResult) -> None:
-    """Readable report of an :class:`~cadcog.spacecraft.update.UpdateResult`: masses and
+    """Readable report of an :class:`~cadcog.spacecraft.update_result.UpdateResult`: masses and
     inertias to significant figures in a unit that fits, the products' convention named."""
     from cadcog.cli.massprops_text import PRODUCT_LABELS
     from cadcog.spacecraft import update_text as ut

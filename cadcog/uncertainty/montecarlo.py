@@ -271,8 +271,9 @@ def _run_task(
     return out, counts, counts_s
 
 
-#: Memory (bytes) of a chunk's prepared hangs (:class:`cadcog.method.gls.PreparedLines`,
-#: :data:`cadcog.method.gls.PREPARED_ROWS` floats per campaign and hang): bounds the chunk size.
+#: Memory (bytes) of a chunk's prepared hangs (:class:`cadcog.method.preparedlines.PreparedLines`,
+#: :data:`cadcog.method.preparedlines.PREPARED_ROWS` floats per campaign and hang): bounds the
+#: chunk size.
 PREPARED_BYTES = 32 << 20
 
 #: Hangs prepared per call: bounds the preparation's temporaries.
