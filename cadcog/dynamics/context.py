@@ -134,19 +134,30 @@ SENSOR_VOLUME_WORDS = ("inclinometer", "accelerometer", "phone")
 def sensor_position_mm(
     options: SwingOptions, volumes: Sequence[MEVolume], source: str
 ) -> FloatArray:
-    """``[swing] sensor_position_mm``, else the centre of the one ME volume whose name holds
-    a word of :data:`SENSOR_VOLUME_WORDS`."""
+    """``[swing] sensor_position_mm``; else the centre of the one ME volume whose name holds a
+    word of :data:`SENSOR_VOLUME_WORDS`; else the ME's centre of mass. Where the sensor senses
+    sets how large each mode reads (what a simulated swing draws), not its frequency: the
+    tensor measured from the frequencies does not depend on it.
+
+    Raises
+    ------
+    ReadingsError
+        No sensing point given, none named, and no ME volume to stand in.
+    """
     if options.sensor_position_mm is not None:
         return np.asarray(options.sensor_position_mm, dtype=float)
     named = [v for v in volumes if any(w in v.name.lower() for w in SENSOR_VOLUME_WORDS)]
-    if len(named) != 1:
+    if len(named) == 1:
+        return np.asarray(named[0].center_mm, dtype=float)
+    masses = np.array([v.mass_kg for v in volumes], dtype=float)
+    if not len(volumes) or not masses.sum() > 0:
         words = " or ".join(repr(w) for w in SENSOR_VOLUME_WORDS)
         raise ReadingsError(
-            f"{source}: [swing] sensor_position_mm is not given and "
-            f"{'no' if not named else 'more than one'} measurement-equipment volume has "
-            f"{words} in its name: say where the sensor senses (mm, object frame)"
+            f"{source}: [swing] sensor_position_mm is not given and no measurement-equipment "
+            f"volume has {words} in its name: say where the sensor senses (mm, object frame)"
         )
-    return np.asarray(named[0].center_mm, dtype=float)
+    centres = np.array([v.center_mm for v in volumes], dtype=float)
+    return np.asarray(masses @ centres / masses.sum())
 
 
 def _signs(inclinometer: Any) -> tuple[int, int]:

@@ -132,7 +132,8 @@ class SwingOptions:
         1 σ of that length (a tape measure's reading, the clamp's own play).
     sensor_position_mm : tuple of 3 floats or None
         The sensor's sensing point, object frame; None: the centre of the ME volume whose name
-        contains ``inclinometer``, ``accelerometer`` or ``phone``.
+        contains ``inclinometer``, ``accelerometer`` or ``phone``, else the ME's centre of mass
+        (the measured tensor does not depend on it; a simulated swing's amplitudes do).
     sensor_position_sigma_mm : float
         1 σ per axis of that point.
     frequency_model_rel : float

@@ -180,3 +180,20 @@ def test_a_hang_without_a_swing_is_left_out_not_the_run():
     with pytest.raises(DegenerateGeometryError, match="2 of 6 hangs have a body mode") as info:
         _campaign(4, cad, still=(0, 1, 2, 3))
     assert all(f"hang S{i}" in str(info.value) for i in (1, 2, 3, 4))
+
+
+def test_the_tensor_does_not_depend_on_where_the_sensor_senses():
+    """The frequencies carry the tensor; the sensing point only sets how large each mode reads.
+    The same swings fitted with the sensing point 40 mm away give the same tensor and σ, so a
+    set-up that names no sensor volume takes the ME's centre of mass instead of being refused."""
+    moved = replace(CTX, sensor_mm=CTX.sensor_mm + np.array([40.0, -30.0, 25.0]))
+    a = _campaign(5, RIG.analytic_proof_mass)
+    b = _campaign(5, RIG.analytic_proof_mass, ctx_fit=moved)
+    np.testing.assert_allclose(b.inertia_kg_mm2, a.inertia_kg_mm2, rtol=1e-9)
+    np.testing.assert_allclose(b.cov_kg2_mm4, a.cov_kg2_mm4, rtol=1e-6)
+    anon = replace(
+        RIG, me_volumes=tuple(replace(v, name=f"box{i}") for i, v in enumerate(RIG.me_volumes))
+    )
+    masses = np.array([v.mass_kg for v in RIG.me_volumes])
+    centre = masses @ np.array([v.center_mm for v in RIG.me_volumes]) / masses.sum()
+    np.testing.assert_allclose(context_for_rig(anon).sensor_mm, centre, rtol=1e-12)
