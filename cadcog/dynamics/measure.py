@@ -176,6 +176,21 @@ def body_modes(fit: ModalFit, n_modes: int, point_id: str) -> ModalFit:
     return fit.take(keep)
 
 
+def _weak_swings(fits: Sequence[ModalFit], pairs: Sequence[tuple[Swing, Suspension]]) -> str:
+    """What to add to a refusal when hangs showed one body mode of two: their swings were too
+    small, or released without a twist, to show both (more hangs would not help as much)."""
+    weak = [
+        sw.point_id for fit, (sw, _) in zip(fits, pairs, strict=True) if len(fit.mode_index) < 2
+    ]
+    if not weak:
+        return ""
+    return (
+        f"; hang(s) {', '.join(weak)} showed one body mode of two: release each with a swing of "
+        "3-8° and a twist of a few degrees about its wire exit, and record until it settles "
+        "(docs/bench.md)"
+    )
+
+
 def _pivots_of(
     pivots: FloatArray, pivot_cov: FloatArray, hangs: Sequence[int]
 ) -> tuple[FloatArray, FloatArray]:
@@ -322,7 +337,10 @@ def measure_inertia(
         p_asm, gain = fit_tensor(data, geo0, p_first)
         return data, nuis, geo0, p_asm, gain
 
-    state = fit_all(fits, records, pivots, pivot_cov)
+    try:
+        state = fit_all(fits, records, pivots, pivot_cov)
+    except DegenerateGeometryError as exc:
+        raise DegenerateGeometryError(f"{exc}{_weak_swings(fits, pairs)}") from None
     mode_notes: list[str] = []
     # Frequencies the others contradict are left out, the least likely first (a single mode or
     # a hang's whole swing: _worst_contradiction), while a check remains.

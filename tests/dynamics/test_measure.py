@@ -197,3 +197,19 @@ def test_the_tensor_does_not_depend_on_where_the_sensor_senses():
     masses = np.array([v.mass_kg for v in RIG.me_volumes])
     centre = masses @ np.array([v.center_mm for v in RIG.me_volumes]) / masses.sum()
     np.testing.assert_allclose(context_for_rig(anon).sensor_mm, centre, rtol=1e-12)
+
+
+def test_a_refusal_names_the_hangs_whose_swing_showed_one_body_mode():
+    """Five usable frequencies for six entries because one hang showed one body mode of two:
+    the refusal says to release with a larger swing, not only to add hangs."""
+    from cadcog.dynamics.measure import _weak_swings
+    from cadcog.dynamics.modalfit import ModalFit
+    from cadcog.dynamics.swingfile import Swing
+
+    def fit(k: int) -> ModalFit:
+        one = np.ones(k)
+        return ModalFit("x", np.arange(2, 2 + k), one, np.eye(k), one, one, np.ones(2), 1.0)
+
+    pairs = [(Swing(p, np.zeros(2), np.zeros((2, 2))), None) for p in ("S1", "S2", "S3")]
+    assert "S2 showed one body mode of two" in _weak_swings([fit(2), fit(1), fit(2)], pairs)
+    assert _weak_swings([fit(2), fit(2), fit(2)], pairs) == ""
