@@ -453,6 +453,7 @@ def plumb_gls(
     >>> b = plumb_gls(p, u, n, LineErrors(0.08, 0.08, 1e-6), WireTerm())
     >>> np.round(b.cog_mm[:, 0], 9).tolist()
     [0.0, 0.0, 0.0]
+    >>> from cadcog.method.sym3 import sym_to_full
     >>> bool(np.all(np.linalg.eigvalsh(sym_to_full(b.cov_mm2[:, 0])) > 0))
     True
     """

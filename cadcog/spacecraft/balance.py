@@ -243,6 +243,7 @@ def least_ballast(
     none (10 mm is inside), and with an 8 mm limit ``(10 - 50 m) / (1 + m) = 8``, ``m = 2/58 kg``:
 
     >>> state = UncertainMass(1.0, 0.0, np.array([10.0, 0, 0]), np.zeros((3, 3)), np.zeros(3), "")
+    >>> from cadcog.spacecraft.ballast_spec import BallastPoint
     >>> spec = BallastSpec((BallastPoint("w", np.array([-50.0, 0, 0])),))
     >>> least_ballast(state, spec, np.zeros(3), [20.0, 20, 20]).total_ballast_kg
     0.0
