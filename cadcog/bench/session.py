@@ -317,7 +317,7 @@ def _inertia(
         recorded = read_swings(swings.path)
     except CadcogError as exc:
         return None, str(exc)
-    return inertia_hangs(target, recorded, suspensions)
+    return inertia_hangs(target, recorded, suspensions, source=str(swings.path))
 
 
 def report_with(report: HangReport, attempt: int, outcome: str | None = None) -> HangReport:

@@ -206,11 +206,15 @@ def estimate_hangs(target: BenchTarget, suspensions: Sequence[Suspension]) -> Co
 
 
 def inertia_hangs(
-    target: BenchTarget, swings: Sequence[Any], suspensions: Sequence[Suspension]
+    target: BenchTarget,
+    swings: Sequence[Any],
+    suspensions: Sequence[Suspension],
+    source: str = "swings",
 ) -> tuple[Any, str]:
     """The inertia tensor from the hangs' swings (``cadcog.dynamics.swingfile.Swing``), as
     ``cadcog inertia`` computes it, or ``None`` and why there is none: what a run reports
-    beside its CoG (a run's readings stand without it)."""
+    beside its CoG (a run's readings stand without it). ``source`` names the swing file in
+    messages."""
     from cadcog.core.errors import CadcogError
     from cadcog.dynamics.measure import inertia_for_rig, inertia_for_setup
 
@@ -218,8 +222,8 @@ def inertia_hangs(
         return None, f"{len(swings)} hang(s) with a swing: the tensor needs 3 or more"
     try:
         if target.setup is None:
-            return inertia_for_rig(target.rig, swings, suspensions), ""
-        return inertia_for_setup(target.setup, swings, suspensions), ""
+            return inertia_for_rig(target.rig, swings, suspensions, source=source), ""
+        return inertia_for_setup(target.setup, swings, suspensions, source=source), ""
     except CadcogError as exc:
         return None, str(exc)
 

@@ -5,10 +5,12 @@ accelerometer's log).
 bench's settle criterion (:mod:`cadcog.bench.logsegments`), gives them the planned points in
 the order given, writes the readings CSV (an accelerometer's columns, one row per 0.05 s bin
 of each averaged span) and estimates the CoG from that file exactly as ``cadcog estimate``
-does. With ``swings``, each hang's swing (the log's samples from the release to the settling,
-in object-axis angles) goes to a swing file and the inertia tensor is estimated from it as
-``cadcog inertia`` does. Nothing is written unless every hang was found and the estimate could
-be computed; the readings and the swings are written together or not at all.
+does. With ``swings``, each hang's swing (the log's samples from just after the release to the
+end of its undisturbed decay, in object-axis angles:
+:func:`cadcog.bench.logsegments.hang_swing`) goes to a swing file and the inertia tensor is
+estimated from it as ``cadcog inertia`` does. Nothing is written unless every hang was found
+and the estimate could be computed; the readings and the swings are written together or not
+at all.
 """
 
 from __future__ import annotations
@@ -261,7 +263,9 @@ def acquire_log(
             from cadcog.bench.target import inertia_hangs
             from cadcog.dynamics.swingfile import read_swings
 
-            inertia, note = inertia_hangs(target, read_swings(staged[1]), suspensions)
+            inertia, note = inertia_hangs(
+                target, read_swings(staged[1]), suspensions, source=str(swings)
+            )
     data: dict[str, Any] = {
         "log": {
             "path": str(log_path),
