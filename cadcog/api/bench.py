@@ -112,8 +112,9 @@ def acquire(
     report : str or Path, optional
         A folder for the record page.
     duration_s : float, optional
-        An accelerometer's recording: stop after this long (device time); default until the
-        device falls silent or Ctrl-C.
+        An accelerometer's recording: stop after this long (device time); default until
+        Ctrl-C (KeyboardInterrupt; a device that falls silent for 5 s is an error, and the
+        samples so far are not kept).
 
     Returns
     -------
@@ -195,7 +196,7 @@ def acquire_log(
         A settled stretch shorter than this is not a hang.
     swings : str or Path, optional
         A new swing CSV for ``cadcog inertia``: each hang's samples from just after its release
-        to the end of its first averaged span, in object-axis angles (docs/bench.md §8).
+        to the end of its undisturbed decay, in object-axis angles (docs/bench.md §8).
 
     Returns
     -------
