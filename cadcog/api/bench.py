@@ -132,21 +132,15 @@ def acquire(
     out_path = _path(f, "out", out)
     target = _target(f, rig, setup, points)
     if port is not None and target.inclinometer.accelerometer:
-        from cadcog.runs.acquire_log import acquire_recorded
+        from cadcog.runs.acquire_log import acquire_recorded, log_path_for
 
         if report is not None:
             raise CadcogError("acquire: report is not written from an accelerometer's recording")
-        log_out = out_path.with_name(out_path.stem + ".log.csv")
-        for name, path in (("out", out_path), ("the log", log_out)):
-            if path.exists() or path.is_symlink():
-                raise CadcogError(
-                    f"acquire: {name} {path} exists; a recording and its readings go to new files"
-                )
         return acquire_recorded(
             target,
             port,
             out_path,
-            log_out,
+            log_path_for(out_path),
             duration_s=duration_s,
             swings=None if swings is None else _path(f, "swings", swings),
         )

@@ -170,7 +170,9 @@ def default_log(args: argparse.Namespace) -> Path:
     """Where a recording goes: ``--log-out``, else beside ``--out`` as NAME.log.csv."""
     if args.log_out is not None:
         return Path(args.log_out)
-    return Path(args.out).with_name(Path(args.out).stem + ".log.csv")
+    from cadcog.runs.acquire_log import log_path_for
+
+    return log_path_for(Path(args.out))
 
 
 def _target(args: argparse.Namespace) -> Any:
@@ -305,12 +307,6 @@ def _run_recorded(args: argparse.Namespace, target: Any) -> int:
 
     _log_checks(args, "an accelerometer's recording")
     log_out = default_log(args)
-    for option, path in (("--out", args.out), ("--log-out", log_out), ("--swings", args.swings)):
-        if path is not None and (path.exists() or path.is_symlink()):  # before recording
-            raise CadcogError(
-                f"{option} {path}: exists; a recording and its readings go to new files "
-                f"(remove it, or choose another {option})"
-            )
     refuse_overwriting_inputs(
         log_out, {"--rig": args.rig, "--setup": args.setup, "--out": args.out}
     )

@@ -165,6 +165,37 @@ def _order_check(target: Any, found: Sequence[LogHang], log_path: Path) -> list[
     return out
 
 
+def log_path_for(out: Path) -> Path:
+    """Where a recording goes unless told: beside the readings ``out``, as ``NAME.log.csv``."""
+    return out.with_name(out.stem + ".log.csv")
+
+
+def refuse_taken_outputs(outputs: Sequence[tuple[str, Path | None]]) -> None:
+    """A log's run writes new regular files only (a log is cut once, a recording made once):
+    refuse, naming the option, one that is a stream or exists, or two that are one file.
+
+    Raises
+    ------
+    CadcogError
+    """
+    given = [(option, path) for option, path in outputs if path is not None]
+    for option, path in given:
+        if is_stream(path):
+            raise CadcogError(
+                f"{option} {path}: expected a new file (a log's readings and swings are files "
+                "that cadcog estimate and cadcog inertia read again)"
+            )
+        if path.exists() or path.is_symlink():
+            raise CadcogError(
+                f"{option} {path}: exists; a log's readings and swings go to new files, as a "
+                f"recording does (remove it, or choose another {option})"
+            )
+    for i, (first, a) in enumerate(given):
+        for second, b in given[i + 1 :]:
+            if a.resolve() == b.resolve():
+                raise CadcogError(f"{second} and {first} name the same file: {a}")
+
+
 def acquire_log(
     target: Any,
     log_path: Path,
@@ -205,21 +236,7 @@ def acquire_log(
             'log is an accelerometer\'s: declare device = "accelerometer" and its axes '
             "(docs/bench.md: a phone or an accelerometer)"
         )
-    for option, path in (("--out", out), ("--swings", swings)):
-        if path is None:
-            continue
-        if is_stream(path):
-            raise CadcogError(
-                f"{option} {path}: expected a new file (a log's readings and swings are files "
-                "that cadcog estimate and cadcog inertia read again)"
-            )
-        if path.exists() or path.is_symlink():
-            raise CadcogError(
-                f"{option} {path}: exists; a log's readings and swings go to new files (remove "
-                f"it, or choose another {option})"
-            )
-    if swings is not None and swings.resolve() == out.resolve():
-        raise CadcogError(f"--swings and --out name the same file: {out}")
+    refuse_taken_outputs((("--out", out), ("--swings", swings)))
     log = read_log(log_path, fmt)
     seg = segment_log(log, criterion or SettleCriterion(), min_average_s)
     if drop:
@@ -330,6 +347,8 @@ def acquire_recorded(
 
     if not target.inclinometer.accelerometer:
         raise CadcogError("recording a log needs a set-up whose sensor is an accelerometer")
+    # before recording, not after
+    refuse_taken_outputs((("--out", out), ("--log-out", log_out), ("--swings", swings)))
     say(
         f"recording {port} into {log_out}: hang {', '.join(h.id for h in target.hangs)} in this "
         "order, let each swing settle and hold still "
