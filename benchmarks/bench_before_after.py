@@ -33,7 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from bench_commands import environment, measure, summary
 from bench_massprops import MATERIALS, satellite
 
-from tests.cad.stepfixtures import write_step
+from support.stepfixtures import write_step
 
 REPO = Path(__file__).resolve().parents[1]
 

@@ -1,6 +1,6 @@
 """``cadcog massprops`` on generated STEP assemblies: speed and peak memory of the whole command.
 
-Three models, written through OCCT's XCAF document (``tests/cad/stepfixtures.py``):
+Three models, written through OCCT's XCAF document (``support/stepfixtures.py``):
 
 - ``board80``: a KiCad-like board, a PCB and 26 components of three solids each (body and two
   pins sinking into the PCB: 52 small real overlaps), every component product named
@@ -46,7 +46,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tests.cad.stepfixtures import Assembly, Part, Place, kicad_like_board, write_step
+from support.stepfixtures import Assembly, Part, Place, kicad_like_board, write_step
 
 MATERIALS = '[materials]\n"PCB*" = "FR-4"\n"COMPOUND*" = 3000.0\n"*" = "aluminium 6061-T6"\n'
 

@@ -1,8 +1,8 @@
 """Bias and coverage of ``cadcog inertia`` against an independent nonlinear swing (issue 20).
 
-The truth is :mod:`tests.inertia.swing_truth` (full nonlinear rigid body on a massless
+The truth is :mod:`support.swing_truth` (full nonlinear rigid body on a massless
 inextensible wire, large amplitude, damping, accelerometer-type inclinometer, bias, noise, the
-rig's ADC with 16× oversampling, sample jitter; see :mod:`tests.inertia.swing_files`). Each
+rig's ADC with 16× oversampling, sample jitter; see :mod:`support.swing_files`). Each
 campaign is written as a swing file and a readings CSV and estimated by the command's own entry
 point (``cadcog.cli._main.main`` in-process, ``--json``) with a copy of the rig or set-up file
 carrying the row's ``[swing]`` table; the object's inertia about its own CoG from cadcog's CAD
@@ -44,8 +44,8 @@ from scipy import stats
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from tests.inertia import estimator_runs as er  # noqa: E402
-from tests.inertia import swing_files as sf  # noqa: E402
+from support import estimator_runs as er  # noqa: E402
+from support import swing_files as sf  # noqa: E402
 
 CACHE = ROOT / "build" / "study_inertia"
 RIG = ROOT / "parts" / "paper_rig.toml"

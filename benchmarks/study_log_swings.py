@@ -1,8 +1,8 @@
 """The inertia tensor from a phone's or an accelerometer's log (issue 34): ``cadcog acquire --log
 LOG --swings S.csv`` on logs from an independent forward model, over many seeds.
 
-The logs come from :mod:`tests.bench.phone_logs` (no cadcog code): the release swing of a rigid
-body on a massless wire integrated in full by :mod:`tests.inertia.swing_truth`, handling between
+The logs come from :mod:`support.phone_logs` (no cadcog code): the release swing of a rigid
+body on a massless wire integrated in full by :mod:`support.swing_truth`, handling between
 hangs, the specific force at the sensor, one sensor per log with its offsets, sensitivities,
 cross-axis terms, nonlinearity, drift and mounting drawn once, per-sample noise, quantisation,
 a phone's sample jitter and dropped samples. What one test shares is drawn once per log: the
@@ -44,19 +44,18 @@ from scipy import stats
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from study_phone_logs import _played, declared
+from study_phone_logs import declared
 
 from cadcog.bench.accellog import LogError
 from cadcog.bench.target import target_from_rig
 from cadcog.mass.inertia import principal_axes
 from cadcog.rig.file import load_rig
 from cadcog.runs.acquire_log import acquire_log
-from tests.bench import phone_logs as pl
-from tests.rigtools import paper_rig_dict, write_rig
+from support import phone_logs as pl
+from support.rigtools import package_rig
 
 CHI2_6_95 = float(stats.chi2.ppf(0.95, 6))
 CHI2_3_95 = float(stats.chi2.ppf(0.95, 3))
-TOP_Z_MM = 78.0
 #: The sensor's package as the generator carries it: mass (kg), centre and size (mm).
 PACKAGES = {
     "phone": (0.19, (100.0, 37.5, 82.5), (150.0, 71.0, 9.0)),
@@ -74,40 +73,29 @@ def truth_entries() -> np.ndarray:
 
 
 def rig_file(folder: Path, sensor: str, spec: pl.LogSpec) -> Path:
-    """The paper rig with the sensor's package as its ME (on a light spacer down to the top
-    face when it does not rest on it) and a ``[swing]`` table."""
-    data = paper_rig_dict()
-    data["inclinometer"] = {
-        "device": "accelerometer",
-        "axes": list(spec.sensor.axes),
-        **declared(sensor),
-    }
-    mass, centre, size = PACKAGES[sensor]
-    volumes = [
-        {"name": f"{sensor}_sensor", "size_mm": list(size), "center_mm": list(centre),
-         "mass_kg": mass, "cog_uncertainty_cube_mm": 5.0},
-    ]  # fmt: skip
-    gap = centre[2] - size[2] / 2 - TOP_Z_MM
-    if gap > 1e-6:
-        volumes.append(
-            {"name": "spacer", "size_mm": [10.0, 10.0, gap],
-             "center_mm": [centre[0], centre[1], TOP_Z_MM + gap / 2], "mass_kg": 1e-4,
-             "cog_uncertainty_cube_mm": 1.0}
-        )  # fmt: skip
-    data["measurement_equipment"]["volumes"] = volumes
-    data["suspension_points"] = [data["suspension_points"][i] for i in POINTS[sensor]]
-    data["swing"] = {
-        "wire_length_mm": 300.0,
-        "wire_length_sigma_mm": 2.0,
-        "sensor_position_mm": list(spec.sensor.position_mm),
-    }
-    return write_rig(folder / f"rig_{sensor}.toml", data)
+    """The paper rig with the sensor's package as its ME and a ``[swing]`` table."""
+    return package_rig(
+        folder / f"rig_{sensor}.toml",
+        package=PACKAGES[sensor],
+        volume_name=f"{sensor}_sensor",
+        inclinometer={
+            "device": "accelerometer",
+            "axes": list(spec.sensor.axes),
+            **declared(sensor),
+        },
+        swing={
+            "wire_length_mm": 300.0,
+            "wire_length_sigma_mm": 2.0,
+            "sensor_position_mm": list(spec.sensor.position_mm),
+        },
+        points=POINTS[sensor],
+    )
 
 
 def test_spec(sensor: str, seed: int) -> pl.LogSpec:
     """One log's test: the scenario's points (those the sensor leaves free, each within its
     play), one wire length, and per hang a release, a decay time and a wait to below 0.05°."""
-    spec = _played(pl.scenario("paper_rig", sensor), "paper_rig", seed)
+    spec = pl.with_play(pl.scenario("paper_rig", sensor), "paper_rig", seed)
     rng = np.random.default_rng([seed, 31])
     wire = float(rng.normal(300.0, 2.0))
     hangs = []

@@ -1,8 +1,8 @@
 """A phone or a $10 accelerometer as the sensor (issue 34): ``cadcog acquire --log`` on logs from
 an independent forward model, over many seeds.
 
-The logs come from :mod:`tests.bench.phone_logs` (no cadcog code: the release swing of a rigid
-body on a massless wire integrated in full by :mod:`tests.inertia.swing_truth`, handling between
+The logs come from :mod:`support.phone_logs` (no cadcog code: the release swing of a rigid
+body on a massless wire integrated in full by :mod:`support.swing_truth`, handling between
 hangs, the specific force at the sensor, one sensor per log with its offsets, sensitivities,
 cross-axis terms and mounting drawn once, per-sample noise, quantisation, a phone's sample
 jitter and dropped samples). Each log is written as phyphox exports it and goes through the
@@ -52,8 +52,8 @@ from cadcog.method.readings import read_readings
 from cadcog.rig.file import load_rig
 from cadcog.rig.inclinometer import InclinometerConfig
 from cadcog.runs.acquire_log import acquire_log, readings_text
-from tests.bench import phone_logs as pl
-from tests.rigtools import paper_rig_dict, write_rig
+from support import phone_logs as pl
+from support.rigtools import paper_rig_dict, write_rig
 
 CHI2_95 = float(stats.chi2.ppf(0.95, 3))
 #: The rig's one-wire bound (mm): the paper's 1 (a prior covering a string and a stiff wire).
@@ -81,37 +81,8 @@ def rig_file(folder: Path, axes: tuple[str, str, str], sensor: str, wire_max_mm:
     return write_rig(folder / "rig.toml", data)
 
 
-#: The body's box in each scenario (mm): a point's face is the side it lies outside of.
-BOXES = {"paper_rig": (200.0, 75.0, 78.0), "cubesat_3u": (100.0, 100.0, 340.5)}
-
-
-def face_normal(point_mm: np.ndarray, box_mm: tuple[float, float, float]) -> np.ndarray:
-    """The outward normal of the box face a wire exit sits above."""
-    p = np.asarray(point_mm, dtype=float)
-    hi = np.asarray(box_mm)
-    out_of = np.concatenate([p - hi, -p])  # how far outside each of the six faces
-    k = int(np.argmax(out_of))
-    n = np.zeros(3)
-    n[k % 3] = 1.0 if k < 3 else -1.0
-    return n
-
-
-def _played(spec: pl.LogSpec, name: str, seed: int, play_mm: float = 1.0) -> pl.LogSpec:
-    """Each hang's wire exit moved within the bolt hole's play: uniform in a square of edge
-    ``play_mm`` in the plane of its face (the paper's 1 mm), drawn per hang and per log (the
-    generator itself has none)."""
-    rng = np.random.default_rng([seed, 7])
-    hangs = []
-    for h in spec.hangs:
-        p = np.asarray(h.point_mm, dtype=float)
-        n = face_normal(p, BOXES[name])
-        shift = rng.uniform(-0.5 * play_mm, 0.5 * play_mm, 3) * (1.0 - np.abs(n))
-        hangs.append(replace(h, point_mm=tuple((p + shift).tolist())))
-    return replace(spec, hangs=tuple(hangs))
-
-
 def _spec(name: str, sensor: str, variant: str, seed: int) -> pl.LogSpec:
-    spec = _played(pl.scenario(name, sensor), name, seed)
+    spec = pl.with_play(pl.scenario(name, sensor), name, seed)
     if variant == "plain":
         return spec
     hangs = list(spec.hangs)
@@ -135,7 +106,7 @@ def _estimate_3u(spec: pl.LogSpec, log_path: Path, out: Path, sensor: str) -> ob
         raise LogError(f"{len(seg.hangs)} hangs for {len(spec.hangs)}")
     nominal = pl.scenario("cubesat_3u", sensor).hangs  # where the team thinks it hung
     faces = [
-        (np.asarray(h.point_mm), face_normal(np.asarray(h.point_mm), BOXES["cubesat_3u"]))
+        (np.asarray(h.point_mm), pl.face_normal(h.point_mm, pl.BOXES_MM["cubesat_3u"]))
         for h in nominal
     ]
 

@@ -2,7 +2,7 @@
 check's alarms on campaigns from an independent generator that draws the wire and the sensor's
 errors once per test.
 
-The campaigns come from :mod:`tests.validation.rig_campaigns` (written from the documented
+The campaigns come from :mod:`support.rig_campaigns` (written from the documented
 physics, without cadcog's campaign, Monte Carlo or error-model code): the paper rig, the ME's
 real CoG in its cubes, play per hang, the wire one of
 
@@ -53,7 +53,7 @@ from cadcog.method.estimate import estimate_for_rig
 from cadcog.method.readings import read_readings
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.uncertainty.montecarlo import Scenario, simulate
-from tests.validation.rig_campaigns import RigPhysics, generate, write_csv
+from support.rig_campaigns import RigPhysics, generate, write_csv
 
 FIGURES = (0.3, 0.01, 0.5)  # offset °, scale, mounting °
 SETS = {

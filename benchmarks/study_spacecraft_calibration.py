@@ -1,7 +1,7 @@
 """Do `estimate --setup` and `update` cover the truth when the spacecraft is not its CAD?
 
 The example 3U CubeSat's test is simulated by an independent forward model
-(``tests/spacecraft/forward_model.py``: none of cadcog's simulation code) for eight truths
+(``support/forward_model.py``: none of cadcog's simulation code) for eight truths
 (identical, item masses from their priors, camera +15 %, battery +15 %, a 40 g unmodelled
 harness with no region or a wrong one, the camera's CoG 3 mm off, item CoG shifts from the
 priors), ``--seeds`` campaigns each, on the plan's four recommended hangs. For each it reports:
@@ -42,7 +42,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import cadcog  # noqa: E402
-from tests.spacecraft import forward_model as fm  # noqa: E402
+from support import forward_model as fm  # noqa: E402
 
 SETUP = ROOT / "parts" / "cubesat_3u_setup.toml"
 CHI2_3_95 = 7.814727903251178

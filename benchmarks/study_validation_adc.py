@@ -1,7 +1,7 @@
 """Size of `cadcog validate`'s verdict on null campaigns from an independent generator, with and
 without per-sample ADC quantisation (issue 19, item 5).
 
-The campaigns come from :mod:`tests.validation.rig_campaigns`, written from the documented physics
+The campaigns come from :mod:`support.rig_campaigns`, written from the documented physics
 without cadcog's campaign, Monte Carlo or error-model code: ME cubes and the one wire's offset
 scale drawn once per campaign, suspension play per hang, an inclinometer bias per hang,
 Gaussian noise per sample and (when quantised) the 10-bit ADC per sample (noise 0.05° against a
@@ -45,7 +45,7 @@ from cadcog.validation.verification import (
     line_statistic,
     validate_campaign,
 )
-from tests.validation.rig_campaigns import RigPhysics, generate, write_csv
+from support.rig_campaigns import RigPhysics, generate, write_csv
 
 LEVEL = 0.05
 

@@ -419,7 +419,7 @@ def test_a_setup_passed_as_the_rig_gets_a_hint(campaign_csv) -> None:
 @pytest.mark.slow
 def test_one_exclusion_pattern_is_one_pattern(tmp_path) -> None:
     """exclude='plate' leaves out the plate, not bodies matching the letters p, l, a, t, e."""
-    from tests.cad.stepfixtures import Assembly, Part, write_step
+    from support.stepfixtures import Assembly, Part, write_step
 
     top = Assembly("sat")
     top.add(Part("box", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))]))
@@ -511,7 +511,7 @@ def test_a_campaign_that_cannot_write_its_swings_writes_nothing(tmp_path) -> Non
 
 
 def test_setup_init_is_what_the_command_drafts(tmp_path, capsys) -> None:
-    from tests.cad.stepfixtures import Assembly, Part, write_step
+    from support.stepfixtures import Assembly, Part, write_step
 
     top = Assembly("sat")
     top.add(Part("frame", [((100.0, 100.0, 5.0), (0.0, 0.0, 0.0))], 2700.0, "Aluminum 6061"))

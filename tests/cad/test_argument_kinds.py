@@ -12,8 +12,7 @@ from cadcog.core.arguments import check_choice, check_text
 from cadcog.core.errors import CadcogError
 from cadcog.mass.inertia import Frame
 from cadcog.mass.materials import MaterialMap
-
-from .stepfixtures import Assembly, Part, write_step
+from support.stepfixtures import Assembly, Part, write_step
 
 
 def test_an_unknown_overlap_policy_is_a_user_error(tmp_path):

@@ -14,7 +14,7 @@ from cadcog.cad.modelfile import load_model
 from cadcog.cad.stepmass import model_mass_properties
 from cadcog.cad.stepread import read_step
 from cadcog.core.paramfile import TableReader, read_toml
-from tests.cad.stepfixtures import kicad_like_board, write_step
+from support.stepfixtures import kicad_like_board, write_step
 
 MATERIALS = '[materials]\n"PCB*" = 1850.0\n"*" = 3000.0\n'
 

@@ -14,7 +14,7 @@ from cadcog.cad.stepmass import model_mass_properties
 from cadcog.cad.stepread import read_step
 from cadcog.core import tolerances
 from cadcog.mass.materials import load_materials
-from tests.cad.stepfixtures import Assembly, Place, kicad_like_board, write_step
+from support.stepfixtures import Assembly, Place, kicad_like_board, write_step
 
 
 def _all_pairs(lo, hi, depth=tolerances.BOX_OVERLAP_MM):

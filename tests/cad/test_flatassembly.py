@@ -9,8 +9,7 @@ import pytest
 
 from cadcog.cad import flatassembly, stepread
 from cadcog.cad.occt import volume_properties
-
-from .stepfixtures import Assembly, Part, Place, kicad_like_board, write_step
+from support.stepfixtures import Assembly, Part, Place, kicad_like_board, write_step
 
 
 def _read(path, monkeypatch, min_siblings):

@@ -6,8 +6,7 @@ from __future__ import annotations
 from cadcog.cad import stepread
 from cadcog.cli.massprops import LOG_PROGRESS_MIN_STEPS, _log_progress
 from cadcog.core.heartbeat import heartbeat
-
-from .stepfixtures import Assembly, Part, write_step
+from support.stepfixtures import Assembly, Part, write_step
 
 
 def test_a_large_file_announces_each_phase_before_occt_starts(tmp_path, monkeypatch, capfd):

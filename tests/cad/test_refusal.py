@@ -15,7 +15,7 @@ from cadcog.cad.stepmass import model_mass_properties
 from cadcog.cad.stepread import read_step
 from cadcog.cli import main
 from cadcog.mass.materials import MaterialMap
-from tests.cad.stepfixtures import Assembly, Part, kicad_like_board, write_step
+from support.stepfixtures import Assembly, Part, kicad_like_board, write_step
 
 
 def _bits(result) -> str:

@@ -16,7 +16,7 @@ from cadcog.cad.stepread import read_step
 from cadcog.core.errors import CadcogError, ParameterFileError
 from cadcog.mass.materials import LIBRARY, MaterialMap, load_materials
 from cadcog.mass.properties import box_properties, combine
-from tests.cad.stepfixtures import (
+from support.stepfixtures import (
     Assembly,
     Part,
     Place,

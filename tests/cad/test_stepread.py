@@ -22,7 +22,7 @@ from cadcog.cad.occt import volume_properties
 from cadcog.cad.stepread import read_step
 from cadcog.core.errors import CadcogError
 from cadcog.mass.properties import combine
-from tests.cad.stepfixtures import (
+from support.stepfixtures import (
     Assembly,
     Part,
     Place,

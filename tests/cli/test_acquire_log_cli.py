@@ -1,5 +1,5 @@
 """``cadcog acquire --log`` and an accelerometer recorded from ``--port``, end to end, on logs from
-the independent forward model :mod:`tests.bench.phone_logs` (no cadcog code in it)."""
+the independent forward model :mod:`support.phone_logs` (no cadcog code in it)."""
 
 from __future__ import annotations
 
@@ -16,8 +16,8 @@ from scipy import stats
 
 from cadcog.bench.protocol import ACCEL_EXAMPLE, format_header, format_sample
 from cadcog.cli import main
-from tests.bench import phone_logs as pl
-from tests.rigtools import paper_rig_dict, write_rig
+from support import phone_logs as pl
+from support.rigtools import package_rig, paper_rig_dict, write_rig
 
 CHI2_95 = float(stats.chi2.ppf(0.95, 3))
 
@@ -35,27 +35,13 @@ def _phone_rig(folder: Path, axes: tuple[str, str, str], **figures: float) -> Pa
     return write_rig(folder / "phone_rig.toml", data)
 
 
-def _played(spec: pl.LogSpec, seed: int) -> pl.LogSpec:
-    """The paper's 1 mm square of play at each wire exit, drawn per hang (the rig's points
-    stay where the readings say): the generator itself has none."""
-    rng = np.random.default_rng([seed, 7])
-    hangs = []
-    for h in spec.hangs:
-        p = np.asarray(h.point_mm)
-        n = np.zeros(3)
-        k = int(np.argmax(np.concatenate([p - [200.0, 75.0, 78.0], -p])))
-        n[k % 3] = 1.0
-        hangs.append(replace(h, point_mm=tuple(p + rng.uniform(-0.5, 0.5, 3) * (1 - n))))
-    return replace(spec, hangs=tuple(hangs))
-
-
 @pytest.fixture(scope="module")
 def logs(tmp_path_factory):
     """16 phone logs of the paper rig (and one with a knock, one with a hang that never
     settles), written as phyphox exports them."""
     folder = tmp_path_factory.mktemp("logs")
     seeds = list(range(3400, 3416))
-    specs = [_played(pl.scenario("paper_rig", "phone"), s) for s in seeds]
+    specs = [pl.with_play(pl.scenario("paper_rig", "phone"), "paper_rig", s) for s in seeds]
     base = specs[0]
     knocked = list(base.hangs)
     knocked[2] = replace(knocked[2], knock_after_s=knocked[2].average_s / 2)
@@ -385,25 +371,23 @@ MPU_PACKAGE = (0.176, (101.6, 37.5, 112.2), (68.6, 53.4, 60.0))
 
 
 def _mpu_rig(folder: Path, spec: pl.LogSpec) -> Path:
-    """The paper rig read by the MPU-6050 board: its package as the ME (on a 0.1 g spacer down
-    to the top face), the generator's declared figures, and a ``[swing]`` table."""
-    data = paper_rig_dict()
+    """The paper rig read by the MPU-6050 board: its package as the ME, the generator's
+    declared figures, and a ``[swing]`` table."""
     s = spec.sensor
-    data["inclinometer"] = {
-        "device": "accelerometer", "axes": list(s.axes), "offset_g": 0.08,
-        "scale_error_rel": s.scale_rel, "cross_axis_rel": s.cross_axis_rel,
-        "mounting_misalignment_deg": s.misalignment_deg,
-    }  # fmt: skip
-    mass, centre, size = MPU_PACKAGE
-    gap = centre[2] - size[2] / 2 - 78.0
-    data["measurement_equipment"]["volumes"] = [
-        {"name": "mpu6050_accelerometer", "size_mm": list(size), "center_mm": list(centre),
-         "mass_kg": mass, "cog_uncertainty_cube_mm": 5.0},
-        {"name": "spacer", "size_mm": [10.0, 10.0, gap], "mass_kg": 1e-4,
-         "center_mm": [centre[0], centre[1], 78.0 + gap / 2], "cog_uncertainty_cube_mm": 1.0},
-    ]  # fmt: skip
-    data["swing"] = {"wire_length_mm": 300.0, "wire_length_sigma_mm": 2.0}
-    return write_rig(folder / "mpu_rig.toml", data)
+    return package_rig(
+        folder / "mpu_rig.toml",
+        package=MPU_PACKAGE,
+        volume_name="mpu6050_accelerometer",
+        inclinometer={
+            "device": "accelerometer",
+            "axes": list(s.axes),
+            "offset_g": 0.08,
+            "scale_error_rel": s.scale_rel,
+            "cross_axis_rel": s.cross_axis_rel,
+            "mounting_misalignment_deg": s.misalignment_deg,
+        },
+        swing={"wire_length_mm": 300.0, "wire_length_sigma_mm": 2.0},
+    )
 
 
 @pytest.fixture(scope="module")
@@ -411,7 +395,7 @@ def swing_log(tmp_path_factory):
     """One MPU-6050 log of the paper rig left to swing (decay 12 s, released at 4-6°) and the
     rig that describes it."""
     folder = tmp_path_factory.mktemp("swing_log")
-    spec = _played(pl.scenario("paper_rig", "mpu6050"), 3434)
+    spec = pl.with_play(pl.scenario("paper_rig", "mpu6050"), "paper_rig", 3434)
     rng = np.random.default_rng(3434)
     hangs = []
     for h in spec.hangs:

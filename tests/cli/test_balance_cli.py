@@ -12,7 +12,7 @@ import pytest
 import cadcog
 from cadcog.cli import main
 from cadcog.rig.file import default_rig_path
-from tests.cad.stepfixtures import Assembly, Part, write_step
+from support.stepfixtures import Assembly, Part, write_step
 
 PARTS = default_rig_path().parent
 SETUP = PARTS / "cubesat_3u_setup.toml"

@@ -97,7 +97,7 @@ def test_bad_requirements_are_refused_with_exit_2(tmp_path, capsys, edit, messag
 
 
 def test_strict_makes_a_note_about_the_model_an_error(tmp_path, capsys):
-    from tests.cad.stepfixtures import Assembly, Part, square_face, write_step
+    from support.stepfixtures import Assembly, Part, square_face, write_step
 
     top = Assembly("top")
     top.add(Part("box", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))], 2700.0, "Al"))
@@ -116,7 +116,7 @@ def test_near_equal_moments_can_be_declared_so_for_the_axes_requirement(tmp_path
     """A near-cubic body (moments within a few %) whose principal axes a small off-centre
     mass turns far from the frame: the axes requirement fails as stated, and holds once
     moments within 10 % count as equal (the axes of equal moments are not defined)."""
-    from tests.cad.stepfixtures import Assembly, Part, write_step
+    from support.stepfixtures import Assembly, Part, write_step
 
     top = Assembly("cube")
     top.add(Part("body", [((100.0, 100.0, 104.0), (-50.0, -50.0, -52.0))], 2700.0, "Al"))

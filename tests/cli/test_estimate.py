@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from cadcog.cli import main
-from tests.rigtools import ideal_rows, paper_rig_dict, write_csv, write_rig
+from support.rigtools import ideal_rows, paper_rig_dict, write_csv, write_rig
 
 
 def _run_json(capsys, *argv):

@@ -15,7 +15,7 @@ import pytest
 import cadcog
 from cadcog.cad import stepmass, stepread
 from cadcog.cli import main
-from tests.cad.stepfixtures import Assembly, Part, nested_three_levels, write_step
+from support.stepfixtures import Assembly, Part, nested_three_levels, write_step
 
 MATERIALS = '[materials]\n"*" = 1000.0\n[mass_uncertainty]\n"*" = 0.05\n'
 
@@ -202,7 +202,7 @@ def _multi_file_assembly(folder: Path, length_mm: float) -> Path:
     from OCP.XCAFApp import XCAFApp_Application
     from OCP.XCAFDoc import XCAFDoc_DocumentTool
 
-    from tests.cad.stepfixtures import _name
+    from support.stepfixtures import _name
 
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
     XCAFApp_Application.GetApplication_s().InitDocument(doc)

@@ -10,7 +10,7 @@ import pytest
 from cadcog.cli import main
 from cadcog.core.numformat import sig
 from cadcog.mass.properties import combine
-from tests.cad.stepfixtures import (
+from support.stepfixtures import (
     Assembly,
     Part,
     Place,

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from cadcog.cli import main
-from tests.rigtools import paper_rig_dict, write_rig
+from support.rigtools import paper_rig_dict, write_rig
 
 
 def test_budget_json(capsys):

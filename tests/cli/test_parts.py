@@ -11,7 +11,7 @@ pytest.importorskip("build123d")
 
 from cadcog.cad.build import GROUND_TRUTH_FILE, STEP_FILE
 from cadcog.cli import main
-from tests.rigtools import paper_rig_dict, write_rig
+from support.rigtools import paper_rig_dict, write_rig
 
 
 def _digest(path) -> str:

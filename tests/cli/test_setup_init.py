@@ -11,7 +11,7 @@ import pytest
 from cadcog.cli import main
 from cadcog.mass.materials import load_materials
 from cadcog.spacecraft.setup_draft import guess_form_factor
-from tests.cad.stepfixtures import Assembly, Part, Place, write_step
+from support.stepfixtures import Assembly, Part, Place, write_step
 
 
 @pytest.fixture(scope="module")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 
 from cadcog.cli import main
-from tests.rigtools import write_csv
+from support.rigtools import write_csv
 
 
 def test_campaign_then_validate(tmp_path, capsys):

@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.inertia import estimator_runs as er
-from tests.inertia import swing_files as sf
+from support import estimator_runs as er
+from support import swing_files as sf
 
 ROOT = Path(__file__).resolve().parents[2]
 RIG = ROOT / "parts" / "paper_rig.toml"

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from scipy.stats import norm
 
-from tests.inertia import swing_files as sf
-from tests.inertia import swing_truth as st
+from support import swing_files as sf
+from support import swing_truth as st
 
 ROOT = Path(__file__).resolve().parents[2]
 RIG = ROOT / "parts" / "paper_rig.toml"

@@ -8,7 +8,7 @@ import pytest
 from cadcog.core.errors import ReadingsError
 from cadcog.method.readings import read_readings
 from cadcog.rig.inclinometer import InclinometerConfig
-from tests.rigtools import HEADER, write_csv
+from support.rigtools import HEADER, write_csv
 
 ROWS = [
     "S1,0,0,100,10.0,5.0,true",

@@ -192,7 +192,7 @@ def test_a_wild_hang_under_wide_figures_gives_finite_verdicts_and_says_so(tmp_pa
     import json
 
     from cadcog.cli import main
-    from tests.rigtools import paper_rig_dict, write_csv, write_rig
+    from support.rigtools import paper_rig_dict, write_csv, write_rig
 
     data = paper_rig_dict()
     data["inclinometer"].update(offset_deg=5.0, scale_error_rel=0.2, mounting_misalignment_deg=10.0)

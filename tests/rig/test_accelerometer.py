@@ -19,7 +19,7 @@ from cadcog.rig.accelerometer import (
     axes_problem,
 )
 from cadcog.rig.file import load_rig
-from tests.rigtools import paper_rig_dict, write_rig
+from support.rigtools import paper_rig_dict, write_rig
 
 SIGNED = [s + a for s in "+-" for a in "xyz"]
 ALL_AXES = [

@@ -10,7 +10,7 @@ import pytest
 
 from cadcog.core.errors import ParameterFileError
 from cadcog.rig.file import default_rig_path, load_rig
-from tests.rigtools import paper_rig_dict, write_rig
+from support.rigtools import paper_rig_dict, write_rig
 
 MISSING = "missing required key"
 UNKNOWN = "unknown key"

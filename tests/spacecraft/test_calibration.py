@@ -2,7 +2,7 @@
 the spacecraft is not its CAD?
 
 The example 3U CubeSat's test on the plan's four recommended hangs is simulated by the
-independent forward model (:mod:`tests.spacecraft.forward_model`) for the eight scenarios of
+independent forward model (:mod:`support.forward_model`) for the eight scenarios of
 ``forward_model.SCENARIOS``, ``SEEDS`` campaigns each, with a fixed seed. Every rate is checked
 with a tolerance from binomial noise: the two-sided 95 % Clopper-Pearson interval of the observed
 rate must reach into the target band. The full table (with the power: ``differs``,
@@ -24,7 +24,7 @@ import pytest
 from scipy import stats
 
 import cadcog
-from tests.spacecraft import forward_model as fm
+from support import forward_model as fm
 
 SETUP = Path(__file__).resolve().parents[2] / "parts" / "cubesat_3u_setup.toml"
 #: Campaigns per scenario in the suite (the suite's time budget); the docs' table is the

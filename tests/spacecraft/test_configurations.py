@@ -12,7 +12,7 @@ import pytest
 from cadcog.cli import main
 from cadcog.mass.properties import box_properties
 from cadcog.spacecraft.configurations import rotation_about
-from tests.cad.stepfixtures import Assembly, Part, Place, rotation, write_step
+from support.stepfixtures import Assembly, Part, Place, rotation, write_step
 
 HINGE = np.array([50.0, 0.0, -60.0])  # the panel's lower outer edge, along y
 

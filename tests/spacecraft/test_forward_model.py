@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import cadcog
-from tests.spacecraft import forward_model as fm
+from support import forward_model as fm
 
 SETUP = Path(__file__).resolve().parents[2] / "parts" / "cubesat_3u_setup.toml"
 IDEAL: frozenset[str] = frozenset()

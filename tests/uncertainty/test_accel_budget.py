@@ -19,7 +19,7 @@ from cadcog.rig.file import load_rig
 from cadcog.rig.inclinometer import InclinometerConfig
 from cadcog.uncertainty.accel_budget import Hangs, grow, predict, q95_mm
 from cadcog.uncertainty.trials import Scenario
-from tests.rigtools import paper_rig_dict, write_rig
+from support.rigtools import paper_rig_dict, write_rig
 
 PHONE = {"offset_g": 0.02, "scale_error_rel": 0.01, "mounting_misalignment_deg": 1.0}
 

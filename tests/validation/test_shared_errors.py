@@ -1,6 +1,6 @@
 """What a rig shares across its hangs, against truth that is not cadcog's model (issue 31).
 
-Campaigns from the independent generator (:mod:`tests.validation.rig_campaigns`): one wire for
+Campaigns from the independent generator (:mod:`support.rig_campaigns`): one wire for
 the campaign (an ideal string, or a stiff wire whose elastica is integrated numerically) and one
 sensor (offsets ±0.3°, sensitivities ±1 %, mounting within 0.5°, drawn once per campaign), the
 readings written as ADC counts and read back by the command's reader. With the sensor's figures
@@ -22,7 +22,7 @@ from scipy import stats
 from cadcog.method.estimate import estimate_for_rig
 from cadcog.method.readings import read_readings
 from cadcog.rig.file import default_rig_path
-from tests.validation.rig_campaigns import RigPhysics, generate, write_csv
+from support.rig_campaigns import RigPhysics, generate, write_csv
 
 N = 120
 FIGURES = {"offset_deg": 0.3, "scale_error_rel": 0.01, "mounting_misalignment_deg": 0.5}

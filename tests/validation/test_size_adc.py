@@ -1,5 +1,5 @@
 """`cadcog validate`'s verdict holds its stated 5 % on null campaigns from an independent
-generator (:mod:`tests.validation.rig_campaigns`) that quantises every sample with the 10-bit ADC
+generator (:mod:`support.rig_campaigns`) that quantises every sample with the 10-bit ADC
 (noise 0.05° against a 0.146° step: partial dither), read back from CSV files as the command reads
 them. The slow study is ``benchmarks/study_validation_adc.py``; here a fixed-seed subset."""
 
@@ -13,7 +13,7 @@ from cadcog.method.readings import read_readings
 from cadcog.rig.file import default_rig_path
 from cadcog.uncertainty.montecarlo import Scenario
 from cadcog.validation.verification import clopper_pearson, validate_campaign
-from tests.validation.rig_campaigns import RigPhysics, generate, write_csv
+from support.rig_campaigns import RigPhysics, generate, write_csv
 
 LEVEL = 0.05
 

@@ -62,6 +62,47 @@ def write_rig(path: Path, data: dict[str, Any]) -> Path:
     return path
 
 
+#: The paper rig's top face (mm): a sensor package resting above it sits on a spacer.
+PAPER_TOP_Z_MM = 78.0
+
+
+def package_rig(
+    path: Path,
+    *,
+    package: tuple[float, tuple[float, float, float], tuple[float, float, float]],
+    volume_name: str,
+    inclinometer: dict[str, Any],
+    swing: dict[str, Any],
+    points: tuple[int, ...] | None = None,
+) -> Path:
+    """The paper rig read by a sensor package laid on it, written to ``path``.
+
+    ``package`` is the package's mass (kg), centre and size (mm); it is the rig's whole ME (one
+    volume named ``volume_name``), on a 0.1 g spacer down to the top face when it does not rest
+    on it. ``inclinometer`` and ``swing`` are the rig's tables of those names; ``points`` the
+    indices of the suspension points kept (all six by default).
+    """
+    data = paper_rig_dict()
+    data["inclinometer"] = dict(inclinometer)
+    mass, centre, size = package
+    volumes: list[dict[str, Any]] = [
+        {"name": volume_name, "size_mm": list(size), "center_mm": list(centre),
+         "mass_kg": mass, "cog_uncertainty_cube_mm": 5.0},
+    ]  # fmt: skip
+    gap = centre[2] - size[2] / 2 - PAPER_TOP_Z_MM
+    if gap > 1e-6:
+        volumes.append(
+            {"name": "spacer", "size_mm": [10.0, 10.0, gap],
+             "center_mm": [centre[0], centre[1], PAPER_TOP_Z_MM + gap / 2], "mass_kg": 1e-4,
+             "cog_uncertainty_cube_mm": 1.0}
+        )  # fmt: skip
+    data["measurement_equipment"]["volumes"] = volumes
+    if points is not None:
+        data["suspension_points"] = [data["suspension_points"][i] for i in points]
+    data["swing"] = dict(swing)
+    return write_rig(path, data)
+
+
 HEADER = "point_id,x_mm,y_mm,z_mm,inc_x_deg,inc_y_deg,top_face_up"
 
 

@@ -1,7 +1,7 @@
 """Independent forward model of a phone's (or a MEMS board's) accelerometer log of a whole CoG test.
 
 It shares no code and no assumption with cadcog's estimator and imports nothing from ``cadcog``:
-numpy, scipy and the independent rigid-body simulator :mod:`tests.inertia.swing_truth` only.
+numpy, scipy and the independent rigid-body simulator :mod:`support.swing_truth` only.
 
 The test, as one continuous log
 -------------------------------
@@ -59,7 +59,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy.spatial.transform import Rotation
 
-from tests.inertia import swing_truth as st
+from support import swing_truth as st
 
 FloatArray = npt.NDArray[np.float64]
 G_M_S2 = st.GRAVITY_M_S2  # standard gravity; Android's SensorManager.STANDARD_GRAVITY too
@@ -647,11 +647,41 @@ def scenario(name: str, sensor: str = "phone", **hang_overrides: object) -> LogS
     return LogSpec(body, hangs, replace(SENSORS[sensor], position_mm=pos, axes=axes))
 
 
+#: The body's box in each scenario (mm), from the origin: a point's face is the side it lies
+#: outside of.
+BOXES_MM = {"paper_rig": (200.0, 75.0, 78.0), "cubesat_3u": (100.0, 100.0, 340.5)}
+
+
+def face_normal(point_mm: npt.ArrayLike, box_mm: tuple[float, float, float]) -> FloatArray:
+    """The outward normal of the box face a wire exit sits above."""
+    p = np.asarray(point_mm, dtype=float)
+    out_of = np.concatenate([p - np.asarray(box_mm), -p])  # how far outside each face
+    k = int(np.argmax(out_of))
+    n = np.zeros(3)
+    n[k % 3] = 1.0 if k < 3 else -1.0
+    return n
+
+
+def with_play(spec: LogSpec, name: str, seed: int, play_mm: float = 1.0) -> LogSpec:
+    """Each hang's wire exit moved within the bolt hole's play: uniform in a square of edge
+    ``play_mm`` in the plane of its face (the paper's 1 mm), drawn per hang from
+    ``default_rng([seed, 7])`` (the generator itself has none; the rig's points stay where
+    the readings say)."""
+    rng = np.random.default_rng([seed, 7])
+    hangs = []
+    for h in spec.hangs:
+        p = np.asarray(h.point_mm, dtype=float)
+        n = face_normal(p, BOXES_MM[name])
+        shift = rng.uniform(-0.5 * play_mm, 0.5 * play_mm, 3) * (1.0 - np.abs(n))
+        hangs.append(replace(h, point_mm=tuple((p + shift).tolist())))
+    return replace(spec, hangs=tuple(hangs))
+
+
 def main(argv: list[str] | None = None) -> int:
-    """``python -m tests.bench.phone_logs --seed N --out DIR [--scenario NAME] [--sensor KIND]
+    """``python -m support.phone_logs --seed N --out DIR [--scenario NAME] [--sensor KIND]
     [--knock HANG] [--never-settles HANG] [--handling-s S]``: writes ``DIR/Raw Data.csv`` (phyphox
     format), ``DIR/log.csv`` (``t_s,ax,ay,az``) and ``DIR/truth.json``. Hangs count from 1."""
-    ap = argparse.ArgumentParser(prog="python -m tests.bench.phone_logs", description=main.__doc__)
+    ap = argparse.ArgumentParser(prog="python -m support.phone_logs", description=main.__doc__)
     ap.add_argument("--seed", type=int, required=True)
     ap.add_argument("--out", type=Path, required=True)
     ap.add_argument("--scenario", default="paper_rig", choices=["paper_rig", "cubesat_3u"])

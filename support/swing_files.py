@@ -2,7 +2,7 @@
 
 Inputs come through cadcog's own readers only (a rig file's closed-form mass properties, a
 set-up's CAD mass properties and placed measurement equipment, the inclinometer's ADC model);
-the physics is :mod:`tests.inertia.swing_truth`'s. One *campaign* is a set of hangs of one
+the physics is :mod:`support.swing_truth`'s. One *campaign* is a set of hangs of one
 hung body, each released, recorded and let settle:
 
 - **release** (lab frame): the rest pose rotated about the clamp by a horizontal angle
@@ -20,7 +20,7 @@ hung body, each released, recorded and let settle:
   wire: one free length ``N(L, σ_L)`` for all its hangs, and its hinge on the body at the exit
   itself (an ideal string turns there) or, for a stiff wire of ``bending_stiffness_n_mm2``
   under the hung weight, where its straight part's line meets the bolt axis, found by
-  integrating the elastica numerically (:func:`tests.validation.rig_campaigns.
+  integrating the elastica numerically (:func:`support.rig_campaigns.
   elastica_virtual_offset_mm`, written without cadcog's wire model); the play stays per hang;
 - **sensor** (the rig's ``[inclinometer]`` and ``[error_model]``): the true angle
   ``asin(f_x/|f|)`` (:func:`swing_truth.inclinations_deg`), saturated at ±``range_deg``, plus a
@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 import numpy.typing as npt
 
-from tests.inertia import swing_truth as st
+from support import swing_truth as st
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -346,7 +346,7 @@ def simulate_campaigns(
 def swing_text(campaign: Sequence[HangRecord]) -> str:
     """The swing file: ``point_id,t_s,inc_x_deg,inc_y_deg``, each hang's rows contiguous."""
     lines = [
-        "# simulated swing (tests/inertia/swing_truth.py): device clock in s, device degrees",
+        "# simulated swing (support/swing_truth.py): device clock in s, device degrees",
         "point_id,t_s,inc_x_deg,inc_y_deg",
     ]
     for h in campaign:
@@ -377,7 +377,7 @@ def _stiff_offset_mm(truth: Truth, exit_mm: FloatArray, n: FloatArray, cfg: Swin
     EI under the hung weight, integrated numerically, at this hang's equilibrium angle."""
     import math
 
-    from tests.validation.rig_campaigns import elastica_virtual_offset_mm
+    from support.rig_campaigns import elastica_virtual_offset_mm
 
     g = truth.body.cog_mm
     lam = math.sqrt(cfg.bending_stiffness_n_mm2 / (truth.body.mass_kg * 9.80665))

@@ -1,7 +1,7 @@
 """Independent truth for issue 20: the full nonlinear swing of a rigid body hung by a wire.
 
 This is *not* the estimator's model (``cadcog inertia`` linearises a double pendulum); it shares
-no physics code with ``cadcog`` (only input readers, in :mod:`tests.inertia.swing_files`).
+no physics code with ``cadcog`` (only input readers, in :mod:`support.swing_files`).
 
 Model
 -----

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from tests.inertia import swing_files as sf
+from support import swing_files as sf
 
 
 def estimator_available() -> bool:
