@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from cadcog.cad import cache
+from cadcog.cad import cachestore
 from cadcog.core.jsontext import dumps_json
 
 
@@ -19,7 +19,7 @@ def add_parser(sub: Any) -> None:
         "no CAD. This shows its folder "
         "(CADCOG_CACHE_DIR, else XDG_CACHE_HOME/cadcog, else ~/.cache/cadcog), whether it is "
         f"on (CADCOG_NO_CACHE=1 turns it off), its entries and size (at most "
-        f"{cache.MAX_BYTES / 1e9:g} GB: the entries used least recently go first). "
+        f"{cachestore.MAX_BYTES / 1e9:g} GB: the entries used least recently go first). "
         "See docs/performance.md.",
     )
     p.add_argument(
@@ -33,16 +33,16 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    folder, chosen_by = cache.where()
-    cleared = cache.clear(folder) if args.clear else None
-    n, size = cache.usage(folder)
+    folder, chosen_by = cachestore.where()
+    cleared = cachestore.clear(folder) if args.clear else None
+    n, size = cachestore.usage(folder)
     data: dict[str, Any] = {
         "folder": str(folder),
         "chosen_by": chosen_by,
-        "enabled": not cache.turned_off(),
+        "enabled": not cachestore.turned_off(),
         "entries": n,
         "size_bytes": size,
-        "max_bytes": cache.MAX_BYTES,
+        "max_bytes": cachestore.MAX_BYTES,
     }
     if cleared is not None:
         data["cleared_entries"], data["cleared_bytes"] = cleared
@@ -54,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
     print("state: " + ("on" if data["enabled"] else "off (CADCOG_NO_CACHE is set)"))
     if cleared is not None:
         print(f"cleared: {cleared[0]} entries, {_mb(cleared[1])}")
-    print(f"entries: {n}, {_mb(size)} (at most {_mb(cache.MAX_BYTES)})")
+    print(f"entries: {n}, {_mb(size)} (at most {_mb(cachestore.MAX_BYTES)})")
     return 0
 
 

@@ -149,10 +149,10 @@ def rig_parts(
     base64) under :func:`parts_cache_key`: a second run on an unchanged rig writes the same
     bytes and returns the same ground truth, to the last bit, without importing build123d.
     """
-    from cadcog.cad import cache
+    from cadcog.cad import cachestore
 
     entry = parts_cache_key(rig)
-    hit = _parts_entry(cache.load_data(entry))
+    hit = _parts_entry(cachestore.load_data(entry))
     if hit is not None:
         log("CAD parts and their ground truth (from the cache: unchanged rig)")
         truth, files = hit
@@ -172,7 +172,7 @@ def rig_parts(
             for p in built.files
         },
     }
-    cache.store_data(entry, stored)
+    cachestore.store_data(entry, stored)
     return built.ground_truth
 
 

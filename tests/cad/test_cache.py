@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from cadcog.cad import cache, modelfile
+from cadcog.cad import cache, cachestore, modelfile
 from cadcog.cad.massresults import from_data, to_data
 from cadcog.cad.modelfile import load_model
 from cadcog.cad.stepmass import model_mass_properties
@@ -53,7 +53,7 @@ def test_the_data_form_gives_back_the_result_to_the_last_bit(setup_file):
 
 def test_a_second_load_is_read_from_the_cache_and_equal(setup_file, monkeypatch):
     first = _load(setup_file)
-    folder = cache.cache_dir()
+    folder = cachestore.cache_dir()
     assert folder is not None and len(list(folder.glob("*.json"))) == 1
     monkeypatch.setattr(modelfile, "_read", lambda *a: pytest.fail("read again"))
     second = _load(setup_file)
@@ -78,7 +78,7 @@ def test_any_change_of_an_input_is_computed_afresh(setup_file, change):
 
 def test_a_damaged_entry_is_recomputed(setup_file):
     first = _load(setup_file)
-    folder = cache.cache_dir()
+    folder = cachestore.cache_dir()
     assert folder is not None
     (entry,) = folder.glob("*.json")
     entry.write_text('{"format": 1, "result": {"total": [1.0]}}', encoding="utf-8")
@@ -111,7 +111,7 @@ def test_an_entry_that_is_not_this_keys_result_is_never_read(setup_file, tmp_pat
     import os
 
     first = _load(setup_file)
-    folder = cache.cache_dir()
+    folder = cachestore.cache_dir()
     (entry,) = folder.glob("*.json")
     text = entry.read_text(encoding="utf-8")
     mass = repr(first.total.mass_kg)
@@ -138,15 +138,15 @@ def test_the_cache_follows_the_environment(setup_file, monkeypatch, tmp_path):
     assert len(list((tmp_path / "elsewhere").glob("*.json"))) == 1
     monkeypatch.setenv("CADCOG_NO_CACHE", "1")
     monkeypatch.setenv("CADCOG_CACHE_DIR", str(tmp_path / "off"))
-    assert cache.cache_dir() is None
+    assert cachestore.cache_dir() is None
     _load(setup_file)
     assert not (tmp_path / "off").exists()
     monkeypatch.delenv("CADCOG_NO_CACHE")
     monkeypatch.delenv("CADCOG_CACHE_DIR")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
-    assert cache.cache_dir() == tmp_path / "xdg" / "cadcog"
+    assert cachestore.cache_dir() == tmp_path / "xdg" / "cadcog"
     monkeypatch.setenv("XDG_CACHE_HOME", "relative/ignored")  # the spec: absolute paths only
-    assert cache.cache_dir() == cache.Path.home() / ".cache" / "cadcog"
+    assert cachestore.cache_dir() == cachestore.Path.home() / ".cache" / "cadcog"
 
 
 def test_an_unwritable_cache_changes_nothing(setup_file, monkeypatch, tmp_path):
@@ -212,7 +212,7 @@ def test_trimming_deletes_the_entries_used_least_recently_and_nothing_else(tmp_p
     (tmp_path / ".entry-abc.tmp").write_bytes(b"z")  # a killed writer's, long ago
     os.utime(tmp_path / ".entry-abc.tmp", (1e9, 1e9))
     (tmp_path / ".entry-new.tmp").write_bytes(b"z")  # another process writing now
-    cache.trim(tmp_path, keep=names[4], max_bytes=250)
+    cachestore.trim(tmp_path, keep=names[4], max_bytes=250)
     left = sorted(p.name for p in tmp_path.iterdir())
     assert left == sorted([names[0], names[4], "notes.json", ".entry-new.tmp"])
 
@@ -221,18 +221,18 @@ def test_a_hit_marks_its_entry_used_so_trimming_spares_it(monkeypatch, tmp_path)
     import os
 
     monkeypatch.setenv("CADCOG_CACHE_DIR", str(tmp_path))
-    cache.store_data("a" * 64, {"v": 1})
-    cache.store_data("b" * 64, {"v": 2})
+    cachestore.store_data("a" * 64, {"v": 1})
+    cachestore.store_data("b" * 64, {"v": 2})
     os.utime(tmp_path / f"{'a' * 64}.json", (1e9, 1e9))
     os.utime(tmp_path / f"{'b' * 64}.json", (1e9 + 1, 1e9 + 1))
-    assert cache.load_data("a" * 64) == {"v": 1}  # now the most recently used
-    cache.trim(tmp_path, max_bytes=(tmp_path / f"{'a' * 64}.json").stat().st_size)
+    assert cachestore.load_data("a" * 64) == {"v": 1}  # now the most recently used
+    cachestore.trim(tmp_path, max_bytes=(tmp_path / f"{'a' * 64}.json").stat().st_size)
     assert [p.name for p in tmp_path.iterdir()] == [f"{'a' * 64}.json"]
 
 
 def test_clear_removes_a_linked_entry_and_never_its_target(setup_file, tmp_path):
     first = _load(setup_file)
-    folder = cache.cache_dir()
+    folder = cachestore.cache_dir()
     (entry,) = folder.glob("*.json")
     target = tmp_path / "outside.json"
     target.write_bytes(entry.read_bytes())
@@ -245,5 +245,5 @@ def test_clear_removes_a_linked_entry_and_never_its_target(setup_file, tmp_path)
     assert not entry.is_symlink()
     entry.unlink()
     entry.symlink_to(target)
-    n, _ = cache.clear(folder)
+    n, _ = cachestore.clear(folder)
     assert n == 1 and not entry.is_symlink() and not entry.exists() and target.is_file()

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from cadcog.cad import cache
+from cadcog.cad import cachestore
 from cadcog.cli import main
 
 
@@ -26,8 +26,8 @@ def test_it_counts_what_the_cache_holds_and_clears_only_entries(tmp_path, monkey
     empty = _json(capsys, ["cache", "--json"])
     assert empty["folder"] == str(folder) and empty["chosen_by"] == "CADCOG_CACHE_DIR"
     assert (empty["entries"], empty["size_bytes"], empty["enabled"]) == (0, 0, True)
-    cache.store_data("a" * 64, {"v": list(range(100))})
-    cache.store_data("b" * 64, {"v": 1})
+    cachestore.store_data("a" * 64, {"v": list(range(100))})
+    cachestore.store_data("b" * 64, {"v": 1})
     (folder / "mine.json").write_text("{}", encoding="utf-8")  # not cadcog's
     sizes = sum((folder / f"{c * 64}.json").stat().st_size for c in "ab")
     held = _json(capsys, ["cache", "--json"])
@@ -63,12 +63,12 @@ def test_the_folder_follows_the_environment(env, expected, chosen_by, tmp_path, 
     )
     how = "the default" if chosen_by == "default" else f"from {chosen_by}"
     assert run.stdout.splitlines()[0] == f"cache folder: {folder} ({how})"
-    assert cache.where() == (Path(folder), chosen_by)
+    assert cachestore.where() == (Path(folder), chosen_by)
 
 
 def test_turned_off_it_says_so_and_can_still_be_cleared(tmp_path, monkeypatch, capsys):
     folder = Path(os.environ["CADCOG_CACHE_DIR"])
-    cache.store_data("c" * 64, {"v": 3})
+    cachestore.store_data("c" * 64, {"v": 3})
     monkeypatch.setenv("CADCOG_NO_CACHE", "1")
     assert main(["cache", "--clear"]) == 0
     out = capsys.readouterr().out
@@ -77,7 +77,7 @@ def test_turned_off_it_says_so_and_can_still_be_cleared(tmp_path, monkeypatch, c
 
 
 def test_an_entry_that_cannot_be_deleted_is_named(monkeypatch, capsys):
-    cache.store_data("d" * 64, {"v": 4})
+    cachestore.store_data("d" * 64, {"v": 4})
     real = Path.unlink
 
     def refused(self, missing_ok=False):
@@ -105,7 +105,7 @@ def test_a_folder_that_cannot_be_listed_is_an_error_not_an_empty_cache(
 
 
 def test_small_sizes_read_in_kilobytes(capsys):
-    cache.store_data("e" * 64, {"v": 5})
+    cachestore.store_data("e" * 64, {"v": 5})
     assert main(["cache"]) == 0
     line = capsys.readouterr().out.splitlines()[-1]
     assert line.startswith("entries: 1, ") and " kB (at most 1000.0 MB)" in line

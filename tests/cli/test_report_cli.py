@@ -87,12 +87,12 @@ def test_the_rig_parts_come_back_from_the_cache_to_the_last_byte(paper_rig, tmp_
     from dataclasses import replace
 
     import cadcog.cad.build
-    from cadcog.cad import cache
+    from cadcog.cad import cachestore
     from cadcog.core.jsontext import dumps_json
     from cadcog.reports.rig_report import parts_cache_key, rig_parts
 
     built = rig_parts(paper_rig, tmp_path / "a")
-    folder = cache.cache_dir()
+    folder = cachestore.cache_dir()
     assert folder is not None and len(list(folder.glob("*.json"))) == 1
     real_build = cadcog.cad.build.build_parts
 
