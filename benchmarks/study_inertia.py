@@ -95,6 +95,14 @@ ROWS = {
             RIG6,
             replace(BASE, one_wire="flexible", wire_length_mm=100.0),
         ),
+        # the same short wire measured with a rule to ±0.5 mm (the rig file declares it)
+        Row(
+            "rig6h_L100_flex_rule",
+            "paper rig S1-S6, one flexible wire, L = 100 ± 0.5 mm, ≤ 10°",
+            "rig",
+            RIG6,
+            replace(BASE, one_wire="flexible", wire_length_mm=100.0, wire_length_sigma_mm=0.5),
+        ),
         Row(
             "cubesat_ih_flex",
             "3U CubeSat, plan --for inertia's 6 hangs, one flexible wire, weighed, ≤ 10°",
