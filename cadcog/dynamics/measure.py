@@ -13,8 +13,9 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import numpy.typing as npt
@@ -25,21 +26,20 @@ from cadcog.core.fittest import TEST_LEVEL, FitTest, chi2_sf
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.dynamics.context import InertiaContext, context_for_rig, context_for_setup
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
-from cadcog.dynamics.modalfit import ModalFit, fit_swing
 from cadcog.dynamics.result import (
     HangSwing,
     InertiaResult,
     bilinear_gradient,
     principal_with_sigma,
 )
-from cadcog.dynamics.swingfile import MIN_SAMPLES, Swing
+from cadcog.dynamics.swingfile import Swing
+from cadcog.dynamics.swingselect import UsedHangs, usable_swings, worst_contradiction
 from cadcog.dynamics.tensorfit import (
     ENTRIES,
     Geometry,
     Nuisances,
     SwingData,
     compensate,
-    deleted_chi2,
     direct_jacobian,
     entries,
     fit_tensor,
@@ -70,30 +70,13 @@ BUDGET_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
 )
 
 
-#: A hang's record longer than this (s) is not a swing in seconds (t_s in ms?).
-MAX_RECORD_S = 3600.0
-#: The record's median rate must exceed the highest predicted mode by this factor (Nyquist's
-#: 2, with room for the fit).
-MIN_RATE_OVER_MODE = 2.5
+#: The frequencies' χ² beyond its (1 − this) quantile is a misfit: every σ then grows by the
+#: Birge ratio √(χ²/dof) (the level of every test of fit).
+MISFIT_P = TEST_LEVEL
 
-
-def _record_problem(sw: Swing, highest_hz: float) -> str | None:
-    """Why a hang's record cannot show its modes whatever the fit: a duration that is not
-    seconds, or a rate too low for the highest mode the model predicts (or None)."""
-    duration = float(sw.t_s[-1] - sw.t_s[0])
-    if duration > MAX_RECORD_S:
-        return (
-            f"hang {sw.point_id}: its record lasts {duration:.6g} s (expected seconds: is t_s "
-            "in milliseconds?)"
-        )
-    rate = 1.0 / float(np.median(np.diff(sw.t_s)))
-    if rate < MIN_RATE_OVER_MODE * highest_hz:
-        return (
-            f"hang {sw.point_id}: sampled at {rate:.3g} Hz, too slow for its modes up to "
-            f"{highest_hz:.3g} Hz (at least {MIN_RATE_OVER_MODE * highest_hz:.3g} Hz; record at "
-            "20 samples/s or more)"
-        )
-    return None
+#: A principal moment whose 1 σ exceeds this share of its value is not determined: the result
+#: says so (the tensor is printed all the same, with its σ).
+UNDETERMINED_MOMENT_REL = 0.5
 
 
 def _pair(
@@ -161,76 +144,165 @@ def _budget(
     return tuple(sorted(((n, v / total) for n, v in parts), key=lambda t: -t[1]))
 
 
-def body_modes(fit: ModalFit, n_modes: int, point_id: str) -> ModalFit:
-    """The fit's body modes only: the two fastest of a hang (its only two on a pivot). On a
-    wire the two slow modes are the wire's own pendulum, set by its length far more than by the
-    inertia, and close enough together to be mis-fitted; they are fitted (the signal has them)
-    but not used."""
-    keep = fit.mode_index >= n_modes - 2
-    if not keep.any():
-        raise DegenerateGeometryError(
-            f"hang {point_id}: neither body mode of the swing stands out (only the wire's own "
-            "pendulum was seen): release the object with a twist of a few degrees about its "
-            "wire exit"
-        )
-    return fit.take(keep)
+@dataclass(frozen=True)
+class _Inputs:
+    """What every fit of the tensor to a set of hangs shares: the context, the CoG estimate,
+    the object's mass and σ, the ME's mass, the top clamp's hinge and σ (mm), and the tensor
+    the fit starts from (the CAD assembly's entries)."""
+
+    context: InertiaContext
+    estimate: CogEstimate
+    object_mass_kg: float
+    object_mass_sigma_kg: float
+    me_mass_kg: float
+    top_mm: float
+    top_sigma_mm: float
+    start: FloatArray
 
 
-def _weak_swings(fits: Sequence[ModalFit], pairs: Sequence[tuple[Swing, Suspension]]) -> str:
-    """What to add to a refusal when hangs showed one body mode of two: their swings were too
-    small, or released without a twist, to show both (more hangs would not help as much)."""
-    weak = [
-        sw.point_id for fit, (sw, _) in zip(fits, pairs, strict=True) if len(fit.mode_index) < 2
-    ]
-    if not weak:
-        return ""
-    return (
-        f"; hang(s) {', '.join(weak)} showed one body mode of two: release each with a swing of "
-        "3-8° and a twist of a few degrees about its wire exit, and record until it settles "
-        "(docs/bench.md)"
+class _TensorFit(NamedTuple):
+    """One fit of the assembly's tensor: the data as weighed, the nuisances, the model's
+    geometry at their values, the six entries and the fit's gain (∂p/∂f)."""
+
+    data: SwingData
+    nuis: Nuisances
+    geo: Geometry
+    p_asm: FloatArray
+    gain: FloatArray
+
+
+def _fit_tensor_to(inputs: _Inputs, used: UsedHangs) -> _TensorFit:
+    """The assembly's tensor that explains ``used``'s frequencies, in two steps: weighed by the
+    frequencies' own covariance, then by that plus what the nuisances do to the modelled
+    frequencies (efficient weights; the χ²'s reference)."""
+    ctx, est = inputs.context, inputs.estimate
+    data = swing_data(used.fits, used.records_s, ctx.swing.frequency_model_rel)
+    nuis = nuisances(
+        object_mass_kg=inputs.object_mass_kg,
+        object_mass_sigma_kg=inputs.object_mass_sigma_kg,
+        cog_mm=est.assembly_cog_mm,
+        cog_cov_mm2=est.joint.cov_mm2,
+        wire_length_mm=ctx.swing.wire_length_mm,
+        wire_length_sigma_mm=ctx.swing.wire_length_sigma_mm,
+        top_hinge_mm=inputs.top_mm,
+        top_hinge_sigma_mm=inputs.top_sigma_mm,
+        sensor_mm=ctx.sensor_mm,
+        sensor_sigma_mm=ctx.swing.sensor_position_sigma_mm,
+        exits_mm=used.pivots_mm,
+        exit_cov_mm2=used.pivot_cov_mm2,
+        me_parts=ctx.me_parts,
+        me_cog_sigma_mm=ctx.me_cog_sigma_mm,
+        me_inertia_rel=ctx.swing.me_inertia_rel,
     )
+    geo0 = hang_geometry(nuis, nuis.values, inputs.me_mass_kg, ctx.signs)
+    p_first, _ = fit_tensor(data, geo0, inputs.start)
+    m_v = model_nuisance_jacobian(p_first, data, nuis, inputs.me_mass_kg, ctx.signs)
+    data = reweighted(data, m_v, nuis.cov)
+    p_asm, gain = fit_tensor(data, geo0, p_first)
+    return _TensorFit(data, nuis, geo0, p_asm, gain)
 
 
-def _pivots_of(
-    pivots: FloatArray, pivot_cov: FloatArray, hangs: Sequence[int]
-) -> tuple[FloatArray, FloatArray]:
-    """Some hangs' pivots (k, 3) and their joint covariance (3k, 3k)."""
-    rows = np.array([3 * i + a for i in hangs for a in range(3)])
-    return pivots[list(hangs)], pivot_cov[np.ix_(rows, rows)]
+def _without_contradictions(
+    inputs: _Inputs, used: UsedHangs, state: _TensorFit
+) -> tuple[UsedHangs, _TensorFit, list[str]]:
+    """Frequencies the others contradict left out, the least likely first (a single mode or a
+    hang's whole swing: :func:`~cadcog.dynamics.swingselect.worst_contradiction`), while a
+    check remains and the others still determine the tensor; a note for each."""
+    notes: list[str] = []
+    while (worst := worst_contradiction(used.fits, state.p_asm, state.data, state.geo)) is not None:
+        hi, drop, d_chi2, p_value = worst
+        fit = used.fits[hi]
+        what = (
+            "its swing"
+            if len(drop) == len(fit.frequencies_hz)
+            else f"its mode at {fit.frequencies_hz[min(drop)]:.3f} Hz "
+            f"({fit.amplitudes_deg[min(drop)]:.2g}°)"
+        )
+        trial = used.without(hi, drop)
+        try:
+            state_t = _fit_tensor_to(inputs, trial)
+        except DegenerateGeometryError:
+            break  # the others alone do not determine the tensor: keep what was to go
+        notes.append(
+            f"hang {used.pairs[hi][0].point_id}: {what} disagrees with the other frequencies "
+            f"(the χ² falls by {d_chi2:.3g} without it, p = {p_value:.2g}): left out of the "
+            "tensor"
+        )
+        used, state = trial, state_t
+    return used, state, notes
 
 
-def _worst_contradiction(
-    fits: Sequence[ModalFit], p_asm: FloatArray, data: SwingData, geo: Geometry
-) -> tuple[int, set[int], float, float] | None:
-    """The frequencies the others contradict most, when beyond the Bonferroni threshold: their
-    hang, which of its modes, the χ² they add and its p-value; None when none is, or when no
-    check would remain (one dof and three hangs).
+def _hang_swings(used: UsedHangs, state: _TensorFit) -> tuple[HangSwing, ...]:
+    """Each used hang's frequencies, their σ, the model's at the fitted tensor, the damping
+    ratios, amplitudes and record."""
+    data, geo0 = state.data, state.geo
+    sig_all = data.per_hang(np.sqrt(np.diag(data.cov_hz2)))
+    freq_all = data.per_hang(data.frequencies_hz)
+    out = []
+    for (sw, _), fit, f, sig, h in zip(
+        used.pairs, used.fits, freq_all, sig_all, geo0.hangs, strict=True
+    ):
+        model = hang_modes(tensor(state.p_asm), geo0.mass_kg, geo0.cog_mm, h).frequencies_hz
+        omega = 2 * np.pi * fit.frequencies_hz
+        out.append(
+            HangSwing(
+                sw.point_id,
+                f,
+                sig,
+                model[fit.mode_index],
+                fit.decay_per_s / np.sqrt(omega**2 + fit.decay_per_s**2),
+                fit.amplitudes_deg,
+                len(sw.t_s),
+                sw.duration_s,
+            )
+        )
+    return tuple(out)
 
-    The candidates are every single mode and every hang's whole swing (a weak mode fitted off,
-    or a swing off as a whole: something moved), compared by the p-value of their
-    deleted-residual χ² (:func:`cadcog.dynamics.tensorfit.deleted_chi2`).
+
+def _misfit_scale(chi2: float, dof: int) -> tuple[float, list[str]]:
+    """The factor every σ of the result grows by, and a warning when the misfit is strong.
+
+    The frequencies scatter more than their σ say (the χ² beyond its 95 % quantile): the σ the
+    fit states cannot be trusted as they are. The Birge ratio √(χ²/dof) grows every σ of the
+    result to what the scatter supports; never shrinks them. (Applied below that too, as the
+    Particle Data Group does, it over-covered: 100 % where 95-98 % were covered unscaled;
+    docs/inertia_validation.md.)
     """
-    n = len(data.frequencies_hz)
-    counts = [len(f.frequencies_hz) for f in fits]
-    starts = np.cumsum([0, *counts])
-    candidates: list[tuple[tuple[int, int], ...]] = [
-        ((h, j),) for h in range(len(fits)) for j in range(counts[h])
-    ]
-    candidates += [
-        tuple((h, j) for j in range(counts[h])) for h in range(len(fits)) if counts[h] > 1
-    ]
-    candidates = [
-        c for c in candidates
-        if n - len(c) - 6 >= 1 and (len(c) < counts[c[0][0]] or len(fits) > 3)
-    ]  # fmt: skip
-    if not candidates:
-        return None
-    d = deleted_chi2(p_asm, data, geo, [[int(starts[h]) + j for h, j in c] for c in candidates])
-    pv = np.array([chi2_sf(x, len(c)) for x, c in zip(d, candidates, strict=True)])
-    best = int(np.argmin(pv))
-    if not pv[best] < MODE_OUTLIER_P / len(candidates):
-        return None
-    return candidates[best][0][0], {j for _, j in candidates[best]}, float(d[best]), float(pv[best])
+    misfit = dof > 0 and chi2_sf(chi2, dof) < MISFIT_P
+    scale = float(np.sqrt(chi2 / dof)) if misfit else 1.0
+    if dof > 0 and chi2_sf(chi2, dof) < 0.01:
+        return scale, [
+            f"the frequencies do not agree with one rigid body on a wire (χ² {chi2:.1f} for "
+            f"{dof} dof, p = {chi2_sf(chi2, dof):.2g}): every σ of the tensor is multiplied "
+            f"by √(χ²/dof) = {scale:.2f}; check the wire length, that nothing touched the "
+            "object, and each hang's residuals"
+        ]
+    return scale, []
+
+
+def _undetermined(moments: FloatArray, moment_sigmas: FloatArray) -> list[str]:
+    """A warning when a principal moment is not determined (its σ above
+    :data:`UNDETERMINED_MOMENT_REL` of it).
+
+    Raises
+    ------
+    DegenerateGeometryError
+        If a principal moment is not positive: unphysical, refused, never printed as a result.
+    """
+    listed = ", ".join(f"{m:.4g} ± {s:.2g}" for m, s in zip(moments, moment_sigmas, strict=True))
+    if np.any(moments <= 0):
+        raise DegenerateGeometryError(
+            f"the swings give a principal moment that is not positive ({listed} kg·mm²): they "
+            "do not determine the tensor (a light object under a heavy ME, a wrong weighed "
+            "mass, or too few distinct hangs: see `cadcog plan --for inertia`)"
+        )
+    if np.any(moment_sigmas > UNDETERMINED_MOMENT_REL * moments):
+        return [
+            "the swings do not determine the tensor: a principal moment came out with a 1 σ "
+            f"above half its value ({listed} kg·mm²); a light object under a heavy ME, or too "
+            "few distinct hangs: see `cadcog plan --for inertia`"
+        ]
+    return []
 
 
 def measure_inertia(
@@ -262,7 +334,6 @@ def measure_inertia(
     ctx = context
     me_mass = sum(p.mass_kg for p in ctx.me_parts)
     cad_assembly = combine([ctx.object_cad, *ctx.me_parts])
-    start = entries(cad_assembly.inertia_kg_mm2)
     weight_n = (object_mass_kg + me_mass) * STANDARD_GRAVITY_M_S2
     top, top_sigma = ctx.top_hinge_mm(weight_n)
     positions = np.array([s.position_mm for _, s in pairs], dtype=float)
@@ -273,105 +344,26 @@ def measure_inertia(
         weight_n,
         None if ws is None else (ws.scale_mm, ws.sigma_mm**2),
     )
-    fits, records, kept, dropped = [], [], [], []
-    for i, ((sw, _), pivot) in enumerate(zip(pairs, pivots, strict=True)):
-        geo = HangGeometry(pivot, ctx.sensor_mm, ctx.swing.wire_length_mm, top, *ctx.signs)
-        predicted = hang_modes(
-            cad_assembly.inertia_kg_mm2, cad_assembly.mass_kg, cad_assembly.cog_mm, geo
-        )
-        n_modes = len(predicted.frequencies_hz)
-        if len(sw.t_s) < MIN_SAMPLES:
-            dropped.append(
-                f"hang {sw.point_id}: {len(sw.t_s)} swing samples, the fit needs "
-                f"{MIN_SAMPLES} (record from the release until it settles)"
-            )
-            continue
-        record = _record_problem(sw, float(np.max(predicted.frequencies_hz)))
-        if record is not None:
-            dropped.append(record)
-            continue
-        try:  # a hang whose swing shows no body mode is left out, not the whole run
-            fit = body_modes(fit_swing(sw, predicted.frequencies_hz), n_modes, sw.point_id)
-        except DegenerateGeometryError as exc:
-            dropped.append(str(exc))
-            continue
-        fits.append(fit)
-        records.append(sw.duration_s)
-        kept.append(i)
-    if len(kept) < 3:
-        raise DegenerateGeometryError(
-            f"{len(kept)} of {len(pairs)} hangs have a body mode to use, the whole tensor needs "
-            "three: " + "; ".join(dropped)
-        )
-    if dropped:
-        pairs = [pairs[i] for i in kept]
-        pivots, pivot_cov = _pivots_of(pivots, pivot_cov, kept)
-
-    def fit_all(
-        fits: list[ModalFit], records: list[float], pivots: FloatArray, pivot_cov: FloatArray
-    ) -> tuple[SwingData, Nuisances, Geometry, FloatArray, FloatArray]:
-        data = swing_data(fits, records, ctx.swing.frequency_model_rel)
-        nuis = nuisances(
-            object_mass_kg=object_mass_kg,
-            object_mass_sigma_kg=object_mass_sigma_kg,
-            cog_mm=estimate.assembly_cog_mm,
-            cog_cov_mm2=estimate.joint.cov_mm2,
-            wire_length_mm=ctx.swing.wire_length_mm,
-            wire_length_sigma_mm=ctx.swing.wire_length_sigma_mm,
-            top_hinge_mm=top,
-            top_hinge_sigma_mm=top_sigma,
-            sensor_mm=ctx.sensor_mm,
-            sensor_sigma_mm=ctx.swing.sensor_position_sigma_mm,
-            exits_mm=pivots,
-            exit_cov_mm2=pivot_cov,
-            me_parts=ctx.me_parts,
-            me_cog_sigma_mm=ctx.me_cog_sigma_mm,
-            me_inertia_rel=ctx.swing.me_inertia_rel,
-        )
-        geo0 = hang_geometry(nuis, nuis.values, me_mass, ctx.signs)
-        # Two steps: weighed by the frequencies' own covariance, then by that plus what the
-        # nuisances do to the modelled frequencies (efficient weights; the χ²'s reference).
-        p_first, _ = fit_tensor(data, geo0, start)
-        m_v = model_nuisance_jacobian(p_first, data, nuis, me_mass, ctx.signs)
-        data = reweighted(data, m_v, nuis.cov)
-        p_asm, gain = fit_tensor(data, geo0, p_first)
-        return data, nuis, geo0, p_asm, gain
-
+    geometry = [
+        HangGeometry(pivot, ctx.sensor_mm, ctx.swing.wire_length_mm, top, *ctx.signs)
+        for pivot in pivots
+    ]
+    used, dropped = usable_swings(pairs, pivots, pivot_cov, cad_assembly, geometry)
+    inputs = _Inputs(
+        ctx,
+        estimate,
+        object_mass_kg,
+        object_mass_sigma_kg,
+        me_mass,
+        top,
+        top_sigma,
+        entries(cad_assembly.inertia_kg_mm2),
+    )
     try:
-        state = fit_all(fits, records, pivots, pivot_cov)
+        state = _fit_tensor_to(inputs, used)
     except DegenerateGeometryError as exc:
-        raise DegenerateGeometryError(f"{exc}{_weak_swings(fits, pairs)}") from None
-    mode_notes: list[str] = []
-    # Frequencies the others contradict are left out, the least likely first (a single mode or
-    # a hang's whole swing: _worst_contradiction), while a check remains.
-    while (worst := _worst_contradiction(fits, state[3], state[0], state[2])) is not None:
-        hi, drop, d_chi2, p_value = worst
-        fit = fits[hi]
-        what = (
-            "its swing"
-            if len(drop) == len(fit.frequencies_hz)
-            else f"its mode at {fit.frequencies_hz[min(drop)]:.3f} Hz "
-            f"({fit.amplitudes_deg[min(drop)]:.2g}°)"
-        )
-        note = (
-            f"hang {pairs[hi][0].point_id}: {what} disagrees with the other frequencies (the χ² "
-            f"falls by {d_chi2:.3g} without it, p = {p_value:.2g}): left out of the tensor"
-        )
-        if len(drop) == len(fit.frequencies_hz):
-            others = [i for i in range(len(fits)) if i != hi]
-            t_fits, t_records = [fits[i] for i in others], [records[i] for i in others]
-            t_pairs = [pairs[i] for i in others]
-            t_pivots, t_cov = _pivots_of(pivots, pivot_cov, others)
-        else:
-            t_fits, t_records, t_pairs = list(fits), records, pairs
-            t_fits[hi] = fit.take(np.array([j not in drop for j in range(len(fit.frequencies_hz))]))
-            t_pivots, t_cov = pivots, pivot_cov
-        try:
-            state = fit_all(t_fits, t_records, t_pivots, t_cov)
-        except DegenerateGeometryError:
-            break  # the others alone do not determine the tensor: keep what was to go
-        fits, records, pairs, pivots, pivot_cov = t_fits, t_records, t_pairs, t_pivots, t_cov
-        mode_notes.append(note)
+        raise DegenerateGeometryError(f"{exc}{used.weak_note()}") from None
+    used, state, mode_notes = _without_contradictions(inputs, used, state)
     data, nuis, geo0, p_asm, gain = state
     fit_chi2 = weighted_chi2(p_asm, data, geo0)
     p_obj, cog_obj = compensate(p_asm, nuis, nuis.values, ctx.me_parts)
@@ -382,61 +374,17 @@ def measure_inertia(
     cov_freq = gain @ data.cov_hz2 @ gain.T
     cov = cov_freq + jac @ nuis.cov @ jac.T
     cov = 0.5 * (cov + cov.T)
-    hangs = []
-    sig_all = data.per_hang(np.sqrt(np.diag(data.cov_hz2)))
-    freq_all = data.per_hang(data.frequencies_hz)
-    for (sw, _), fit, f, sig, h in zip(pairs, fits, freq_all, sig_all, geo0.hangs, strict=True):
-        model = hang_modes(tensor(p_asm), geo0.mass_kg, geo0.cog_mm, h).frequencies_hz
-        omega = 2 * np.pi * fit.frequencies_hz
-        hangs.append(
-            HangSwing(
-                sw.point_id,
-                f,
-                sig,
-                model[fit.mode_index],
-                fit.decay_per_s / np.sqrt(omega**2 + fit.decay_per_s**2),
-                fit.amplitudes_deg,
-                len(sw.t_s),
-                sw.duration_s,
-            )
-        )
-    n_freq = len(data.frequencies_hz)
-    chi2 = fit_chi2
-    result_t = tensor(p_obj)
+    hangs = _hang_swings(used, state)
+    chi2, dof = fit_chi2, len(data.frequencies_hz) - 6
     warnings = [f"{d}: this hang is left out of the tensor" for d in dropped] + mode_notes
-    dof = n_freq - 6
-    # The frequencies scatter more than their σ say (the χ² beyond its 95 % quantile): the σ
-    # the fit states cannot be trusted as they are. The Birge ratio √(χ²/dof) grows every σ of
-    # the result to what the scatter supports; never shrinks them. (Applied below that too, as
-    # the Particle Data Group does, it over-covered: 100 % where 95-98 % were covered
-    # unscaled; docs/inertia_validation.md.)
-    misfit = dof > 0 and chi2_sf(chi2, dof) < MISFIT_P
-    scale = float(np.sqrt(chi2 / dof)) if misfit else 1.0
+    scale, misfit_warning = _misfit_scale(chi2, dof)
+    warnings += misfit_warning
     shares = _budget(nuis, jac, cov_freq, p_obj)  # a common scale leaves the shares as they are
     cov = cov * scale**2
     cov_freq = cov_freq * scale**2
-    if dof > 0 and chi2_sf(chi2, dof) < 0.01:
-        warnings.append(
-            f"the frequencies do not agree with one rigid body on a wire (χ² {chi2:.1f} for "
-            f"{dof} dof, p = {chi2_sf(chi2, dof):.2g}): every σ of the tensor is multiplied "
-            f"by √(χ²/dof) = {scale:.2f}; check the wire length, that nothing touched the "
-            "object, and each hang's residuals"
-        )
     principal = principal_with_sigma(p_obj, cov)
-    moments, moment_sigmas = principal.moments_kg_mm2, principal.moments_sigma_kg_mm2
-    listed = ", ".join(f"{m:.4g} ± {s:.2g}" for m, s in zip(moments, moment_sigmas, strict=True))
-    if np.any(moments <= 0):  # unphysical: refused, never printed as a result
-        raise DegenerateGeometryError(
-            f"the swings give a principal moment that is not positive ({listed} kg·mm²): they "
-            "do not determine the tensor (a light object under a heavy ME, a wrong weighed "
-            "mass, or too few distinct hangs: see `cadcog plan --for inertia`)"
-        )
-    if np.any(moment_sigmas > UNDETERMINED_MOMENT_REL * moments):
-        warnings.append(
-            "the swings do not determine the tensor: a principal moment came out with a 1 σ "
-            f"above half its value ({listed} kg·mm²); a light object under a heavy ME, or too "
-            "few distinct hangs: see `cadcog plan --for inertia`"
-        )
+    warnings += _undetermined(principal.moments_kg_mm2, principal.moments_sigma_kg_mm2)
+    result_t = tensor(p_obj)
     return InertiaResult(
         result_t,
         cov,
@@ -446,7 +394,7 @@ def measure_inertia(
         object_mass_kg,
         object_mass_sigma_kg,
         mass_source,
-        tuple(hangs),
+        hangs,
         chi2,
         dof,
         shares,
@@ -454,20 +402,6 @@ def measure_inertia(
         tuple(warnings),
         scale,
     )
-
-
-#: A frequency, or a hang's frequencies, whose deleted-residual χ² has a p-value below this
-#: over the number of candidates (Bonferroni: a campaign loses a good mode or hang with
-#: probability below this) is left out.
-MODE_OUTLIER_P = 0.01
-
-#: The frequencies' χ² beyond its (1 − this) quantile is a misfit: every σ then grows by the
-#: Birge ratio √(χ²/dof) (the level of every test of fit).
-MISFIT_P = TEST_LEVEL
-
-#: A principal moment whose 1 σ exceeds this share of its value is not determined: the result
-#: says so (the tensor is printed all the same, with its σ).
-UNDETERMINED_MOMENT_REL = 0.5
 
 
 def inertia_for_rig(

@@ -60,10 +60,7 @@ def requirements_with(old: str, new: str) -> str:
 
 
 def _step(path: Path) -> None:
-    import sys
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from cad.stepfixtures import Assembly, Part, write_step
+    from support.stepfixtures import Assembly, Part, write_step
 
     top = Assembly("sat")
     top.add(Part("box", [((10.0, 10.0, 10.0), (0.0, 0.0, 0.0))]))

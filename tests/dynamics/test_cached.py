@@ -87,12 +87,12 @@ def test_the_command_prints_the_same_hit_or_miss(campaign, capsys, monkeypatch):
     capsys.readouterr()
     assert main(args) == 0
     miss = capsys.readouterr()
-    import cadcog.dynamics.measure as measure
+    import cadcog.dynamics.swingselect as swingselect
 
     def no_fit(*a, **k):
         raise AssertionError("fitted again on unchanged inputs")
 
-    monkeypatch.setattr(measure, "fit_swing", no_fit)
+    monkeypatch.setattr(swingselect, "fit_swing", no_fit)
     assert main(args) == 0
     hit = capsys.readouterr()
     assert (hit.out, hit.err) == (miss.out, miss.err)
