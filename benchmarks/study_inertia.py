@@ -111,6 +111,23 @@ ROWS = {
             replace(BASE, one_wire="flexible"),
             weighed=True,
         ),
+        # diagnostics of the CubeSat row: releases of at most 3°, and exits exactly at the bolt
+        Row(
+            "cubesat_ih_flex_3deg",
+            "3U CubeSat, plan --for inertia's 6 hangs, one flexible wire, weighed, ≤ 3°",
+            "setup",
+            CUBESAT_INERTIA_PLAN6,
+            replace(BASE, one_wire="flexible", amplitude_deg=3.0),
+            weighed=True,
+        ),
+        Row(
+            "cubesat_ih_exact",
+            "3U CubeSat, plan --for inertia's 6 hangs, exact exits, weighed, ≤ 10°",
+            "setup",
+            CUBESAT_INERTIA_PLAN6,
+            EXACT,
+            weighed=True,
+        ),
         Row(
             "rig6h_stiff",
             "paper rig S1-S6, one stiff wire (EI 30 N·mm²), L = 300 mm, ≤ 10°",
