@@ -84,9 +84,7 @@ def estimate(
     >>> bool((error_mm**2).sum() ** 0.5 < 3.0), est.cov_mm2.shape
     (True, (3, 3))
     """
-    from cadcog.method.estimate import estimate_cog, estimate_for_rig
-    from cadcog.method.readings import read_readings
-    from cadcog.spacecraft.setup import estimate_for_setup
+    from cadcog.runs.estimate import estimate_from_file
 
     f = "estimate"
     path = _path(f, "readings", readings)
@@ -97,42 +95,15 @@ def estimate(
     _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
     if weighed_mass_kg is not None and setup is None and rig is None:
         raise CadcogError(f"{f}: weighed_mass_kg needs a rig or a set-up (the ME to remove)")
-    try:
-        if setup is not None:
-            s = _setup(f, setup)
-            return estimate_for_setup(
-                s,
-                read_readings(path, s.rig.inclinometer),
-                wire_correction=wire_correction,
-                self_calibrate=self_calibrate_wire,
-                compare=True,
-                weighed_mass_kg=weighed_mass_kg,
-                mass_sigma_kg=mass_sigma_kg,
-            )
-        if rig is None:
-            from cadcog.rig.inclinometer import InclinometerConfig
-
-            config = InclinometerConfig()
-            return estimate_cog(
-                read_readings(path, config),
-                config,
-                None,
-                wire_correction=wire_correction,
-                self_calibrate=self_calibrate_wire,
-            )
-        r = _rig(f, rig)
-        return estimate_for_rig(
-            r,
-            read_readings(path, r.inclinometer),
-            weighed_mass_kg=weighed_mass_kg,
-            mass_sigma_kg=mass_sigma_kg,
-            wire_correction=wire_correction,
-            self_calibrate=self_calibrate_wire,
-        )
-    except CadcogError:
-        raise
-    except ValueError as exc:  # a combination of options and data the estimator refuses
-        raise _as_user_error(f, path, exc) from None
+    return estimate_from_file(
+        path,
+        rig=None if rig is None else _rig(f, rig),
+        setup=None if setup is None else _setup(f, setup),
+        wire_correction=wire_correction,
+        self_calibrate=self_calibrate_wire,
+        weighed_mass_kg=weighed_mass_kg,
+        mass_sigma_kg=mass_sigma_kg,
+    )
 
 
 @_one_blas_thread

@@ -12,12 +12,11 @@ import numpy as np
 from cadcog.cli._table import text_table
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
-from cadcog.method.estimate import CogEstimate, MEData, estimate_cog, estimate_for_rig
-from cadcog.method.readings import Suspension, read_readings
+from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
+from cadcog.method.estimate import CogEstimate, MEData
 from cadcog.rig.file import load_rig
-from cadcog.rig.inclinometer import InclinometerConfig
 from cadcog.rig.parameters import Rig
-from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
+from cadcog.runs.estimate import estimate_from_file
 
 
 def _vector3(text: str) -> tuple[float, float, float]:
@@ -106,13 +105,12 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
-def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfig, Rig | None]:
+def _me_data(args: argparse.Namespace) -> tuple[MEData | None, Rig | None]:
     direct = (args.object_mass_kg, args.me_mass_kg, args.me_cog_mm)
     if args.rig is not None:
         if any(v is not None for v in direct):
             raise CadcogError("give either --rig or --object-mass-kg/--me-mass-kg/--me-cog-mm")
-        rig = load_rig(args.rig)
-        return None, rig.inclinometer, rig  # the rig's estimate composes its own ME data
+        return None, load_rig(args.rig)  # the rig's estimate composes its own ME data
     if args.weighed_mass_kg is not None:
         raise CadcogError(
             "--weighed-mass-kg goes with --setup or --rig (with the ME given on the command "
@@ -124,7 +122,7 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
             "axes and the wire model)"
         )
     if all(v is None for v in direct):
-        return None, InclinometerConfig(), None
+        return None, None
     if any(v is None for v in direct):
         raise CadcogError("--object-mass-kg, --me-mass-kg and --me-cog-mm go together")
     if not args.object_mass_kg > 0 or not args.me_mass_kg >= 0:
@@ -138,7 +136,7 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, InclinometerConfi
         args.me_cog_sigma_mm**2 * np.eye(3),
         "command line",
     )
-    return me, InclinometerConfig(), None
+    return me, None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -158,49 +156,22 @@ def run(args: argparse.Namespace) -> int:
         args.mass_sigma_kg = DEFAULT_WEIGHING_SIGMA_KG
     if args.setup is not None:
         return run_setup(args)
-    me, config, rig = _me_data(args)
-    suspensions = read_readings(args.readings, config)
-    if rig is None:
-        result = _estimate(args, suspensions, config, me)
-    else:
-        try:
-            result = estimate_for_rig(
-                rig,
-                suspensions,
-                weighed_mass_kg=args.weighed_mass_kg,
-                mass_sigma_kg=args.mass_sigma_kg,
-                wire_correction=args.wire_correction is not False,
-                self_calibrate=args.self_calibrate_wire,
-                angle_sigma_deg=args.angle_sigma_deg,
-                point_sigma_mm=args.point_sigma_mm,
-                min_angle_deg=args.min_angle_deg,
-            )
-        except ValueError as exc:  # bad combinations of options and data
-            raise CadcogError(f"{args.readings}: {exc}") from None
+    me, rig = _me_data(args)
+    result = estimate_from_file(args.readings, rig=rig, me=me, **_options(args))
     return _emit(result, args.json)
 
 
-def _estimate(
-    args: argparse.Namespace,
-    suspensions: list[Suspension],
-    config: InclinometerConfig,
-    me: MEData | None,
-) -> CogEstimate:
-    """:func:`estimate_cog` without a rig or a set-up (the ME, if any, from the command line),
-    with the command's options; its refusals become user errors."""
-    try:
-        return estimate_cog(
-            suspensions,
-            config,
-            me,
-            wire_correction=args.wire_correction is not False,
-            self_calibrate=args.self_calibrate_wire,
-            angle_sigma_deg=args.angle_sigma_deg,
-            point_sigma_mm=args.point_sigma_mm,
-            min_angle_deg=args.min_angle_deg,
-        )
-    except ValueError as exc:  # bad combinations of options and data; geometry errors pass
-        raise CadcogError(f"{args.readings}: {exc}") from None
+def _options(args: argparse.Namespace) -> dict[str, Any]:
+    """The estimator's options as the command gives them (the weighing checked above)."""
+    return {
+        "wire_correction": args.wire_correction is not False,
+        "self_calibrate": args.self_calibrate_wire,
+        "weighed_mass_kg": args.weighed_mass_kg,
+        "mass_sigma_kg": args.mass_sigma_kg,
+        "angle_sigma_deg": args.angle_sigma_deg,
+        "point_sigma_mm": args.point_sigma_mm,
+        "min_angle_deg": args.min_angle_deg,
+    }
 
 
 def _emit(result: CogEstimate, as_json: bool) -> int:
@@ -287,25 +258,9 @@ def run_setup(args: argparse.Namespace) -> int:
     """``--setup``: a spacecraft's compensated CoG compared with its CAD."""
     if args.rig is not None or args.object_mass_kg is not None or args.me_mass_kg is not None:
         raise CadcogError("--setup already gives the masses and the ME: drop --rig/--*-mass-kg")
-    from cadcog.spacecraft.setup import estimate_for_setup, load_setup
+    from cadcog.spacecraft.setup import load_setup
 
-    setup = load_setup(args.setup)
-    suspensions = read_readings(args.readings, setup.rig.inclinometer)
-    try:
-        result = estimate_for_setup(
-            setup,
-            suspensions,
-            wire_correction=args.wire_correction is not False,
-            self_calibrate=args.self_calibrate_wire,
-            angle_sigma_deg=args.angle_sigma_deg,
-            point_sigma_mm=args.point_sigma_mm,
-            min_angle_deg=args.min_angle_deg,
-            compare=True,
-            weighed_mass_kg=args.weighed_mass_kg,
-            mass_sigma_kg=args.mass_sigma_kg,
-        )
-    except ValueError as exc:
-        raise CadcogError(f"{args.readings}: {exc}") from None
+    result = estimate_from_file(args.readings, setup=load_setup(args.setup), **_options(args))
     return _emit(result, args.json)
 
 
