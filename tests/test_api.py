@@ -14,6 +14,7 @@ import cadcog
 from cadcog import api
 from cadcog.cli import main
 from cadcog.cli._main import build_parser
+from cadcog.core.errors import CadcogError
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
 from cadcog.validation.campaign import virtual_campaign, write_campaign
 
@@ -142,6 +143,19 @@ def test_estimate_without_a_rig_is_the_command_without_one(campaign_csv, capsys)
     mine = cadcog.estimate(campaign_csv)
     assert mine.compensation is None
     assert mine.to_json() == _cli_json(capsys, "estimate", str(campaign_csv))
+
+
+def test_estimate_refuses_a_hang_naming_the_readings_file_as_the_command(tmp_path) -> None:
+    """A point inside the body (no face, no bolt axis): the API's error names the readings
+    file and line, as the command's does (it named the line only before runs/estimate.py)."""
+    from support.rigtools import ideal_rows, write_csv
+
+    rig = cadcog.load_rig()
+    rows = ideal_rows(rig)
+    rows.append("S9,100,30,30,10,5,true")
+    csv = write_csv(tmp_path / "r.csv", rows)
+    with pytest.raises(CadcogError, match=r"r\.csv: line 8: suspension S9 .* inside the bounding"):
+        cadcog.estimate(csv, rig)
 
 
 def test_update_is_what_the_command_prints(tmp_path, capsys) -> None:
