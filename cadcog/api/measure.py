@@ -22,7 +22,7 @@ from cadcog.core.errors import CadcogError
 
 if TYPE_CHECKING:
     from cadcog.dynamics.result import InertiaResult
-    from cadcog.method.estimate import CogEstimate
+    from cadcog.method.cogestimate import CogEstimate
     from cadcog.rig.parameters import Rig
     from cadcog.spacecraft.setup import Setup
     from cadcog.spacecraft.update import UpdateResult

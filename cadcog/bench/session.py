@@ -36,7 +36,7 @@ from cadcog.bench.target import (
 )
 from cadcog.core.errors import CadcogError
 from cadcog.core.results import JsonResult
-from cadcog.method.estimate import CogEstimate
+from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.readings import Suspension, read_readings
 
 #: A settled reading this far from the CAD expectation (degrees, either axis) is reported:

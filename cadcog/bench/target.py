@@ -15,8 +15,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from cadcog.mass.properties import MassProperties, box_properties, combine
+from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.errormodel import ErrorModel
-from cadcog.method.estimate import CogEstimate, MEData, estimate_for_rig
+from cadcog.method.estimate import MEData, estimate_for_rig
 from cadcog.method.readings import Suspension
 from cadcog.rig.geometry import FloatArray, ideal_reading
 from cadcog.rig.inclinometer import InclinometerConfig

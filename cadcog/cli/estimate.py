@@ -13,7 +13,8 @@ from cadcog.cli._table import text_table
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
-from cadcog.method.estimate import CogEstimate, MEData
+from cadcog.method.cogestimate import CogEstimate
+from cadcog.method.medata import MEData
 from cadcog.rig.file import load_rig
 from cadcog.rig.parameters import Rig
 from cadcog.runs.estimate import estimate_from_file

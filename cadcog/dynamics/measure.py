@@ -52,7 +52,7 @@ from cadcog.dynamics.tensorfit import (
     weighted_chi2,
 )
 from cadcog.mass.properties import combine
-from cadcog.method.estimate import CogEstimate
+from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.readings import Suspension
 from cadcog.rig.parameters import Rig
 

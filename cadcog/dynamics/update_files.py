@@ -21,7 +21,7 @@ from cadcog.method.readings import read_readings
 from cadcog.spacecraft.setup import Setup, update_for_setup
 
 if TYPE_CHECKING:
-    from cadcog.method.estimate import CogEstimate
+    from cadcog.method.cogestimate import CogEstimate
     from cadcog.spacecraft.update import UnmodelledPrior, UpdateResult
 
 

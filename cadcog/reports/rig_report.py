@@ -21,8 +21,9 @@ from cadcog.core import numformat as nf
 from cadcog.core.fileio import staged_output_dir
 from cadcog.core.jsontext import dumps_json
 from cadcog.core.version import __version__
+from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.errormodel import ErrorModel
-from cadcog.method.estimate import CogEstimate, estimate_for_rig
+from cadcog.method.estimate import estimate_for_rig
 from cadcog.method.readings import read_readings
 from cadcog.reports.html import CSS, img_tag, table, vec
 from cadcog.rig.parameters import Rig

@@ -23,7 +23,7 @@ from cadcog.spacecraft import update_text as ut
 from cadcog.spacecraft.update import INCONSISTENT_NOTE, REJECTED_NOTE, UpdateResult
 
 if TYPE_CHECKING:
-    from cadcog.method.estimate import CogEstimate
+    from cadcog.method.cogestimate import CogEstimate
     from cadcog.spacecraft.setup import Setup
 
 REPORT_FILE = "index.html"

@@ -17,7 +17,8 @@ from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 
 if TYPE_CHECKING:
-    from cadcog.method.estimate import CogEstimate, MEData
+    from cadcog.method.cogestimate import CogEstimate
+    from cadcog.method.medata import MEData
     from cadcog.rig.parameters import Rig
     from cadcog.spacecraft.setup import Setup
 
@@ -64,14 +65,6 @@ def estimate_from_file(
     from cadcog.rig.inclinometer import InclinometerConfig
     from cadcog.spacecraft.setup import estimate_for_setup
 
-    lines = {
-        "wire_correction": wire_correction,
-        "self_calibrate": self_calibrate,
-        "angle_sigma_deg": angle_sigma_deg,
-        "point_sigma_mm": point_sigma_mm,
-        "min_angle_deg": min_angle_deg,
-    }
-    weighing = {"weighed_mass_kg": weighed_mass_kg, "mass_sigma_kg": mass_sigma_kg}
     config = (
         setup.rig.inclinometer
         if setup is not None
@@ -82,9 +75,39 @@ def estimate_from_file(
     suspensions = read_readings(readings, config)  # its errors name the file and line
     try:
         if setup is not None:
-            return estimate_for_setup(setup, suspensions, compare=True, **lines, **weighing)
+            return estimate_for_setup(
+                setup,
+                suspensions,
+                wire_correction=wire_correction,
+                self_calibrate=self_calibrate,
+                angle_sigma_deg=angle_sigma_deg,
+                point_sigma_mm=point_sigma_mm,
+                min_angle_deg=min_angle_deg,
+                compare=True,
+                weighed_mass_kg=weighed_mass_kg,
+                mass_sigma_kg=mass_sigma_kg,
+            )
         if rig is not None:
-            return estimate_for_rig(rig, suspensions, **lines, **weighing)
-        return estimate_cog(suspensions, config, me, **lines)
+            return estimate_for_rig(
+                rig,
+                suspensions,
+                weighed_mass_kg=weighed_mass_kg,
+                mass_sigma_kg=mass_sigma_kg,
+                wire_correction=wire_correction,
+                self_calibrate=self_calibrate,
+                angle_sigma_deg=angle_sigma_deg,
+                point_sigma_mm=point_sigma_mm,
+                min_angle_deg=min_angle_deg,
+            )
+        return estimate_cog(
+            suspensions,
+            config,
+            me,
+            wire_correction=wire_correction,
+            self_calibrate=self_calibrate,
+            angle_sigma_deg=angle_sigma_deg,
+            point_sigma_mm=point_sigma_mm,
+            min_angle_deg=min_angle_deg,
+        )
     except ValueError as exc:  # options and data the estimator cannot combine; a hang's line
         raise CadcogError(f"{readings}: {exc}") from None

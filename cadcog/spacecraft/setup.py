@@ -23,8 +23,9 @@ from cadcog.core import bounds, tolerances
 from cadcog.core.errors import CadcogError, ParameterFileError
 from cadcog.core.paramfile import TableReader, read_toml
 from cadcog.mass.properties import MassProperties
+from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.errormodel import ErrorModel
-from cadcog.method.estimate import BodyBox, CogEstimate, MEData, estimate_cog
+from cadcog.method.estimate import BodyBox, MEData, estimate_cog
 from cadcog.method.readings import Suspension, id_problem
 from cadcog.rig.file import default_rig_path, load_rig, swing_options
 from cadcog.rig.geometry import (
