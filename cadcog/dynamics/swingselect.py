@@ -66,8 +66,8 @@ def body_modes(fit: ModalFit, n_modes: int, point_id: str) -> ModalFit:
     if not keep.any():
         raise DegenerateGeometryError(
             f"hang {point_id}: neither body mode of the swing stands out (only the wire's own "
-            "pendulum was seen): release the object with a twist of a few degrees about its "
-            "wire exit"
+            "pendulum was seen): release the object tilted 2-3° about its wire exit, not only "
+            "the wire swung (docs/bench.md)"
         )
     return fit.take(keep)
 
@@ -146,7 +146,7 @@ class UsedHangs:
 
     def weak_note(self) -> str:
         """What to add to a refusal when hangs showed one body mode of two: their swings were
-        too small, or released without a twist, to show both (more hangs would not help as
+        too small, or released along one face, to show both (more hangs would not help as
         much)."""
         weak = [sw.point_id for fit, (sw, _) in zip(self.fits, self.pairs, strict=True)
                 if len(fit.mode_index) < 2]  # fmt: skip
@@ -154,8 +154,8 @@ class UsedHangs:
             return ""
         return (
             f"; hang(s) {', '.join(weak)} showed one body mode of two: release each with a "
-            "swing of 3-8° and a twist of a few degrees about its wire exit, and record until "
-            "it settles (docs/bench.md)"
+            "push of 2-3° in a direction between two of its faces, tilting it about its wire "
+            "exit, and record until it settles (docs/bench.md)"
         )
 
 
