@@ -70,10 +70,7 @@ def main() -> None:
         truth = sf.rig_truth(path) if kind == "rig" else sf.setup_truth(path)
         for pid in points:
             hinge = truth.exit_of(pid)
-            body = st.HungBody(
-                truth.body.mass_kg, truth.body.cog_mm, truth.body.inertia_kg_mm2, hinge,
-                truth.body.sensor_mm,
-            )  # fmt: skip
+            body = truth.hung_from(hinge)
             geo = HangGeometry(hinge, np.asarray(truth.body.sensor_mm), LENGTH_MM, 0.0)
             linear = hang_modes(
                 truth.body.inertia_kg_mm2, truth.body.mass_kg, truth.body.cog_mm, geo

@@ -267,13 +267,7 @@ def campaigns(row: Row) -> tuple[sf.Truth, list[list[sf.HangRecord]]]:
     for c in range(d["x"].shape[0]):
         camp = []
         for h, (pid, hid) in enumerate(zip(row.points, ids, strict=True)):
-            u = sf.st.HungBody(
-                truth.body.mass_kg,
-                truth.body.cog_mm,
-                truth.body.inertia_kg_mm2,
-                truth.exit_of(pid),
-                truth.body.sensor_mm,
-            ).plumb_up
+            u = truth.hung_from(truth.exit_of(pid)).plumb_up
             camp.append(
                 sf.HangRecord(
                     hid,
@@ -397,9 +391,7 @@ def modes_table() -> str:
     out = ["| L (mm) | hang | modes (Hz) |", "|---|---|---|"]
     for length in (0.0, 100.0, 300.0, 1000.0):
         for pid, exit_mm in truth.hangs:
-            b = truth.body
-            body = sf.st.HungBody(b.mass_kg, b.cog_mm, b.inertia_kg_mm2, exit_mm, b.sensor_mm)
-            f = sf.st.linear_modes_hz(body, length)
+            f = sf.st.linear_modes_hz(truth.hung_from(exit_mm), length)
             out.append(f"| {length:g} | {pid} | {', '.join(f'{v:.4f}' for v in f)} |")
     return "\n".join(out)
 

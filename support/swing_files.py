@@ -37,7 +37,7 @@ hung body, each released, recorded and let settle:
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -125,6 +125,10 @@ class Truth:
 
     def exit_of(self, point_id: str) -> FloatArray:
         return self.hangs[self._index(point_id)][1]
+
+    def hung_from(self, hinge_mm: npt.ArrayLike) -> st.HungBody:
+        """The body as it hangs with the wire leaving it at ``hinge_mm``."""
+        return replace(self.body, wire_exit_mm=np.asarray(hinge_mm, dtype=float))
 
     def normal_of(self, point_id: str) -> FloatArray:
         return self.normals[self._index(point_id)]
@@ -283,10 +287,7 @@ def simulate_campaigns(
                     hinge = hinge + rng.uniform(0, truth.wire_offset_max_mm) * n
                 elif cfg.one_wire == "stiff":
                     hinge = hinge + _stiff_offset_mm(truth, hinge, n, cfg) * n
-            body = st.HungBody(
-                truth.body.mass_kg, truth.body.cog_mm, truth.body.inertia_kg_mm2, hinge,
-                truth.body.sensor_mm,
-            )  # fmt: skip
+            body = truth.hung_from(hinge)
             if cfg.wire_length_mm == 0:
                 length = 0.0
             elif cfg.one_wire:

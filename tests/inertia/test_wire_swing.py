@@ -36,10 +36,7 @@ def test_a_swinging_wire_raises_the_body_modes_by_at_most_a_squared_over_8():
     bound = np.radians(10.0) ** 2 / 8
     for pid in ("S1", "S3"):
         hinge = truth.exit_of(pid)
-        body = st.HungBody(
-            truth.body.mass_kg, truth.body.cog_mm, truth.body.inertia_kg_mm2, hinge,
-            truth.body.sensor_mm,
-        )  # fmt: skip
+        body = truth.hung_from(hinge)
         geo = HangGeometry(hinge, np.asarray(truth.body.sensor_mm), length, 0.0)
         linear = hang_modes(truth.body.inertia_kg_mm2, truth.body.mass_kg, truth.body.cog_mm, geo)
         releases = [
