@@ -158,6 +158,25 @@ def test_estimate_refuses_a_hang_naming_the_readings_file_as_the_command(tmp_pat
         cadcog.estimate(csv, rig)
 
 
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"weighed_mass_kg": [9.2]}, r"weighed_mass_kg=\[9\.2\]\): expected one number"),
+        ({"weighed_mass_kg": (9.2, 1)}, r"expected one number"),
+        ({"wire_correction": "no"}, r"wire_correction='no'\): expected True or False, got str"),
+        ({"self_calibrate_wire": None}, r"expected True or False, got NoneType"),
+        ({"mass_sigma_kg": 0.5}, r"mass_sigma_kg=0\.5\): goes with weighed_mass_kg"),
+        ({"weighed_mass_kg": 0.1}, r"campaign\.csv: the object CoG .* is outside the object"),
+    ],
+)
+def test_estimate_refuses_what_the_command_refuses(campaign_csv, kwargs, message) -> None:
+    """Round 4 of the reliability audit: a list where one number goes, a string or None where
+    a yes/no goes ('no' is true to Python), a weighing's σ without a weighing, a weighed mass
+    that puts the CoG outside the object: a CadcogError naming the argument (or the file)."""
+    with pytest.raises(CadcogError, match=message):
+        cadcog.estimate(campaign_csv, cadcog.load_rig(), **kwargs)
+
+
 def test_update_is_what_the_command_prints(tmp_path, capsys) -> None:
     setup = "parts/cubesat_3u_setup.toml"
     csv = tmp_path / "r.csv"

@@ -11,6 +11,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
+import numpy as np
+
 from cadcog.core.errors import CadcogError
 
 if TYPE_CHECKING:
@@ -75,15 +77,25 @@ def _fail(function: str, name: str, value: object, expected: str) -> CadcogError
     return CadcogError(f"{function}({name}={shown}): {expected}")
 
 
+#: The keyword arguments that take several numbers (a list or tuple); every other number is one.
+VECTOR_ARGUMENTS = frozenset({"unmodelled_region_mm", "cog_limits_mm", "windows_mm"})
+
+
 def _numbers(function: str, **values: object) -> None:
     """The checks the command line applies to its numeric options (types, then the bounds of
-    :mod:`cadcog.core.bounds`, by the same names), for keyword arguments."""
+    :mod:`cadcog.core.bounds`, by the same names), for keyword arguments; a list only for the
+    names of :data:`VECTOR_ARGUMENTS`."""
     from cadcog.core import bounds
 
     for name, value in values.items():
         if value is None:
             continue
-        items = list(value) if isinstance(value, (list, tuple)) else [value]
+        if isinstance(value, (list, tuple)):
+            if name not in VECTOR_ARGUMENTS:
+                raise _fail(function, name, value, "expected one number")
+            items = list(value)
+        else:
+            items = [value]
         bound = bounds.bound_for(name)
         for v in items:
             if isinstance(v, bool) or not isinstance(v, numbers.Real):  # numpy's count too
@@ -95,12 +107,34 @@ def _numbers(function: str, **values: object) -> None:
                 raise _fail(function, name, value, problem)
 
 
+def _flags(function: str, **values: object) -> None:
+    """Yes/no arguments: a bool (numpy's too), never None, a string or a number (``"no"`` is
+    true to Python)."""
+    for name, value in values.items():
+        if not isinstance(value, (bool, np.bool_)):
+            got = type(value).__name__
+            raise _fail(function, name, value, f"expected True or False, got {got}")
+
+
 def _given(function: str, **values: object) -> None:
     """Arguments that have no default meaning for None (a mass, a σ): None is refused as the
     command refuses an empty option, not left to fail as a TypeError deep inside."""
     for name, value in values.items():
         if value is None:
             raise _fail(function, name, value, "expected a number, got None")
+
+
+def _weighing(function: str, weighed_mass_kg: object, mass_sigma_kg: object) -> None:
+    """A weighing's two arguments, as the commands check them: numbers within their bounds,
+    positive, and a σ other than the default only with a weighed mass (the command refuses
+    ``--mass-sigma-kg`` alone; it would be ignored)."""
+    from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
+
+    _given(function, mass_sigma_kg=mass_sigma_kg)
+    _numbers(function, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
+    _positive(function, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)  # type: ignore[arg-type]
+    if weighed_mass_kg is None and mass_sigma_kg != DEFAULT_WEIGHING_SIGMA_KG:
+        raise _fail(function, "mass_sigma_kg", mass_sigma_kg, "goes with weighed_mass_kg (its 1 σ)")
 
 
 def _point_ids(function: str, points: Sequence[str] | None) -> None:

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from cadcog.api._checks import (
+    _flags,
     _numbers,
     _one_blas_thread,
     _path,
@@ -58,11 +59,12 @@ def setup_init(
 
     if units is not None:
         check_choice("setup_init", "units", units, UNIT_CHOICES)
+    _flags("setup_init", force=force)
     return run_setup_init(
         _path("setup_init", "model", model),
         out=None if out is None else _path("setup_init", "out", out),
         units=units,
-        force=bool(force),
+        force=force,
     )
 
 

@@ -10,11 +10,13 @@ from typing import TYPE_CHECKING
 from cadcog.api._checks import (
     _as_user_error,
     _fail,
+    _flags,
     _given,
     _numbers,
     _one_blas_thread,
     _path,
     _positive,
+    _weighing,
 )
 from cadcog.api.model import _rig, _setup
 from cadcog.core import tolerances
@@ -88,11 +90,10 @@ def estimate(
 
     f = "estimate"
     path = _path(f, "readings", readings)
+    _flags(f, wire_correction=wire_correction, self_calibrate_wire=self_calibrate_wire)
     if setup is not None and rig is not None:
         raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
-    _given(f, mass_sigma_kg=mass_sigma_kg)
-    _numbers(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
-    _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
+    _weighing(f, weighed_mass_kg, mass_sigma_kg)
     if weighed_mass_kg is not None and setup is None and rig is None:
         raise CadcogError(f"{f}: weighed_mass_kg needs a rig or a set-up (the ME to remove)")
     return estimate_from_file(
@@ -170,9 +171,7 @@ def inertia(
     readings_path = _path(f, "readings", readings)
     if setup is not None and rig is not None:
         raise CadcogError(f"{f}: give rig or setup, not both (a set-up names its rig)")
-    _given(f, mass_sigma_kg=mass_sigma_kg)
-    _numbers(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
-    _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
+    _weighing(f, weighed_mass_kg, mass_sigma_kg)
     try:
         return inertia_from_files(
             swings_path,

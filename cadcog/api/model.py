@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Literal
 
 from cadcog.api._checks import (
     _fail,
+    _flags,
     _numbers,
     _one_blas_thread,
     _path,
@@ -162,6 +163,7 @@ def mass_properties(
     if materials is not None and density_kg_m3 is not None:
         raise CadcogError(f"{f}: give either materials or density_kg_m3, not both")
     _numbers(f, density_kg_m3=density_kg_m3, total_mass_kg=total_mass_kg, workers=workers)
+    _flags(f, strict=strict, surface_area=surface_area)
     if total_mass_kg is not None and not total_mass_kg > 0:
         raise _fail(f, "total_mass_kg", total_mass_kg, "expected a positive mass")
     if cog_limits_mm is not None:

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Literal
 
 from cadcog.api._checks import (
     _fail,
+    _flags,
     _given,
     _numbers,
     _one_blas_thread,
@@ -66,6 +67,7 @@ def plan(
 
     f = "plan"
     _numbers(f, trials=trials, max_set=max_set, seed=seed, max_inertia_set=max_inertia_set)
+    _flags(f, weighing=weighing)
     check_choice(f, "goal", goal, ("cog", "inertia", "both"))
     return run_plan(
         _setup(f, setup),
@@ -96,6 +98,7 @@ def check(requirements: str | Path, *, strict: bool = False) -> CheckResult:
     """
     from cadcog.spacecraft.requirements import check_requirements
 
+    _flags("check", strict=strict)
     return check_requirements(_path("check", "requirements", requirements), strict=strict)
 
 

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 from cadcog.api._checks import (
     _as_user_error,
     _fail,
+    _flags,
     _numbers,
     _one_blas_thread,
     _path,
@@ -102,6 +103,7 @@ def simulate(
         "workers": workers,
     }
     _numbers(f, **numbers)
+    _flags(f, wire_correction=wire_correction, paper=paper, self_calibrate_wire=self_calibrate_wire)
     if points == 1:
         raise _fail(f, "points", points, "give 0 (the rig's own points) or at least 2")
     if samples is not None:

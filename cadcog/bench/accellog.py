@@ -36,6 +36,7 @@ import numpy.typing as npt
 
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import not_a_regular_file, note_input
+from cadcog.core.plainnumber import parse_float
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 
 FloatArray = npt.NDArray[np.float64]
@@ -225,7 +226,7 @@ def read_log(path: str | Path, fmt: LogFormat = "phyphox") -> AccelLog:
             for name, field in zip(header[:4], fields[:4], strict=True):
                 text_value = field.strip().replace(",", ".") if decimal_comma else field.strip()
                 try:
-                    v = float(text_value)
+                    v = parse_float(text_value)
                 except ValueError:
                     raise LogError(
                         f"{p}, line {line}: column {name!r}: expected a number, got "

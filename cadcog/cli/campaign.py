@@ -52,6 +52,8 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.rig is not None and args.setup is not None:
+        raise CadcogError("give either --rig or --setup, not both (a set-up names its rig)")
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})  # early
     if args.seed < 0:
         raise CadcogError("--seed must be non-negative")

@@ -68,7 +68,6 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--me-cog-sigma-mm",
         type=float,
-        default=0.0,
         help="per-axis standard deviation of the ME CoG, with --me-cog-mm (default 0)",
     )
     p.add_argument(
@@ -108,6 +107,8 @@ def add_parser(sub: Any) -> None:
 
 def _me_data(args: argparse.Namespace) -> tuple[MEData | None, Rig | None]:
     direct = (args.object_mass_kg, args.me_mass_kg, args.me_cog_mm)
+    if args.me_cog_sigma_mm is not None and args.me_cog_mm is None:
+        raise CadcogError("--me-cog-sigma-mm goes with --me-cog-mm (the ME's CoG)")
     if args.rig is not None:
         if any(v is not None for v in direct):
             raise CadcogError("give either --rig or --object-mass-kg/--me-mass-kg/--me-cog-mm")
@@ -128,13 +129,14 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, Rig | None]:
         raise CadcogError("--object-mass-kg, --me-mass-kg and --me-cog-mm go together")
     if not args.object_mass_kg > 0 or not args.me_mass_kg >= 0:
         raise CadcogError("--object-mass-kg must be positive and --me-mass-kg non-negative")
-    if not args.me_cog_sigma_mm >= 0:
+    sigma = 0.0 if args.me_cog_sigma_mm is None else args.me_cog_sigma_mm
+    if not sigma >= 0:
         raise CadcogError("--me-cog-sigma-mm must be non-negative")
     me = MEData(
         args.object_mass_kg,
         args.me_mass_kg,
         np.array(args.me_cog_mm),
-        args.me_cog_sigma_mm**2 * np.eye(3),
+        sigma**2 * np.eye(3),
         "command line",
     )
     return me, None
@@ -257,8 +259,11 @@ def print_estimate(result: CogEstimate) -> None:
 
 def run_setup(args: argparse.Namespace) -> int:
     """``--setup``: a spacecraft's compensated CoG compared with its CAD."""
-    if args.rig is not None or args.object_mass_kg is not None or args.me_mass_kg is not None:
-        raise CadcogError("--setup already gives the masses and the ME: drop --rig/--*-mass-kg")
+    direct = (args.object_mass_kg, args.me_mass_kg, args.me_cog_mm, args.me_cog_sigma_mm)
+    if args.rig is not None or any(v is not None for v in direct):
+        raise CadcogError(
+            "--setup already gives the masses and the ME: drop --rig/--*-mass-kg/--me-cog-*"
+        )
     from cadcog.spacecraft.setup import load_setup
 
     result = estimate_from_file(args.readings, setup=load_setup(args.setup), **_options(args))

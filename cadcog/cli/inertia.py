@@ -37,8 +37,8 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--mass-sigma-kg",
         type=float,
-        default=DEFAULT_WEIGHING_SIGMA_KG,
-        help=f"1-σ of the weighing (default {DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
+        help="1-σ of the weighing, with --weighed-mass-kg "
+        f"(default {DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
@@ -54,6 +54,10 @@ def run(args: argparse.Namespace) -> int:
         value = getattr(args, name)
         if value is not None and not (np.isfinite(value) and value > 0):
             raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
+    if args.mass_sigma_kg is not None and args.weighed_mass_kg is None:
+        raise CadcogError("--mass-sigma-kg goes with --weighed-mass-kg (the weighing's 1 σ)")
+    if args.mass_sigma_kg is None:
+        args.mass_sigma_kg = DEFAULT_WEIGHING_SIGMA_KG
     if args.setup is not None:
         from cadcog.spacecraft.setup import load_setup
 

@@ -109,6 +109,7 @@ NAMED_BOUNDS: dict[str, Bound] = {
     "frequency_model_rel": Bound(0.0, 0.1, "the swing model's relative frequency error (5e-4)"),
     "me_inertia_rel": Bound(0.0, 1.0, "the ME's inertia uncertainty, a fraction (0.3)"),
     "total_mass_kg": Bound(1e-6, MASS_MAX_KG, "a weighed total from 1 mg to 10 t"),
+    "object_mass_kg": Bound(1e-6, MASS_MAX_KG, "the object's mass, from 1 mg to 10 t"),
 }
 
 

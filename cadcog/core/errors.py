@@ -6,6 +6,8 @@ stderr and exit status 2. Errors about an input file name the file and the offen
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 
@@ -49,6 +51,34 @@ class IllConditionedError(DegenerateGeometryError):
 
 class ReadingsError(CadcogError, ValueError):
     """A readings file is malformed; the message names the file and line."""
+
+
+@contextmanager
+def named_by(source: object | None, *, values: bool = True) -> Iterator[None]:
+    """Refusals of a computation on ``source``'s data, each prefixed ``source: ``: a
+    :class:`DegenerateGeometryError` as itself (the data do not determine the answer), and
+    with ``values`` a ValueError (options and data the computation cannot combine) as a
+    :class:`CadcogError` (without, it passes as it is: its message names its file already).
+    With ``source`` None every error passes as it is.
+
+    Examples
+    --------
+    >>> with named_by("r.csv"):
+    ...     raise DegenerateGeometryError("the lines are parallel")
+    Traceback (most recent call last):
+    ...
+    cadcog.core.errors.DegenerateGeometryError: r.csv: the lines are parallel
+    """
+    try:
+        yield
+    except DegenerateGeometryError as exc:
+        if source is None:
+            raise
+        raise type(exc)(f"{source}: {exc}") from None
+    except ValueError as exc:
+        if not values or source is None:
+            raise
+        raise CadcogError(f"{source}: {exc}") from None
 
 
 #: The most characters of a value an error message quotes (longer ones are cut in the middle).

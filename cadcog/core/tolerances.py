@@ -105,3 +105,14 @@ ME_BASE_MAX_GAP_MM = 50.0
 #: Default 1 σ of a weighing (kg): a lab scale of 1 g resolution. Every command and API function
 #: that takes ``--mass-sigma-kg`` / ``mass_sigma_kg`` defaults to it (one figure, here).
 DEFAULT_WEIGHING_SIGMA_KG = 0.001
+
+
+#: An object's compensated CoG further outside its box (the rig's proof mass, a set-up's model
+#: bounding box) than this many of its σ on an axis, plus :data:`OUTSIDE_BODY_MARGIN_MM`, is
+#: refused: a rigid body's CoG lies inside its convex hull, so the test did not locate it (a
+#: weighed mass far from the hung object's, readings of another object, a wrong hang). A set-up
+#: warns from 3 σ (``spacecraft.setup``).
+OUTSIDE_BODY_SIGMAS = 5.0
+
+#: See :data:`OUTSIDE_BODY_SIGMAS` (mm): what a CoG a hair outside a face may be off by.
+OUTSIDE_BODY_MARGIN_MM = 1.0

@@ -21,7 +21,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core import tolerances
-from cadcog.core.errors import DegenerateGeometryError, ReadingsError
+from cadcog.core.errors import DegenerateGeometryError, ReadingsError, named_by
 from cadcog.core.fittest import TEST_LEVEL, FitTest, chi2_sf
 from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.dynamics.context import InertiaContext, context_for_rig, context_for_setup
@@ -412,24 +412,28 @@ def inertia_for_rig(
     weighed_mass_kg: float | None = None,
     mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
     source: str = "swings",
+    readings_source: str | None = None,
 ) -> InertiaResult:
-    """``cadcog inertia --rig``: the rig's object (its proof mass) from its swings."""
+    """``cadcog inertia --rig``: the rig's object (its proof mass) from its swings; refusals
+    name the swing file (``source``) or the readings' (``readings_source``)."""
     from cadcog.method.estimate import estimate_for_rig
 
-    estimate = estimate_for_rig(
-        rig, suspensions, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg
-    )
+    with named_by(readings_source):
+        estimate = estimate_for_rig(
+            rig, suspensions, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg
+        )
     comp = estimate.compensation
     assert comp is not None  # a rig always gives its measurement equipment
-    return measure_inertia(
-        swings,
-        estimate,
-        context_for_rig(rig),
-        object_mass_kg=comp.object_mass_kg,
-        object_mass_sigma_kg=comp.object_mass_sigma_kg,
-        mass_source=comp.object_mass_source,
-        source=source,
-    )
+    with named_by(source, values=False):
+        return measure_inertia(
+            swings,
+            estimate,
+            context_for_rig(rig),
+            object_mass_kg=comp.object_mass_kg,
+            object_mass_sigma_kg=comp.object_mass_sigma_kg,
+            mass_source=comp.object_mass_source,
+            source=source,
+        )
 
 
 def inertia_for_setup(
@@ -440,27 +444,31 @@ def inertia_for_setup(
     weighed_mass_kg: float | None = None,
     mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
     source: str = "swings",
+    readings_source: str | None = None,
 ) -> InertiaResult:
     """``cadcog inertia --setup``: a spacecraft from its swings, against its CAD with the CAD's
-    stated uncertainty."""
+    stated uncertainty; refusals name the swing file or the readings' as
+    :func:`inertia_for_rig`'s."""
     from cadcog.spacecraft.explanations import cad_inertia_prior
     from cadcog.spacecraft.items import items_from_bodies
     from cadcog.spacecraft.setup import estimate_for_setup
 
-    estimate = estimate_for_setup(
-        setup, suspensions, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg
-    )
+    with named_by(readings_source):
+        estimate = estimate_for_setup(
+            setup, suspensions, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg
+        )
     me = setup.me_data(weighed_mass_kg, mass_sigma_kg)
     items, fixed = items_from_bodies(setup.bodies)
-    return measure_inertia(
-        swings,
-        estimate,
-        context_for_setup(setup, cad_inertia_prior(items, fixed)),
-        object_mass_kg=me.object_mass_kg,
-        object_mass_sigma_kg=me.object_mass_sigma_kg,
-        mass_source=me.object_mass_source,
-        source=source,
-    )
+    with named_by(source, values=False):
+        return measure_inertia(
+            swings,
+            estimate,
+            context_for_setup(setup, cad_inertia_prior(items, fixed)),
+            object_mass_kg=me.object_mass_kg,
+            object_mass_sigma_kg=me.object_mass_sigma_kg,
+            mass_source=me.object_mass_source,
+            source=source,
+        )
 
 
 def inertia_from_files(
@@ -492,6 +500,7 @@ def inertia_from_files(
                 weighed_mass_kg=weighed_mass_kg,
                 mass_sigma_kg=mass_sigma_kg,
                 source=str(swings_path),
+                readings_source=str(readings_path),
             )
         assert rig is not None  # checked above
         return inertia_for_rig(
@@ -501,6 +510,7 @@ def inertia_from_files(
             weighed_mass_kg=weighed_mass_kg,
             mass_sigma_kg=mass_sigma_kg,
             source=str(swings_path),
+            readings_source=str(readings_path),
         )
 
     inputs = {

@@ -26,6 +26,7 @@ import numpy.typing as npt
 
 from cadcog.core.errors import ReadingsError, quote
 from cadcog.core.fileio import not_a_regular_file, note_input, staged_file
+from cadcog.core.plainnumber import parse_float
 from cadcog.method.readings import _lines, data_rows, id_problem
 
 FloatArray = npt.NDArray[np.float64]
@@ -121,7 +122,7 @@ def read_swings(path: str | Path) -> list[Swing]:
             for name in COLUMNS[1:]:
                 text = fields[col[name]].strip()
                 try:
-                    value = float(text)
+                    value = parse_float(text)
                 except ValueError:
                     raise fail(
                         line, f"column {name}: expected a number, got {quote(text)}"

@@ -64,6 +64,18 @@ class BodyBox:
                 ) from None
         return np.array(out)
 
+    def outside_by_mm(self, point_mm: npt.ArrayLike) -> FloatArray:
+        """How far ``point_mm`` lies outside the box along each axis (0 inside), shape (3,).
+
+        Examples
+        --------
+        >>> box = BodyBox(np.zeros(3), np.array([10.0, 10.0, 10.0]), "a cube")
+        >>> box.outside_by_mm([5.0, -2.0, 13.0]).tolist()
+        [0.0, 2.0, 3.0]
+        """
+        p = np.asarray(point_mm, dtype=float)
+        return np.asarray(np.maximum(np.maximum(self.lo_mm - p, p - self.hi_mm), 0.0))
+
     @classmethod
     def of_rig(cls, rig: Rig) -> BodyBox:
         return cls(np.zeros(3), np.asarray(rig.proof_mass.size_mm, float), f"rig {rig.source}")

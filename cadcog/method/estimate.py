@@ -22,6 +22,7 @@ from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.medata import MEData
 from cadcog.method.plumblines import (
+    Compensation,
     JointEstimate,
     PlumbLine,
     WireScale,
@@ -238,6 +239,8 @@ def estimate_cog(
             object_mass_sigma_kg=me.object_mass_sigma_kg,
             object_mass_source=me.object_mass_source,
         )
+    if comp is not None and body is not None and me is not None:
+        _refuse_outside(body, comp, me)
     info = {
         "estimator": "generalised least squares over all plumb lines",
         "error_model": mdl.describe(),
@@ -251,6 +254,29 @@ def estimate_cog(
         info["shared_sensor"] = shared_info
     return CogEstimate(
         tuple(suspensions), verticals, joint, comp, info, v.n_normalized, tuple(warnings)
+    )
+
+
+def _refuse_outside(body: BodyBox, comp: Compensation, me: MEData) -> None:
+    """Refuse an object CoG outside the object's box by more than
+    :data:`~cadcog.core.tolerances.OUTSIDE_BODY_SIGMAS` σ and
+    :data:`~cadcog.core.tolerances.OUTSIDE_BODY_MARGIN_MM` on an axis: no rigid body has its
+    CoG there."""
+    sigma = np.sqrt(np.maximum(np.diag(comp.cov_mm2), 0.0))
+    out = body.outside_by_mm(comp.cog_mm)
+    far = out > tolerances.OUTSIDE_BODY_SIGMAS * sigma + tolerances.OUTSIDE_BODY_MARGIN_MM
+    if not far.any():
+        return
+    axes = ", ".join(
+        f"{a} by {d:.1f} mm ({d / s:.0f} σ)" if s > 0 else f"{a} by {d:.1f} mm"
+        for a, d, s, f in zip("xyz", out, sigma, far, strict=True)
+        if f
+    )
+    raise DegenerateGeometryError(
+        f"the object CoG [{', '.join(f'{v:.1f}' for v in comp.cog_mm)}] mm is outside the "
+        f"object along {axes}: the test did not locate it; check the object mass "
+        f"({me.object_mass_kg:g} kg, {me.object_mass_source}; ME {me.me_mass_kg:g} kg), that "
+        "the readings are of this object, and the point of each hang"
     )
 
 

@@ -36,6 +36,7 @@ import numpy as np
 from cadcog.core import bounds
 from cadcog.core.errors import ReadingsError, quote
 from cadcog.core.fileio import not_a_regular_file, note_input
+from cadcog.core.plainnumber import parse_float
 from cadcog.core.units import rad_to_deg
 from cadcog.rig.accelerometer import ACCEL_SHARED_PARAMETERS, accel_angles_deg, accel_verticals
 from cadcog.rig.inclinometer import InclinometerConfig, Verticals, verticals_from_readings
@@ -165,7 +166,7 @@ def _number(fields: list[str], col: dict[str, int], column: str, line: int, fail
     """The number in ``column`` of a row, finite and within its name's bound."""
     text = fields[col[column]].strip()
     try:
-        value = float(text)
+        value = parse_float(text)
     except ValueError:
         raise fail(line, f"column {column}: expected a number, got {text!r}") from None
     if not math.isfinite(value) or (column[-3:] == "_mm" and abs(value) > bounds.LENGTH_MAX_MM):

@@ -312,6 +312,12 @@ def swing_options(t: TableReader) -> SwingOptions:
         ),
         me_inertia_rel=t.number("me_inertia_rel", nonnegative=True, default=d.me_inertia_rel),
     )
+    if out.wire_length_sigma_mm > out.wire_length_mm / 4 and out.wire_length_mm > 0:
+        raise t.error(
+            "wire_length_sigma_mm",
+            f"expected at most a quarter of wire_length_mm ({out.wire_length_mm:g} mm): a 1 σ "
+            f"of {out.wire_length_sigma_mm:g} mm is not a measured length",
+        )
     t.finish()
     return out
 

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from cadcog.core import tolerances
-from cadcog.core.errors import CadcogError
+from cadcog.core.errors import named_by
 
 if TYPE_CHECKING:
     from cadcog.method.cogestimate import CogEstimate
@@ -73,7 +73,7 @@ def estimate_from_file(
         else InclinometerConfig()
     )
     suspensions = read_readings(readings, config)  # its errors name the file and line
-    try:
+    with named_by(readings):  # refusals of the hangs name their file
         if setup is not None:
             return estimate_for_setup(
                 setup,
@@ -109,5 +109,3 @@ def estimate_from_file(
             point_sigma_mm=point_sigma_mm,
             min_angle_deg=min_angle_deg,
         )
-    except ValueError as exc:  # options and data the estimator cannot combine; a hang's line
-        raise CadcogError(f"{readings}: {exc}") from None

@@ -36,7 +36,25 @@ REQUIREMENTS = (
     .replace('"cubesat_3u_baseline.json"', f'"{(PARTS / "cubesat_3u_baseline.json").as_posix()}"')
 )
 HEADER = "point_id,x_mm,y_mm,z_mm,inc_x_deg,inc_y_deg,top_face_up\n"
+RIG_READINGS = (PARTS.parent / "docs" / "examples" / "paper_rig_readings.csv").read_text("utf-8")
 GOOD_ROWS = "S1,45,20,82,-50.6,-14.2,true\nS2,-45,20,82,50.2,14.1,true\n"
+
+
+def readings_with(old: str, new: str) -> str:
+    """The example readings with ``old`` replaced on every line (every sample of a hang)."""
+    assert old in RIG_READINGS, old
+    return RIG_READINGS.replace(old, new)
+
+
+def _campaign(path: Path) -> None:
+    """A virtual campaign of the paper rig at ``path`` with its swings beside it (s.csv), its
+    report lines kept out of the case's standard error."""
+    import contextlib
+    import io
+
+    argv = ["campaign", "--seed", "3", "--out", str(path), "--swings", str(path.parent / "s.csv")]
+    with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):
+        assert main(argv) == 0
 
 
 def rig_with(old: str, new: str) -> str:
@@ -245,6 +263,76 @@ CASES = [
             "r.csv": HEADER + GOOD_ROWS,
             "r.toml": rig_with("sensor_noise_deg = 0.05 ", "sensor_noise_deg = -1 "),
         },
+    ),
+    # --- results no rigid body can have, and refusals that name their file (round 4) ----------
+    Case(
+        "estimate-weighed-far-below-the-object",
+        ["estimate", "r.csv", "--rig", str(PARTS / "paper_rig.toml"), "--weighed-mass-kg", "0.1"],
+        r"r\.csv: the object CoG \[.*\] mm is outside the object along z by 86\.0 mm",
+        {"r.csv": RIG_READINGS},
+    ),
+    Case(
+        "estimate-hang-far-off",
+        ["estimate", "r.csv", "--rig", str(PARTS / "paper_rig.toml")],
+        r"r\.csv: the object CoG .* is outside the object along x by .* z by",
+        {"r.csv": readings_with("S1,45,20,82,", "S1,45,20,19999,")},
+    ),
+    Case(
+        "estimate-digit-separator",
+        ["estimate", "r.csv", "--rig", str(PARTS / "paper_rig.toml")],
+        r"r\.csv, line \d+: column x_mm: expected a number, got '4_5'",
+        {"r.csv": readings_with("S1,45,", "S1,4_5,")},
+    ),
+    Case(
+        "estimate-object-mass-1e-300",
+        [
+            "estimate",
+            "r.csv",
+            "--object-mass-kg",
+            "1e-300",
+            "--me-mass-kg",
+            "0.176",
+            "--me-cog-mm",
+            "100,37.5,112",
+        ],
+        r"--object-mass-kg 1e-300: expected at least 1e-06",
+        {"r.csv": RIG_READINGS},
+    ),
+    Case(
+        "estimate-me-cog-sigma-alone",
+        ["estimate", "r.csv", "--me-cog-sigma-mm", "3"],
+        r"--me-cog-sigma-mm goes with --me-cog-mm",
+        {"r.csv": RIG_READINGS},
+    ),
+    Case(
+        "campaign-rig-and-setup",
+        ["campaign", "--setup", "s.toml", "--rig", str(PARTS / "paper_rig.toml"), "--out", "c.csv"],
+        r"give either --rig or --setup, not both",
+        {"s.toml": SETUP},
+    ),
+    Case(
+        "inertia-weighed-far-below-the-object",
+        ["inertia", "s.csv", "--readings", "c.csv", "--weighed-mass-kg", "0.1"],
+        r"c\.csv: the object CoG .* is outside the object along z",
+        {"c.csv": _campaign},
+    ),
+    Case(
+        "inertia-mass-sigma-alone",
+        ["inertia", "s.csv", "--readings", "c.csv", "--mass-sigma-kg", "0.5"],
+        r"--mass-sigma-kg goes with --weighed-mass-kg",
+        {"c.csv": _campaign},
+    ),
+    Case(
+        "inertia-wire-sigma-beyond-its-length",
+        ["inertia", "s.csv", "--readings", "c.csv", "--rig", "r.toml"],
+        r"r\.toml: key 'swing\.wire_length_sigma_mm': expected at most a quarter",
+        {"c.csv": _campaign, "r.toml": RIG + "\n[swing]\nwire_length_sigma_mm = 5000\n"},
+    ),
+    Case(
+        "inertia-no-hang-usable-names-the-swings",
+        ["inertia", "s.csv", "--readings", "c.csv", "--rig", "r.toml"],
+        r"s\.csv: 0 of 6 hangs have a body mode to use",
+        {"c.csv": _campaign, "r.toml": RIG + "\n[swing]\nwire_length_mm = 0\n"},
     ),
     # --- budget, simulate ----------------------------------------------------------------------
     Case("budget-rig-missing", ["budget", "--rig", "no.toml"], r"no\.toml: file not found"),
