@@ -292,6 +292,12 @@ def pair_diagnostics(
             skipped.append((a.id, b.id, angle_between_lines_deg(a.vertical, b.vertical)))
     if not pairs:
         worst = max(s[2] for s in skipped)
+        if worst >= tolerances.MIN_PAIR_ANGLE_DEG:  # the hangs are fine: the threshold is not
+            raise IllConditionedError(
+                f"every pair of plumb lines meets at less than the --min-angle-deg of "
+                f"{min_angle_deg:g}° (largest {worst:.3g}°): lower it (default "
+                f"{tolerances.MIN_PAIR_ANGLE_DEG:g}°)"
+            )
         raise IllConditionedError(
             f"every pair of plumb lines meets at less than {min_angle_deg:g}° (largest "
             f"{worst:.3g}°): the suspension points and the CoG are nearly collinear; "

@@ -311,6 +311,12 @@ CASES = [
         {"s.toml": SETUP},
     ),
     Case(
+        "estimate-min-angle-above-every-pair",
+        ["estimate", "r.csv", "--rig", str(PARTS / "paper_rig.toml"), "--min-angle-deg", "90"],
+        r"r\.csv: every pair .* less than the --min-angle-deg of 90° \(largest .*\): lower it",
+        {"r.csv": RIG_READINGS},
+    ),
+    Case(
         "inertia-weighed-far-below-the-object",
         ["inertia", "s.csv", "--readings", "c.csv", "--weighed-mass-kg", "0.1"],
         r"c\.csv: the object CoG .* is outside the object along z",
