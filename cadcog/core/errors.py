@@ -115,6 +115,9 @@ def capped(message: str) -> str:
     109
     >>> "(10002 characters)" in capped("got '" + "x" * 10_000 + "'")
     True
+    >>> long = "overlaps: " + ", ".join(f"part {i} & part {i + 1}" for i in range(100))
+    >>> capped(long + ": fix the model or --allow-overlap").endswith("--allow-overlap")
+    True
     """
     import re
 
@@ -124,6 +127,8 @@ def capped(message: str) -> str:
         return f"{text[:keep]}…({len(text)} characters)…{text[-keep:]}"
 
     out = re.sub(rf"'[^'\n]{{{QUOTE_MAX_CHARS},}}'|\"[^\"\n]{{{QUOTE_MAX_CHARS},}}\"", cut, message)
-    if len(out) > MESSAGE_MAX_CHARS:
-        out = f"{out[: MESSAGE_MAX_CHARS - 30]}…({len(out)} characters in all)"
+    if len(out) > MESSAGE_MAX_CHARS:  # cut in the middle: the end says what to do
+        tail = MESSAGE_MAX_CHARS // 3
+        head = MESSAGE_MAX_CHARS - tail - 30
+        out = f"{out[:head]}…({len(out)} characters in all)…{out[-tail:]}"
     return out

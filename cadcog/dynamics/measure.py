@@ -78,6 +78,11 @@ MISFIT_P = TEST_LEVEL
 #: says so (the tensor is printed all the same, with its σ).
 UNDETERMINED_MOMENT_REL = 0.5
 
+#: A principal moment whose 1 σ exceeds this share of its value is not a measurement: the
+#: tensor is refused (a first-day trial printed moments of 2 ± 55, 35 and 48 kg·mm², which no
+#: body can have, with exit 0 and a warning).
+UNMEASURED_MOMENT_REL = 1.0
+
 
 def _pair(
     swings: Sequence[Swing], suspensions: Sequence[Suspension], source: str
@@ -287,7 +292,8 @@ def _undetermined(moments: FloatArray, moment_sigmas: FloatArray) -> list[str]:
     Raises
     ------
     DegenerateGeometryError
-        If a principal moment is not positive: unphysical, refused, never printed as a result.
+        If a principal moment is not positive (unphysical), or its σ is above
+        :data:`UNMEASURED_MOMENT_REL` of it (not a measurement): refused, never printed.
     """
     listed = ", ".join(f"{m:.4g} ± {s:.2g}" for m, s in zip(moments, moment_sigmas, strict=True))
     if np.any(moments <= 0):
@@ -295,6 +301,12 @@ def _undetermined(moments: FloatArray, moment_sigmas: FloatArray) -> list[str]:
             f"the swings give a principal moment that is not positive ({listed} kg·mm²): they "
             "do not determine the tensor (a light object under a heavy ME, a wrong weighed "
             "mass, or too few distinct hangs: see `cadcog plan --for inertia`)"
+        )
+    if np.any(moment_sigmas > UNMEASURED_MOMENT_REL * moments):
+        raise DegenerateGeometryError(
+            f"the swings do not determine the tensor: a principal moment came out with a 1 σ "
+            f"above its value ({listed} kg·mm²); a light object under a heavy ME, or too few "
+            "distinct hangs: see `cadcog plan --for inertia`"
         )
     if np.any(moment_sigmas > UNDETERMINED_MOMENT_REL * moments):
         return [

@@ -229,3 +229,17 @@ def test_the_tensor_does_not_depend_on_where_the_sensor_senses():
     masses = np.array([v.mass_kg for v in RIG.me_volumes])
     centre = masses @ np.array([v.center_mm for v in RIG.me_volumes]) / masses.sum()
     np.testing.assert_allclose(context_for_rig(anon).sensor_mm, centre, rtol=1e-12)
+
+
+def test_a_moment_with_a_sigma_above_its_value_is_refused_above_half_warned():
+    """The first-day trial's 3D-printed plate under the ME: moments 2 ± 55, 35, 48 kg·mm² (no
+    body has them) were printed with exit 0; a σ above a moment's value is now refused, above
+    half of it a warning, below nothing."""
+    from cadcog.dynamics.measure import _undetermined
+
+    moments = np.array([2.0, 35.0, 48.0])
+    with pytest.raises(DegenerateGeometryError, match=r"2 ± 55, 35 ± 1, 48 ± 1 kg·mm²"):
+        _undetermined(moments, np.array([55.0, 1.0, 1.0]))
+    (warning,) = _undetermined(moments, np.array([1.5, 1.0, 1.0]))
+    assert "above half its value" in warning
+    assert _undetermined(moments, np.array([0.9, 1.0, 1.0])) == []
