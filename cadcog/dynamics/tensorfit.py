@@ -350,11 +350,17 @@ def _check_determined(jac: FloatArray, p: FloatArray) -> None:
     if jac.shape[0] >= 6:
         sv = np.linalg.svd(jac, compute_uv=False)
         free = 1.0 / sv[-1] if sv[-1] > 0 else np.inf
-    if jac.shape[0] < 6 or not free < MAX_FREE_SHARE * mean_moment:
+    if jac.shape[0] < 6:
         raise DegenerateGeometryError(
             f"these hangs do not determine the whole inertia tensor ({jac.shape[0]} usable "
-            "frequencies for six entries, or plumb lines too alike): add hangs from points "
-            "whose plumb lines point in other directions"
+            "frequencies for six entries): add hangs from points whose plumb lines point in "
+            "other directions"
+        )
+    if not free < MAX_FREE_SHARE * mean_moment:
+        raise DegenerateGeometryError(
+            f"these hangs do not determine the whole inertia tensor (their {jac.shape[0]} usable "
+            "frequencies leave a combination of the six entries free: plumb lines too alike): "
+            "add hangs from points whose plumb lines point in other directions"
         )
 
 
