@@ -165,6 +165,13 @@ def assign_densities(
             "on every body (Fusion 360 writes 'Steel' on boards and plastics alike); check it, "
             "or give a materials file"
         )
+    elif len(solids) == 1 and from_file and from_file[0].material.strip().lower() == "steel":
+        b0 = from_file[0]  # one solid cannot show a stamp: Fusion 360's default is its name
+        notes.append(
+            f"the one solid carries the STEP material {b0.material!r} ({b0.density_kg_m3:g} "
+            "kg/m³), the default Fusion 360 writes on every body: check it, or give a "
+            "materials file"
+        )
     if bad_xcaf:
         notes.append(
             "STEP materials without a usable density (kg/m³ between "

@@ -164,6 +164,19 @@ def test_one_material_on_every_body_is_flagged_as_a_likely_default(tmp_path):
         model_mass_properties(_model(tmp_path, top), None, strict=True)
 
 
+def test_one_solid_of_steel_is_flagged_as_fusions_likely_default(tmp_path):
+    """One solid cannot show a stamp (FOSSASAT-1's Fusion 360 frame counted 38.9 g of
+    'Steel', 13.4 g as aluminium, without a word): 'Steel' alone gets a note; another
+    material alone does not."""
+    top = Assembly("top")
+    top.add(Part("frame", [((5.0, 5.0, 5.0), (0.0, 0.0, 0.0))], 7850.0, "Steel"))
+    r = model_mass_properties(_model(tmp_path, top, "steel"), None)
+    assert any("the one solid carries the STEP material 'Steel'" in n for n in r.notes), r.notes
+    other = Assembly("top")
+    other.add(Part("frame", [((5.0, 5.0, 5.0), (0.0, 0.0, 0.0))], 2700.0, "Aluminum 6061"))
+    assert not model_mass_properties(_model(tmp_path, other, "al"), None).notes
+
+
 def test_solids_without_a_density_are_listed(tmp_path):
     top = Assembly("top")
     for name, x in (("rail", 0.0), ("board", 10.0), ("battery", 60.0)):
