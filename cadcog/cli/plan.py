@@ -21,7 +21,14 @@ def add_parser(sub: Any) -> None:
         "are then simulated with the error model and the estimator of cadcog estimate, and the "
         "one with the smallest simulated 95 % error is recommended. See docs/spacecraft.md.",
     )
-    p.add_argument("setup", type=Path, help="set-up file (TOML)")
+    p.add_argument("setup", type=Path, nargs="?", help="set-up file (TOML)")
+    p.add_argument(
+        "--setup",
+        type=Path,
+        dest="setup_option",
+        metavar="SETUP",
+        help="the set-up file, as campaign, estimate, inertia and update take it",
+    )
     p.add_argument("--trials", type=int, default=10_000, help="Monte Carlo trials per finalist set")
     p.add_argument(
         "--max-set",
@@ -61,8 +68,12 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.runs.plan import check_plan_options, run_plan
     from cadcog.spacecraft.setup import load_setup
 
+    if (args.setup is None) == (args.setup_option is None):
+        raise CadcogError(
+            "give the set-up file once: cadcog plan SETUP.toml (or --setup SETUP.toml)"
+        )
     check_plan_options(args.trials, args.max_set, args.seed, args.max_inertia_set)  # before CAD
-    setup = load_setup(args.setup)
+    setup = load_setup(args.setup if args.setup is not None else args.setup_option)
     if setup.rig.inclinometer.accelerometer:
         return _accelerometer_plan(args, setup)
     if args.target_mm is not None:

@@ -555,6 +555,13 @@ CASES = [
         r"--max-set 50: expected at most 8",
         {"s.toml": SETUP},
     ),
+    Case("plan-no-setup", ["plan"], r"give the set-up file once: cadcog plan SETUP\.toml"),
+    Case(
+        "plan-setup-twice",
+        ["plan", "s.toml", "--setup", "s.toml"],
+        r"give the set-up file once",
+        {"s.toml": SETUP},
+    ),
     # --- balance -------------------------------------------------------------------------------
     Case(
         "balance-confidence",

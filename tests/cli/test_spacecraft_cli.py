@@ -43,6 +43,9 @@ def test_build_then_massprops_of_the_step(tmp_path, capsys, setup):
 def test_plan_campaign_estimate_recovers_the_cad_cog(tmp_path, capsys, setup):
     assert main(["plan", str(SETUP), "--trials", "500", "--max-set", "3", "--json"]) == 0
     plan = json.loads(capsys.readouterr().out)
+    # --setup, as the other commands take the set-up, is the same plan to the byte
+    assert main(["plan", "--setup", str(SETUP), "--trials", "500", "--max-set", "3", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out) == plan
     # In range everywhere; refused only where the vertical lies within 10° of the sensor's
     # plane (sin²X + sin²Y within sin²80° of 1: the z component lost in the noise).
     for c in plan["candidates"]:
