@@ -39,3 +39,24 @@ def check_positive(name: str, value: float | None, *, zero: bool = False) -> Non
     if not math.isfinite(value) or value < 0 or (value == 0 and not zero):
         kind = "a number ≥ 0" if zero else "a positive number"
         raise CadcogError(f"--{name.replace('_', '-')} must be {kind}, got {value}")
+
+
+def weighing_sigma_kg(weighed_mass_kg: float | None, mass_sigma_kg: float | None) -> float:
+    """The weighing's 1 σ a command takes: ``--mass-sigma-kg`` only with ``--weighed-mass-kg``
+    (alone it would be ignored), else the default
+    (:data:`~cadcog.core.tolerances.DEFAULT_WEIGHING_SIGMA_KG`).
+
+    Examples
+    --------
+    >>> weighing_sigma_kg(2.6, None), weighing_sigma_kg(2.6, 0.005)
+    (0.001, 0.005)
+    >>> weighing_sigma_kg(None, 0.5)
+    Traceback (most recent call last):
+    ...
+    cadcog.core.errors.CadcogError: --mass-sigma-kg goes with --weighed-mass-kg (the weighing's 1 σ)
+    """
+    from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
+
+    if mass_sigma_kg is not None and weighed_mass_kg is None:
+        raise CadcogError("--mass-sigma-kg goes with --weighed-mass-kg (the weighing's 1 σ)")
+    return DEFAULT_WEIGHING_SIGMA_KG if mass_sigma_kg is None else mass_sigma_kg

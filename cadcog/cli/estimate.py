@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.cli._table import text_table
+from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
@@ -153,10 +154,7 @@ def run(args: argparse.Namespace) -> int:
         value = getattr(args, name)
         if value is not None and not (np.isfinite(value) and value > 0):
             raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
-    if args.mass_sigma_kg is not None and args.weighed_mass_kg is None:
-        raise CadcogError("--mass-sigma-kg goes with --weighed-mass-kg (the weighing's 1 σ)")
-    if args.mass_sigma_kg is None:
-        args.mass_sigma_kg = DEFAULT_WEIGHING_SIGMA_KG
+    args.mass_sigma_kg = weighing_sigma_kg(args.weighed_mass_kg, args.mass_sigma_kg)
     if args.setup is not None:
         return run_setup(args)
     me, rig = _me_data(args)

@@ -9,10 +9,11 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core.errors import CadcogError
 from cadcog.core.fittest import TEST_LEVEL, FitTest
 from cadcog.core.plusminus import pm
-from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
+from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
 
 
 def add_parser(sub: Any) -> None:
@@ -54,10 +55,7 @@ def run(args: argparse.Namespace) -> int:
         value = getattr(args, name)
         if value is not None and not (np.isfinite(value) and value > 0):
             raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
-    if args.mass_sigma_kg is not None and args.weighed_mass_kg is None:
-        raise CadcogError("--mass-sigma-kg goes with --weighed-mass-kg (the weighing's 1 σ)")
-    if args.mass_sigma_kg is None:
-        args.mass_sigma_kg = DEFAULT_WEIGHING_SIGMA_KG
+    args.mass_sigma_kg = weighing_sigma_kg(args.weighed_mass_kg, args.mass_sigma_kg)
     if args.setup is not None:
         from cadcog.spacecraft.setup import load_setup
 
