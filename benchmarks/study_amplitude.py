@@ -54,6 +54,13 @@ def _horizontal(deg: float, azimuth_deg: float) -> np.ndarray:
     return np.radians(deg) * np.array([np.cos(a), np.sin(a), 0.0])
 
 
+def _linear_hz(truth: sf.Truth, hinge_mm: np.ndarray, length_mm: float) -> np.ndarray:
+    """The hang's modes as cadcog's linear model has them (the estimator's reference)."""
+    geo = HangGeometry(hinge_mm, np.asarray(truth.body.sensor_mm), length_mm, 0.0)
+    b = truth.body
+    return hang_modes(b.inertia_kg_mm2, b.mass_kg, b.cog_mm, geo).frequencies_hz
+
+
 def releases() -> dict[str, st.Release]:
     """The releases, by label: the body alone, then the wire."""
     still = np.zeros(3)
@@ -79,11 +86,7 @@ def backbone() -> None:
     truth = sf.setup_truth(HANGS[1][1])
     pid = HANGS[1][3][0]
     hinge = truth.exit_of(pid)
-    body = truth.hung_from(hinge)
-    geo = HangGeometry(hinge, np.asarray(truth.body.sensor_mm), LENGTH_MM, 0.0)
-    linear = hang_modes(
-        truth.body.inertia_kg_mm2, truth.body.mass_kg, truth.body.cog_mm, geo
-    ).frequencies_hz
+    linear = _linear_hz(truth, hinge, LENGTH_MM)
     still = np.zeros(3)
     rel = {
         f"wire {w:g}°, body {b:g}° (azimuth {az}°)": st.Release(
@@ -91,11 +94,7 @@ def backbone() -> None:
         )
         for w, b, az in ((0, 5, 0), (0, 5, 90), (10, 1, 0), (8, 3, 45))
     }
-    n = len(rel)
-    y0 = np.array([st.initial_state(body, LENGTH_MM, r) for r in rel.values()]).T
-    batch = st.make_batch([body] * n, [LENGTH_MM] * n, [tau] * n)
-    dt = min(4e-3, 0.15 / st.highest_frequency_rad_s(body, LENGTH_MM))
-    tx, ty = st.inclinations_deg(st.integrate(batch, y0, np.tile(t, (n, 1)), dt, 10.0).force)
+    tx, ty = truth.released(hinge, list(rel.values()), LENGTH_MM, tau, t)
     print("| release | mode | fitted | corrected as the estimator does | two halves, to zero |")
     print("|---|---|---|---|---|")
     half = len(t) // 2
@@ -153,12 +152,7 @@ def campaigns(n: int) -> None:
         folder = Path(tempfile.mkdtemp())
         sf.write_campaign(camp, folder / "s.csv", folder / "r.csv")
         for sw, rec in zip(read_swings(folder / "s.csv"), camp, strict=True):
-            geo = HangGeometry(
-                rec.wire_exit_mm, np.asarray(truth.body.sensor_mm), rec.true_wire_length_mm, 0.0
-            )
-            linear = hang_modes(
-                truth.body.inertia_kg_mm2, truth.body.mass_kg, truth.body.cog_mm, geo
-            ).frequencies_hz
+            linear = _linear_hz(truth, rec.wire_exit_mm, rec.true_wire_length_mm)
             half = len(sw.t_s) // 2
             try:
                 fits = [
@@ -203,18 +197,9 @@ def main() -> None:
         truth = sf.rig_truth(path) if kind == "rig" else sf.setup_truth(path)
         for pid in points:
             hinge = truth.exit_of(pid)
-            body = truth.hung_from(hinge)
-            geo = HangGeometry(hinge, np.asarray(truth.body.sensor_mm), LENGTH_MM, 0.0)
-            linear = hang_modes(
-                truth.body.inertia_kg_mm2, truth.body.mass_kg, truth.body.cog_mm, geo
-            ).frequencies_hz
+            linear = _linear_hz(truth, hinge, LENGTH_MM)
             rel = releases()
-            y0 = np.array([st.initial_state(body, LENGTH_MM, r) for r in rel.values()]).T
-            n = len(rel)
-            batch = st.make_batch([body] * n, [LENGTH_MM] * n, [1e9] * n)
-            dt = min(4e-3, 0.15 / st.highest_frequency_rad_s(body, LENGTH_MM))
-            traj = st.integrate(batch, y0, np.tile(t, (n, 1)), dt, 10.0)
-            tx, ty = st.inclinations_deg(traj.force)
+            tx, ty = truth.released(hinge, list(rel.values()), LENGTH_MM, 1e9, t)
             for k, name in enumerate(rel):
                 fit = fit_swing(Swing(pid, t, np.column_stack([tx[k], ty[k]])), linear)
                 modes = zip(fit.frequencies_hz, fit.mode_index, fit.amplitudes_deg, strict=True)

@@ -130,6 +130,26 @@ class Truth:
         """The body as it hangs with the wire leaving it at ``hinge_mm``."""
         return replace(self.body, wire_exit_mm=np.asarray(hinge_mm, dtype=float))
 
+    def released(
+        self,
+        hinge_mm: npt.ArrayLike,
+        releases: Sequence[st.Release],
+        length_mm: float,
+        decay_time_s: float,
+        t_s: FloatArray,
+    ) -> tuple[FloatArray, FloatArray]:
+        """The noise-free readings (device-free angles, degrees, each ``(len(releases),
+        len(t_s))``: x, y) of the body hung from ``hinge_mm`` on a wire of ``length_mm``,
+        released each way, every hang damped with ``decay_time_s``."""
+        body = self.hung_from(hinge_mm)
+        n = len(releases)
+        y0 = np.array([st.initial_state(body, length_mm, r) for r in releases]).T
+        batch = st.make_batch([body] * n, [length_mm] * n, [decay_time_s] * n)
+        dt = min(4e-3, 0.15 / st.highest_frequency_rad_s(body, length_mm))
+        traj = st.integrate(batch, y0, np.tile(t_s, (n, 1)), dt, 10.0)
+        tx, ty = st.inclinations_deg(traj.force)
+        return np.asarray(tx), np.asarray(ty)
+
     def normal_of(self, point_id: str) -> FloatArray:
         return self.normals[self._index(point_id)]
 
