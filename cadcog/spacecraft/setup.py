@@ -207,13 +207,9 @@ def _outside_warning(setup: Setup, cog_mm: FloatArray, cov_mm2: FloatArray) -> s
     """A warning when the CoG lies outside the model's bounding box by more than 3 σ on an axis:
     a CoG cannot be there, so the test did not locate it (too heavy a measurement equipment,
     hangs too close to parallel, or readings from another object)."""
-    lo, hi = setup.bbox_mm
     sigma = np.sqrt(np.maximum(np.diag(cov_mm2), 0.0))
-    out = [
-        axis
-        for axis, c, a, b, e in zip("xyz", cog_mm, lo, hi, sigma, strict=True)
-        if c < a - 3 * e or c > b + 3 * e
-    ]
+    beyond = setup.body().outside_by_mm(cog_mm) > 3 * sigma
+    out = [axis for axis, b in zip("xyz", beyond, strict=True) if b]
     if not out:
         return ""
     ratio = setup.me_mass_kg / setup.mass.mass_kg
