@@ -39,6 +39,9 @@ AMPLITUDE_WINDOW_S = 2.0
 #: The fit keeps at least this share of the record (the last part) whatever the amplitude.
 MIN_FIT_SHARE = 0.5
 
+#: A mode's frequency drift with its amplitude is bounded by this share of its frequency.
+MAX_DRIFT = 0.05
+
 #: Predicted modes closer than this many frequency bins (1/record length) start as one peak.
 UNRESOLVED_BINS = 3.0
 
@@ -69,6 +72,10 @@ class ModalFit:
         Residual standard deviation of each axis.
     correlation_inflation : float
         Factor applied to the covariance for the residuals' correlation in time (≥ 1).
+    drift_hz : ndarray, shape (k,) or None
+        ``d_k``: how far each mode's frequency stood from ``frequencies_hz`` at the start of the
+        fit, fading as its squared amplitude; None when the fit held each frequency fixed (then
+        ``frequencies_hz`` are the record's mean frequencies, not the small-swing limit).
     """
 
     point_id: str
@@ -79,6 +86,7 @@ class ModalFit:
     amplitudes_deg: FloatArray
     noise_deg: FloatArray
     correlation_inflation: float
+    drift_hz: FloatArray | None = None
 
     def take(self, keep: npt.NDArray[np.bool_]) -> ModalFit:
         """The fit with only the modes the mask ``keep`` (k,) selects."""
@@ -90,23 +98,44 @@ class ModalFit:
             frequency_cov_hz2=self.frequency_cov_hz2[np.ix_(idx, idx)],
             decay_per_s=self.decay_per_s[idx],
             amplitudes_deg=self.amplitudes_deg[idx],
+            drift_hz=None if self.drift_hz is None else self.drift_hz[idx],
         )
 
 
-_Waves = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
+_Waves = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
 
 
-def _waves(t: FloatArray, f: FloatArray, s: FloatArray) -> _Waves:
-    """The basis (n, 1 + 2k) at ``(f, σ)``, with the envelopes, cosines and sines it is made of
-    (which the model's derivatives reuse)."""
+def _drift_time(t: FloatArray, s: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """``h(t) = (1 − e^(−2σt))/(2σ)``, the time integral of a drift that fades as the squared
+    amplitude does, and ``∂h/∂σ``, both (n, k) (series near σ = 0, where h → t)."""
+    x = 2.0 * np.outer(t, s)
+    tt = t[:, None] * np.ones_like(s)[None, :]
+    small = np.abs(x) < 1e-4
+    safe = np.where(small, 1.0, x)
+    h = np.where(small, tt * (1.0 - x / 2.0 + x**2 / 6.0), tt * (-np.expm1(-safe)) / safe)
+    # d/dσ of t·(1 − e^(−x))/x with x = 2σt: 2t² (x e^(−x) − (1 − e^(−x)))/x²
+    dh = np.where(
+        small,
+        tt**2 * (-1.0 + 2.0 * x / 3.0),
+        2.0 * tt**2 * (safe * np.exp(-safe) + np.expm1(-safe)) / safe**2,
+    )
+    return h, dh
+
+
+def _waves(t: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray) -> _Waves:
+    """The basis (n, 1 + 2k) at ``(f, σ, d)``, with the envelopes, cosines and sines it is made
+    of and the drift's ``h`` and ``∂h/∂σ`` (which the model's derivatives reuse). The phase of
+    mode k is ``2π (f_k t + d_k h_k(t))``: its frequency ``f_k + d_k e^(−2σ_k t)`` drifts to
+    ``f_k`` as its squared amplitude dies away."""
     env = np.exp(-np.outer(t, s))
-    ph = 2.0 * np.pi * np.outer(t, f)
+    h, dh = _drift_time(t, s)
+    ph = 2.0 * np.pi * (np.outer(t, f) + h * d[None, :])
     cos, sin = np.cos(ph), np.sin(ph)
-    return np.hstack([np.ones((len(t), 1)), env * cos, env * sin]), env, cos, sin
+    return np.hstack([np.ones((len(t), 1)), env * cos, env * sin]), env, cos, sin, h, dh
 
 
-def _basis(t: FloatArray, f: FloatArray, s: FloatArray) -> FloatArray:
-    return _waves(t, f, s)[0]
+def _basis(t: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray) -> FloatArray:
+    return _waves(t, f, s, d)[0]
 
 
 def _lstsq(b: FloatArray, rhs: FloatArray) -> FloatArray:
@@ -118,28 +147,32 @@ def _lstsq(b: FloatArray, rhs: FloatArray) -> FloatArray:
 
 
 def _solve(
-    t: FloatArray, y: FloatArray, w: FloatArray, f: FloatArray, s: FloatArray
+    t: FloatArray, y: FloatArray, w: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray
 ) -> tuple[FloatArray, FloatArray]:
-    b = _basis(t, f, s)
+    b = _basis(t, f, s, d)
     coef = _lstsq(b, y)
     resid = (y - b @ coef) * w[None, :]
     return coef, resid
 
 
-def _model_derivatives(t: FloatArray, waves: _Waves, coef: FloatArray) -> list[FloatArray]:
-    """Per channel, the model's derivative w.r.t. ``(f, σ)`` at the linear coefficients
-    ``coef``, from :func:`_waves` at ``(f, σ)``: 2 × (n, 2k)."""
-    _, env, cos, sin = waves
+def _model_derivatives(
+    t: FloatArray, waves: _Waves, coef: FloatArray, d: FloatArray
+) -> list[FloatArray]:
+    """Per channel, the model's derivative w.r.t. ``(f, σ, d)`` at the linear coefficients
+    ``coef``, from :func:`_waves` at ``(f, σ, d)``: 2 × (n, 3k)."""
+    _, env, cos, sin, h, dh = waves
     k = cos.shape[1]
     out = []
     for c in range(2):
         a = coef[1 : 1 + k, c]
         b = coef[1 + k :, c]
+        turn = 2.0 * np.pi * env * (-a * sin + b * cos)  # ∂/∂(phase / 2π)
         out.append(
             np.hstack(
                 [
-                    2.0 * np.pi * t[:, None] * env * (-a * sin + b * cos),
-                    -t[:, None] * env * (a * cos + b * sin),
+                    t[:, None] * turn,
+                    -t[:, None] * env * (a * cos + b * sin) + d[None, :] * dh * turn,
+                    h * turn,
                 ]
             )
         )
@@ -147,14 +180,14 @@ def _model_derivatives(t: FloatArray, waves: _Waves, coef: FloatArray) -> list[F
 
 
 def _projected_jacobian(
-    t: FloatArray, y: FloatArray, w: FloatArray, f: FloatArray, s: FloatArray
+    t: FloatArray, y: FloatArray, w: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray
 ) -> FloatArray:
-    """Kaufman's variable-projection Jacobian of the weighted residuals w.r.t. (f, σ): the
+    """Kaufman's variable-projection Jacobian of the weighted residuals w.r.t. (f, σ, d): the
     derivative of the model at the current linear coefficients, projected off the basis."""
-    waves = _waves(t, f, s)
+    waves = _waves(t, f, s, d)
     b = waves[0]
-    derivs = _model_derivatives(t, waves, _lstsq(b, y))
-    return np.vstack([-w[c] * (d - b @ _lstsq(b, d)) for c, d in enumerate(derivs)])
+    derivs = _model_derivatives(t, waves, _lstsq(b, y), d)
+    return np.vstack([-w[c] * (dv - b @ _lstsq(b, dv)) for c, dv in enumerate(derivs)])
 
 
 def _periodogram(t: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -207,18 +240,19 @@ def _starts(
 
 
 def _jacobian(
-    t: FloatArray, f: FloatArray, s: FloatArray, coef: FloatArray, w: FloatArray
+    t: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray, coef: FloatArray, w: FloatArray
 ) -> FloatArray:
-    """Jacobian of the weighted residuals of both channels w.r.t. (f, σ, linear coefficients)."""
-    waves = _waves(t, f, s)
+    """Jacobian of the weighted residuals of both channels w.r.t. (f, σ, d, linear
+    coefficients)."""
+    waves = _waves(t, f, s, d)
     basis = waves[0]
-    derivs = _model_derivatives(t, waves, coef)
+    derivs = _model_derivatives(t, waves, coef, d)
     nlin = basis.shape[1]
     blocks = []
-    for c, d in enumerate(derivs):
+    for c, dv in enumerate(derivs):
         lin = np.zeros((len(t), 2 * nlin))
         lin[:, c * nlin : (c + 1) * nlin] = basis
-        blocks.append(w[c] * np.hstack([d, lin]))
+        blocks.append(w[c] * np.hstack([dv, lin]))
     return np.vstack(blocks)
 
 
@@ -249,18 +283,31 @@ def _small_swing_start(swing: Swing) -> int:
 
 
 def _objective(
-    t: FloatArray, y: FloatArray, w: FloatArray, member: FloatArray, base: FloatArray
+    t: FloatArray,
+    y: FloatArray,
+    w: FloatArray,
+    member: FloatArray,
+    base: FloatArray,
+    drift: bool,
 ) -> tuple[Any, Any]:
-    """Residuals and Jacobian in ``x = (group centres, decay rates)``: each mode's frequency is
-    its group's centre plus its fixed offset ``base``."""
+    """Residuals and Jacobian in ``x = (group centres, decay rates[, group drifts])``: each
+    mode's frequency is its group's centre plus its fixed offset ``base``; a group's modes
+    drift alike."""
     k, ng = member.shape
 
+    def split(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        d = member @ x[ng + k :] if drift else np.zeros(k)
+        return member @ x[:ng] + base, x[ng : ng + k], d
+
     def fun(x: FloatArray) -> FloatArray:
-        return _solve(t, y, w, member @ x[:ng] + base, x[ng:])[1].T.ravel()
+        return _solve(t, y, w, *split(x))[1].T.ravel()
 
     def jac(x: FloatArray) -> FloatArray:
-        j = _projected_jacobian(t, y, w, member @ x[:ng] + base, x[ng:])
-        return np.hstack([j[:, :k] @ member, j[:, k:]])
+        j = _projected_jacobian(t, y, w, *split(x))
+        cols = [j[:, :k] @ member, j[:, k : 2 * k]]
+        if drift:
+            cols.append(j[:, 2 * k :] @ member)
+        return np.hstack(cols)
 
     return fun, jac
 
@@ -272,7 +319,7 @@ RECORD_LONGER = (
 )
 
 
-def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
+def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = False) -> ModalFit:
     """Fit the modes of one hang's swing, starting from the predicted frequencies.
 
     Modes closer than :data:`UNRESOLVED_BINS` bins of the record are fitted as a group that
@@ -319,30 +366,43 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
                 member[pos, j] = 1.0
                 base[pos] = start_all[m] - centre0[j]
                 pos += 1
-        x_c, s0 = centre0.copy(), np.full(k, 0.05)
+        x_c, s0, d_g = centre0.copy(), np.full(k, 0.05), np.zeros(ng)
+        nd = ng if drift else 0
         w = np.ones(2)
         for _ in range(2):  # the second pass weighs each channel by its own noise
-            lo = np.concatenate([x_c * (1 - SEARCH_BAND), np.zeros(k)])
-            hi = np.concatenate([np.minimum(x_c * (1 + SEARCH_BAND), nyquist), member @ x_c + base])
-            x0 = np.clip(np.concatenate([x_c, s0]), lo + 1e-12, hi - 1e-12)
+            lo = np.concatenate([x_c * (1 - SEARCH_BAND), np.zeros(k), -MAX_DRIFT * x_c[:nd]])
+            hi = np.concatenate(
+                [
+                    np.minimum(x_c * (1 + SEARCH_BAND), nyquist),
+                    member @ x_c + base,
+                    MAX_DRIFT * x_c[:nd],
+                ]
+            )
+            x0 = np.clip(np.concatenate([x_c, s0, d_g[:nd]]), lo + 1e-12, hi - 1e-12)
 
-            fun, jac = _objective(t, y, w, member, base)
+            fun, jac = _objective(t, y, w, member, base, drift)
             sol = least_squares(
                 fun, x0, jac=jac, bounds=(lo, hi), x_scale="jac", xtol=1e-12, ftol=1e-12
             )
-            x_c, s0 = sol.x[:ng], sol.x[ng:]
-            f0 = member @ x_c + base
-            coef, resid = _solve(t, y, np.ones(2), f0, s0)
-            noise = np.sqrt(np.mean(resid**2, axis=0) * len(t) / (len(t) - (1 + 3 * k)))
+            x_c, s0 = sol.x[:ng], sol.x[ng : ng + k]
+            if drift:
+                d_g = sol.x[ng + k :]
+            f0, d0 = member @ x_c + base, member @ d_g
+            coef, resid = _solve(t, y, np.ones(2), f0, s0, d0)
+            nparam = 1 + 3 * k + nd
+            noise = np.sqrt(np.mean(resid**2, axis=0) * len(t) / (len(t) - nparam))
             w = 1.0 / np.maximum(noise, 1e-12)
-        full = _jacobian(t, f0, s0, coef, w)
-        reduced = np.hstack([full[:, :k] @ member, full[:, k:]])
+        full = _jacobian(t, f0, s0, d0, coef, w)
+        cols = [full[:, :k] @ member, full[:, k : 2 * k]]
+        if drift:
+            cols.append(full[:, 2 * k : 3 * k] @ member)
+        reduced = np.hstack([*cols, full[:, 3 * k :]])
         white = np.linalg.pinv(reduced.T @ reduced)
         rho = _lag1(resid)
         inflation = (1.0 + rho) / (1.0 - rho)
         cov = white * inflation
         nlin = 1 + 2 * k
-        off = ng + k  # first linear coefficient in the reduced parameters
+        off = ng + k + nd  # first linear coefficient in the reduced parameters
         amp = np.zeros(ng)
         amp_se = np.zeros(ng)
         for j in range(ng):
@@ -403,4 +463,5 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike) -> ModalFit:
         amp[single],
         noise,
         float(inflation),
+        d_g[single] if drift else None,
     )

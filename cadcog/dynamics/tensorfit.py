@@ -212,7 +212,12 @@ def swing_data(fits: Sequence[ModalFit], record_s: Sequence[float], model_rel: f
     """
     freqs, covs = [], []
     for fit, rec in zip(fits, record_s, strict=True):
-        shift = np.minimum(amplitude_factor(fit, rec), 0.05)
+        # a fit that followed each frequency's drift gives the small-swing limit itself
+        shift = (
+            np.zeros(len(fit.frequencies_hz))
+            if fit.drift_hz is not None
+            else np.minimum(amplitude_factor(fit, rec), 0.05)
+        )
         f0 = fit.frequencies_hz / (1.0 - shift)
         covs.append(
             fit.frequency_cov_hz2 + np.diag((f0 * (0.5 * shift)) ** 2 + (f0 * model_rel) ** 2)
