@@ -353,10 +353,26 @@ def table(rows: list[tuple[Row, list[dict[str, Any]], int]]) -> str:
         "| median χ² (6 expected: 5.35) | σ scaled (median scale) | campaigns refused [CP 95 %] |",
         "|---|---|---|---|---|---|---|",
     ]
+    along = [
+        "| row | n | moment about the true axis | bias | 95 % abs. error | error/σ: mean, sd "
+        "| in ±1.96 σ [CP 95 %] |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for row, sc, refused in rows:
         n = len(sc)
         if n == 0:
             continue
+        if all("rel_true_axes" in s for s in sc):
+            ra = np.array([s["rel_true_axes"] for s in sc])
+            za = np.array([s["z_true_axes"] for s in sc])
+            for i, name in enumerate(("I₁ (smallest)", "I₂", "I₃ (largest)")):
+                zsd = za[:, i].std(ddof=1) if n > 1 else 0.0
+                along.append(
+                    f"| {row.label} | {n} | {name} | {100 * ra[:, i].mean():+.2f} % | "
+                    f"{100 * np.quantile(np.abs(ra[:, i]), 0.95):.2f} % | "
+                    f"{za[:, i].mean():+.2f}, {zsd:.2f} | "
+                    f"{rate(int(np.sum(np.abs(za[:, i]) <= 1.96)), n)} |"
+                )
         rel = np.array([s["rel"] for s in sc])
         z = np.array([s["z"] for s in sc])
         ax = np.array([s["axis_deg"] for s in sc])
@@ -382,7 +398,8 @@ def table(rows: list[tuple[Row, list[dict[str, Any]], int]]) -> str:
             f"{rate(int(scaled.sum()), n)} ({median_scale}) "
             f"| {refused}/{n + refused} = {rate(refused, n + refused)} |"
         )
-    return "\n".join(out) + "\n\n" + "\n".join(chi) + "\n"
+    tables = [out, chi] + ([along] if len(along) > 2 else [])
+    return "\n\n".join("\n".join(t) for t in tables) + "\n"
 
 
 def modes_table() -> str:

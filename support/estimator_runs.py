@@ -100,7 +100,9 @@ def score(result: dict[str, Any], truth: sf.Truth) -> dict[str, Any]:
     """Errors of one estimate against the truth, principal quantities sorted by moment:
     ``rel`` (relative errors of the moments), ``z`` (errors over the reported σ), ``chi2`` (the
     tensor's 6 entries against the reported covariance), ``axis_deg`` (angle between estimated
-    and true principal axes, sign-free), ``sigma_scale`` (the Birge ratio the result applied
+    and true principal axes, sign-free), ``rel_true_axes`` and ``z_true_axes`` (the estimated
+    tensor's moments about the true principal axes: the sorted eigenvalues of a nearly equal
+    pair are biased apart by the noise alone), ``sigma_scale`` (the Birge ratio the result applied
     to its σ: ``z·scale`` and ``chi2·scale²`` are what the σ would have given before it)."""
     true_t = truth.object_inertia_kg_mm2
     tw, tv = np.linalg.eigh(true_t)
@@ -114,9 +116,16 @@ def score(result: dict[str, Any], truth: sf.Truth) -> dict[str, Any]:
     order = np.argsort(w)
     w, sw, axes = w[order], sw[order], axes[order]
     ang = np.degrees(np.arccos(np.clip(np.abs(np.sum(axes * tv.T, axis=1)), 0, 1)))
+    # the estimated tensor about the true principal axes: unbiased when the tensor is, where
+    # sorted eigenvalues of a nearly equal pair are pushed apart by the noise itself
+    along = np.array([tv[:, i] @ est_t @ tv[:, i] for i in range(3)])
+    grads = [vec6(np.outer(tv[:, i], tv[:, i]) * (2.0 - np.eye(3))) for i in range(3)]
+    s_along = np.sqrt([g @ cov @ g for g in grads])
     return {
         "rel": ((w - tw) / tw).tolist(),
         "z": ((w - tw) / sw).tolist(),
+        "rel_true_axes": ((along - tw) / tw).tolist(),
+        "z_true_axes": ((along - tw) / s_along).tolist(),
         "chi2": chi2,
         "axis_deg": ang.tolist(),
         "sigma_scale": float(result.get("consistency", {}).get("sigma_scale", 1.0)),
