@@ -27,9 +27,11 @@ from cadcog.core.units import STANDARD_GRAVITY_M_S2
 from cadcog.dynamics.context import InertiaContext, context_for_rig, context_for_setup
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
 from cadcog.dynamics.result import (
+    CLOSE_PAIR_SIGMAS,
     HangSwing,
     InertiaResult,
     bilinear_gradient,
+    close_pairs,
     principal_with_sigma,
 )
 from cadcog.dynamics.swingfile import Swing
@@ -396,6 +398,14 @@ def measure_inertia(
     cov_freq = cov_freq * scale**2
     principal = principal_with_sigma(p_obj, cov)
     warnings += _undetermined(principal.moments_kg_mm2, principal.moments_sigma_kg_mm2)
+    warnings += [
+        f"I{c.lower + 1} and I{c.lower + 2} differ by {c.split_kg_mm2:.3g} kg·mm², less than "
+        f"{CLOSE_PAIR_SIGMAS:g}× what the noise alone makes of two equal moments "
+        f"({c.split_sigma_kg_mm2:.2g}): sorted, the larger reads high and the smaller low, and "
+        f"their axes are not determined; their mean, {c.mean_kg_mm2:.6g} ± "
+        f"{c.mean_sigma_kg_mm2:.2g} kg·mm², is not biased so"
+        for c in close_pairs(principal, cov)
+    ]
     result_t = tensor(p_obj)
     return InertiaResult(
         result_t,

@@ -1,11 +1,17 @@
 """The frequencies of a recorded swing: a sum of damped sinusoids fitted to both axes at once.
 
-Model of one hang's samples (both channels share each mode's frequency and decay):
+Model of one hang's samples (both channels share each mode's frequency, decay and drift):
 
-``y_c(t) = c_c + Σ_k e^(−σ_k t) (A_kc cos 2πf_k t + B_kc sin 2πf_k t)``, ``c = x, y``.
+``y_c(t) = c_c + Σ_k e^(−σ_k t) (A_kc cos φ_k(t) + B_kc sin φ_k(t))``, ``c = x, y``,
+``φ_k(t) = 2π (f_k t + d_k (1 − e^(−2σ_k t))/(2σ_k))``.
 
-For given ``(f, σ)`` the model is linear in ``c, A, B`` (solved by least squares); the outer
-fit is over ``(f, σ)`` only (variable projection), started from the periodogram's peak nearest
+Mode k's frequency ``f_k + d_k e^(−2σ_k t)`` drifts as its squared amplitude dies away: a
+pendulum swings slower the larger its swing, and the wire's own swing, which a tilt sensor does
+not see, raises the body modes while it lasts (docs/inertia_validation.md). ``f_k`` is the
+small-swing limit the linear model of the hang predicts.
+
+For given ``(f, σ, d)`` the model is linear in ``c, A, B`` (solved by least squares); the outer
+fit is over ``(f, σ, d)`` only (variable projection), started from the periodogram's peak nearest
 to each mode the CAD predicts. Each channel is weighted by its residual noise; the covariance of
 ``f`` is the Gauss-Newton one of the full model, inflated for the residuals' correlation in time
 (quantisation and unmodelled motion are not white). A mode whose amplitude is not above
@@ -319,7 +325,7 @@ RECORD_LONGER = (
 )
 
 
-def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = False) -> ModalFit:
+def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> ModalFit:
     """Fit the modes of one hang's swing, starting from the predicted frequencies.
 
     Modes closer than :data:`UNRESOLVED_BINS` bins of the record are fitted as a group that
@@ -332,6 +338,12 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = False) ->
     swing : Swing
     predicted_hz : array_like, shape (m,)
         The modes the model predicts for this hang, e.g. from the CAD's inertia.
+    drift : bool
+        Follow each frequency as it drifts with the dying swing (``f_k + d_k e^(−2σ_k t)``, one
+        more unknown a mode) and report its small-swing limit ``f_k`` (default); without,
+        each frequency is held fixed and is the record's mean (kept for comparison: a large
+        swing then reads slow, and the wire's own swing, which a tilt sensor does not see,
+        makes the body modes read fast).
 
     Returns
     -------

@@ -81,6 +81,72 @@ def principal_with_sigma(p: FloatArray, cov: FloatArray) -> PrincipalWithSigma:
     return PrincipalWithSigma(lam, sig_m, v, sig_a)
 
 
+#: Two adjacent principal moments closer than this many standard deviations of their split
+#: are reported as not told apart (:func:`close_pairs`).
+CLOSE_PAIR_SIGMAS = 2.0
+
+
+@dataclass(frozen=True)
+class ClosePair:
+    """Two adjacent principal moments the measurement does not tell apart.
+
+    Sorted, the eigenvalues of a nearly equal pair are pushed apart by the noise alone (the
+    larger reads high, the smaller low, by up to ~0.4 of the pair's noise each) and their axes
+    are not determined; the pair's mean is not biased so.
+
+    Attributes
+    ----------
+    lower : int
+        Index of the smaller moment (ascending order); the pair is ``(lower, lower + 1)``.
+    split_kg_mm2 : float
+        Their difference.
+    split_sigma_kg_mm2 : float
+        What the noise alone makes of the split of two equal moments (1 σ): the root of the
+        variances of their difference and of twice their coupling ``v_iᵀ δJ v_j``.
+    mean_kg_mm2, mean_sigma_kg_mm2 : float
+        The pair's mean and its 1 σ.
+    """
+
+    lower: int
+    split_kg_mm2: float
+    split_sigma_kg_mm2: float
+    mean_kg_mm2: float
+    mean_sigma_kg_mm2: float
+
+
+def close_pairs(principal: PrincipalWithSigma, cov: FloatArray) -> list[ClosePair]:
+    """The adjacent principal moments closer than :data:`CLOSE_PAIR_SIGMAS` of their split.
+
+    Parameters
+    ----------
+    principal : PrincipalWithSigma
+    cov : ndarray, shape (6, 6)
+        Covariance of the tensor's entries ``[xx, yy, zz, xy, xz, yz]``.
+
+    Examples
+    --------
+    An axisymmetric tensor measured to 1 kg·mm² an entry: its two equal moments are a pair.
+
+    >>> p = np.array([10.0, 50.0, 50.0, 0.0, 0.0, 0.0])
+    >>> pairs = close_pairs(principal_with_sigma(p, np.eye(6)), np.eye(6))
+    >>> [(c.lower, round(c.mean_kg_mm2, 6)) for c in pairs]
+    [(1, 50.0)]
+    """
+    lam, v = principal.moments_kg_mm2, principal.axes
+    out = []
+    for i in range(2):
+        g_diff = bilinear_gradient(v[i + 1], v[i + 1]) - bilinear_gradient(v[i], v[i])
+        g_couple = bilinear_gradient(v[i], v[i + 1])
+        var = float(g_diff @ cov @ g_diff) + 4.0 * float(g_couple @ cov @ g_couple)
+        noise = float(np.sqrt(max(var, 0.0)))
+        split = float(lam[i + 1] - lam[i])
+        if split < CLOSE_PAIR_SIGMAS * noise:
+            g_mean = 0.5 * (bilinear_gradient(v[i], v[i]) + bilinear_gradient(v[i + 1], v[i + 1]))
+            mean_sigma = float(np.sqrt(max(float(g_mean @ cov @ g_mean), 0.0)))
+            out.append(ClosePair(i, split, noise, float(lam[i : i + 2].mean()), mean_sigma))
+    return out
+
+
 @dataclass(frozen=True)
 class HangSwing:
     """One hang's fitted modes against the model at the estimate.

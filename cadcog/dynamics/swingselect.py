@@ -191,9 +191,7 @@ def usable_swings(
             dropped.append(record)
             continue
         try:  # a hang whose swing shows no body mode is left out, not the whole run
-            fit = body_modes(
-                fit_swing(sw, predicted.frequencies_hz, drift=True), n_modes, sw.point_id
-            )
+            fit = body_modes(fit_swing(sw, predicted.frequencies_hz), n_modes, sw.point_id)
         except DegenerateGeometryError as exc:
             dropped.append(str(exc))
             continue
