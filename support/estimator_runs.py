@@ -68,6 +68,8 @@ def run_estimator(
     argv += list(extra)
     with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(err):
         code = main(argv)
+    if code in (130, 143):  # Ctrl-C or SIGTERM, cleaned up: stop the study, not this campaign
+        raise KeyboardInterrupt(f"cadcog inertia stopped by a signal (exit {code})")
     if code not in (0, None):
         last = (err.getvalue().strip().splitlines() or [""])[-1]
         raise RuntimeError(f"cadcog inertia exited {code}: {last}")
