@@ -401,9 +401,9 @@ def measure_inertia(
     warnings += [
         f"I{c.lower + 1} and I{c.lower + 2} differ by {c.split_kg_mm2:.3g} kg·mm², less than "
         f"{CLOSE_PAIR_SIGMAS:g}× what the noise alone makes of two equal moments "
-        f"({c.split_sigma_kg_mm2:.2g}): sorted, the larger reads high and the smaller low, and "
+        f"({c.split_sigma_kg_mm2:.3g}): sorted, the larger reads high and the smaller low, and "
         f"their axes are not determined; their mean, {c.mean_kg_mm2:.6g} ± "
-        f"{c.mean_sigma_kg_mm2:.2g} kg·mm², is not biased so"
+        f"{c.mean_sigma_kg_mm2:.3g} kg·mm², is not biased so"
         for c in close_pairs(principal, cov)
     ]
     result_t = tensor(p_obj)

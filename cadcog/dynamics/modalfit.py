@@ -45,8 +45,14 @@ AMPLITUDE_WINDOW_S = 2.0
 #: The fit keeps at least this share of the record (the last part) whatever the amplitude.
 MIN_FIT_SHARE = 0.5
 
-#: A mode's frequency drift with its amplitude is bounded by this share of its frequency.
-MAX_DRIFT = 0.05
+#: The prior σ of a mode's frequency drift, a share of its frequency: the swing's own
+#: nonlinearity moves a mode by up to about ``A²/8`` (0.35 % for a 10° wire swing, 0.2 % for a
+#: 10° body swing: docs/inertia_validation.md), so a fitted drift of several times this is the
+#: fit absorbing something else (a beat, energy passing between modes), not the amplitude.
+DRIFT_PRIOR_REL = 0.003
+
+#: A fitted drift is bounded by this many prior σ.
+MAX_DRIFT_PRIORS = 5.0
 
 #: Predicted modes closer than this many frequency bins (1/record length) start as one peak.
 UNRESOLVED_BINS = 3.0
@@ -294,26 +300,32 @@ def _objective(
     w: FloatArray,
     member: FloatArray,
     base: FloatArray,
-    drift: bool,
+    drift_sigma: FloatArray | None,
 ) -> tuple[Any, Any]:
     """Residuals and Jacobian in ``x = (group centres, decay rates[, group drifts])``: each
     mode's frequency is its group's centre plus its fixed offset ``base``; a group's modes
-    drift alike."""
+    drift alike. With ``drift_sigma`` (one a group), the drifts are unknowns with a normal
+    prior of that σ about zero (one residual each)."""
     k, ng = member.shape
+    drift = drift_sigma is not None
+    ds = drift_sigma if drift_sigma is not None else np.ones(0)
 
     def split(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         d = member @ x[ng + k :] if drift else np.zeros(k)
         return member @ x[:ng] + base, x[ng : ng + k], d
 
     def fun(x: FloatArray) -> FloatArray:
-        return _solve(t, y, w, *split(x))[1].T.ravel()
+        r = _solve(t, y, w, *split(x))[1].T.ravel()
+        return np.concatenate([r, x[ng + k :] / ds]) if drift else r
 
     def jac(x: FloatArray) -> FloatArray:
         j = _projected_jacobian(t, y, w, *split(x))
         cols = [j[:, :k] @ member, j[:, k : 2 * k]]
-        if drift:
-            cols.append(j[:, 2 * k :] @ member)
-        return np.hstack(cols)
+        if not drift:
+            return np.hstack(cols)
+        cols.append(j[:, 2 * k :] @ member)
+        prior = np.hstack([np.zeros((ng, ng + k)), np.diag(1.0 / ds)])
+        return np.vstack([np.hstack(cols), prior])
 
     return fun, jac
 
@@ -380,19 +392,26 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
                 pos += 1
         x_c, s0, d_g = centre0.copy(), np.full(k, 0.05), np.zeros(ng)
         nd = ng if drift else 0
+        drift_sigma = DRIFT_PRIOR_REL * centre0 if drift else None
         w = np.ones(2)
         for _ in range(2):  # the second pass weighs each channel by its own noise
-            lo = np.concatenate([x_c * (1 - SEARCH_BAND), np.zeros(k), -MAX_DRIFT * x_c[:nd]])
+            lo = np.concatenate(
+                [
+                    x_c * (1 - SEARCH_BAND),
+                    np.zeros(k),
+                    -MAX_DRIFT_PRIORS * DRIFT_PRIOR_REL * x_c[:nd],
+                ]
+            )
             hi = np.concatenate(
                 [
                     np.minimum(x_c * (1 + SEARCH_BAND), nyquist),
                     member @ x_c + base,
-                    MAX_DRIFT * x_c[:nd],
+                    MAX_DRIFT_PRIORS * DRIFT_PRIOR_REL * x_c[:nd],
                 ]
             )
             x0 = np.clip(np.concatenate([x_c, s0, d_g[:nd]]), lo + 1e-12, hi - 1e-12)
 
-            fun, jac = _objective(t, y, w, member, base, drift)
+            fun, jac = _objective(t, y, w, member, base, drift_sigma)
             sol = least_squares(
                 fun, x0, jac=jac, bounds=(lo, hi), x_scale="jac", xtol=1e-12, ftol=1e-12
             )
@@ -409,7 +428,10 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
         if drift:
             cols.append(full[:, 2 * k : 3 * k] @ member)
         reduced = np.hstack([*cols, full[:, 3 * k :]])
-        white = np.linalg.pinv(reduced.T @ reduced)
+        info = reduced.T @ reduced
+        if drift_sigma is not None:  # the drifts' prior
+            info[ng + k : ng + k + nd, ng + k : ng + k + nd] += np.diag(drift_sigma**-2)
+        white = np.linalg.pinv(info)
         rho = _lag1(resid)
         inflation = (1.0 + rho) / (1.0 - rho)
         cov = white * inflation
