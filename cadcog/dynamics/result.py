@@ -155,7 +155,8 @@ class HangSwing:
     ----------
     point_id : str
     frequencies_hz, sigma_hz, model_hz : ndarray, shape (k,)
-        Measured (amplitude-corrected), its 1 σ, and the model's at the estimate.
+        Measured (each fitted frequency's small-swing limit), its 1 σ, and the model's at the
+        estimate.
     damping_ratios : ndarray, shape (k,)
     amplitudes_deg : ndarray, shape (k,)
     samples : int

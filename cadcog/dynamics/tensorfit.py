@@ -176,9 +176,11 @@ class SwingData:
     ----------
     fits : tuple of ModalFit
     frequencies_hz : ndarray, shape (N,)
-        Every hang's fitted frequencies in turn, corrected for amplitude.
+        Every hang's fitted frequencies in turn, at their small-swing limit (fitted so, or
+        corrected for amplitude where the fit held them fixed).
     cov_hz2 : ndarray, shape (N, N)
-        Their covariance: the fits', the amplitude correction's and the model error's.
+        Their covariance: the fits', the amplitude correction's, an untrusted drift's and the
+        model error's.
     whitening : ndarray, shape (N, N)
         ``W`` with ``Wᵀ W`` the inverse of the covariance the fit weighs by (``cov_hz2``, or
         that plus what the nuisances do to the modelled frequencies: :func:`reweighted`).
@@ -210,11 +212,14 @@ def _whitening(cov: FloatArray) -> FloatArray:
 
 
 def swing_data(fits: Sequence[ModalFit], record_s: Sequence[float], model_rel: float) -> SwingData:
-    """Correct each fit for amplitude and weigh it by its own covariance.
+    """Each fit's small-swing frequencies, weighed by their own covariance.
 
-    The correction ``f₀ = f / (1 − ⟨A²⟩/16)`` uses the reading amplitude as the body's (an
-    approximation: the accelerometer sees a mode scaled); half of it is kept as its 1 σ, with the
-    relative ``model_rel`` of every frequency.
+    A fit that followed each frequency's drift (:func:`cadcog.dynamics.modalfit.fit_swing`'s
+    default) gives the small-swing limit itself; a drift beyond :data:`TRUSTED_DRIFT_PRIORS`
+    of its prior adds its square to the frequency's variance. A fit that held each frequency
+    fixed is corrected, ``f₀ = f / (1 − ⟨A²⟩/16)`` with the reading amplitude taken as the
+    body's (an approximation: the accelerometer sees a mode scaled), half of it kept as its
+    1 σ. Every frequency carries the relative ``model_rel`` besides.
     """
     freqs, covs = [], []
     for fit, rec in zip(fits, record_s, strict=True):
