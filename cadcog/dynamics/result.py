@@ -75,7 +75,11 @@ def principal_with_sigma(p: FloatArray, cov: FloatArray) -> PrincipalWithSigma:
             if j == i:
                 continue
             gap = lam[i] - lam[j]
-            g = grad(v[j], v[i]) / (gap if gap != 0 else np.finfo(float).tiny)
+            if abs(gap) <= np.finfo(float).eps * float(np.max(np.abs(lam))):
+                # equal moments (to the last bits): the axis turns freely in their plane
+                var = np.inf
+                break
+            g = grad(v[j], v[i]) / gap
             var += float(g @ cov @ g)
         sig_a[i] = min(float(np.rad2deg(np.sqrt(max(var, 0.0)))), AXIS_UNDETERMINED_DEG)
     return PrincipalWithSigma(lam, sig_m, v, sig_a)
