@@ -164,7 +164,7 @@ def inertia(
     >>> bool(abs(r.inertia_kg_mm2[0, 0] - truth[0, 0]) < 4 * r.sigma_kg_mm2[0, 0])
     True
     """
-    from cadcog.dynamics.measure import inertia_from_files
+    from cadcog.runs.inertia import inertia_from_files
 
     f = "inertia"
     swings_path = _path(f, "swings", swings)

@@ -46,8 +46,8 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.dynamics.measure import inertia_from_files
     from cadcog.rig.file import default_rig_path, load_rig
+    from cadcog.runs.inertia import inertia_from_files
 
     if args.rig is not None and args.setup is not None:
         raise CadcogError("give either --rig or --setup, not both")

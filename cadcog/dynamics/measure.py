@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 import numpy.typing as npt
@@ -57,6 +57,9 @@ from cadcog.mass.properties import combine
 from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.readings import Suspension
 from cadcog.rig.parameters import Rig
+
+if TYPE_CHECKING:
+    from cadcog.spacecraft.setup import Setup
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -459,7 +462,7 @@ def inertia_for_rig(
 
 
 def inertia_for_setup(
-    setup: Any,
+    setup: Setup,
     swings: Sequence[Swing],
     suspensions: Sequence[Suspension],
     *,
@@ -493,61 +496,8 @@ def inertia_for_setup(
         )
 
 
-def inertia_from_files(
-    swings_path: str | Path,
-    readings_path: str | Path,
-    *,
-    rig: Rig | None = None,
-    setup: Any = None,
-    weighed_mass_kg: float | None = None,
-    mass_sigma_kg: float = tolerances.DEFAULT_WEIGHING_SIGMA_KG,
-) -> InertiaResult:
-    """Read a swing file and a readings CSV and run the chain for a rig or a set-up (what the
-    command and :func:`cadcog.inertia` share), through the results cache
-    (:func:`cadcog.dynamics.cached.cached_inertia`: unchanged inputs are not fitted again)."""
-    from cadcog.dynamics.cached import cached_inertia
-    from cadcog.dynamics.swingfile import read_swings
-    from cadcog.method.readings import read_readings
-
-    if (rig is None) == (setup is None):
-        raise ValueError("give a rig or a set-up")
-
-    def compute() -> InertiaResult:
-        swings = read_swings(swings_path)
-        if setup is not None:
-            return inertia_for_setup(
-                setup,
-                swings,
-                read_readings(readings_path, setup.rig.inclinometer),
-                weighed_mass_kg=weighed_mass_kg,
-                mass_sigma_kg=mass_sigma_kg,
-                source=str(swings_path),
-                readings_source=str(readings_path),
-            )
-        assert rig is not None  # checked above
-        return inertia_for_rig(
-            rig,
-            swings,
-            read_readings(readings_path, rig.inclinometer),
-            weighed_mass_kg=weighed_mass_kg,
-            mass_sigma_kg=mass_sigma_kg,
-            source=str(swings_path),
-            readings_source=str(readings_path),
-        )
-
-    inputs = {
-        "rig": rig,
-        "setup": setup,
-        "weighed_mass_kg": weighed_mass_kg,
-        "mass_sigma_kg": mass_sigma_kg,
-        "swings": str(swings_path),
-        "readings": str(readings_path),
-    }
-    return cached_inertia(compute, inputs, [Path(swings_path), Path(readings_path)])[0]
-
-
 def inertia_observation(
-    setup: Any,
+    setup: Setup,
     swings_path: str | Path,
     suspensions: Sequence[Suspension],
     *,
@@ -556,7 +506,7 @@ def inertia_observation(
 ) -> tuple[FloatArray, FloatArray]:
     """The tensor a swing file measures, as ``cadcog update --swings`` observes it: its six
     entries ``[xx, yy, zz, xy, xz, yz]`` and their covariance (through the results cache, as
-    :func:`inertia_from_files`)."""
+    :func:`cadcog.runs.inertia.inertia_from_files`)."""
     from cadcog.dynamics.cached import cached_inertia
     from cadcog.dynamics.swingfile import read_swings
 
