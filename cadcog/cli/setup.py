@@ -63,10 +63,16 @@ def run(args: argparse.Namespace) -> int:
     )
     resolve = " --resolve-overlaps" if draft.resolves_overlaps else ""
     print(
-        f"drafted {draft.setup} and {draft.materials} ({draft.n_solids} solids in "
-        f"{draft.n_parts} parts, {draft.n_lacking_material} without a material of their own in "
+        f"drafted {draft.setup} and {draft.materials} ({_count(draft.n_solids, 'solid')} in "
+        f"{_count(draft.n_parts, 'part')}, {draft.n_lacking_material} without a material of "
+        "their own in "
         f"the STEP; {points}). Next: fill in the materials, check the set-up, then\n"
         f"  cadcog massprops {args.model} --materials {draft.materials}{resolve}\n"
         f"  cadcog plan {draft.setup} --for both"
     )
     return 0
+
+
+def _count(n: int, noun: str) -> str:
+    """``1 solid``, ``2 solids``."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
