@@ -229,7 +229,7 @@ def update(
         their probabilities, each item's change, the unmodelled mass, and the revised mass,
         CoG and inertia with their covariance (``docs/spacecraft.md``).
     """
-    from cadcog.dynamics.update_files import update_from_files
+    from cadcog.runs.update import update_from_files
     from cadcog.spacecraft.update import unmodelled_from_region
 
     f = "update"

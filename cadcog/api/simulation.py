@@ -91,7 +91,7 @@ def simulate(
     True
     """
     from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
-    from cadcog.uncertainty.simulate_rig import simulate_rig
+    from cadcog.runs.simulate import simulate_rig
 
     f = "simulate"
     numbers: dict[str, Any] = {  # checked here, then passed on as they are
@@ -171,7 +171,7 @@ def validate(
     CampaignValidation
         The per-window table, the campaign verdict (``.consistent``) and its null distribution.
     """
-    from cadcog.validation.validate_readings import validate_readings
+    from cadcog.runs.validate import validate_readings
     from cadcog.validation.verification import DEFAULT_WINDOWS_MM
 
     f = "validate"

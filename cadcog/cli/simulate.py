@@ -13,8 +13,8 @@ from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
 from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
+from cadcog.runs.simulate import simulate_rig
 from cadcog.uncertainty.random_points import SimulationReport
-from cadcog.uncertainty.simulate_rig import simulate_rig
 
 
 def add_parser(sub: Any) -> None:

@@ -91,7 +91,7 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.dynamics.update_files import update_from_files
+    from cadcog.runs.update import update_from_files
     from cadcog.spacecraft.setup import load_setup
 
     check_positive("weighed_mass_kg", args.weighed_mass_kg)

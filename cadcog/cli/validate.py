@@ -9,7 +9,7 @@ from typing import Any
 from cadcog.core.errors import CadcogError
 from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
-from cadcog.validation.validate_readings import validate_readings
+from cadcog.runs.validate import validate_readings
 from cadcog.validation.verification import DEFAULT_WINDOWS_MM, CampaignValidation
 
 

@@ -1,5 +1,6 @@
 """Runs: one composition per command, shared by the command and the API (estimate, campaign,
-setup init, acquire, plan, inertia; the others still compose one layer down).
+setup init, acquire, plan, inertia, simulate, validate, update; massprops, budget and report
+still compose one layer down).
 
 A run takes checked, typed arguments (paths, a rig or a set-up, options), does the work through
 the library below it, stages its outputs and puts them in place together, and returns a result

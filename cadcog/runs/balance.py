@@ -281,7 +281,7 @@ def _from_setup(
     if readings is None:
         state = UncertainMass.from_prior(s.cad_prior())
     else:
-        from cadcog.dynamics.update_files import update_from_files
+        from cadcog.runs.update import update_from_files
 
         assert weighed_mass_kg is not None
         upd, _ = update_from_files(
