@@ -54,6 +54,15 @@ DRIFT_PRIOR_REL = 0.003
 #: A fitted drift is bounded by this many prior σ.
 MAX_DRIFT_PRIORS = 5.0
 
+#: The fit is repeated, each channel weighed by the last pass's residual noise, until that
+#: noise moves by under 1 % or this many passes.
+MAX_PASSES = 5
+
+#: A channel's noise is taken as at least this share of the other's (a channel that does not
+#: swing, constant or quantised to one value, has none; weighed infinitely it made the
+#: frequencies' σ 1e-28 Hz).
+NOISE_FLOOR_SHARE = 0.01
+
 #: Predicted modes closer than this many frequency bins (1/record length) start as one peak.
 UNRESOLVED_BINS = 3.0
 
@@ -301,13 +310,14 @@ def _objective(
     member: FloatArray,
     base: FloatArray,
     drift_sigma: FloatArray | None,
+    drift: bool,
 ) -> tuple[Any, Any]:
     """Residuals and Jacobian in ``x = (group centres, decay rates[, group drifts])``: each
     mode's frequency is its group's centre plus its fixed offset ``base``; a group's modes
-    drift alike. With ``drift_sigma`` (one a group), the drifts are unknowns with a normal
-    prior of that σ about zero (one residual each)."""
+    drift alike (with ``drift``). With ``drift_sigma`` (one a group), the drifts have a normal
+    prior of that σ about zero (one residual each, on the scale of the weighted residuals)."""
     k, ng = member.shape
-    drift = drift_sigma is not None
+    with_prior = drift and drift_sigma is not None
     ds = drift_sigma if drift_sigma is not None else np.ones(0)
 
     def split(x: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -316,7 +326,7 @@ def _objective(
 
     def fun(x: FloatArray) -> FloatArray:
         r = _solve(t, y, w, *split(x))[1].T.ravel()
-        return np.concatenate([r, x[ng + k :] / ds]) if drift else r
+        return np.concatenate([r, x[ng + k :] / ds]) if with_prior else r
 
     def jac(x: FloatArray) -> FloatArray:
         j = _projected_jacobian(t, y, w, *split(x))
@@ -324,6 +334,8 @@ def _objective(
         if not drift:
             return np.hstack(cols)
         cols.append(j[:, 2 * k :] @ member)
+        if not with_prior:
+            return np.hstack(cols)
         prior = np.hstack([np.zeros((ng, ng + k)), np.diag(1.0 / ds)])
         return np.vstack([np.hstack(cols), prior])
 
@@ -393,8 +405,12 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
         x_c, s0, d_g = centre0.copy(), np.full(k, 0.05), np.zeros(ng)
         nd = ng if drift else 0
         drift_sigma = DRIFT_PRIOR_REL * centre0 if drift else None
-        w = np.ones(2)
-        for _ in range(2):  # the second pass weighs each channel by its own noise
+        # The first pass weighs both channels alike and leaves the drifts free (within their
+        # bounds): its residuals give each channel's noise. Later passes weigh each channel by
+        # it, with the drifts' prior (whose σ is only on the scale of noise-weighted residuals),
+        # until the noise settles.
+        w, prior, previous = np.ones(2), None, None
+        for _ in range(MAX_PASSES):
             lo = np.concatenate(
                 [
                     x_c * (1 - SEARCH_BAND),
@@ -411,7 +427,7 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
             )
             x0 = np.clip(np.concatenate([x_c, s0, d_g[:nd]]), lo + 1e-12, hi - 1e-12)
 
-            fun, jac = _objective(t, y, w, member, base, drift_sigma)
+            fun, jac = _objective(t, y, w, member, base, prior if drift else None, drift)
             sol = least_squares(
                 fun, x0, jac=jac, bounds=(lo, hi), x_scale="jac", xtol=1e-12, ftol=1e-12
             )
@@ -422,7 +438,16 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
             coef, resid = _solve(t, y, np.ones(2), f0, s0, d0)
             nparam = 1 + 3 * k + nd
             noise = np.sqrt(np.mean(resid**2, axis=0) * len(t) / (len(t) - nparam))
-            w = 1.0 / np.maximum(noise, 1e-12)
+            settled = previous is not None and bool(
+                np.all(np.abs(noise - previous) <= 0.01 * previous)
+            )
+            previous = noise
+            # a channel that does not swing (constant, quantised) has no noise of its own: it
+            # is weighed as a hundredth of the other's, not infinitely
+            w = 1.0 / np.maximum(noise, max(NOISE_FLOOR_SHARE * float(np.max(noise)), 1e-12))
+            prior = drift_sigma
+            if settled:
+                break
         full = _jacobian(t, f0, s0, d0, coef, w)
         cols = [full[:, :k] @ member, full[:, k : 2 * k]]
         if drift:

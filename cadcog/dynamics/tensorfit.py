@@ -38,9 +38,9 @@ ENTRIES = ("xx", "yy", "zz", "xy", "xz", "yz")
 CONVERGED_REL = 1e-10
 
 #: A fitted frequency drift beyond this many of its prior σ
-#: (:data:`cadcog.dynamics.modalfit.DRIFT_PRIOR_REL`) is not the swing's size: the whole drift
-#: is then added to the frequency's variance (on the nonlinear simulation such modes' errors
-#: were 0.3 % at the median, 3 σ of the fit alone: docs/inertia_validation.md).
+#: (:data:`cadcog.dynamics.modalfit.DRIFT_PRIOR_REL`) is not the swing's size: what exceeds it
+#: is added to the frequency's σ (on the nonlinear simulation such modes' errors were 0.3 % at
+#: the median, 3 σ of the fit alone: docs/inertia_validation.md).
 TRUSTED_DRIFT_PRIORS = 2.0
 
 
@@ -215,8 +215,8 @@ def swing_data(fits: Sequence[ModalFit], record_s: Sequence[float], model_rel: f
     """Each fit's small-swing frequencies, weighed by their own covariance.
 
     A fit that followed each frequency's drift (:func:`cadcog.dynamics.modalfit.fit_swing`'s
-    default) gives the small-swing limit itself; a drift beyond :data:`TRUSTED_DRIFT_PRIORS`
-    of its prior adds its square to the frequency's variance. A fit that held each frequency
+    default) gives the small-swing limit itself; what a drift exceeds
+    :data:`TRUSTED_DRIFT_PRIORS` of its prior by is added to the frequency's σ. A fit that held each frequency
     fixed is corrected, ``f₀ = f / (1 − ⟨A²⟩/16)`` with the reading amplitude taken as the
     body's (an approximation: the accelerometer sees a mode scaled), half of it kept as its
     1 σ. Every frequency carries the relative ``model_rel`` besides.
@@ -231,9 +231,9 @@ def swing_data(fits: Sequence[ModalFit], record_s: Sequence[float], model_rel: f
         )
         f0 = fit.frequencies_hz / (1.0 - shift)
         # a drift beyond what the swing's size explains is the fit following something else
-        # (energy passing between modes): the whole drift is then the frequency's model error
+        # (energy passing between modes): what exceeds it is the frequency's model error
         drift = np.zeros(len(f0)) if fit.drift_hz is None else fit.drift_hz
-        untrusted = np.where(np.abs(drift) > TRUSTED_DRIFT_PRIORS * DRIFT_PRIOR_REL * f0, drift, 0)
+        untrusted = np.maximum(np.abs(drift) - TRUSTED_DRIFT_PRIORS * DRIFT_PRIOR_REL * f0, 0.0)
         covs.append(
             fit.frequency_cov_hz2
             + np.diag((f0 * (0.5 * shift)) ** 2 + (f0 * model_rel) ** 2 + untrusted**2)

@@ -30,7 +30,7 @@ def test_a_drift_fit_is_taken_as_the_small_swing_limit_and_a_large_drift_widens_
     d = np.array([0.9, 1.1]) * limit  # the first within the trusted drift, the second beyond
     data = swing_data([_fit(f, d)], [60.0], model_rel=5e-4)
     assert data.frequencies_hz.tolist() == f.tolist()
-    expected = 1e-6 + (5e-4 * f) ** 2 + np.array([0.0, d[1] ** 2])
+    expected = 1e-6 + (5e-4 * f) ** 2 + np.array([0.0, (d[1] - limit[1]) ** 2])
     assert np.diag(data.cov_hz2) == pytest.approx(expected, rel=1e-12)
 
 
