@@ -111,3 +111,34 @@ def test_a_drifting_frequency_is_fitted_at_its_small_swing_limit():
     assert 1.0 < np.mean(z_drift) < 3.5
     assert sum(np.array(z_drift) > 5.99) <= 3
     assert np.median(z_fixed) > 50
+
+
+def test_a_quiet_record_with_a_large_drift_is_covered():
+    """Low noise (0.0005°) and a 1.2 % drift: the drifts' prior is applied on the scale of the
+    noise-weighted residuals (an audit found it applied with the first pass's weights: z of
+    −14 and −3 on seed 0)."""
+    freqs, decays = np.array([1.41, 3.1]), np.array([0.03, 0.04])
+    z = []
+    for seed in range(6):
+        rng = np.random.default_rng(seed)
+        swing = _drifting(rng, freqs, decays, -0.012 * freqs, noise=0.0005)
+        fit = fit_swing(swing, freqs)
+        z.extend((fit.frequencies_hz - freqs) / np.sqrt(np.diag(fit.frequency_cov_hz2)))
+    assert np.max(np.abs(z)) < 3.5, z
+
+
+def test_a_channel_that_does_not_swing_leaves_the_sigmas_honest():
+    """One axis constant (quantised to one value): its residuals are zero, and weighed by them
+    the frequencies' σ came out 1e-28 Hz."""
+    rng = np.random.default_rng(2)
+    freqs = np.array([1.41, 3.1])
+    swing = _drifting(rng, freqs, [0.03, 0.04], [0.0, 0.0])
+    flat = Swing(
+        swing.point_id,
+        swing.t_s,
+        np.column_stack([swing.inc_deg[:, 0], np.full(len(swing.t_s), 0.25)]),
+    )
+    fit = fit_swing(flat, freqs)
+    sigma = np.sqrt(np.diag(fit.frequency_cov_hz2))
+    assert np.all(sigma > 1e-6)
+    assert np.all(np.abs(fit.frequencies_hz - freqs) < 5 * sigma)
