@@ -139,8 +139,8 @@ def run_balance(
             )
         limits = np.array(CDS_COG_LIMITS_MM[form_factor])
         mismatch = form_factor_mismatch(form_factor, box[1] - box[0])  # model axes
-        if mismatch is not None:
-            notes.append(mismatch)
+        if mismatch is not None:  # balance has no --axes: the model's own are the envelope's
+            notes.append(f"{mismatch} (balance takes the model's axes as the envelope's)")
     if cog_limits_mm is not None:
         source = "custom limits (--cog-limits-mm)"
     elif form_factor is not None:

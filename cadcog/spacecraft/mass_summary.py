@@ -281,7 +281,8 @@ def build_mass_report(
         )
     mismatch = form_factor_mismatch(form_factor, np.abs(frame.axes) @ (hi - lo))
     if mismatch is not None:  # a CubeSat's box, in the envelope's axes
-        result = replace(result, notes=(*result.notes, mismatch))
+        remedy = " (a model whose long axis is not its z: --axes names the envelope's axes)"
+        result = replace(result, notes=(*result.notes, mismatch + remedy))
     configs = configuration_properties(result.bodies, configurations, configurations_source)
     if envelope is not None:
         configs = tuple(

@@ -307,6 +307,7 @@ def test_the_envelope_s_source_and_a_form_factor_that_does_not_fit_are_said(
     status, out, _ = _run(capsys, *args, "--form-factor", "3U")
     assert "limits: CubeSat Design Specification" in out
     assert "form factor 3U: the model's box" in out
+    assert "balance takes the model's axes" in out
 
 
 def test_a_product_limit_on_the_example_cubesat_and_the_api_gives_the_command_s_json(

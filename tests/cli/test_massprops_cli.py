@@ -282,6 +282,7 @@ def test_a_form_factor_the_box_does_not_match_is_a_note(tmp_path, capsys):
     data = json.loads(capsys.readouterr().out)
     (note,) = [n for n in data["notes"] if "form factor 3U" in n]
     assert "30 × 30 × 30 mm" in note and "is not a 3U's" in note
+    assert "--axes" in note  # the way out, named
     # A 3U whose rails run along the model's x, checked in its CDS axes: no note. A PocketQube
     # form factor (no CubeSat box to compare): the check runs, no note, no crash.
     top = Assembly("sat")
