@@ -216,10 +216,10 @@ def swing_data(fits: Sequence[ModalFit], record_s: Sequence[float], model_rel: f
 
     A fit that followed each frequency's drift (:func:`cadcog.dynamics.modalfit.fit_swing`'s
     default) gives the small-swing limit itself; what a drift exceeds
-    :data:`TRUSTED_DRIFT_PRIORS` of its prior by is added to the frequency's σ. A fit that held each frequency
-    fixed is corrected, ``f₀ = f / (1 − ⟨A²⟩/16)`` with the reading amplitude taken as the
-    body's (an approximation: the accelerometer sees a mode scaled), half of it kept as its
-    1 σ. Every frequency carries the relative ``model_rel`` besides.
+    :data:`TRUSTED_DRIFT_PRIORS` of its prior by is added to the frequency's σ. A fit that held
+    each frequency fixed is corrected, ``f₀ = f / (1 − ⟨A²⟩/16)`` with the reading amplitude
+    taken as the body's (an approximation: the accelerometer sees a mode scaled), half of it
+    kept as its 1 σ. Every frequency carries the relative ``model_rel`` besides.
     """
     freqs, covs = [], []
     for fit, rec in zip(fits, record_s, strict=True):
