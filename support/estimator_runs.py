@@ -106,6 +106,8 @@ def score(result: dict[str, Any], truth: sf.Truth) -> dict[str, Any]:
     tensor's moments about the true principal axes: the sorted eigenvalues of a nearly equal
     pair are biased apart by the noise alone), ``sigma_scale`` (the Birge ratio the result applied
     to its σ: ``z·scale`` and ``chi2·scale²`` are what the σ would have given before it)."""
+    from cadcog.dynamics.result import bilinear_gradient
+
     true_t = truth.object_inertia_kg_mm2
     tw, tv = np.linalg.eigh(true_t)
     est_t = np.asarray(result["inertia_kg_mm2"], float)
@@ -121,7 +123,7 @@ def score(result: dict[str, Any], truth: sf.Truth) -> dict[str, Any]:
     # the estimated tensor about the true principal axes: unbiased when the tensor is, where
     # sorted eigenvalues of a nearly equal pair are pushed apart by the noise itself
     along = np.array([tv[:, i] @ est_t @ tv[:, i] for i in range(3)])
-    grads = [vec6(np.outer(tv[:, i], tv[:, i]) * (2.0 - np.eye(3))) for i in range(3)]
+    grads = [bilinear_gradient(tv[:, i], tv[:, i]) for i in range(3)]
     s_along = np.sqrt([g @ cov @ g for g in grads])
     return {
         "rel": ((w - tw) / tw).tolist(),

@@ -427,7 +427,7 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
             )
             x0 = np.clip(np.concatenate([x_c, s0, d_g[:nd]]), lo + 1e-12, hi - 1e-12)
 
-            fun, jac = _objective(t, y, w, member, base, prior if drift else None, drift)
+            fun, jac = _objective(t, y, w, member, base, prior, drift)
             sol = least_squares(
                 fun, x0, jac=jac, bounds=(lo, hi), x_scale="jac", xtol=1e-12, ftol=1e-12
             )

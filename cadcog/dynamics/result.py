@@ -137,15 +137,16 @@ def close_pairs(principal: PrincipalWithSigma, cov: FloatArray) -> list[ClosePai
     [(1, 50.0)]
     """
     lam, v = principal.moments_kg_mm2, principal.axes
+    g_moment = [bilinear_gradient(a, a) for a in v]
     out = []
     for i in range(2):
-        g_diff = bilinear_gradient(v[i + 1], v[i + 1]) - bilinear_gradient(v[i], v[i])
+        g_diff = g_moment[i + 1] - g_moment[i]
         g_couple = bilinear_gradient(v[i], v[i + 1])
         var = float(g_diff @ cov @ g_diff) + 4.0 * float(g_couple @ cov @ g_couple)
         noise = float(np.sqrt(max(var, 0.0)))
         split = float(lam[i + 1] - lam[i])
         if split < CLOSE_PAIR_SIGMAS * noise:
-            g_mean = 0.5 * (bilinear_gradient(v[i], v[i]) + bilinear_gradient(v[i + 1], v[i + 1]))
+            g_mean = 0.5 * (g_moment[i] + g_moment[i + 1])
             mean_sigma = float(np.sqrt(max(float(g_mean @ cov @ g_mean), 0.0)))
             out.append(ClosePair(i, split, noise, float(lam[i : i + 2].mean()), mean_sigma))
     return out

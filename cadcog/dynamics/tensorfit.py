@@ -223,21 +223,17 @@ def swing_data(fits: Sequence[ModalFit], record_s: Sequence[float], model_rel: f
     """
     freqs, covs = [], []
     for fit, rec in zip(fits, record_s, strict=True):
-        # a fit that followed each frequency's drift gives the small-swing limit itself
-        shift = (
-            np.zeros(len(fit.frequencies_hz))
-            if fit.drift_hz is not None
-            else np.minimum(amplitude_factor(fit, rec), 0.05)
-        )
-        f0 = fit.frequencies_hz / (1.0 - shift)
-        # a drift beyond what the swing's size explains is the fit following something else
-        # (energy passing between modes): what exceeds it is the frequency's model error
-        drift = np.zeros(len(f0)) if fit.drift_hz is None else fit.drift_hz
-        untrusted = np.maximum(np.abs(drift) - TRUSTED_DRIFT_PRIORS * DRIFT_PRIOR_REL * f0, 0.0)
-        covs.append(
-            fit.frequency_cov_hz2
-            + np.diag((f0 * (0.5 * shift)) ** 2 + (f0 * model_rel) ** 2 + untrusted**2)
-        )
+        if fit.drift_hz is None:  # held fixed: the record's mean, corrected for amplitude
+            shift = np.minimum(amplitude_factor(fit, rec), 0.05)
+            f0 = fit.frequencies_hz / (1.0 - shift)
+            extra = (f0 * (0.5 * shift)) ** 2
+        else:  # the small-swing limit itself; a drift beyond what the swing's size explains is
+            # the fit following something else (energy passing between modes): the excess is
+            # the frequency's model error
+            f0 = fit.frequencies_hz
+            limit = TRUSTED_DRIFT_PRIORS * DRIFT_PRIOR_REL * f0
+            extra = np.maximum(np.abs(fit.drift_hz) - limit, 0.0) ** 2
+        covs.append(fit.frequency_cov_hz2 + np.diag(extra + (f0 * model_rel) ** 2))
         freqs.append(f0)
     n = sum(len(f) for f in freqs)
     cov = np.zeros((n, n))
