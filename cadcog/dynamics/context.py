@@ -16,7 +16,7 @@ from cadcog.core.errors import ReadingsError
 from cadcog.mass.properties import MassProperties, box_properties
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox
-from cadcog.method.wire import wire_shape_factor
+from cadcog.method.wire import elastica_length_mm, sqrt_uniform_moments, wire_shape_factor
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
 
 FloatArray = npt.NDArray[np.float64]
@@ -43,7 +43,8 @@ class InertiaContext:
     error_model : ErrorModel
         The static estimate's: the points' play, the wire's offset along the bolt axis.
     bending_stiffness_n_mm2, bending_rel_sigma : float
-        The wire's EI and its relative 1 σ (the top clamp's hinge is ``√(EI/T)``).
+        The wire's EI and how far off it may be (relative, uniform ±): the top clamp's hinge
+        (:meth:`top_hinge_mm`).
     signs : (int, int)
     """
 
@@ -60,9 +61,32 @@ class InertiaContext:
     signs: tuple[int, int]
 
     def top_hinge_mm(self, weight_n: float) -> tuple[float, float]:
-        """The top clamp's hinge ``λ = √(EI/T)`` and its 1 σ (EI's relative σ halved)."""
-        lam = float(np.sqrt(self.bending_stiffness_n_mm2 / weight_n))
-        return lam, 0.5 * self.bending_rel_sigma * lam
+        """The top clamp's hinge (how far below the clamp the free wire turns) and its 1 σ, mm.
+
+        A wire of bending stiffness ``EI`` under the tension ``T`` turns ``λ = √(EI/T)`` below
+        the clamp; an ideal string turns at the clamp. The hinge follows the error model's wire
+        model, as the wire's offset at the exit does (:meth:`ErrorModel.wire_prior`): with
+        ``"elastica"`` the wire's ``EI`` is known and the hinge is ``λ`` (σ from EI's relative
+        uncertainty, λ ∝ √EI); with ``"one-wire"`` and ``"paper"`` the wire may be anything
+        from a string to the declared stiffness, so the hinge is somewhere in ``0 … λ``:
+        ``λ/2 ± λ/2`` (a 1 σ that reaches both ends, as the exit's one-wire prior).
+
+        Examples
+        --------
+        >>> from dataclasses import replace
+        >>> import cadcog
+        >>> ctx = context_for_rig(cadcog.load_rig())  # the paper rig: 30 N·mm² within ±50 %
+        >>> [round(v, 4) for v in ctx.top_hinge_mm(30.0)]  # one wire: λ = 1 mm, the hinge 0 … 1
+        [0.5, 0.5]
+        >>> stiff = replace(ctx, error_model=replace(ctx.error_model, wire_model="elastica"))
+        >>> [round(v, 4) for v in stiff.top_hinge_mm(30.0)]  # the declared wire: λ, σ from EI's
+        [0.989, 0.1476]
+        """
+        lam = elastica_length_mm(self.bending_stiffness_n_mm2, weight_n)
+        if self.error_model.wire_model == "elastica":
+            m1, var = sqrt_uniform_moments(self.bending_rel_sigma)
+            return lam * m1, lam * float(np.sqrt(var))
+        return 0.5 * lam, 0.5 * lam
 
     def pivots(
         self, positions_mm: FloatArray, cog_mm: FloatArray, weight_n: float

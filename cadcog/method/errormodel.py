@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.method.wire import elastica_length_mm
+from cadcog.method.wire import elastica_length_mm, sqrt_uniform_moments
 from cadcog.rig.inclinometer import InclinometerConfig, SensorModel, require_angle_sensor
 from cadcog.rig.parameters import (
     INCLINOMETER_MODELS,
@@ -75,14 +75,6 @@ def _uniform(rng: np.random.Generator, half_width: float, shape: tuple[int, ...]
     return np.asarray(
         (rng.random(shape, dtype=np.float32) - np.float32(0.5)) * np.float32(2.0 * half_width)
     )
-
-
-def _mean_sqrt(rel: float) -> tuple[float, float]:
-    """Mean and variance of ``√(1 + U)``, ``U`` uniform on ±rel (λ ∝ √EI)."""
-    if rel == 0.0:
-        return 1.0, 0.0
-    m1 = ((1.0 + rel) ** 1.5 - (1.0 - rel) ** 1.5) / (3.0 * rel)
-    return m1, max(1.0 - m1 * m1, 0.0)
 
 
 # --- the model ---------------------------------------------------------------------------------
@@ -440,7 +432,7 @@ class ErrorModel:
             m = self.wire_offset_max_mm
             return WirePrior(0.5 * m, 0.0, m * m / 12.0)
         lam = self.wire_length_mm(weight_n)
-        m1, var = _mean_sqrt(self.wire_stiffness_rel_uncertainty)
+        m1, var = sqrt_uniform_moments(self.wire_stiffness_rel_uncertainty)
         return WirePrior(lam * m1, lam * lam * var, 0.0)
 
     def sample_wire(self, rng: np.random.Generator, n: int, k: int) -> FloatArray:

@@ -18,6 +18,23 @@ def elastica_length_mm(bending_stiffness_n_mm2: float, tension_n: float) -> floa
     return float(np.sqrt(bending_stiffness_n_mm2 / tension_n))
 
 
+def sqrt_uniform_moments(rel: float) -> tuple[float, float]:
+    """Mean and variance of ``√(1 + U)``, ``U`` uniform on ±``rel``: the elastica length's
+    factor when EI is known within ±``rel`` (λ ∝ √EI).
+
+    Examples
+    --------
+    >>> sqrt_uniform_moments(0.0)
+    (1.0, 0.0)
+    >>> [round(v, 5) for v in sqrt_uniform_moments(0.5)]
+    [0.98904, 0.02179]
+    """
+    if rel == 0.0:
+        return 1.0, 0.0
+    m1 = ((1.0 + rel) ** 1.5 - (1.0 - rel) ** 1.5) / (3.0 * rel)
+    return m1, max(1.0 - m1 * m1, 0.0)
+
+
 def wire_offset_mm(theta_deg: npt.ArrayLike, length_mm: float | FloatArray) -> FloatArray:
     """Offset of the virtual suspension point along the bolt axis: ``Δ = λ / cos(θ/2)``.
 
