@@ -147,7 +147,6 @@ def run(args: argparse.Namespace) -> int:
     for name in (
         "angle_sigma_deg",
         "point_sigma_mm",
-        "min_angle_deg",
         "weighed_mass_kg",
         "mass_sigma_kg",
     ):

@@ -128,11 +128,16 @@ def run(args: argparse.Namespace) -> int:
         if inertia_refused:
             print(f"\ninertia from the swings: not planned: {inertia_refused}")
         return status
-    print(
-        f"\nrecommended{' for the CoG' if inertia is not None else ''}: hang from "
-        f"{', '.join(plan.recommended['points'])} "
-        f"(predicted 95 % error {plan.recommended['q95_mm']:.3f} mm)"
-    )
+    if inertia is None or args.goal != "both":
+        print(
+            f"\nrecommended{' for the CoG' if inertia is not None else ''}: hang from "
+            f"{', '.join(plan.recommended['points'])} "
+            f"(predicted 95 % error {plan.recommended['q95_mm']:.3f} mm)"
+        )
+    if inertia is not None:
+        _print_inertia_plan(inertia, args.goal)
+    if inertia is not None and args.goal == "both":
+        _print_recommended_both(plan.recommended, inertia.recommended)
     rev = plan.reversal
     if rev is not None and rev.advised:
         print(
@@ -141,9 +146,7 @@ def run(args: argparse.Namespace) -> int:
             f" mm, the zero offsets' σ {rev.offset_sigma_deg[0]:.2f}° → "
             f"{rev.offset_sigma_with_deg[0]:.2f}° (linearised)"
         )
-    if inertia is not None:
-        _print_inertia_plan(inertia, args.goal)
-    elif inertia_refused:
+    if inertia is None and inertia_refused:
         print(f"\ninertia from the swings: not planned: {inertia_refused}")
     return status
 
@@ -185,7 +188,20 @@ def _print_inertia_plan(inertia: Any, goal: str) -> None:
         axes = ", ".join(f"{a:.2g}" if a < 90 else "undetermined" for a in s["axes_sigma_deg"])
         print(f"  {len(s['points'])} hangs: {', '.join(s['points'])}: [{rel}] %, axes ± [{axes}]°")
     r = inertia.recommended
+    if goal != "both":
+        print(
+            f"recommended for the inertia: hang from {', '.join(r['points'])} (worst moment "
+            f"± {100 * r['worst_moment_sigma_rel']:.2f} % at 1 σ)"
+        )
+
+
+def _print_recommended_both(cog: dict[str, Any], inertia: dict[str, Any]) -> None:
+    """One recommendation for ``--for both``: the inertia's set, grown from the CoG's (the
+    CoG's hangs first, then what the swings add), with what each part predicts."""
+    more = [p for p in inertia["points"] if p not in cog["points"]]
+    added = f", then {', '.join(more)} for the inertia" if more else ""
     print(
-        f"recommended for the inertia: hang from {', '.join(r['points'])} (worst moment "
-        f"± {100 * r['worst_moment_sigma_rel']:.2f} % at 1 σ)"
+        f"\nrecommended: hang from {', '.join([*cog['points'], *more])} (the CoG's "
+        f"{len(cog['points'])}, predicted 95 % error {cog['q95_mm']:.3f} mm{added}; worst "
+        f"moment ± {100 * inertia['worst_moment_sigma_rel']:.2f} % at 1 σ)"
     )

@@ -36,6 +36,17 @@ def test_rig_compensation_recovers_the_proof_mass_cog(tmp_path, capsys, paper_ri
     assert np.all(np.diag(cov) > np.diag(out["assembly_cov_mm2"]))
 
 
+def test_min_angle_zero_screens_no_pair(tmp_path, capsys, paper_rig):
+    """``--min-angle-deg 0`` is within its documented bound (0 … 90): no pair is screened out,
+    and on the paper rig's ideal readings (no pair below the default) the estimate is the
+    default's."""
+    csv = write_csv(tmp_path / "r.csv", ideal_rows(paper_rig))
+    default, _ = _run_json(capsys, str(csv), "--rig", str(paper_rig.source))
+    zero, _ = _run_json(capsys, str(csv), "--rig", str(paper_rig.source), "--min-angle-deg", "0")
+    assert len(zero["pairs"]) == len(default["pairs"]) == 15
+    np.testing.assert_allclose(zero["cog_mm"], default["cog_mm"], rtol=0, atol=1e-12)
+
+
 def test_readings_of_another_object_under_a_rig_are_warned_about(capsys, paper_rig):
     """The example spacecraft's readings estimated with the paper rig (a wrong --rig): the
     numbers are the rig's object's, and the command says the hangs are none of its points."""

@@ -54,3 +54,16 @@ def test_the_plan_for_both_grows_the_cogs_set(capsys):
     assert all(set(cog_set) <= set(s["points"]) for s in sets)
     assert sets[-1]["worst_moment_sigma_rel"] < sets[0]["worst_moment_sigma_rel"]
     assert out["goal"] == "both"
+
+
+def test_the_plan_for_both_recommends_once(capsys):
+    """``--for both`` ends with one recommendation: the CoG's set first, then the hangs the
+    inertia adds (the JSON's two sets, in that order), not two lines to choose between."""
+    args = ["plan", SETUP, "--for", "both", "--max-inertia-set", "5", "--trials", "300"]
+    assert main([*args, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert main(args) == 0
+    lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("recommended")]
+    cog, inertia = out["recommended"]["points"], out["inertia"]["recommended"]["points"]
+    order = [*cog, *[p for p in inertia if p not in cog]]
+    assert len(lines) == 1 and lines[0].startswith(f"recommended: hang from {', '.join(order)} (")
