@@ -1,6 +1,6 @@
 """What the inertia chain needs besides the data, from a rig or a spacecraft set-up: the
 object's CAD and its stated uncertainty, the measurement equipment, the ``[swing]`` table, the
-sensing point, the body's box, the static estimate's error model and the wire's stiffness
+sensing point, the body's box, the static estimate's error model (and with it the wire)
 (:class:`InertiaContext`, built by :func:`context_for_rig` and :func:`context_for_setup`)."""
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from cadcog.core.errors import ReadingsError
 from cadcog.mass.properties import MassProperties, box_properties
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox
-from cadcog.method.wire import elastica_length_mm, sqrt_uniform_moments, wire_shape_factor
+from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
 
 FloatArray = npt.NDArray[np.float64]
@@ -41,10 +41,8 @@ class InertiaContext:
     body : BodyBox
         The box the suspension points sit on: each bolt's axis.
     error_model : ErrorModel
-        The static estimate's: the points' play, the wire's offset along the bolt axis.
-    bending_stiffness_n_mm2, bending_rel_sigma : float
-        The wire's EI and how far off it may be (relative, uniform ±): the top clamp's hinge
-        (:meth:`top_hinge_mm`).
+        The static estimate's: the points' play, the wire's offset along the bolt axis (and so
+        the top clamp's hinge, :meth:`top_hinge_mm`).
     signs : (int, int)
     """
 
@@ -56,37 +54,38 @@ class InertiaContext:
     sensor_mm: FloatArray
     body: BodyBox
     error_model: ErrorModel
-    bending_stiffness_n_mm2: float
-    bending_rel_sigma: float
     signs: tuple[int, int]
 
-    def top_hinge_mm(self, weight_n: float) -> tuple[float, float]:
+    def top_hinge_mm(
+        self, weight_n: float, scale: tuple[float, float] | None = None
+    ) -> tuple[float, float]:
         """The top clamp's hinge (how far below the clamp the free wire turns) and its 1 σ, mm.
 
-        A wire of bending stiffness ``EI`` under the tension ``T`` turns ``λ = √(EI/T)`` below
-        the clamp; an ideal string turns at the clamp. The hinge follows the error model's wire
-        model, as the wire's offset at the exit does (:meth:`ErrorModel.wire_prior`): with
-        ``"elastica"`` the wire's ``EI`` is known and the hinge is ``λ`` (σ from EI's relative
-        uncertainty, λ ∝ √EI); with ``"one-wire"`` and ``"paper"`` the wire may be anything
-        from a string to the declared stiffness, so the hinge is somewhere in ``0 … λ``:
-        ``λ/2 ± λ/2`` (a 1 σ that reaches both ends, as the exit's one-wire prior).
+        One wire hangs the object: under the tension ``T`` it turns ``λ`` from where it is
+        held at **both** ends, ``λ = √(EI/T)`` for a wire of bending stiffness ``EI`` and 0 for
+        an ideal string. The hinge is therefore the same ``λ`` as the wire's offset at the exit
+        (:meth:`ErrorModel.wire_prior`: one unknown of the test, ``0 … wire_offset_max_mm``
+        with the default ``"one-wire"`` model, ``√(EI/T)`` within EI's spread with
+        ``"elastica"``); :meth:`pivot_terms` gives its covariance with the pivots. With the
+        paper's model (an independent offset a hang) the hinge is one more such draw.
+
+        ``scale``: λ and its variance as the CoG's estimate found them (default the prior); a
+        λ the noise made negative puts the hinge at the clamp.
 
         Examples
         --------
-        >>> from dataclasses import replace
         >>> import cadcog
-        >>> ctx = context_for_rig(cadcog.load_rig())  # the paper rig: 30 N·mm² within ±50 %
-        >>> [round(v, 4) for v in ctx.top_hinge_mm(30.0)]  # one wire: λ = 1 mm, the hinge 0 … 1
-        [0.5, 0.5]
-        >>> stiff = replace(ctx, error_model=replace(ctx.error_model, wire_model="elastica"))
-        >>> [round(v, 4) for v in stiff.top_hinge_mm(30.0)]  # the declared wire: λ, σ from EI's
-        [0.989, 0.1476]
+        >>> ctx = context_for_rig(cadcog.load_rig())  # the paper rig: one wire, λ in 0 … 1 mm
+        >>> ctx.top_hinge_mm(90.0)
+        (0.5, 0.5)
+        >>> ctx.top_hinge_mm(90.0, scale=(0.2, 0.01))  # as the CoG's joint fit found it
+        (0.2, 0.1)
         """
-        lam = elastica_length_mm(self.bending_stiffness_n_mm2, weight_n)
-        if self.error_model.wire_model == "elastica":
-            m1, var = sqrt_uniform_moments(self.bending_rel_sigma)
-            return lam * m1, lam * float(np.sqrt(var))
-        return 0.5 * lam, 0.5 * lam
+        prior = self.error_model.wire_prior(weight_n)
+        if self.error_model.wire_model == "paper":
+            return prior.scale_mm, float(np.sqrt(prior.scatter_var_mm2))
+        lam, lam_var = (prior.scale_mm, prior.scale_var_mm2) if scale is None else scale
+        return max(float(lam), 0.0), float(np.sqrt(lam_var))
 
     def pivots(
         self, positions_mm: FloatArray, cog_mm: FloatArray, weight_n: float
@@ -119,16 +118,19 @@ class InertiaContext:
         cog_mm: FloatArray,
         weight_n: float,
         scale: tuple[float, float] | None = None,
-    ) -> tuple[FloatArray, FloatArray]:
-        """Each hang's pivot, shape (k, 3), and the pivots' joint covariance, (3k, 3k), with the
-        wire's offset scale λ **one unknown shared by every hang** (one wire hangs them all).
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Each hang's pivot, shape (k, 3), the pivots' joint covariance, (3k, 3k), and each
+        pivot's covariance with the top clamp's hinge, (k, 3), with the wire's offset scale λ
+        **one unknown shared by every hang** and by the hinge (one wire hangs them all).
 
         ``scale``: λ and its variance as the CoG's estimate found them (its joint fit takes λ
         as an unknown of the test); default the error model's prior. Each hang's pivot is the
         exit moved by ``λ fᵢ`` along its bolt axis ``nᵢ``; its own covariance is the play in the
         face plane and the per-hang scatter along ``nᵢ``, and every pair of hangs shares
         ``var(λ) (fᵢnᵢ)(fⱼnⱼ)ᵀ``: an error of λ moves every pivot at once and does not average
-        out over the hangs (:meth:`pivots` takes it per hang, for planning).
+        out over the hangs (:meth:`pivots` takes it per hang, for planning). The hinge is ``λ``
+        (:meth:`top_hinge_mm`): its covariance with pivot ``i`` is ``var(λ) fᵢnᵢ``, so that a
+        wire that turns further out at the exit turns as much further down at the clamp.
         """
         model = self.error_model
         prior = model.wire_prior(weight_n)
@@ -147,7 +149,7 @@ class InertiaContext:
             own = model.play_var_mm2 * (np.eye(3) - np.outer(n, n))
             cov[3 * i : 3 * i + 3, 3 * i : 3 * i + 3] = own + prior.scatter_var_mm2 * np.outer(n, n)
             along[3 * i : 3 * i + 3] = f * n
-        return pivots, cov + lam_var * np.outer(along, along)
+        return pivots, cov + lam_var * np.outer(along, along), lam_var * along.reshape(k, 3)
 
 
 #: An ME volume whose name holds one of these words is the sensor (its centre is the sensing
@@ -194,7 +196,6 @@ def _signs(inclinometer: Any) -> tuple[int, int]:
 
 def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaContext:
     """The paper rig (or another): the proof mass is the object, exact."""
-    opts = rig.error_options
     sw = swing or rig.swing
     return InertiaContext(
         rig.analytic_proof_mass,
@@ -205,8 +206,6 @@ def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaConte
         sensor_position_mm(sw, rig.me_volumes, f"rig {rig.source}"),
         BodyBox.of_rig(rig),
         ErrorModel.from_rig(rig),
-        opts.wire_bending_stiffness_n_mm2,
-        opts.wire_stiffness_rel_uncertainty,
         _signs(rig.inclinometer),
     )
 
@@ -214,7 +213,6 @@ def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaConte
 def context_for_setup(setup: Any, cad_cov_kg2_mm4: FloatArray) -> InertiaContext:
     """A spacecraft set-up: its CAD with the stated uncertainty ``cad_cov_kg2_mm4``."""
     rig = setup.rig
-    opts = rig.error_options
     sw = setup.swing
     return InertiaContext(
         setup.mass,
@@ -225,7 +223,5 @@ def context_for_setup(setup: Any, cad_cov_kg2_mm4: FloatArray) -> InertiaContext
         sensor_position_mm(sw, setup.me_volumes, f"setup {setup.source}"),
         setup.body(),
         setup.error_model(),
-        opts.wire_bending_stiffness_n_mm2,
-        opts.wire_stiffness_rel_uncertainty,
         _signs(rig.inclinometer),
     )

@@ -203,6 +203,7 @@ def _fit_tensor_to(inputs: _Inputs, used: UsedHangs) -> _TensorFit:
         me_parts=ctx.me_parts,
         me_cog_sigma_mm=ctx.me_cog_sigma_mm,
         me_inertia_rel=ctx.swing.me_inertia_rel,
+        hinge_exit_cov_mm2=used.hinge_cov_mm2,
     )
     geo0 = hang_geometry(nuis, nuis.values, inputs.me_mass_kg, ctx.signs)
     p_first, _ = fit_tensor(data, geo0, inputs.start)
@@ -352,20 +353,18 @@ def measure_inertia(
     me_mass = sum(p.mass_kg for p in ctx.me_parts)
     cad_assembly = combine([ctx.object_cad, *ctx.me_parts])
     weight_n = (object_mass_kg + me_mass) * STANDARD_GRAVITY_M_S2
-    top, top_sigma = ctx.top_hinge_mm(weight_n)
     positions = np.array([s.position_mm for _, s in pairs], dtype=float)
     ws = estimate.joint.wire  # λ as the CoG's joint fit found it (its prior otherwise)
-    pivots, pivot_cov = ctx.pivot_terms(
-        positions,
-        estimate.assembly_cog_mm,
-        weight_n,
-        None if ws is None else (ws.scale_mm, ws.sigma_mm**2),
+    scale = None if ws is None else (ws.scale_mm, ws.sigma_mm**2)
+    top, top_sigma = ctx.top_hinge_mm(weight_n, scale)
+    pivots, pivot_cov, hinge_cov = ctx.pivot_terms(
+        positions, estimate.assembly_cog_mm, weight_n, scale
     )
     geometry = [
         HangGeometry(pivot, ctx.sensor_mm, ctx.swing.wire_length_mm, top, *ctx.signs)
         for pivot in pivots
     ]
-    used, dropped = usable_swings(pairs, pivots, pivot_cov, cad_assembly, geometry)
+    used, dropped = usable_swings(pairs, pivots, pivot_cov, hinge_cov, cad_assembly, geometry)
     inputs = _Inputs(
         ctx,
         estimate,

@@ -114,13 +114,15 @@ def _coordinates(hangs: Sequence[int]) -> npt.NDArray[np.intp]:
 @dataclass(frozen=True)
 class UsedHangs:
     """The hangs the tensor is fitted to: each one's swing and suspension, its modal fit, its
-    record's length (s), its pivot (k, 3) and the pivots' joint covariance (3k, 3k)."""
+    record's length (s), its pivot (k, 3), the pivots' joint covariance (3k, 3k) and each
+    pivot's covariance with the top clamp's hinge (k, 3)."""
 
     pairs: tuple[tuple[Swing, Suspension], ...]
     fits: tuple[ModalFit, ...]
     records_s: tuple[float, ...]
     pivots_mm: FloatArray
     pivot_cov_mm2: FloatArray
+    hinge_cov_mm2: FloatArray
 
     def only(self, hangs: Sequence[int]) -> UsedHangs:
         """These hangs alone, in this order."""
@@ -131,6 +133,7 @@ class UsedHangs:
             tuple(self.records_s[i] for i in hangs),
             self.pivots_mm[list(hangs)],
             self.pivot_cov_mm2[np.ix_(rows, rows)],
+            self.hinge_cov_mm2[list(hangs)],
         )
 
     def without(self, hang: int, modes: set[int]) -> UsedHangs:
@@ -163,11 +166,14 @@ def usable_swings(
     pairs: Sequence[tuple[Swing, Suspension]],
     pivots_mm: FloatArray,
     pivot_cov_mm2: FloatArray,
+    hinge_cov_mm2: FloatArray,
     cad_assembly: MassProperties,
     geometry: Sequence[HangGeometry],
 ) -> tuple[UsedHangs, list[str]]:
     """Each hang's body modes, fitted from the modes the CAD's assembly predicts on its
     ``geometry``; the hangs whose record or fit cannot show one left out, each with a note.
+    ``pivots_mm``, ``pivot_cov_mm2`` and ``hinge_cov_mm2``: as
+    :meth:`~cadcog.dynamics.context.InertiaContext.pivot_terms` gives them.
 
     Raises
     ------
@@ -210,5 +216,6 @@ def usable_swings(
         tuple(records),
         pivots_mm[kept],
         pivot_cov_mm2[np.ix_(rows, rows)],
+        np.asarray(hinge_cov_mm2, dtype=float).reshape(-1, 3)[kept],
     )
     return used, dropped

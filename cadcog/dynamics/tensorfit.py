@@ -120,9 +120,12 @@ def nuisances(
     me_parts: Sequence[MassProperties],
     me_cog_sigma_mm: Sequence[float],
     me_inertia_rel: float,
+    hinge_exit_cov_mm2: FloatArray | None = None,
 ) -> Nuisances:
     """Assemble the nuisance vector and its covariance; ``exit_cov_mm2`` is each pivot's 3 × 3
-    covariance, shape (k, 3, 3), or the pivots' joint one, (3k, 3k) (a shared wire offset)."""
+    covariance, shape (k, 3, 3), or the pivots' joint one, (3k, 3k) (a shared wire offset);
+    ``hinge_exit_cov_mm2``, shape (k, 3), each pivot's covariance with the top clamp's hinge
+    (one wire turns as far from both of its ends; default none)."""
     exits = np.asarray(exits_mm, dtype=float).reshape(-1, 3)
     k, e = len(exits), len(me_parts)
     values = np.concatenate(
@@ -151,6 +154,10 @@ def nuisances(
         exit_cov = exit_cov.reshape(k, 3, 3)
         for h in range(k):
             cov[i + 3 * h : i + 3 * h + 3, i + 3 * h : i + 3 * h + 3] = exit_cov[h]
+    if hinge_exit_cov_mm2 is not None and k:
+        cross = np.asarray(hinge_exit_cov_mm2, dtype=float).reshape(3 * k)
+        cov[5, i : i + 3 * k] = cross
+        cov[i : i + 3 * k, 5] = cross
     i += 3 * k
     for j in range(e):
         cov[i + 3 * j : i + 3 * j + 3, i + 3 * j : i + 3 * j + 3] = me_cog_sigma_mm[

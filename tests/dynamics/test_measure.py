@@ -41,18 +41,22 @@ def _campaign(
     rng = np.random.default_rng(seed)
     truth = combine([truth_object, *CTX.me_parts])
     weight = truth.mass_kg * 9.80665
-    top, _ = CTX.top_hinge_mm(weight)
+    top, top_sigma = CTX.top_hinge_mm(weight)
     sus, swings = [], []
     points = [p for p in RIG.suspension_points if ids is None or p.id in ids]
     nominal = np.array([RIG.wire_exit_mm(p) for p in points])
-    # The true pivots: drawn about the expected ones with their joint covariance (one wire:
-    # its offset scale shared by every hang, the play each hang's own).
-    pivots, cov = CTX.pivot_terms(nominal, truth.cog_mm, weight)
+    # The true pivots and top hinge: drawn about the expected ones with their joint covariance
+    # (one wire: its offset scale shared by every hang and the hinge, the play each hang's own).
+    pivots, cov, cross = CTX.pivot_terms(nominal, truth.cog_mm, weight)
+    joint = np.block(
+        [[cov, cross.reshape(-1, 1)], [cross.reshape(1, -1), np.array([[top_sigma**2]])]]
+    )
     # Drawn through a Cholesky factor, not rng.multivariate_normal's SVD: the play's equal
     # variances make the SVD's basis, and so the draws, depend on the LAPACK build.
-    n = cov.shape[0]
-    factor = np.linalg.cholesky(cov + 1e-12 * np.eye(n))
-    drawn = (pivots.ravel() + factor @ rng.standard_normal(n)).reshape(-1, 3)
+    n = joint.shape[0]
+    factor = np.linalg.cholesky(joint + 1e-12 * np.eye(n))
+    draw = np.append(pivots.ravel(), top) + factor @ rng.standard_normal(n)
+    drawn, top = draw[:-1].reshape(-1, 3), max(float(draw[-1]), 0.0)
     for i, p in enumerate(points):
         actual = drawn[i]
         r = ideal_reading(actual, truth.cog_mm)

@@ -22,7 +22,9 @@ def _used(*fits: ModalFit) -> UsedHangs:
     )[: len(fits)]
     pivots = np.arange(3.0 * len(fits)).reshape(-1, 3)
     cov = np.arange(9.0 * len(fits) ** 2).reshape(3 * len(fits), 3 * len(fits))
-    return UsedHangs(pairs, fits, tuple(float(i) for i in range(len(fits))), pivots, cov)  # type: ignore[arg-type]
+    hinge = np.arange(3.0 * len(fits)).reshape(-1, 3) + 0.5
+    records = tuple(float(i) for i in range(len(fits)))
+    return UsedHangs(pairs, fits, records, pivots, cov, hinge)  # type: ignore[arg-type]
 
 
 def test_a_refusal_names_the_hangs_whose_swing_showed_one_body_mode():
@@ -34,7 +36,8 @@ def test_a_refusal_names_the_hangs_whose_swing_showed_one_body_mode():
 
 def test_leaving_out_a_mode_keeps_the_hang_and_all_its_modes_the_hang_goes():
     """``without``: one mode of two leaves the hang with the other (its pivot and covariance
-    as they were); both modes take the hang away with its pivot's rows and columns."""
+    as they were); both modes take the hang away with its pivot's rows and columns, and its
+    pivot's covariance with the hinge."""
     used = _used(_fit(2), _fit(2), _fit(2), _fit(2))
     one = used.without(1, {0})
     assert [len(f.frequencies_hz) for f in one.fits] == [2, 1, 2, 2]
@@ -46,6 +49,7 @@ def test_leaving_out_a_mode_keeps_the_hang_and_all_its_modes_the_hang_goes():
     np.testing.assert_array_equal(gone.pivots_mm, used.pivots_mm[[0, 2, 3]])
     rows = [0, 1, 2, 6, 7, 8, 9, 10, 11]
     np.testing.assert_array_equal(gone.pivot_cov_mm2, used.pivot_cov_mm2[np.ix_(rows, rows)])
+    np.testing.assert_array_equal(gone.hinge_cov_mm2, used.hinge_cov_mm2[[0, 2, 3]])
 
 
 def test_a_record_that_cannot_show_its_modes_says_why():
