@@ -164,7 +164,7 @@ def test_estimate_refuses_a_hang_naming_the_readings_file_as_the_command(tmp_pat
         ({"weighed_mass_kg": [9.2]}, r"weighed_mass_kg=\[9\.2\]\): expected one number"),
         ({"weighed_mass_kg": (9.2, 1)}, r"expected one number"),
         ({"wire_correction": "no"}, r"wire_correction='no'\): expected True or False, got str"),
-        ({"self_calibrate_wire": None}, r"expected True or False, got NoneType"),
+        ({"self_calibrate_wire": None}, r"expected True or False, got None\b"),
         ({"mass_sigma_kg": 0.5}, r"mass_sigma_kg=0\.5\): goes with weighed_mass_kg"),
         ({"weighed_mass_kg": 0.1}, r"campaign\.csv: the object CoG .* is outside the object"),
     ],
@@ -681,3 +681,34 @@ def test_plan_for_both_is_what_the_command_prints(tmp_path, capsys) -> None:
     mine = cadcog.plan(setup, trials=300, goal="both")
     assert mine.to_json() == theirs
     assert mine.inertia is not None and json.loads(theirs)["goal"] == "both"
+
+
+def _none_cases() -> list[tuple[str, str]]:
+    """Every (entry point, argument) whose signature takes no None."""
+    import inspect
+
+    cases = []
+    for name in cadcog.__all__:
+        f = getattr(cadcog, name)
+        if not inspect.isfunction(f):
+            continue
+        for arg, p in inspect.signature(f).parameters.items():
+            if p.default is not None and "None" not in str(p.annotation):
+                cases.append((name, arg))
+    return cases
+
+
+@pytest.mark.parametrize(("function", "argument"), _none_cases())
+def test_none_where_the_signature_takes_none_is_refused_by_name(function, argument, tmp_path):
+    """``None`` for an argument whose signature does not take it is a CadcogError naming the
+    function and the argument, raised before any work (no TypeError deep inside, no
+    ``seed=None`` run as a fresh random seed where the signature says ``int = 0``)."""
+    import inspect
+
+    f = getattr(cadcog, function)
+    params = inspect.signature(f).parameters
+    kwargs = {a: str(tmp_path / "absent") for a, p in params.items() if p.default is p.empty}
+    kwargs[argument] = None
+    with pytest.raises(CadcogError, match=rf"^{function}\({argument}=None\): expected .*None$"):
+        f(**kwargs)
+    assert list(tmp_path.iterdir()) == []

@@ -69,6 +69,41 @@ def _one_blas_thread(function: _F) -> _F:
     return limited  # type: ignore[return-value]
 
 
+def _refuse_none(function: _F) -> _F:
+    """Refuse ``None`` for every argument of ``function`` whose signature does not allow it (a
+    default other than None, no ``None`` in its annotation) with the one-line error, before
+    the call: as the command refuses an empty option, not a TypeError deep inside, nor a
+    ``seed=None`` taken as a fresh random seed where the signature promises ``int = 0``."""
+    import inspect
+
+    signature = inspect.signature(function)
+    words = {"float": "a number", "int": "an integer", "bool": "True or False"}
+    refused = {
+        name: words.get(str(p.annotation), str(p.annotation))
+        for name, p in signature.parameters.items()
+        if p.default is not None and "None" not in str(p.annotation)
+    }
+
+    @functools.wraps(function)
+    def checked(*args: Any, **kwargs: Any) -> Any:
+        try:
+            bound = signature.bind(*args, **kwargs)
+        except TypeError:  # a missing or unknown argument: Python's own message says it
+            return function(*args, **kwargs)
+        for name, value in bound.arguments.items():
+            if value is None and name in refused:
+                raise _fail(function.__name__, name, value, f"expected {refused[name]}, got None")
+        return function(*args, **kwargs)
+
+    return checked  # type: ignore[return-value]
+
+
+def _public(function: _F) -> _F:
+    """A public entry point: ``None`` refused where the signature does not take it
+    (:func:`_refuse_none`), run with one BLAS thread (:func:`_one_blas_thread`)."""
+    return _one_blas_thread(_refuse_none(function))
+
+
 def _fail(function: str, name: str, value: object, expected: str) -> CadcogError:
     """The one-line error about argument ``name`` of ``function``."""
     shown = repr(value)

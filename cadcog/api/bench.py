@@ -11,9 +11,9 @@ import numpy as np
 from cadcog.api._checks import (
     _flags,
     _numbers,
-    _one_blas_thread,
     _path,
     _point_ids,
+    _public,
 )
 from cadcog.api.model import _rig, _setup
 from cadcog.core.arguments import check_choice
@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from cadcog.spacecraft.setup import Setup
 
 
-@_one_blas_thread
+@_public
 def setup_init(
     model: str | Path,
     *,
@@ -68,7 +68,7 @@ def setup_init(
     )
 
 
-@_one_blas_thread
+@_public
 def acquire(
     out: str | Path,
     *,
@@ -158,7 +158,7 @@ def acquire(
     )
 
 
-@_one_blas_thread
+@_public
 def acquire_log(
     log: str | Path,
     out: str | Path,

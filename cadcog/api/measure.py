@@ -13,9 +13,9 @@ from cadcog.api._checks import (
     _flags,
     _given,
     _numbers,
-    _one_blas_thread,
     _path,
     _positive,
+    _public,
     _weighing,
 )
 from cadcog.api.model import _rig, _setup
@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from cadcog.spacecraft.update import UpdateResult
 
 
-@_one_blas_thread
+@_public
 def estimate(
     readings: str | Path,
     rig: Rig | str | Path | None = None,
@@ -107,7 +107,7 @@ def estimate(
     )
 
 
-@_one_blas_thread
+@_public
 def inertia(
     swings: str | Path,
     readings: str | Path,
@@ -187,7 +187,7 @@ def inertia(
         raise _as_user_error(f, swings_path, exc) from None
 
 
-@_one_blas_thread
+@_public
 def update(
     readings: str | Path,
     setup: Setup | str | Path,

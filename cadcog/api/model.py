@@ -10,8 +10,8 @@ from cadcog.api._checks import (
     _fail,
     _flags,
     _numbers,
-    _one_blas_thread,
     _path,
+    _public,
 )
 from cadcog.core.arguments import check_choice, check_text
 from cadcog.core.errors import CadcogError
@@ -23,7 +23,7 @@ if TYPE_CHECKING:
     from cadcog.spacecraft.setup import Setup
 
 
-@_one_blas_thread
+@_public
 def load_rig(path: str | Path | None = None) -> Rig:
     """A rig from its parameter file (TOML), or the paper's rig.
 
@@ -51,7 +51,7 @@ def load_rig(path: str | Path | None = None) -> Rig:
     return _load_rig(default_rig_path() if path is None else _path("load_rig", "path", path))
 
 
-@_one_blas_thread
+@_public
 def load_setup(path: str | Path) -> Setup:
     """A spacecraft's test set-up file: model, measurement equipment, candidate points.
 
@@ -62,7 +62,7 @@ def load_setup(path: str | Path) -> Setup:
     return _load_setup(_path("load_setup", "path", path))
 
 
-@_one_blas_thread
+@_public
 def mass_properties(
     model: str | Path,
     materials: str | Path | None = None,

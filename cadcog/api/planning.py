@@ -11,9 +11,9 @@ from cadcog.api._checks import (
     _flags,
     _given,
     _numbers,
-    _one_blas_thread,
     _path,
     _positive,
+    _public,
 )
 from cadcog.api.model import _setup
 from cadcog.core.arguments import check_choice
@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from cadcog.spacecraft.setup import Setup
 
 
-@_one_blas_thread
+@_public
 def plan(
     setup: Setup | str | Path,
     *,
@@ -80,7 +80,7 @@ def plan(
     )
 
 
-@_one_blas_thread
+@_public
 def check(requirements: str | Path, *, strict: bool = False) -> CheckResult:
     """Check a model against its mass-properties requirements (``cadcog check``).
 
@@ -102,7 +102,7 @@ def check(requirements: str | Path, *, strict: bool = False) -> CheckResult:
     return check_requirements(_path("check", "requirements", requirements), strict=strict)
 
 
-@_one_blas_thread
+@_public
 def balance(
     ballast: str | Path,
     model: str | Path | None = None,

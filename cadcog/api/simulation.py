@@ -12,9 +12,9 @@ from cadcog.api._checks import (
     _fail,
     _flags,
     _numbers,
-    _one_blas_thread,
     _path,
     _point_ids,
+    _public,
 )
 from cadcog.api.model import _rig, _setup
 from cadcog.core.arguments import check_choice
@@ -28,7 +28,7 @@ if TYPE_CHECKING:
     from cadcog.validation.verification import CampaignValidation
 
 
-@_one_blas_thread
+@_public
 def simulate(
     rig: Rig | str | Path | None = None,
     *,
@@ -136,7 +136,7 @@ def simulate(
         raise _as_user_error(f, None, exc) from None
 
 
-@_one_blas_thread
+@_public
 def validate(
     readings: str | Path,
     rig: Rig | str | Path | None = None,
@@ -195,7 +195,7 @@ def validate(
     )
 
 
-@_one_blas_thread
+@_public
 def campaign(
     out: str | Path,
     *,

@@ -71,19 +71,24 @@ def _digest(entry: str, result: Any) -> str:
     return hashlib.sha256(f"{entry}\0{text}".encode()).hexdigest()
 
 
-def _read_entry(path: Path) -> str:
-    """An entry's text: a regular file (no link followed, never a pipe or a device) of at most
-    :data:`MAX_ENTRY_BYTES`; else OSError."""
+def _own_file(st: os.stat_result) -> bool:
+    """A regular file with no other name (a hard link's other name may be anywhere)."""
+    return stat.S_ISREG(st.st_mode) and st.st_nlink == 1
+
+
+def _read_entry(path: Path) -> tuple[str, tuple[int, int]]:
+    """An entry's text and its (device, inode): a regular file of its own (no link followed,
+    no hard link, never a pipe or a device) of at most :data:`MAX_ENTRY_BYTES`; else OSError."""
     flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0)
     fd = os.open(path, flags)
     with os.fdopen(fd, "rb") as f:
         st = os.fstat(f.fileno())
-        if not stat.S_ISREG(st.st_mode) or st.st_size > MAX_ENTRY_BYTES:
+        if not _own_file(st) or st.st_size > MAX_ENTRY_BYTES:
             raise OSError(f"{path}: not a cache entry")
         data = f.read(MAX_ENTRY_BYTES + 1)
     if len(data) > MAX_ENTRY_BYTES:
         raise OSError(f"{path}: not a cache entry")
-    return data.decode("utf-8")
+    return data.decode("utf-8"), (st.st_dev, st.st_ino)
 
 
 def load_data(entry: str) -> Any:
@@ -94,7 +99,8 @@ def load_data(entry: str) -> Any:
         return None
     path = folder / f"{entry}.json"
     try:
-        data = json.loads(_read_entry(path))
+        text, identity = _read_entry(path)
+        data = json.loads(text)
         if data.get("format") != FORMAT or data.get("key") != entry:
             return None
         result = data["result"]
@@ -102,8 +108,10 @@ def load_data(entry: str) -> Any:
             return None
     except (OSError, ValueError, KeyError, TypeError, AttributeError, RecursionError):
         return None
-    with suppress(OSError, NotImplementedError):
-        os.utime(path, follow_symlinks=False)  # used now: the last to go when trimmed
+    with suppress(OSError, NotImplementedError):  # used now: the last to go when trimmed
+        st = os.lstat(path)
+        if _own_file(st) and (st.st_dev, st.st_ino) == identity:  # the file just read
+            os.utime(path, follow_symlinks=False)
     return result
 
 

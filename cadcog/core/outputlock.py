@@ -70,7 +70,9 @@ def _holder(fd: int) -> str:
 
 def _acquire(lock: Path, target: Path) -> int | None:
     """Lock ``lock`` (created as needed) for this process; None where no lock can be made (the
-    folder is missing or read-only: the write itself will say so)."""
+    folder is missing or read-only: the write itself will say so). Anything else at the lock's
+    path (a link, a hard link to another file, a folder, a FIFO) is refused: a lock never
+    writes through it, and a run never goes on unlocked because of it."""
     import fcntl
 
     flags = os.O_RDWR | os.O_CREAT | os.O_CLOEXEC | os.O_NOFOLLOW | os.O_NONBLOCK
@@ -83,10 +85,19 @@ def _acquire(lock: Path, target: Path) -> int | None:
                     f"{target}: its lock file {lock} is a link; remove it (cadcog only ever "
                     "makes a plain file there)"
                 ) from None
-            return None
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            if exc.errno in (errno.ENOENT, errno.ENOTDIR, errno.EACCES, errno.EPERM, errno.EROFS):
+                return None  # no folder (or a file), or one not writable: the write says so
+            raise CadcogError(  # a folder, a FIFO, ... planted there: no lock would be taken
+                f"{target}: its lock file {lock} cannot be made ({exc.strerror}); remove "
+                "what is there (cadcog only ever makes a plain file)"
+            ) from None
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode) or st.st_nlink > 1:  # a hard link: another file
             os.close(fd)
-            raise CadcogError(f"{target}: its lock file {lock} is not a plain file; remove it")
+            raise CadcogError(
+                f"{target}: its lock file {lock} is not a plain file of its own (a link or "
+                "another kind of file); remove it"
+            )
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:

@@ -355,10 +355,10 @@ def measure_inertia(
     weight_n = (object_mass_kg + me_mass) * STANDARD_GRAVITY_M_S2
     positions = np.array([s.position_mm for _, s in pairs], dtype=float)
     ws = estimate.joint.wire  # λ as the CoG's joint fit found it (its prior otherwise)
-    scale = None if ws is None else (ws.scale_mm, ws.sigma_mm**2)
-    top, top_sigma = ctx.top_hinge_mm(weight_n, scale)
+    wire = None if ws is None else (ws.scale_mm, ws.sigma_mm**2)
+    top, top_sigma = ctx.top_hinge_mm(weight_n, wire)
     pivots, pivot_cov, hinge_cov = ctx.pivot_terms(
-        positions, estimate.assembly_cog_mm, weight_n, scale
+        positions, estimate.assembly_cog_mm, weight_n, wire
     )
     geometry = [
         HangGeometry(pivot, ctx.sensor_mm, ctx.swing.wire_length_mm, top, *ctx.signs)

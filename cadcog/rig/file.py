@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from cadcog.core import tolerances
+from cadcog.core import bounds, tolerances
 from cadcog.core.paramfile import TableReader, read_toml
 from cadcog.core.tolerances import MIN_SOLID_DIMENSION_MM
 from cadcog.rig.accelerometer import axes_problem
@@ -72,6 +72,7 @@ def load_rig(path: str | Path) -> Rig:
         mass_kg=pm_t.number("mass_kg", positive=True),
         material=pm_t.string("material"),
     )
+    _check_density(pm_t, proof_mass)
     pm_t.finish()
 
     holes_t = root.table("holes")
@@ -347,6 +348,21 @@ def _hole_box(point: SuspensionPoint, holes: HoleSpec) -> tuple[np.ndarray, np.n
 def _overlap_depth(lo1: np.ndarray, hi1: np.ndarray, lo2: np.ndarray, hi2: np.ndarray) -> float:
     """Smallest per-axis overlap of two boxes: > 0 means their interiors intersect."""
     return float(np.min(np.minimum(hi1, hi2) - np.maximum(lo1, lo2)))
+
+
+def _check_density(table: TableReader, proof_mass: ProofMass) -> None:
+    """The proof mass is a homogeneous block: its mass over its box's volume is a solid's
+    density (the ``_kg_m3`` bound: 0.1 mg in the paper's block is 0.09 kg/m³, a unit slip
+    that would put the CoG metres away)."""
+    volume_m3 = float(np.prod(proof_mass.size_mm)) * 1e-9
+    density = proof_mass.mass_kg / volume_m3
+    problem = bounds.check("density_kg_m3", density)
+    if problem is not None:
+        raise table.error(
+            "mass_kg",
+            f"{proof_mass.mass_kg:g} kg in a {' × '.join(f'{v:g}' for v in proof_mass.size_mm)} "
+            f"mm block is {density:.3g} kg/m³: {problem}",
+        )
 
 
 def _check_holes(

@@ -62,6 +62,7 @@ def update_from_files(
         A file the update cannot use (a ValueError from reading it or from the update),
         named in the message: the swing CSV for its own errors, else the readings CSV.
     """
+    _check_unmodelled(unmodelled, weighed_mass_kg)
     with _naming(readings):
         suspensions = read_readings(readings, setup.rig.inclinometer)
     inertia = None
@@ -90,6 +91,29 @@ def update_from_files(
             inertia=inertia,
         )
     return replace(result, notes=(*result.notes, *notes)), estimate
+
+
+def _check_unmodelled(unmodelled: UnmodelledPrior | None, weighed_mass_kg: float) -> None:
+    """An unmodelled mass is part of the weighed spacecraft: its prior mean and 1 σ cannot
+    exceed the weighing (a prior of 100 kg in a 2.6 kg CubeSat is a unit slip, and the update
+    would "find" it).
+
+    Raises
+    ------
+    CadcogError
+        Naming the option and the weighed mass.
+    """
+    if unmodelled is None:
+        return
+    for option, value in (
+        ("--unmodelled-mass-kg", unmodelled.mass_kg),
+        ("--unmodelled-sigma-kg", unmodelled.sigma_kg),
+    ):
+        if value > weighed_mass_kg:
+            raise CadcogError(
+                f"{option} {value:g}: more than the weighed {weighed_mass_kg:g} kg spacecraft "
+                "it is part of (is it in kg?)"
+            )
 
 
 @contextmanager

@@ -104,10 +104,11 @@ def test_the_same_bytes_from_another_folder_are_a_hit_named_by_their_new_path(
     assert ruled and all(str(copy / "materials.toml") in d for d in ruled), ruled[:2]
 
 
-@pytest.mark.parametrize("damage", ["digit", "other entry", "fifo", "link"])
+@pytest.mark.parametrize("damage", ["digit", "other entry", "fifo", "link", "hard link"])
 def test_an_entry_that_is_not_this_keys_result_is_never_read(setup_file, tmp_path, damage):
-    """A flipped digit, another model's entry copied over it, a pipe or a link in its place:
-    each is ignored (the result computed afresh), never returned and never blocks."""
+    """A flipped digit, another model's entry copied over it, a pipe or a link in its place
+    (a hard link included): each is ignored (the result computed afresh), never returned and
+    never blocks, and a file a link names is never touched (not even its time stamp)."""
     import os
 
     first = _load(setup_file)
@@ -128,8 +129,14 @@ def test_an_entry_that_is_not_this_keys_result_is_never_read(setup_file, tmp_pat
     else:
         target = tmp_path / "elsewhere.json"
         target.write_text(text, encoding="utf-8")
-        entry.symlink_to(target)
+        os.utime(target, (1e9, 1e9))
+        if damage == "link":
+            entry.symlink_to(target)
+        else:
+            os.link(target, entry)
     assert _bits(_load(setup_file)) == _bits(first)
+    if damage.endswith("link"):
+        assert target.stat().st_mtime == 1e9 and target.read_text(encoding="utf-8") == text
 
 
 def test_the_cache_follows_the_environment(setup_file, monkeypatch, tmp_path):

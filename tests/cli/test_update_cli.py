@@ -148,6 +148,9 @@ def test_the_cad_as_built_is_consistent_and_barely_changed(tmp_path, capsys, cub
     assert _mahalanobis2(meas["cog_mm"], meas["cog_cov_mm2"], cubesat_setup.mass.cog_mm) < CHI2_999
 
 
+WITH_REGION = ["--weighed-mass-kg", "2.6", "--unmodelled-region-mm=-50,-50,-170,50,50,170"]
+
+
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
@@ -165,6 +168,15 @@ def test_the_cad_as_built_is_consistent_and_barely_changed(tmp_path, capsys, cub
         (
             ["--weighed-mass-kg", "2.6", "--mass-sigma-kg", "0"],
             "--mass-sigma-kg must be a positive number",
+        ),
+        # an unmodelled mass is part of the weighed spacecraft (a 100 kg prior was "found")
+        (
+            [*WITH_REGION, "--unmodelled-mass-kg", "100", "--unmodelled-sigma-kg", "0.05"],
+            "--unmodelled-mass-kg 100: more than the weighed 2.6 kg spacecraft",
+        ),
+        (
+            [*WITH_REGION, "--unmodelled-sigma-kg", "30"],
+            "--unmodelled-sigma-kg 30: more than the weighed 2.6 kg spacecraft",
         ),
     ],
 )

@@ -203,10 +203,11 @@ def test_outside_a_command_inputs_are_not_tracked(tmp_path):
     assert target.read_text() == "new"
 
 
-@pytest.mark.parametrize("planted", ["link", "fifo"])
+@pytest.mark.parametrize("planted", ["link", "hard link", "fifo", "folder"])
 def test_a_lock_file_that_is_not_a_plain_file_is_refused_untouched(tmp_path, planted):
     """A link planted where the lock goes would make cadcog write its PID through it (into
-    any file the link names); a pipe could block. Both are refused, the target never written."""
+    any file the link names, a hard link included); a pipe could block; a folder would let
+    the run go on unlocked beside another. All are refused, the target never written."""
     from cadcog.core.fileio import output_lock
 
     outside = tmp_path / "outside.txt"
@@ -216,6 +217,10 @@ def test_a_lock_file_that_is_not_a_plain_file_is_refused_untouched(tmp_path, pla
     lock = folder / ".c.csv.cadcog-lock"
     if planted == "link":
         lock.symlink_to(outside)
+    elif planted == "hard link":
+        os.link(outside, lock)
+    elif planted == "folder":
+        lock.mkdir()
     else:
         os.mkfifo(lock)
     with pytest.raises(CadcogError, match="lock file"), output_lock(folder / "c.csv"):
