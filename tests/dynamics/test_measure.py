@@ -247,3 +247,17 @@ def test_a_moment_with_a_sigma_above_its_value_is_refused_above_half_warned():
     (warning,) = _undetermined(moments, np.array([1.5, 1.0, 1.0]))
     assert "above half its value" in warning
     assert _undetermined(moments, np.array([0.9, 1.0, 1.0])) == []
+
+
+def test_a_misfit_scales_the_sigma_until_the_model_no_longer_holds():
+    """Below the 95 % quantile of χ² nothing is scaled; beyond it every σ grows by the Birge
+    ratio √(χ²/dof); beyond MAX_MISFIT_SCALE of it the tensor is refused with what to check."""
+    from cadcog.dynamics.measure import MAX_MISFIT_SCALE, _misfit_scale
+
+    assert _misfit_scale(12.0, 6) == (1.0, [])  # χ²₆'s 95 % quantile is 12.59
+    scale, warnings = _misfit_scale(60.0, 6)
+    assert scale == pytest.approx(np.sqrt(10.0)) and "multiplied by" in warnings[0]
+    edge = 6 * MAX_MISFIT_SCALE**2
+    assert _misfit_scale(edge, 6)[0] == pytest.approx(MAX_MISFIT_SCALE)
+    with pytest.raises(DegenerateGeometryError, match=r"χ² 1\.023e\+05 for 6 dof.*weighed mass"):
+        _misfit_scale(102331.0, 6)
