@@ -128,6 +128,44 @@ ROWS = {
             EXACT,
             weighed=True,
         ),
+        # the ME mounted once per test too (its CoG within its cube, its own inertia within
+        # the declared spread): every shared error the estimator states, drawn
+        Row(
+            "rig6h_L100_flex_rule_me",
+            "paper rig S1-S6, one flexible wire, L = 100 ± 0.5 mm, one ME drawn, ≤ 10°",
+            "rig",
+            RIG6,
+            replace(
+                BASE,
+                one_wire="flexible",
+                wire_length_mm=100.0,
+                wire_length_sigma_mm=0.5,
+                me_errors=True,
+            ),
+        ),
+        Row(
+            "rig6h_stiff_me",
+            "paper rig S1-S6, one stiff wire (EI 30 N·mm²), L = 300 mm, one ME drawn, ≤ 10°",
+            "rig",
+            RIG6,
+            replace(BASE, one_wire="stiff", me_errors=True),
+        ),
+        Row(
+            "rig6h_flex_me",
+            "paper rig S1-S6, one flexible wire, L = 300 mm, one ME drawn, ≤ 10°",
+            "rig",
+            RIG6,
+            replace(BASE, one_wire="flexible", me_errors=True),
+        ),
+        Row(
+            "cubesat_ih_flex_me",
+            "3U CubeSat, plan --for inertia's 6 hangs, one flexible wire, one ME drawn, "
+            "weighed, ≤ 10°",
+            "setup",
+            CUBESAT_INERTIA_PLAN6,
+            replace(BASE, one_wire="flexible", me_errors=True),
+            weighed=True,
+        ),
         Row(
             "rig6h_stiff",
             "paper rig S1-S6, one stiff wire (EI 30 N·mm²), L = 300 mm, ≤ 10°",

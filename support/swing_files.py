@@ -22,6 +22,10 @@ hung body, each released, recorded and let settle:
   under the hung weight, where its straight part's line meets the bolt axis, found by
   integrating the elastica numerically (:func:`support.rig_campaigns.
   elastica_virtual_offset_mm`, written without cadcog's wire model); the play stays per hang;
+- **measurement equipment** (with ``me_errors``, once per campaign: one ME is mounted for the
+  whole test): each ME volume's centre of mass moved uniformly within its
+  ``cog_uncertainty_cube_mm`` cube, and its own inertia scaled by ``1 + U(±√3·me_inertia_rel)``
+  (the spread the rig or set-up declares); the object itself is exact;
 - **sensor** (the rig's ``[inclinometer]`` and ``[error_model]``): the true angle
   ``asin(f_x/|f|)`` (:func:`swing_truth.inclinations_deg`), saturated at ±``range_deg``, plus a
   bias per hang and axis ``U(±accuracy_deg)``, plus white noise ``N(0, sensor_noise_deg)`` per
@@ -67,6 +71,8 @@ class SwingConfig:
     hinge_errors: bool = True  # the rig error model's play and wire offset move the hinge
     one_wire: str = ""  # "", "flexible" or "stiff": one wire per campaign (module docstring)
     bending_stiffness_n_mm2: float = 30.0  # the stiff wire's EI
+    me_errors: bool = False  # the ME's CoG and own inertia drawn once per campaign
+    me_inertia_rel: float = 0.3  # their spread (1 σ), as the parameter file's [swing] declares
 
 
 @dataclass(frozen=True)
@@ -111,6 +117,9 @@ class Truth:
         The rig's error model: the wire's hinge lies uniformly in a ``play_mm`` square in the
         face plane around the exit, and ``U(0, wire_offset_max_mm)`` out along the bolt axis
         (the paper's wire model: its bending stiffness moves the effective hinge outwards).
+    me_volumes : tuple of (mass_kg, center_mm (3,), size_mm (3,), cog_uncertainty_cube_mm)
+        The ME's homogeneous boxes, as the parameter file places them (``body`` holds them at
+        their nominal places).
     """
 
     body: st.HungBody
@@ -122,6 +131,27 @@ class Truth:
     normals: tuple[FloatArray, ...]
     play_mm: float
     wire_offset_max_mm: float
+    me_volumes: tuple[tuple[float, FloatArray, FloatArray, float], ...] = ()
+
+    def with_me_drawn(self, rng: np.random.Generator, inertia_rel: float) -> Truth:
+        """The same object under an ME as mounted on one test: each volume's centre of mass
+        uniform within its uncertainty cube, its own inertia scaled by ``1 + U(±√3·rel)``."""
+        from cadcog.mass.properties import MassProperties, box_properties, combine
+
+        # the volume only weighs a compound's volume, which nothing here reads
+        parts = [
+            MassProperties(self.object_mass_kg, self.object_cog_mm, self.object_inertia_kg_mm2, 0.0)
+        ]
+        for mass, center, size, cube in self.me_volumes:
+            box = box_properties(size, center, mass_kg=mass)
+            moved = np.asarray(center, float) + rng.uniform(-0.5, 0.5, 3) * cube
+            scale = 1.0 + rng.uniform(-1.0, 1.0) * np.sqrt(3.0) * inertia_rel
+            parts.append(MassProperties(mass, moved, box.inertia_kg_mm2 * scale, box.volume_mm3))
+        asm = combine(parts)
+        body = replace(
+            self.body, mass_kg=asm.mass_kg, cog_mm=asm.cog_mm, inertia_kg_mm2=asm.inertia_kg_mm2
+        )
+        return replace(self, body=body)
 
     def exit_of(self, point_id: str) -> FloatArray:
         return self.hangs[self._index(point_id)][1]
@@ -167,6 +197,16 @@ def _inclinometer_centre(volumes: Sequence[object]) -> FloatArray:
     raise ValueError("no measurement-equipment volume has 'inclinometer' in its name")
 
 
+def _me_volume(v: object) -> tuple[float, FloatArray, FloatArray, float]:
+    """An ME volume of a rig or set-up file as (mass, centre, size, CoG uncertainty cube)."""
+    return (
+        float(v.mass_kg),  # type: ignore[attr-defined]
+        np.asarray(v.center_mm, float),  # type: ignore[attr-defined]
+        np.asarray(v.size_mm, float),  # type: ignore[attr-defined]
+        float(v.cog_uncertainty_cube_mm),  # type: ignore[attr-defined]
+    )
+
+
 def rig_truth(rig_path: str | Path, sensor_mm: npt.ArrayLike | None = None) -> Truth:
     """The paper-style rig as cadcog's closed-form CAD says: proof mass (the object) + ME."""
     from cadcog.rig.file import load_rig
@@ -179,9 +219,10 @@ def rig_truth(rig_path: str | Path, sensor_mm: npt.ArrayLike | None = None) -> T
     e = rig.error_options
     normals = tuple(np.asarray(p.normal, float) for p in rig.suspension_points)
     sensor_ = Sensor(rig.inclinometer, e.sensor_noise_deg)
+    me = tuple(_me_volume(v) for v in rig.me_volumes)
     return Truth(
         body, pm.mass_kg, pm.cog_mm, pm.inertia_kg_mm2, hangs, sensor_, normals, e.play_mm,
-        e.wire_offset_max_mm,
+        e.wire_offset_max_mm, me,
     )  # fmt: skip
 
 
@@ -199,9 +240,10 @@ def setup_truth(setup_path: str | Path, sensor_mm: npt.ArrayLike | None = None) 
     e = s.rig.error_options
     normals = tuple(np.asarray(c.normal, float) for c in s.candidates)
     sensor_ = Sensor(s.rig.inclinometer, e.sensor_noise_deg)
+    me_boxes = tuple(_me_volume(v) for v in s.me_volumes)
     return Truth(
         body, s.mass.mass_kg, s.mass.cog_mm, s.mass.inertia_kg_mm2, hangs, sensor_, normals,
-        e.play_mm, e.wire_offset_max_mm,
+        e.play_mm, e.wire_offset_max_mm, me_boxes,
     )  # fmt: skip
 
 
@@ -294,8 +336,10 @@ def simulate_campaigns(
     for rng in rngs:
         start_s = rng.uniform(5, 60)
         campaign_length = max(rng.normal(cfg.wire_length_mm, cfg.wire_length_sigma_mm), 1.0)
+        # the ME mounted for this test (with me_errors), drawn once for all its hangs
+        camp_truth = truth.with_me_drawn(rng, cfg.me_inertia_rel) if cfg.me_errors else truth
         for pid in point_ids:
-            hinge = truth.exit_of(pid)
+            hinge = camp_truth.exit_of(pid)
             if cfg.hinge_errors:
                 n = truth.normal_of(pid)
                 t1 = np.cross(n, [1.0, 0, 0] if abs(n[0]) < 0.9 else [0, 1.0, 0])
@@ -306,8 +350,8 @@ def simulate_campaigns(
                 if not cfg.one_wire:
                     hinge = hinge + rng.uniform(0, truth.wire_offset_max_mm) * n
                 elif cfg.one_wire == "stiff":
-                    hinge = hinge + _stiff_offset_mm(truth, hinge, n, cfg) * n
-            body = truth.hung_from(hinge)
+                    hinge = hinge + _stiff_offset_mm(camp_truth, hinge, n, cfg) * n
+            body = camp_truth.hung_from(hinge)
             if cfg.wire_length_mm == 0:
                 length = 0.0
             elif cfg.one_wire:
