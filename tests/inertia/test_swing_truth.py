@@ -287,3 +287,28 @@ def test_sensor_model_is_the_rigs_adc_with_bias_and_dithering_noise():
     assert many.mean() == pytest.approx(expected, abs=4 * 0.065 / np.sqrt(16 * 4000))  # ... and so
     # saturation at the range
     assert quiet.read(np.array([75.0]), 0.0, 1, rng)[0] == pytest.approx(60.0, abs=lsb)
+
+
+def test_the_me_drawn_for_a_test_moves_as_its_declared_cube_and_spread_say():
+    """``Truth.with_me_drawn``: with no spread it is the CAD's assembly; with the rig's, the
+    assembly's mass is unchanged, its CoG spreads as Σ mᵢ·cube/√12 / M on every axis (the
+    volumes' uniform cubes, independent), and the object itself is never moved."""
+    from dataclasses import replace
+
+    truth = sf.rig_truth(RIG)
+    still = replace(truth, me_volumes=tuple((m, c, s, 0.0) for m, c, s, _ in truth.me_volumes))
+    same = still.with_me_drawn(np.random.default_rng(1), 0.0).body
+    np.testing.assert_allclose(same.inertia_kg_mm2, truth.body.inertia_kg_mm2, atol=1e-9)
+    np.testing.assert_allclose(same.cog_mm, truth.body.cog_mm, atol=1e-12)
+    draws = [truth.with_me_drawn(np.random.default_rng([5, k]), 0.3) for k in range(1000)]
+    masses = np.array([d.body.mass_kg for d in draws])
+    np.testing.assert_allclose(masses, truth.body.mass_kg, rtol=1e-14)
+    assert all(d.object_inertia_kg_mm2 is truth.object_inertia_kg_mm2 for d in draws[:5])
+    cogs = np.array([d.body.cog_mm for d in draws])
+    expected = sum(m * cube for m, _, _, cube in truth.me_volumes) / np.sqrt(12.0)
+    expected /= truth.body.mass_kg
+    var_expected = sum((m * cube) ** 2 for m, _, _, cube in truth.me_volumes) / 12.0
+    sd = np.sqrt(var_expected) / truth.body.mass_kg
+    np.testing.assert_allclose(cogs.std(axis=0), sd, rtol=0.1)  # 1000 draws: ±2.2 % at 1 σ
+    np.testing.assert_allclose(cogs.mean(axis=0), truth.body.cog_mm, atol=4 * sd / np.sqrt(1000))
+    assert expected > sd  # the volumes are independent: their spreads add in quadrature
