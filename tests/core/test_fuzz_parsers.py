@@ -200,3 +200,76 @@ def test_endless_inputs_are_refused_without_reading_them_whole(device):
         read_readings(device)
     with pytest.raises(CadcogError, match=r"is not a regular file, expected a TOML file"):
         load_rig(device)
+
+
+SWING_HEADER = "point_id,t_s,inc_x_deg,inc_y_deg"
+SWING_ID = st.sampled_from(["S1", "S2", "S3", "", " S1", "S1\x1b", "#S1", "S1,S2"])
+
+
+@FUZZ
+@given(
+    st.lists(
+        st.tuples(SWING_ID, FIELD, FIELD, FIELD).map(",".join)
+        | st.lists(FIELD, max_size=6).map(",".join),
+        max_size=40,
+    )
+)
+def test_swing_rows(rows):
+    """The swing file (issue 33): rows of ids, times and angles, valid or not, in any order;
+    a hang's samples read back, or a CadcogError naming the file."""
+    from cadcog.dynamics.swingfile import read_swings
+
+    text = SWING_HEADER + "\n" + "\n".join(rows) + "\n"
+    _only_cadcog_errors(lambda p: p.write_text(text, encoding="utf-8"), read_swings)
+
+
+@FUZZ
+@given(st.binary(max_size=400))
+def test_swing_bytes(data):
+    from cadcog.dynamics.swingfile import read_swings
+
+    header = SWING_HEADER.encode() + b"\n"
+    _only_cadcog_errors(lambda p: p.write_bytes(header + data), read_swings)
+
+
+ENTRY_RESULT = {"mass_kg": 2.5825139, "cog_mm": [1.5, -0.25, 12.0], "bodies": ["a", "b"]}
+
+
+@FUZZ
+@given(
+    st.data(),
+    st.sampled_from(["flip", "cut", "insert", "replace"]),
+)
+def test_a_cache_entry_gives_back_its_result_or_nothing(data, how):
+    """The cache entry (issue 33): whatever its bytes become (a character flipped, the file
+    cut short, bytes inserted, replaced whole), ``load_data`` returns the stored result
+    exactly or None, never another value and never an error."""
+    import os
+
+    from cadcog.cad import cachestore
+
+    with tempfile.TemporaryDirectory() as tmp:
+        old = os.environ.get("CADCOG_CACHE_DIR")
+        os.environ["CADCOG_CACHE_DIR"] = tmp
+        try:
+            key = "k" * 64
+            cachestore.store_data(key, ENTRY_RESULT)
+            path = Path(tmp) / f"{key}.json"
+            raw = path.read_bytes()
+            at = data.draw(st.integers(0, len(raw) - 1))
+            if how == "flip":
+                raw = raw[:at] + bytes([raw[at] ^ data.draw(st.integers(1, 255))]) + raw[at + 1 :]
+            elif how == "cut":
+                raw = raw[:at]
+            elif how == "insert":
+                raw = raw[:at] + data.draw(st.binary(min_size=1, max_size=20)) + raw[at:]
+            else:
+                raw = data.draw(st.binary(max_size=200))
+            path.write_bytes(raw)
+            got = cachestore.load_data(key)
+        finally:
+            if old is None:
+                os.environ.pop("CADCOG_CACHE_DIR", None)
+            else:
+                os.environ["CADCOG_CACHE_DIR"] = old
+    assert got is None or got == ENTRY_RESULT
