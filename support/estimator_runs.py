@@ -59,7 +59,11 @@ def run_estimator(
     swings: Path, readings: Path, params: Path, kind: str, extra: tuple[str, ...] = ()
 ) -> dict[str, Any]:
     """``cadcog inertia SWINGS --readings READINGS (--rig|--setup) PARAMS --json [EXTRA]``,
-    in-process."""
+    in-process, with one BLAS thread as the console command runs (numpy is imported already,
+    so its environment variables come too late: two studies side by side on two cores with
+    the default pools took 10-27 s a campaign where one thread takes 1.2-2.5 s)."""
+    from threadpoolctl import threadpool_limits
+
     from cadcog.cli._main import main
 
     option = "--rig" if kind == "rig" else "--setup"
@@ -67,7 +71,8 @@ def run_estimator(
     argv = ["inertia", str(swings), "--readings", str(readings), option, str(params), "--json"]
     argv += list(extra)
     with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(err):
-        code = main(argv)
+        with threadpool_limits(limits=1, user_api="blas"):
+            code = main(argv)
     if code in (130, 143):  # Ctrl-C or SIGTERM, cleaned up: stop the study, not this campaign
         raise KeyboardInterrupt(f"cadcog inertia stopped by a signal (exit {code})")
     if code not in (0, None):
