@@ -19,6 +19,7 @@ import numpy as np
 from cadcog.core import bounds, tolerances
 from cadcog.core.paramfile import TableReader, read_toml
 from cadcog.core.tolerances import MIN_SOLID_DIMENSION_MM
+from cadcog.core.units import density_kg_mm3_to_kg_m3
 from cadcog.rig.accelerometer import axes_problem
 from cadcog.rig.geometry import AXIS_NAMES, FACES, face_plane_mm
 from cadcog.rig.inclinometer import DEVICES, InclinometerConfig, SensorModel
@@ -352,10 +353,9 @@ def _overlap_depth(lo1: np.ndarray, hi1: np.ndarray, lo2: np.ndarray, hi2: np.nd
 
 def _check_density(table: TableReader, proof_mass: ProofMass) -> None:
     """The proof mass is a homogeneous block: its mass over its box's volume is a solid's
-    density (the ``_kg_m3`` bound: 0.1 mg in the paper's block is 0.09 kg/m³, a unit slip
+    density (the ``_kg_m3`` bound: 0.1 g in the paper's block is 0.09 kg/m³, a unit slip
     that would put the CoG metres away)."""
-    volume_m3 = float(np.prod(proof_mass.size_mm)) * 1e-9
-    density = proof_mass.mass_kg / volume_m3
+    density = density_kg_mm3_to_kg_m3(proof_mass.mass_kg / float(np.prod(proof_mass.size_mm)))
     problem = bounds.check("density_kg_m3", density)
     if problem is not None:
         raise table.error(
