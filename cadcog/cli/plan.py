@@ -128,16 +128,17 @@ def run(args: argparse.Namespace) -> int:
         if inertia_refused:
             print(f"\ninertia from the swings: not planned: {inertia_refused}")
         return status
-    if inertia is None or args.goal != "both":
+    if inertia is not None and args.goal == "both":  # one set: the CoG's, grown
+        _print_inertia_plan(inertia, args.goal)
+        _print_recommended_both(plan.recommended, inertia.recommended)
+    else:
         print(
             f"\nrecommended{' for the CoG' if inertia is not None else ''}: hang from "
             f"{', '.join(plan.recommended['points'])} "
             f"(predicted 95 % error {plan.recommended['q95_mm']:.3f} mm)"
         )
-    if inertia is not None:
-        _print_inertia_plan(inertia, args.goal)
-    if inertia is not None and args.goal == "both":
-        _print_recommended_both(plan.recommended, inertia.recommended)
+        if inertia is not None:
+            _print_inertia_plan(inertia, args.goal)
     rev = plan.reversal
     if rev is not None and rev.advised:
         print(

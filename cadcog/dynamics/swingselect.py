@@ -216,6 +216,6 @@ def usable_swings(
         tuple(records),
         pivots_mm[kept],
         pivot_cov_mm2[np.ix_(rows, rows)],
-        np.asarray(hinge_cov_mm2, dtype=float).reshape(-1, 3)[kept],
+        hinge_cov_mm2[kept],
     )
     return used, dropped

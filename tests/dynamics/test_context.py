@@ -48,6 +48,7 @@ def test_a_wire_that_turns_out_at_the_exit_turns_down_at_the_clamp():
     lam, var = 0.5, 0.25
     _, cov, cross = CTX.pivot_terms(NOMINAL, COG, WEIGHT_N, (lam, var))
     _, hinge_sigma = CTX.top_hinge_mm(WEIGHT_N, (lam, var))
+    assert hinge_sigma**2 == pytest.approx(var)
     for i, p in enumerate(RIG.suspension_points):
         n = CTX.body.normal_at(NOMINAL[i])
         f = float(n @ cross[i]) / var  # the shape factor, from the cross-term
@@ -55,7 +56,6 @@ def test_a_wire_that_turns_out_at_the_exit_turns_down_at_the_clamp():
         g[3 * i : 3 * i + 3], g[-1] = n, -f
         joint = np.block([[cov, cross.reshape(-1, 1)], [cross.reshape(1, -1), np.array([[var]])]])
         assert g @ joint @ g == pytest.approx(0.0, abs=1e-12), p.id
-        assert hinge_sigma**2 == pytest.approx(var)
         assert 1.0 <= f < 1.2  # 1/cos(θ/2) for a bolt axis within 60° of the wire
 
 

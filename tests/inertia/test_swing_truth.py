@@ -291,7 +291,7 @@ def test_sensor_model_is_the_rigs_adc_with_bias_and_dithering_noise():
 
 def test_the_me_drawn_for_a_test_moves_as_its_declared_cube_and_spread_say():
     """``Truth.with_me_drawn``: with no spread it is the CAD's assembly; with the rig's, the
-    assembly's mass is unchanged, its CoG spreads as Σ mᵢ·cube/√12 / M on every axis (the
+    assembly's mass is unchanged, its CoG spreads as √(Σ (mᵢ·cubeᵢ)²/12) / M on every axis (the
     volumes' uniform cubes, independent), and the object itself is never moved."""
     from dataclasses import replace
 
@@ -305,10 +305,7 @@ def test_the_me_drawn_for_a_test_moves_as_its_declared_cube_and_spread_say():
     np.testing.assert_allclose(masses, truth.body.mass_kg, rtol=1e-14)
     assert all(d.object_inertia_kg_mm2 is truth.object_inertia_kg_mm2 for d in draws[:5])
     cogs = np.array([d.body.cog_mm for d in draws])
-    expected = sum(m * cube for m, _, _, cube in truth.me_volumes) / np.sqrt(12.0)
-    expected /= truth.body.mass_kg
     var_expected = sum((m * cube) ** 2 for m, _, _, cube in truth.me_volumes) / 12.0
     sd = np.sqrt(var_expected) / truth.body.mass_kg
     np.testing.assert_allclose(cogs.std(axis=0), sd, rtol=0.1)  # 1000 draws: ±2.2 % at 1 σ
     np.testing.assert_allclose(cogs.mean(axis=0), truth.body.cog_mm, atol=4 * sd / np.sqrt(1000))
-    assert expected > sd  # the volumes are independent: their spreads add in quadrature
