@@ -16,6 +16,7 @@ from cadcog.core.errors import ReadingsError
 from cadcog.mass.properties import MassProperties, box_properties
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox
+from cadcog.method.plumblines import JointEstimate
 from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
 
@@ -66,7 +67,7 @@ class InertiaContext:
         an ideal string. The hinge is therefore the same ``λ`` as the wire's offset at the exit
         (:meth:`ErrorModel.wire_prior`: one unknown of the test, ``0 … wire_offset_max_mm``
         with the default ``"one-wire"`` model, ``√(EI/T)`` within EI's spread with
-        ``"elastica"``); :meth:`pivot_terms` gives its covariance with the pivots. With the
+        ``"elastica"``); :meth:`hang_terms` gives its covariance with the pivots. With the
         paper's model (an independent offset a hang) the hinge is one more such draw.
 
         ``scale``: λ and its variance as the CoG's estimate found them (default the prior); a
@@ -112,44 +113,118 @@ class InertiaContext:
             covs[i] = model.play_var_mm2 * (np.eye(3) - np.outer(n, n)) + var_n * np.outer(n, n)
         return pivots, covs
 
-    def pivot_terms(
+    def hang_terms(
         self,
         positions_mm: FloatArray,
         cog_mm: FloatArray,
         weight_n: float,
-        scale: tuple[float, float] | None = None,
-    ) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """Each hang's pivot, shape (k, 3), the pivots' joint covariance, (3k, 3k), and each
-        pivot's covariance with the top clamp's hinge, (k, 3), with the wire's offset scale λ
-        **one unknown shared by every hang** and by the hinge (one wire hangs them all).
+        joint: JointEstimate | None = None,
+        lines: Sequence[int] | None = None,
+    ) -> HangTerms:
+        """Each hang's pivot, the top clamp's hinge, and the joint covariance of the assembly's
+        CoG, the hinge and the pivots, with the wire's offset scale λ **one unknown shared by
+        every hang** and by the hinge (one wire hangs them all), as the CoG's fit ``joint``
+        found it (its λ, and how its CoG and λ follow each hang's point).
 
-        ``scale``: λ and its variance as the CoG's estimate found them (its joint fit takes λ
-        as an unknown of the test); default the error model's prior. Each hang's pivot is the
-        exit moved by ``λ fᵢ`` along its bolt axis ``nᵢ``; its own covariance is the play in the
-        face plane and the per-hang scatter along ``nᵢ``, and every pair of hangs shares
-        ``var(λ) (fᵢnᵢ)(fⱼnⱼ)ᵀ``: an error of λ moves every pivot at once and does not average
-        out over the hangs (:meth:`pivots` takes it per hang, for planning). The hinge is ``λ``
-        (:meth:`top_hinge_mm`): its covariance with pivot ``i`` is ``var(λ) fᵢnᵢ``, so that a
-        wire that turns further out at the exit turns as much further down at the clamp.
+        Each hang's pivot is the exit moved by ``λ fᵢ`` along its bolt axis ``nᵢ``; its own
+        error ``eᵢ`` is the play in the face plane and the per-hang scatter along ``nᵢ``
+        (covariance ``Σᵢ``). An error of λ moves every pivot at once (``var(λ) fᵢnᵢ fⱼnⱼᵀ``,
+        it does not average out over the hangs) and the hinge by as much (``var(λ) fᵢnᵢ``: a
+        wire that turns further out at the exit turns as much further down at the clamp).
+        The CoG comes from the same hangs: it follows each point by ``Aᵢ =
+        ∂G/∂pᵢ`` (``joint.point_gain``), so its error shares ``Aᵢ Σᵢ`` with pivot ``i``'s,
+        and λ's shares ``a_λ,ᵢ Σᵢ``. The swing sees the moment arms ``pᵢ − G``: taking the
+        CoG independent of the pivots counts the play twice (the paper rig's products of
+        inertia were stated with 1.5-3 times their variance).
+
+        ``cog_mm``: the assembly's CoG (the fit's); ``lines``: the index in ``joint``'s lines
+        of each of ``positions_mm`` (default: the same order). Without ``joint`` (what a test
+        expects before it is run: λ at its prior, the CoG exact) or without its
+        ``point_gain`` (a fit that gives none) the CoG is taken independent of the pivots.
+
+        Examples
+        --------
+        >>> import cadcog
+        >>> rig = cadcog.load_rig()
+        >>> ctx = context_for_rig(rig)
+        >>> exits = [rig.wire_exit_mm(p) for p in rig.suspension_points[:3]]
+        >>> t = ctx.hang_terms(exits, rig.analytic_assembly.cog_mm, 90.0)
+        >>> t.pivots_mm.shape, t.top_mm, t.cov_mm2.shape  # the prior: λ = 0.5 ± 0.5 mm
+        ((3, 3), 0.5, (13, 13))
         """
         model = self.error_model
         prior = model.wire_prior(weight_n)
-        lam, lam_var = (prior.scale_mm, prior.scale_var_mm2) if scale is None else scale
+        ws = None if joint is None else joint.wire
+        lam, lam_var = (
+            (prior.scale_mm, prior.scale_var_mm2) if ws is None else (ws.scale_mm, ws.sigma_mm**2)
+        )
+        top, top_sigma = self.top_hinge_mm(weight_n, (lam, lam_var))
+        shared_hinge = model.wire_model != "paper"  # the paper's: the hinge is its own draw
         pos = np.asarray(positions_mm, dtype=float).reshape(-1, 3)
         k = len(pos)
+        idx = list(range(k)) if lines is None else list(lines)
+        gain = None if joint is None else joint.point_gain
+        if gain is None:
+            gain = np.zeros((4, max(idx, default=-1) + 1, 3))
+        gain = np.asarray(gain, dtype=float)[:, idx]
+        cog_lam = np.zeros(3)
+        if joint is not None and joint.cog_scale_cov_mm2 is not None:
+            cog_lam = np.asarray(joint.cog_scale_cov_mm2, dtype=float)
+        cog = np.asarray(cog_mm, dtype=float)
         pivots = np.empty_like(pos)
-        cov = np.zeros((3 * k, 3 * k))
-        along = np.zeros(3 * k)
+        own = np.zeros((k, 3, 3))
+        along = np.zeros((k, 3))  # fᵢnᵢ
         for i, p in enumerate(pos):
             n = self.body.normal_at(p)
-            u = p - np.asarray(cog_mm, dtype=float)
+            u = p - cog
             u = u / np.linalg.norm(u)
             f = float(wire_shape_factor(np.array([n @ u]), model.wire_model)[0])
             pivots[i] = p + lam * f * n
-            own = model.play_var_mm2 * (np.eye(3) - np.outer(n, n))
-            cov[3 * i : 3 * i + 3, 3 * i : 3 * i + 3] = own + prior.scatter_var_mm2 * np.outer(n, n)
-            along[3 * i : 3 * i + 3] = f * n
-        return pivots, cov + lam_var * np.outer(along, along), lam_var * along.reshape(k, 3)
+            own[i] = model.play_var_mm2 * (np.eye(3) - np.outer(n, n))
+            own[i] += prior.scatter_var_mm2 * np.outer(n, n)
+            along[i] = f * n
+        cog_own = np.einsum("rkb,kbc->rkc", gain[:3], own).reshape(3, 3 * k)  # Aᵢ Σᵢ
+        lam_own = np.einsum("kb,kbc->kc", gain[3], own).reshape(3 * k)  # a_λ,ᵢ Σᵢ
+        flat = along.reshape(3 * k)
+        cov = np.zeros((4 + 3 * k, 4 + 3 * k))
+        if joint is not None:
+            cov[:3, :3] = joint.cov_mm2
+        cov[3, 3] = top_sigma**2
+        piv = lam_var * np.outer(flat, flat) + np.outer(flat, lam_own) + np.outer(lam_own, flat)
+        for i in range(k):
+            piv[3 * i : 3 * i + 3, 3 * i : 3 * i + 3] += own[i]
+        cov[4:, 4:] = piv
+        if shared_hinge:
+            cov[:3, 3] = cov[3, :3] = cog_lam
+            cov[3, 4:] = cov[4:, 3] = lam_var * flat + lam_own
+        cov[:3, 4:] = np.outer(cog_lam, flat) + cog_own
+        cov[4:, :3] = cov[:3, 4:].T
+        return HangTerms(pivots, top, cov)
+
+
+@dataclass(frozen=True)
+class HangTerms:
+    """Where the swing's geometry sits and how well it is known (:meth:`InertiaContext.
+    hang_terms`).
+
+    Attributes
+    ----------
+    pivots_mm : ndarray, shape (k, 3)
+        Each hang's pivot.
+    top_mm : float
+        The top clamp's hinge below the clamp.
+    cov_mm2 : ndarray, shape (4 + 3k, 4 + 3k)
+        Joint covariance of the assembly's CoG (3), the hinge (1) and the pivots (3 a hang).
+    """
+
+    pivots_mm: FloatArray
+    top_mm: float
+    cov_mm2: FloatArray
+
+    def only(self, hangs: Sequence[int]) -> HangTerms:
+        """These hangs alone, in this order (the CoG and the hinge kept)."""
+        rows = [0, 1, 2, 3] + [4 + 3 * i + a for i in hangs for a in range(3)]
+        return HangTerms(self.pivots_mm[list(hangs)], self.top_mm, self.cov_mm2[np.ix_(rows, rows)])
 
 
 #: An ME volume whose name holds one of these words is the sensor (its centre is the sensing

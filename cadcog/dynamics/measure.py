@@ -66,11 +66,14 @@ FloatArray = npt.NDArray[np.float64]
 #: The variance budget's groups: name, and the nuisance names' prefixes that belong to it.
 BUDGET_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("object mass", ("object mass",)),
-    ("CoG from the plumb lines", ("CoG ",)),
     ("wire length", ("wire length",)),
     ("sensor position", ("sensor ",)),
-    # one group: the wire's λ moves the exits and the top clamp's hinge together
-    ("pivots and the top clamp's hinge (play, the wire's λ)", ("exit ", "wire top")),
+    # one group: the wire's λ moves the exits and the top clamp's hinge together, and the CoG
+    # the same hangs give follows their pivots (their errors partly cancel in the moment arms)
+    (
+        "pivots, the top clamp's hinge and the CoG they give (play, the wire's λ, readings)",
+        ("exit ", "wire top", "CoG "),
+    ),
     ("ME CoGs", ("ME ",)),
 )
 
@@ -163,16 +166,14 @@ def _budget(
 @dataclass(frozen=True)
 class _Inputs:
     """What every fit of the tensor to a set of hangs shares: the context, the CoG estimate,
-    the object's mass and σ, the ME's mass, the top clamp's hinge and σ (mm), and the tensor
-    the fit starts from (the CAD assembly's entries)."""
+    the object's mass and σ, the ME's mass, and the tensor the fit starts from (the CAD
+    assembly's entries)."""
 
     context: InertiaContext
     estimate: CogEstimate
     object_mass_kg: float
     object_mass_sigma_kg: float
     me_mass_kg: float
-    top_mm: float
-    top_sigma_mm: float
     start: FloatArray
 
 
@@ -197,19 +198,16 @@ def _fit_tensor_to(inputs: _Inputs, used: UsedHangs) -> _TensorFit:
         object_mass_kg=inputs.object_mass_kg,
         object_mass_sigma_kg=inputs.object_mass_sigma_kg,
         cog_mm=est.assembly_cog_mm,
-        cog_cov_mm2=est.joint.cov_mm2,
         wire_length_mm=ctx.swing.wire_length_mm,
         wire_length_sigma_mm=ctx.swing.wire_length_sigma_mm,
-        top_hinge_mm=inputs.top_mm,
-        top_hinge_sigma_mm=inputs.top_sigma_mm,
+        top_hinge_mm=used.terms.top_mm,
         sensor_mm=ctx.sensor_mm,
         sensor_sigma_mm=ctx.swing.sensor_position_sigma_mm,
         exits_mm=used.pivots_mm,
-        exit_cov_mm2=used.pivot_cov_mm2,
+        geometry_cov_mm2=used.terms.cov_mm2,
         me_parts=ctx.me_parts,
         me_cog_sigma_mm=ctx.me_cog_sigma_mm,
         me_inertia_rel=ctx.swing.me_inertia_rel,
-        hinge_exit_cov_mm2=used.hinge_cov_mm2,
     )
     geo0 = hang_geometry(nuis, nuis.values, inputs.me_mass_kg, ctx.signs)
     p_first, _ = fit_tensor(data, geo0, inputs.start)
@@ -372,25 +370,22 @@ def measure_inertia(
     cad_assembly = combine([ctx.object_cad, *ctx.me_parts])
     weight_n = (object_mass_kg + me_mass) * STANDARD_GRAVITY_M_S2
     positions = np.array([s.position_mm for _, s in pairs], dtype=float)
-    ws = estimate.joint.wire  # λ as the CoG's joint fit found it (its prior otherwise)
-    wire = None if ws is None else (ws.scale_mm, ws.sigma_mm**2)
-    top, top_sigma = ctx.top_hinge_mm(weight_n, wire)
-    pivots, pivot_cov, hinge_cov = ctx.pivot_terms(
-        positions, estimate.assembly_cog_mm, weight_n, wire
-    )
+    lines = {s.id: i for i, s in enumerate(estimate.suspensions)}
+    # λ as the CoG's joint fit found it (its prior otherwise), and how the fit's CoG follows
+    # each hang's point
+    rows = [lines[s.id] for _, s in pairs]
+    terms = ctx.hang_terms(positions, estimate.assembly_cog_mm, weight_n, estimate.joint, rows)
     geometry = [
-        HangGeometry(pivot, ctx.sensor_mm, ctx.swing.wire_length_mm, top, *ctx.signs)
-        for pivot in pivots
+        HangGeometry(pivot, ctx.sensor_mm, ctx.swing.wire_length_mm, terms.top_mm, *ctx.signs)
+        for pivot in terms.pivots_mm
     ]
-    used, dropped = usable_swings(pairs, pivots, pivot_cov, hinge_cov, cad_assembly, geometry)
+    used, dropped = usable_swings(pairs, terms, cad_assembly, geometry)
     inputs = _Inputs(
         ctx,
         estimate,
         object_mass_kg,
         object_mass_sigma_kg,
         me_mass,
-        top,
-        top_sigma,
         entries(cad_assembly.inertia_kg_mm2),
     )
     try:

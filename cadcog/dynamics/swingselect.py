@@ -17,6 +17,7 @@ import numpy.typing as npt
 
 from cadcog.core.errors import DegenerateGeometryError
 from cadcog.core.fittest import chi2_sf
+from cadcog.dynamics.context import HangTerms
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes
 from cadcog.dynamics.modalfit import ModalFit, fit_swing
 from cadcog.dynamics.swingfile import MIN_SAMPLES, Swing
@@ -106,34 +107,28 @@ def worst_contradiction(
     return candidates[best][0][0], {j for _, j in candidates[best]}, float(d[best]), float(pv[best])
 
 
-def _coordinates(hangs: Sequence[int]) -> npt.NDArray[np.intp]:
-    """The rows of these hangs' pivots in a joint covariance (3 a hang)."""
-    return np.array([3 * i + a for i in hangs for a in range(3)], dtype=np.intp)
-
-
 @dataclass(frozen=True)
 class UsedHangs:
     """The hangs the tensor is fitted to: each one's swing and suspension, its modal fit, its
-    record's length (s), its pivot (k, 3), the pivots' joint covariance (3k, 3k) and each
-    pivot's covariance with the top clamp's hinge (k, 3)."""
+    record's length (s), and the geometry's terms (each pivot, the top clamp's hinge and their
+    joint covariance with the CoG: :class:`~cadcog.dynamics.context.HangTerms`)."""
 
     pairs: tuple[tuple[Swing, Suspension], ...]
     fits: tuple[ModalFit, ...]
     records_s: tuple[float, ...]
-    pivots_mm: FloatArray
-    pivot_cov_mm2: FloatArray
-    hinge_cov_mm2: FloatArray
+    terms: HangTerms
+
+    @property
+    def pivots_mm(self) -> FloatArray:
+        return self.terms.pivots_mm
 
     def only(self, hangs: Sequence[int]) -> UsedHangs:
         """These hangs alone, in this order."""
-        rows = _coordinates(hangs)
         return UsedHangs(
             tuple(self.pairs[i] for i in hangs),
             tuple(self.fits[i] for i in hangs),
             tuple(self.records_s[i] for i in hangs),
-            self.pivots_mm[list(hangs)],
-            self.pivot_cov_mm2[np.ix_(rows, rows)],
-            self.hinge_cov_mm2[list(hangs)],
+            self.terms.only(hangs),
         )
 
     def without(self, hang: int, modes: set[int]) -> UsedHangs:
@@ -164,16 +159,13 @@ class UsedHangs:
 
 def usable_swings(
     pairs: Sequence[tuple[Swing, Suspension]],
-    pivots_mm: FloatArray,
-    pivot_cov_mm2: FloatArray,
-    hinge_cov_mm2: FloatArray,
+    terms: HangTerms,
     cad_assembly: MassProperties,
     geometry: Sequence[HangGeometry],
 ) -> tuple[UsedHangs, list[str]]:
     """Each hang's body modes, fitted from the modes the CAD's assembly predicts on its
     ``geometry``; the hangs whose record or fit cannot show one left out, each with a note.
-    ``pivots_mm``, ``pivot_cov_mm2`` and ``hinge_cov_mm2``: as
-    :meth:`~cadcog.dynamics.context.InertiaContext.pivot_terms` gives them.
+    ``terms``: as :meth:`~cadcog.dynamics.context.InertiaContext.hang_terms` gives them.
 
     Raises
     ------
@@ -209,13 +201,5 @@ def usable_swings(
             f"{len(kept)} of {len(pairs)} hangs have a body mode to use, the whole tensor needs "
             "three: " + "; ".join(dropped)
         )
-    rows = _coordinates(kept)
-    used = UsedHangs(
-        tuple(pairs[i] for i in kept),
-        tuple(fits),
-        tuple(records),
-        pivots_mm[kept],
-        pivot_cov_mm2[np.ix_(rows, rows)],
-        hinge_cov_mm2[kept],
-    )
+    used = UsedHangs(tuple(pairs[i] for i in kept), tuple(fits), tuple(records), terms.only(kept))
     return used, dropped

@@ -10,10 +10,12 @@ predicted by :func:`cadcog.dynamics.hungbody.hang_modes`.
 Everything else is an input with an uncertainty (the *nuisances*): the object's mass, the
 assembly's CoG from the plumb lines (with its covariance), each wire exit (the point's play and
 the wire's offset), the wire's length and its top hinge, the sensor's position, each ME
-volume's CoG and own inertia. The object's tensor about its own CoG is the assembly's less the
-ME's and the parallel-axis terms (as eq. 10 removes the ME from the CoG). Its covariance is the
-frequency fit's plus every nuisance's, propagated through the whole chain (fit and compensation)
-by central differences.
+volume's CoG and own inertia. The CoG, the hinge and the pivots come from the same hangs and
+the same wire: their joint covariance (:meth:`cadcog.dynamics.context.InertiaContext.
+hang_terms`) carries what they share. The object's tensor about its own CoG is the assembly's
+less the ME's and the parallel-axis terms (as eq. 10 removes the ME from the CoG). Its
+covariance is the frequency fit's plus every nuisance's, propagated through the whole chain
+(fit and compensation) by central differences.
 """
 
 from __future__ import annotations
@@ -108,24 +110,21 @@ def nuisances(
     object_mass_kg: float,
     object_mass_sigma_kg: float,
     cog_mm: FloatArray,
-    cog_cov_mm2: FloatArray,
     wire_length_mm: float,
     wire_length_sigma_mm: float,
     top_hinge_mm: float,
-    top_hinge_sigma_mm: float,
     sensor_mm: FloatArray,
     sensor_sigma_mm: float,
     exits_mm: FloatArray,
-    exit_cov_mm2: FloatArray,
+    geometry_cov_mm2: FloatArray,
     me_parts: Sequence[MassProperties],
     me_cog_sigma_mm: Sequence[float],
     me_inertia_rel: float,
-    hinge_exit_cov_mm2: FloatArray | None = None,
 ) -> Nuisances:
-    """Assemble the nuisance vector and its covariance; ``exit_cov_mm2`` is each pivot's 3 × 3
-    covariance, shape (k, 3, 3), or the pivots' joint one, (3k, 3k) (a shared wire offset);
-    ``hinge_exit_cov_mm2``, shape (k, 3), each pivot's covariance with the top clamp's hinge
-    (one wire turns as far from both of its ends; default none)."""
+    """Assemble the nuisance vector and its covariance; ``geometry_cov_mm2``, shape
+    (4 + 3k, 4 + 3k), is the joint covariance of the assembly's CoG, the top clamp's hinge and
+    the k pivots (:class:`cadcog.dynamics.context.HangTerms`: one wire turns as far from both
+    of its ends, and the CoG comes from the same hangs as the pivots)."""
     exits = np.asarray(exits_mm, dtype=float).reshape(-1, 3)
     k, e = len(exits), len(me_parts)
     values = np.concatenate(
@@ -142,22 +141,14 @@ def nuisances(
     n = len(values)
     cov = np.zeros((n, n))
     cov[0, 0] = object_mass_sigma_kg**2
-    cov[1:4, 1:4] = np.asarray(cog_cov_mm2, dtype=float)
     cov[4, 4] = wire_length_sigma_mm**2
-    cov[5, 5] = top_hinge_sigma_mm**2
     cov[6:9, 6:9] = sensor_sigma_mm**2 * np.eye(3)
     i = 9
-    exit_cov = np.asarray(exit_cov_mm2, dtype=float)
-    if exit_cov.shape == (3 * k, 3 * k) and k:
-        cov[i : i + 3 * k, i : i + 3 * k] = exit_cov
-    else:
-        exit_cov = exit_cov.reshape(k, 3, 3)
-        for h in range(k):
-            cov[i + 3 * h : i + 3 * h + 3, i + 3 * h : i + 3 * h + 3] = exit_cov[h]
-    if hinge_exit_cov_mm2 is not None and k:
-        cross = np.asarray(hinge_exit_cov_mm2, dtype=float).reshape(3 * k)
-        cov[5, i : i + 3 * k] = cross
-        cov[i : i + 3 * k, 5] = cross
+    geo = np.asarray(geometry_cov_mm2, dtype=float)
+    if geo.shape != (4 + 3 * k, 4 + 3 * k):
+        raise ValueError(f"geometry_cov_mm2 has shape {geo.shape}, expected {(4 + 3 * k,) * 2}")
+    at = np.r_[1:4, 5, i : i + 3 * k]  # the CoG, the hinge and the pivots in the vector
+    cov[np.ix_(at, at)] = geo
     i += 3 * k
     for j in range(e):
         cov[i + 3 * j : i + 3 * j + 3, i + 3 * j : i + 3 * j + 3] = me_cog_sigma_mm[

@@ -311,6 +311,7 @@ def _joint(
         [s.id for s in suspensions], p, u, nrm, batch.shape, batch.weights,
         batch.lateral_cov_mm2, wire, cog,
     )  # fmt: skip
+    gain, cog_lam = _gls_point_gain(batch, u, nrm, wire)
     return JointEstimate(
         cog,
         sym3.sym_to_full(batch.cov_mm2[:, 0]),
@@ -320,7 +321,27 @@ def _joint(
         chi2,
         dof,
         wire_scale,
+        gain,
+        cog_lam,
     )
+
+
+def _gls_point_gain(
+    batch: gls.GLSBatch, u: FloatArray, nrm: FloatArray, wire: gls.WireTerm
+) -> tuple[FloatArray, FloatArray]:
+    """``∂(G, λ)/∂pᵢ`` of one trial's GLS, shape (4, k, 3), and the CoG's covariance with λ
+    (λ's row and covariance 0 when λ is known)."""
+    cov_g = sym3.sym_to_full(batch.cov_mm2[:, 0])
+    var_lam = float(batch.scale_var_mm2[0])
+    with_lam = not wire.fixed and np.isfinite(var_lam)
+    cross = np.asarray(batch.cov_cog_scale_mm2[:, 0], dtype=float) if with_lam else np.zeros(3)
+    cov = np.block([[cov_g, cross[:, None]], [cross[None, :], np.array([[var_lam]])]])
+    m = 4 if with_lam else 3
+    design = gls.line_design(u[:, :, 0].T, nrm[:, :, 0].T, batch.shape[:, 0], with_lam)
+    weights = sym3.sym_to_full(batch.weights[:, :, 0])
+    gain = np.zeros((4, u.shape[1], 3))
+    gain[:m] = gls.point_gain(cov[:m, :m], design, weights)
+    return gain, cross
 
 
 def _joint_with_shared_sensor(
@@ -399,7 +420,7 @@ def _joint_with_shared_sensor(
     pairs, skipped = pair_diagnostics(lines, min_angle_deg)
     joint = JointEstimate(
         fit.cog_mm, fit.cov_mm2, fit.residuals, tuple(pairs), tuple(skipped), fit.chi2, fit.dof,
-        wire_scale,
+        wire_scale, fit.point_gain, fit.cog_scale_cov_mm2,
     )  # fmt: skip
     carried = [
         f"{name} (σ {sigma:.2g} of {prior:.2g})"

@@ -481,3 +481,48 @@ def plumb_gls(
     return GLSBatch(
         x, cov, lam, var, cxl, info, np.asarray(pts), shape, np.stack(lateral), np.stack(w)
     )
+
+
+def point_gain(cov_rows: FloatArray, design: FloatArray, weights: FloatArray) -> FloatArray:
+    """How the fitted CoG (and λ) follow each line's assumed point, shape (r, k, 3).
+
+    At a weighted least-squares solution of residuals ``rᵢ = Pᵢ(G − pᵢ − λ fᵢ nᵢ)`` (and any
+    other unknowns θ), moving the point ``pᵢ`` the estimate assumed by ``δpᵢ`` moves the
+    unknowns by ``C Dᵢᵀ Wᵢ δpᵢ`` (implicit function theorem, the weights held: ``∂rᵢ/∂pᵢ =
+    −Pᵢ`` and ``Wᵢ Pᵢ = Wᵢ``), ``C`` the unknowns' covariance (the inverse normal matrix,
+    priors included) and ``Dᵢ = ∂rᵢ/∂x`` the design. A hang's play moves its line, and the
+    CoG the lines meet at follows part of it: the CoG's error and the pivots' are correlated,
+    which is what the swing's moment arms ``pᵢ − G`` see (:mod:`cadcog.dynamics.context`).
+
+    Parameters
+    ----------
+    cov_rows : ndarray, shape (r, m)
+        The rows of the unknowns' covariance wanted (G's three, and λ's).
+    design : ndarray, shape (k, 3, m)
+    weights : ndarray, shape (k, 3, 3)
+
+    Examples
+    --------
+    Two perpendicular lines, equal weights: line 1 (along z) alone fixes G's x, so its
+    point moves G's x fully; y is fixed by both lines, so half of it; z not at all:
+
+    >>> u = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+    >>> proj = np.eye(3) - u[:, :, None] * u[:, None, :]
+    >>> cov = np.linalg.inv(proj.sum(axis=0))
+    >>> g = point_gain(cov, proj, proj)
+    >>> g[:, 0].round(3).tolist()  # rows: G's x, y, z; columns: line 1's point's x, y, z
+    [[1.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.0]]
+    """
+    return np.einsum("rm,kam,kab->rkb", cov_rows, design, weights)
+
+
+def line_design(
+    u: FloatArray, normals: FloatArray, shape: FloatArray, with_scale: bool
+) -> FloatArray:
+    """``Dᵢ = Pᵢ [I, −fᵢnᵢ]`` (λ's column with ``with_scale``): the design of the lines'
+    residuals over G (and λ), shape (k, 3, 3 or 4); ``u``, ``normals`` (k, 3), ``shape`` (k,)."""
+    proj = np.eye(3) - u[:, :, None] * u[:, None, :]
+    cols = [np.broadcast_to(np.eye(3), proj.shape)]
+    if with_scale:
+        cols.append(-(shape[:, None] * normals)[:, :, None])
+    return np.asarray(np.einsum("kij,kjm->kim", proj, np.concatenate(cols, axis=2)))

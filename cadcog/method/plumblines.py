@@ -216,6 +216,13 @@ class JointEstimate:
         ``Σ rᵢᵀ Wᵢ rᵢ`` at the estimate and its degrees of freedom (2N − 3, one fewer when λ is
         estimated): the whole campaign's consistency.
     wire : WireScale, optional
+    point_gain : ndarray, shape (4, N, 3), optional
+        ``∂(G, λ)/∂pᵢ``: how the CoG (rows 0-2) and λ (row 3; 0 when λ is known) follow each
+        line's assumed suspension point (:func:`cadcog.method.gls.point_gain`); with
+        :attr:`cog_scale_cov_mm2`, what the CoG's error shares with the pivots' (the swing's
+        moment arms, :meth:`cadcog.dynamics.context.InertiaContext.hang_terms`).
+    cog_scale_cov_mm2 : ndarray, shape (3,), optional
+        Covariance of the CoG with λ (0 when λ is known).
     """
 
     cog_mm: FloatArray
@@ -226,6 +233,8 @@ class JointEstimate:
     chi2: float = 0.0
     dof: int = 0
     wire: WireScale | None = None
+    point_gain: FloatArray | None = None
+    cog_scale_cov_mm2: FloatArray | None = None
 
     @property
     def chi2_p_value(self) -> float:

@@ -97,6 +97,11 @@ class SharedFit:
     scale_identified : bool
         Whether that determines λ (:func:`cadcog.method.gls.wire_scale_identified`): what
         self-calibrating the wire needs. False when λ is not an unknown.
+    point_gain : ndarray, shape (4, k, 3)
+        ``∂(G, λ)/∂pᵢ``: how the CoG and λ follow each hang's assumed point
+        (:func:`cadcog.method.gls.point_gain`; λ's row 0 when λ is known).
+    cog_scale_cov_mm2 : ndarray, shape (3,)
+        The CoG's covariance with λ (0 when λ is known).
     """
 
     cog_mm: FloatArray
@@ -113,6 +118,8 @@ class SharedFit:
     residuals: tuple[LineResidual, ...]
     scale_information: float
     scale_identified: bool
+    point_gain: FloatArray
+    cog_scale_cov_mm2: FloatArray
 
     @property
     def calibrated(self) -> npt.NDArray[np.bool_]:
@@ -509,7 +516,17 @@ def fit_shared(
         tuple(residuals),
         state.scale_information,
         identified,
+        _point_gain(cov, state, with_lam),
+        cov[:3, 3].copy() if with_lam else np.zeros(3),
     )
+
+
+def _point_gain(cov: FloatArray, state: _State, with_lam: bool) -> FloatArray:
+    """``∂(G, λ)/∂pᵢ`` at the solution, shape (4, k, 3) (λ's row 0 when it is known)."""
+    off = 3 + with_lam
+    gain = np.zeros((4, len(state.u), 3))
+    gain[:off] = gls.point_gain(cov[:off], state.design, state.weights)
+    return gain
 
 
 def _residuals(

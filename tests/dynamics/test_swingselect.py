@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from cadcog.dynamics.context import HangTerms
 from cadcog.dynamics.modalfit import ModalFit
 from cadcog.dynamics.swingfile import Swing
 from cadcog.dynamics.swingselect import MIN_RATE_OVER_MODE, UsedHangs, record_problem
@@ -21,10 +22,10 @@ def _used(*fits: ModalFit) -> UsedHangs:
         (Swing(p, np.zeros(2), np.zeros((2, 2))), None) for p in ("S1", "S2", "S3", "S4")
     )[: len(fits)]
     pivots = np.arange(3.0 * len(fits)).reshape(-1, 3)
-    cov = np.arange(9.0 * len(fits) ** 2).reshape(3 * len(fits), 3 * len(fits))
-    hinge = np.arange(3.0 * len(fits)).reshape(-1, 3) + 0.5
+    n = 4 + 3 * len(fits)
+    cov = np.arange(float(n * n)).reshape(n, n)
     records = tuple(float(i) for i in range(len(fits)))
-    return UsedHangs(pairs, fits, records, pivots, cov, hinge)  # type: ignore[arg-type]
+    return UsedHangs(pairs, fits, records, HangTerms(pivots, 0.5, cov))  # type: ignore[arg-type]
 
 
 def test_a_refusal_names_the_hangs_whose_swing_showed_one_body_mode():
@@ -36,20 +37,20 @@ def test_a_refusal_names_the_hangs_whose_swing_showed_one_body_mode():
 
 def test_leaving_out_a_mode_keeps_the_hang_and_all_its_modes_the_hang_goes():
     """``without``: one mode of two leaves the hang with the other (its pivot and covariance
-    as they were); both modes take the hang away with its pivot's rows and columns, and its
-    pivot's covariance with the hinge."""
+    as they were); both modes take the hang away with its pivot's rows and columns (its
+    covariance with the CoG, the hinge and the other pivots), the CoG's and the hinge's kept."""
     used = _used(_fit(2), _fit(2), _fit(2), _fit(2))
     one = used.without(1, {0})
     assert [len(f.frequencies_hz) for f in one.fits] == [2, 1, 2, 2]
     assert one.fits[1].frequencies_hz.tolist() == [3.0]
-    np.testing.assert_array_equal(one.pivot_cov_mm2, used.pivot_cov_mm2)
+    np.testing.assert_array_equal(one.terms.cov_mm2, used.terms.cov_mm2)
     gone = used.without(1, {0, 1})
     assert [sw.point_id for sw, _ in gone.pairs] == ["S1", "S3", "S4"]
     assert gone.records_s == (0.0, 2.0, 3.0)
     np.testing.assert_array_equal(gone.pivots_mm, used.pivots_mm[[0, 2, 3]])
-    rows = [0, 1, 2, 6, 7, 8, 9, 10, 11]
-    np.testing.assert_array_equal(gone.pivot_cov_mm2, used.pivot_cov_mm2[np.ix_(rows, rows)])
-    np.testing.assert_array_equal(gone.hinge_cov_mm2, used.hinge_cov_mm2[[0, 2, 3]])
+    rows = [0, 1, 2, 3, 4, 5, 6, 10, 11, 12, 13, 14, 15]  # CoG, hinge, hangs 1, 3 and 4
+    np.testing.assert_array_equal(gone.terms.cov_mm2, used.terms.cov_mm2[np.ix_(rows, rows)])
+    assert gone.terms.top_mm == used.terms.top_mm
 
 
 def test_a_record_that_cannot_show_its_modes_says_why():
