@@ -166,6 +166,47 @@ ROWS = {
             replace(BASE, one_wire="flexible", me_errors=True),
             weighed=True,
         ),
+        # a short wire (issue 31: 75-100 mm), and the air's quadratic drag on the body (C_dA
+        # of the proof mass's mean face, 0.013 m², and the ME: 0.015; of a 3U CubeSat, 0.03)
+        Row(
+            "rig6h_L75_flex_me",
+            "paper rig S1-S6, one flexible wire, L = 75 ± 0.5 mm, one ME drawn, ≤ 10°",
+            "rig",
+            RIG6,
+            replace(
+                BASE,
+                one_wire="flexible",
+                wire_length_mm=75.0,
+                wire_length_sigma_mm=0.5,
+                me_errors=True,
+            ),
+        ),
+        Row(
+            "rig6h_flex_me_air",
+            "paper rig S1-S6, one flexible wire, L = 300 mm, one ME drawn, air drag, ≤ 10°",
+            "rig",
+            RIG6,
+            replace(BASE, one_wire="flexible", me_errors=True, drag_area_m2=0.015),
+        ),
+        Row(
+            "cubesat_ih_flex_me_air",
+            "3U CubeSat, plan --for inertia's 6 hangs, one flexible wire, one ME drawn, "
+            "air drag, weighed, ≤ 10°",
+            "setup",
+            CUBESAT_INERTIA_PLAN6,
+            replace(BASE, one_wire="flexible", me_errors=True, drag_area_m2=0.03),
+            weighed=True,
+        ),
+        # ten times the air: a CubeSat with its panels deployed (C_dA 0.3 m²)
+        Row(
+            "cubesat_ih_flex_me_air10",
+            "3U CubeSat, plan --for inertia's 6 hangs, one flexible wire, one ME drawn, "
+            "10× air drag, weighed, ≤ 10°",
+            "setup",
+            CUBESAT_INERTIA_PLAN6,
+            replace(BASE, one_wire="flexible", me_errors=True, drag_area_m2=0.3),
+            weighed=True,
+        ),
         Row(
             "rig6h_stiff",
             "paper rig S1-S6, one stiff wire (EI 30 N·mm²), L = 300 mm, ≤ 10°",

@@ -26,6 +26,9 @@ hung body, each released, recorded and let settle:
   whole test): each ME volume's centre of mass moved uniformly within its
   ``cog_uncertainty_cube_mm`` cube, and its own inertia scaled by ``1 + U(±√3·me_inertia_rel)``
   (the spread the rig or set-up declares); the object itself is exact;
+- **air** (with ``drag_area_m2`` > 0): quadratic drag ``−½ρ C_dA |v| v`` at the object's
+  centroid (its CoG: the proof mass and the CubeSat are near-uniform), not at the hung
+  assembly's CoG, so it turns the body too (:mod:`support.swing_truth`);
 - **sensor** (the rig's ``[inclinometer]`` and ``[error_model]``): the true angle
   ``asin(f_x/|f|)`` (:func:`swing_truth.inclinations_deg`), saturated at ±``range_deg``, plus a
   bias per hang and axis ``U(±accuracy_deg)``, plus white noise ``N(0, sensor_noise_deg)`` per
@@ -73,6 +76,7 @@ class SwingConfig:
     bending_stiffness_n_mm2: float = 30.0  # the stiff wire's EI
     me_errors: bool = False  # the ME's CoG and own inertia drawn once per campaign
     me_inertia_rel: float = 0.3  # their spread (1 σ), as the parameter file's [swing] declares
+    drag_area_m2: float = 0.0  # the air's drag on the body, C_d·A (0: none; module docstring)
 
 
 @dataclass(frozen=True)
@@ -368,9 +372,11 @@ def simulate_campaigns(
             start_s += cfg.duration_s + rng.uniform(120, 300)
     omega = max(st.highest_frequency_rad_s(b, ln) for b, ln in zip(bodies, lengths, strict=True))
     dt = cfg.dt_s if cfg.dt_s is not None else min(4e-3, 0.15 / omega)
-    traj = st.integrate(
-        st.make_batch(bodies, lengths, taus), np.array(y0).T, np.array(t_true), dt, 10.0
+    # the air pushes on the object's shape: its centre of pressure at the object's centroid
+    batch = st.make_batch(
+        bodies, lengths, taus, cfg.drag_area_m2, np.tile(truth.object_cog_mm, (len(bodies), 1))
     )
+    traj = st.integrate(batch, np.array(y0).T, np.array(t_true), dt, 10.0)
     true_x, true_y = st.inclinations_deg(traj.force)
     out: list[list[HangRecord]] = []
     h = 0

@@ -21,6 +21,13 @@ Damping is viscous and mass-proportional: a force ``−(2m/τ) v_G`` at the CoG 
 ``−(2/τ) J ω``. With damping proportional to the free body's mass matrix, every small-amplitude
 mode decays as ``exp(−t/τ)``: ``τ`` (``decay_time_s``) is the amplitude decay time.
 
+**Air drag** (optional, ``drag_area_m2`` of :func:`make_batch`): the air resists the body as a
+bluff body does, a force ``−½ ρ C_dA |v_c| v_c`` (ρ = 1.2 kg/m³, ``C_dA`` the drag coefficient
+times the frontal area, the same in every direction) at a centre of pressure ``c`` (body
+frame; its velocity ``v_c``), which is not the CoG, so it also turns the body. Quadratic in the
+speed, it is not viscous: a swing's decay depends on its amplitude (faster at first), and the
+drag at ``c`` couples the modes, which no exponential decay of the estimator's fit follows.
+
 The equations are integrated by the classical fixed-step Runge-Kutta (RK4) scheme, vectorised
 over a batch of independent hangs; samples at arbitrary (jittered) instants are taken by a
 partial RK4 step from the grid point before them, so they carry the integrator's own accuracy.
@@ -190,6 +197,8 @@ class Batch:
     damping: FloatArray  # (n,) 1/s: 2/τ
     pivot: bool  # every wire length 0
     pivot_kinv: FloatArray = field(repr=False)  # (3, 3, n): inverse of the pivot's mobility
+    drag: FloatArray = field(repr=False)  # (n,) kg/m: ½ ρ C_dA (0: no air drag)
+    r_drag: FloatArray = field(repr=False)  # (3, n) m: CoG → centre of pressure, body
     # constant products, so that a derivative costs fewer (small, overhead-bound) array
     # operations: [r_exit]× (r_exit × v = [r_exit]× v) and J⁻¹ [r_exit]×
     skew_exit: FloatArray = field(repr=False)  # (3, 3, n)
@@ -197,14 +206,28 @@ class Batch:
     baumgarte: float = 20.0  # 1/s
 
 
+#: Density of air (kg/m³), at 20 °C and sea level.
+AIR_DENSITY_KG_M3 = 1.2
+
+
 def make_batch(
     bodies: list[HungBody],
     wire_length_mm: npt.ArrayLike,
     decay_time_s: npt.ArrayLike,
+    drag_area_m2: npt.ArrayLike = 0.0,
+    drag_centre_mm: npt.ArrayLike | None = None,
 ) -> Batch:
     """A batch of hangs: bodies with their wire lengths (mm; all 0 or all > 0) and amplitude
-    decay times (s; ``inf`` for no damping), one per body."""
+    decay times (s; ``inf`` for no damping), one per body; optionally the air's drag on each,
+    ``C_dA`` (m²) at its centre of pressure (mm, body frame, shape (n, 3); default the CoG)."""
     n = len(bodies)
+    drag = np.broadcast_to(np.asarray(drag_area_m2, float), (n,)) * 0.5 * AIR_DENSITY_KG_M3
+    centre = (
+        np.array([b.cog_mm for b in bodies], float)
+        if drag_centre_mm is None
+        else np.broadcast_to(np.asarray(drag_centre_mm, float), (n, 3))
+    )
+    r_drag = (centre - np.array([b.cog_mm for b in bodies], float)) * 1e-3
     length = np.broadcast_to(np.asarray(wire_length_mm, float), (n,)) * 1e-3
     if not (np.all(length == 0) or np.all(length > 0)):
         raise ValueError("a batch's wire lengths must be all 0 (pivot) or all > 0")
@@ -233,6 +256,8 @@ def make_batch(
         2.0 / tau,
         bool(np.all(length == 0)),
         cf(kinv),
+        drag.copy(),
+        cf(r_drag),
         skew_exit=cf(skew),
         inv_skew_exit=cf(inv @ skew),
     )
@@ -259,6 +284,11 @@ def accelerations(y: FloatArray, b: Batch) -> Accel:
     gl[2] = -GRAVITY_M_S2
     a0 = _mtv(rot, gl - b.damping * v)  # body frame
     wd0 = _mv(b.inertia_inv, -b.damping * jw - _cross(w, jw))
+    if np.any(b.drag):  # −½ρC_dA |v_c| v_c at the centre of pressure c (body frame)
+        v_c = _mtv(rot, v) + _cross(w, b.r_drag)
+        f_air = -b.drag * np.sqrt(_dot(v_c, v_c)) * v_c
+        a0 = a0 + f_air / b.mass
+        wd0 = wd0 + _mv(b.inertia_inv, _cross(b.r_drag, f_air))
     r, rx = b.r_exit, b.skew_exit  # [r]× a = r × a
     wxr = -_mv(rx, w)
     a_p0 = a0 - _mv(rx, wd0) + _cross(w, wxr)  # wire exit's acceleration, no wire force
