@@ -7,7 +7,10 @@ smaller); each hang's pivot uncertainty in its own block; the wire length, top h
 position, object mass and CoG shared by every hang. Generalised least squares with that
 covariance ``C`` gives ``Cov p = (Jᵀ C⁻¹ J)⁻¹``; the ME's removal adds its own terms (ME CoGs and
 own inertia, the mass and CoG through the parallel-axis terms), taken as independent of the rest
-(a planning approximation). Sets are grown greedily from the best triple: the figure of merit is
+(a planning approximation). The CoG is taken independent of the pivots too, where the estimator
+carries what the same hangs give both (:meth:`~cadcog.dynamics.context.InertiaContext.
+hang_terms`): the plan's σ of the products of inertia are on the high side. Sets are grown
+greedily from the best triple: the figure of merit is
 the largest relative 1 σ of the three principal moments.
 """
 
