@@ -128,11 +128,12 @@ class InertiaContext:
 
         Each hang's pivot is the exit moved by ``λ fᵢ`` along its bolt axis ``nᵢ``; its own
         error ``eᵢ`` is the play in the face plane and the per-hang scatter along ``nᵢ``
-        (covariance ``Σᵢ``). An error of λ moves every pivot at once (``var(λ) fᵢnᵢ fⱼnⱼᵀ``,
-        it does not average out over the hangs) and the hinge by as much (``var(λ) fᵢnᵢ``: a
-        wire that turns further out at the exit turns as much further down at the clamp).
-        The CoG comes from the same hangs: it follows each point by ``Aᵢ =
-        ∂G/∂pᵢ`` (``joint.point_gain``), so its error shares ``Aᵢ Σᵢ`` with pivot ``i``'s,
+        (covariance ``Σᵢ``, as the CoG fit took it: ``joint.point_cov_mm2``, else the
+        model's). An error of λ moves every pivot at once (``var(λ) fᵢnᵢ fⱼnⱼᵀ``, it does not
+        average out over the hangs) and the hinge by as much (``var(λ) fᵢnᵢ``: a wire that
+        turns further out at the exit turns as much further down at the clamp). The CoG comes
+        from the same hangs: it follows each point by ``Aᵢ = ∂G/∂pᵢ``
+        (``joint.point_gain``), so its error shares ``Aᵢ Σᵢ`` with pivot ``i``'s,
         and λ's shares ``a_λ,ᵢ Σᵢ``. The swing sees the moment arms ``pᵢ − G``: taking the
         CoG independent of the pivots counts the play twice (the paper rig's products of
         inertia were stated with 1.5-3 times their variance).
@@ -183,6 +184,10 @@ class InertiaContext:
             own[i] = model.play_var_mm2 * (np.eye(3) - np.outer(n, n))
             own[i] += prior.scatter_var_mm2 * np.outer(n, n)
             along[i] = f * n
+        if joint is not None and joint.point_cov_mm2 is not None:
+            # the points' covariance the CoG fit took (the play, or an override): what its gain
+            # carries into the CoG, so the joint covariance is one model's (and PSD)
+            own = np.asarray(joint.point_cov_mm2, dtype=float)[idx]
         cog_own = np.einsum("rkb,kbc->rkc", gain[:3], own).reshape(3, 3 * k)  # Aᵢ Σᵢ
         lam_own = np.einsum("kb,kbc->kc", gain[3], own).reshape(3 * k)  # a_λ,ᵢ Σᵢ
         flat = along.reshape(3 * k)

@@ -408,6 +408,12 @@ def measure_inertia(
     warnings = [f"{d}: this hang is left out of the tensor" for d in dropped] + mode_notes
     scale, misfit_warning = _misfit_scale(chi2, dof)
     warnings += misfit_warning
+    if dof == 0:
+        warnings.append(
+            f"{len(data.frequencies_hz)} frequencies for the six entries, none to spare: the fit "
+            "cannot check itself and its σ is optimistic (docs/inertia.md, 'At least three "
+            "hangs'): hang from more points"
+        )
     shares = _budget(nuis, jac, cov_freq, p_obj)  # a common scale leaves the shares as they are
     cov = cov * scale**2
     cov_freq = cov_freq * scale**2

@@ -323,6 +323,7 @@ def _joint(
         wire_scale,
         gain,
         cog_lam,
+        errors.point_cov_mm2(nrm[:, :, 0].T),
     )
 
 
@@ -420,7 +421,7 @@ def _joint_with_shared_sensor(
     pairs, skipped = pair_diagnostics(lines, min_angle_deg)
     joint = JointEstimate(
         fit.cog_mm, fit.cov_mm2, fit.residuals, tuple(pairs), tuple(skipped), fit.chi2, fit.dof,
-        wire_scale, fit.point_gain, fit.cog_scale_cov_mm2,
+        wire_scale, fit.point_gain, fit.cog_scale_cov_mm2, errors.point_cov_mm2(normals),
     )  # fmt: skip
     carried = [
         f"{name} (σ {sigma:.2g} of {prior:.2g})"

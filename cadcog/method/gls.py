@@ -113,6 +113,16 @@ class LineErrors:
             None if point_sigma_mm is None else point_sigma_mm**2,
         )
 
+    def point_cov_mm2(self, normals: npt.ArrayLike) -> FloatArray:
+        """Each suspension point's covariance as these errors take it, shape (k, 3, 3), for
+        bolt axes ``normals`` (k, 3): ``σ_play² (I − nnᵀ) + σ_axial² nnᵀ``, or the override's
+        ``σ² I``."""
+        n = np.atleast_2d(np.asarray(normals, dtype=float))
+        if self.point_var_mm2 is not None:
+            return np.broadcast_to(self.point_var_mm2 * np.eye(3), (len(n), 3, 3)).copy()
+        nn = n[:, :, None] * n[:, None, :]
+        return np.asarray(self.play_var_mm2 * (np.eye(3) - nn) + self.axial_var_mm2 * nn)
+
 
 @dataclass(frozen=True)
 class WireTerm:

@@ -223,6 +223,9 @@ class JointEstimate:
         moment arms, :meth:`cadcog.dynamics.context.InertiaContext.hang_terms`).
     cog_scale_cov_mm2 : ndarray, shape (3,), optional
         Covariance of the CoG with λ (0 when λ is known).
+    point_cov_mm2 : ndarray, shape (N, 3, 3), optional
+        Each line's suspension-point covariance as the fit took it (the play, or an override):
+        what :attr:`point_gain` carries into the CoG.
     """
 
     cog_mm: FloatArray
@@ -235,6 +238,7 @@ class JointEstimate:
     wire: WireScale | None = None
     point_gain: FloatArray | None = None
     cog_scale_cov_mm2: FloatArray | None = None
+    point_cov_mm2: FloatArray | None = None
 
     @property
     def chi2_p_value(self) -> float:

@@ -31,7 +31,14 @@ CTX = context_for_rig(RIG)
 
 
 def _campaign(
-    seed: int, truth_object: MassProperties, ids=None, ctx_fit=None, odd=None, still=(), short=()
+    seed: int,
+    truth_object: MassProperties,
+    ids=None,
+    ctx_fit=None,
+    odd=None,
+    still=(),
+    short=(),
+    point_sigma_mm=None,
 ):
     """Hangs of the rig with the true object: exits off by the rig's play, noise-free settled
     readings, swings from the truth; estimated with ``ctx_fit`` (default the truth's). ``odd``
@@ -82,6 +89,7 @@ def _campaign(
         MEData.from_rig(RIG),
         model=ErrorModel.from_rig(RIG),
         body=BodyBox.of_rig(RIG),
+        point_sigma_mm=point_sigma_mm,
     )
     return measure_inertia(
         swings, est, CTX if ctx_fit is None else ctx_fit, object_mass_kg=truth_object.mass_kg,
@@ -130,7 +138,9 @@ def test_hangs_that_do_not_determine_the_tensor_are_refused():
     combination of entries nearly free on some draws of the play (5 of the 12 here). Those
     are refused, naming why. What is returned is not held to χ²₆: with no frequency to
     spare the fit cannot see its own nonlinearity, and over 60 draws 83 % of the returned
-    tensors fall inside their 95 % region (docs/inertia.md); most of them do here."""
+    tensors fall inside their 95 % region (docs/inertia.md). So each returned one says its σ
+    is optimistic; and the σ is not wrong by much (the median χ² inside the 95 % quantile:
+    σ half of what they should be would put it near 21)."""
     cad = RIG.analytic_proof_mass
     refused, chi2 = 0, []
     for seed in range(12):
@@ -142,6 +152,7 @@ def test_hangs_that_do_not_determine_the_tensor_are_refused():
             continue
         d = entries(r.inertia_kg_mm2) - entries(cad.inertia_kg_mm2)
         chi2.append(float(d @ np.linalg.solve(r.cov_kg2_mm4, d)))
+        assert any("none to spare" in w for w in r.warnings)
     assert 1 <= refused < 12
     assert np.median(chi2) < 12.59  # χ²₆'s 95 % quantile (4.4 here)
 
@@ -262,3 +273,14 @@ def test_a_misfit_scales_the_sigma_until_the_model_no_longer_holds():
     assert _misfit_scale(edge, 6)[0] == pytest.approx(MAX_MISFIT_SCALE)
     with pytest.raises(DegenerateGeometryError, match=r"χ² 1\.023e\+05 for 6 dof.*weighed mass"):
         _misfit_scale(102331.0, 6)
+
+
+def test_a_cog_estimated_with_its_own_point_sigma_gives_a_valid_covariance():
+    """The CoG estimated with the points' σ overridden (``estimate --point-sigma-mm``, far
+    below the rig's play): the joint covariance of the CoG and the pivots takes the points'
+    covariance the CoG fit took, so it stays one model's; the tensor is measured (it raised a
+    LinAlgError when the pivots kept the rig's play against a gain of other weights)."""
+    r = _campaign(0, RIG.analytic_proof_mass, point_sigma_mm=0.05)
+    assert np.all(np.linalg.eigvalsh(r.cov_kg2_mm4) > 0)
+    d = entries(r.inertia_kg_mm2) - entries(RIG.analytic_proof_mass.inertia_kg_mm2)
+    assert float(d @ np.linalg.solve(r.cov_kg2_mm4, d)) < 22.5
