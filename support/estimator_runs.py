@@ -34,10 +34,11 @@ def swing_table(cfg: sf.SwingConfig, sensor_mm: np.ndarray) -> str:
 
 
 def parameter_file(
-    src: Path, kind: str, cfg: sf.SwingConfig, truth: sf.Truth, directory: Path
+    src: Path, kind: str, cfg: sf.SwingConfig, truth: sf.Truth, directory: Path, extra: str = ""
 ) -> Path:
     """A copy of a rig (``kind`` "rig") or set-up ("setup") file with the ``[swing]`` table of
-    ``cfg`` (any existing one replaced); relative paths in a set-up are made absolute."""
+    ``cfg`` (any existing one replaced) and the ``[swing]`` lines ``extra``; relative paths in a
+    set-up are made absolute."""
     text = re.sub(r"(?ms)^\[swing\].*?(?=^\[|\Z)", "", src.read_text(encoding="utf-8"))
     if kind == "setup":
         text = re.sub(
@@ -49,7 +50,7 @@ def parameter_file(
     # the [swing] table goes before the first table header, so top-level keys stay top-level
     first = re.search(r"(?m)^\[", text)
     pos = first.start() if first else len(text)
-    text = text[:pos] + swing_table(cfg, sensor).lstrip("\n") + "\n" + text[pos:]
+    text = text[:pos] + swing_table(cfg, sensor).lstrip("\n") + extra + "\n" + text[pos:]
     out = directory / src.name
     out.write_text(text, encoding="utf-8")
     return out
@@ -110,7 +111,8 @@ def score(result: dict[str, Any], truth: sf.Truth) -> dict[str, Any]:
     and true principal axes, sign-free), ``rel_true_axes`` and ``z_true_axes`` (the estimated
     tensor's moments about the true principal axes: the sorted eigenvalues of a nearly equal
     pair are biased apart by the noise alone), ``sigma_scale`` (the Birge ratio the result applied
-    to its σ: ``z·scale`` and ``chi2·scale²`` are what the σ would have given before it)."""
+    to its σ: ``z·scale`` and ``chi2·scale²`` are what the σ would have given before it),
+    ``freq_chi2`` (the frequencies' own χ², the result's ``consistency.chi2``)."""
     from cadcog.dynamics.result import bilinear_gradient
 
     true_t = truth.object_inertia_kg_mm2
@@ -138,4 +140,5 @@ def score(result: dict[str, Any], truth: sf.Truth) -> dict[str, Any]:
         "chi2": chi2,
         "axis_deg": ang.tolist(),
         "sigma_scale": float(result.get("consistency", {}).get("sigma_scale", 1.0)),
+        "freq_chi2": float(result.get("consistency", {}).get("chi2", np.nan)),
     }
