@@ -25,6 +25,7 @@ from cadcog.uncertainty.montecarlo import (
     estimate_trials,
     hang,
 )
+from tests.method.pointgain import numeric_point_gain
 
 
 def _jacobian_by_differences(u: np.ndarray) -> np.ndarray:
@@ -315,16 +316,11 @@ def test_the_estimate_s_point_gain_is_how_its_cog_follows_each_point():
         ]
         return estimate_for_rig(rig, sus).joint
 
+    def cog_and_scale(points):
+        j = joint(points)
+        return j.cog_mm, j.wire.scale_mm
+
     base = joint(exits)
     assert base.wire is not None and base.wire.sigma_mm > 0  # λ is an unknown here
-    h = 0.01
-    numeric = np.zeros((4, len(exits), 3))
-    for i in range(len(exits)):
-        for a in range(3):
-            hi, lo = exits.copy(), exits.copy()
-            hi[i, a] += h
-            lo[i, a] -= h
-            j_hi, j_lo = joint(hi), joint(lo)
-            numeric[:3, i, a] = (j_hi.cog_mm - j_lo.cog_mm) / (2 * h)
-            numeric[3, i, a] = (j_hi.wire.scale_mm - j_lo.wire.scale_mm) / (2 * h)
+    numeric = numeric_point_gain(cog_and_scale, exits, 0.01)
     np.testing.assert_allclose(base.point_gain, numeric, atol=0.01 * np.abs(numeric).max())

@@ -18,6 +18,7 @@ from cadcog.rig.inclinometer import (
     rotation_matrix,
     sensor_readings,
 )
+from tests.method.pointgain import numeric_point_gain
 
 angles = st.floats(-2.0, 2.0)
 
@@ -231,17 +232,12 @@ def test_the_point_gain_is_how_the_fit_follows_each_assumed_point(shared):
     def fit(points):
         return fit_shared(points, x, y, top, n, errors, wire, prior)
 
+    def cog_and_scale(points):
+        f = fit(points)
+        return f.cog_mm, f.scale_mm
+
     base = fit(p)
-    h = 0.01
-    numeric = np.zeros((4, len(p), 3))
-    for i in range(len(p)):
-        for a in range(3):
-            hi, lo = p.copy(), p.copy()
-            hi[i, a] += h
-            lo[i, a] -= h
-            f_hi, f_lo = fit(hi), fit(lo)
-            numeric[:3, i, a] = (f_hi.cog_mm - f_lo.cog_mm) / (2 * h)
-            numeric[3, i, a] = (f_hi.scale_mm - f_lo.scale_mm) / (2 * h)
+    numeric = numeric_point_gain(cog_and_scale, p, 0.01)
     scale = np.abs(numeric).max()
     np.testing.assert_allclose(base.point_gain, numeric, atol=0.01 * scale)
     assert np.abs(numeric[:3]).max() > 0.1  # the CoG follows the points, not by a little
