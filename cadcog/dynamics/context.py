@@ -16,6 +16,7 @@ from cadcog.core.errors import ReadingsError
 from cadcog.mass.properties import MassProperties, box_properties
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import BodyBox
+from cadcog.method.gls import LineErrors
 from cadcog.method.plumblines import JointEstimate
 from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
@@ -164,30 +165,26 @@ class InertiaContext:
         pos = np.asarray(positions_mm, dtype=float).reshape(-1, 3)
         k = len(pos)
         idx = list(range(k)) if lines is None else list(lines)
-        gain = None if joint is None else joint.point_gain
-        if gain is None:
-            gain = np.zeros((4, max(idx, default=-1) + 1, 3))
-        gain = np.asarray(gain, dtype=float)[:, idx]
+        gain = np.zeros((4, k, 3))
+        if joint is not None and joint.point_gain is not None:
+            gain = np.asarray(joint.point_gain, dtype=float)[:, idx]
         cog_lam = np.zeros(3)
         if joint is not None and joint.cog_scale_cov_mm2 is not None:
             cog_lam = np.asarray(joint.cog_scale_cov_mm2, dtype=float)
         cog = np.asarray(cog_mm, dtype=float)
-        pivots = np.empty_like(pos)
-        own = np.zeros((k, 3, 3))
-        along = np.zeros((k, 3))  # fᵢnᵢ
-        for i, p in enumerate(pos):
-            n = self.body.normal_at(p)
-            u = p - cog
-            u = u / np.linalg.norm(u)
-            f = float(wire_shape_factor(np.array([n @ u]), model.wire_model)[0])
-            pivots[i] = p + lam * f * n
-            own[i] = model.play_var_mm2 * (np.eye(3) - np.outer(n, n))
-            own[i] += prior.scatter_var_mm2 * np.outer(n, n)
-            along[i] = f * n
+        normals = np.array([self.body.normal_at(p) for p in pos]).reshape(k, 3)
+        u = pos - cog
+        u /= np.linalg.norm(u, axis=1)[:, None]
+        cos_theta = np.array([n @ v for n, v in zip(normals, u, strict=True)])
+        f = np.broadcast_to(wire_shape_factor(cos_theta, model.wire_model), (k,))
+        along = f[:, None] * normals  # fᵢnᵢ
+        pivots = pos + (lam * f)[:, None] * normals
         if joint is not None and joint.point_cov_mm2 is not None:
             # the points' covariance the CoG fit took (the play, or an override): what its gain
             # carries into the CoG, so the joint covariance is one model's (and PSD)
             own = np.asarray(joint.point_cov_mm2, dtype=float)[idx]
+        else:
+            own = LineErrors.from_model(model).point_cov_mm2(normals)
         cog_own = np.einsum("rkb,kbc->rkc", gain[:3], own).reshape(3, 3 * k)  # Aᵢ Σᵢ
         lam_own = np.einsum("kb,kbc->kc", gain[3], own).reshape(3 * k)  # a_λ,ᵢ Σᵢ
         flat = along.reshape(3 * k)

@@ -332,17 +332,15 @@ def _gls_point_gain(
 ) -> tuple[FloatArray, FloatArray]:
     """``∂(G, λ)/∂pᵢ`` of one trial's GLS, shape (4, k, 3), and the CoG's covariance with λ
     (λ's row and covariance 0 when λ is known)."""
-    cov_g = sym3.sym_to_full(batch.cov_mm2[:, 0])
+    cov = sym3.sym_to_full(batch.cov_mm2[:, 0])
     var_lam = float(batch.scale_var_mm2[0])
-    with_lam = not wire.fixed and np.isfinite(var_lam)
+    with_lam = not wire.fixed and bool(np.isfinite(var_lam))
     cross = np.asarray(batch.cov_cog_scale_mm2[:, 0], dtype=float) if with_lam else np.zeros(3)
-    cov = np.block([[cov_g, cross[:, None]], [cross[None, :], np.array([[var_lam]])]])
-    m = 4 if with_lam else 3
+    if with_lam:
+        cov = np.block([[cov, cross[:, None]], [cross[None, :], np.array([[var_lam]])]])
     design = gls.line_design(u[:, :, 0].T, nrm[:, :, 0].T, batch.shape[:, 0], with_lam)
     weights = sym3.sym_to_full(batch.weights[:, :, 0])
-    gain = np.zeros((4, u.shape[1], 3))
-    gain[:m] = gls.point_gain(cov[:m, :m], design, weights)
-    return gain, cross
+    return gls.point_gain(cov, design, weights, with_lam), cross
 
 
 def _joint_with_shared_sensor(

@@ -493,8 +493,11 @@ def plumb_gls(
     )
 
 
-def point_gain(cov_rows: FloatArray, design: FloatArray, weights: FloatArray) -> FloatArray:
-    """How the fitted CoG (and λ) follow each line's assumed point, shape (r, k, 3).
+def point_gain(
+    cov: FloatArray, design: FloatArray, weights: FloatArray, with_scale: bool
+) -> FloatArray:
+    """How the fitted CoG and λ follow each line's assumed point, shape (4, k, 3): rows G's
+    x, y, z and λ (0 when λ is not an unknown, ``with_scale`` False).
 
     At a weighted least-squares solution of residuals ``rᵢ = Pᵢ(G − pᵢ − λ fᵢ nᵢ)`` (and any
     other unknowns θ), moving the point ``pᵢ`` the estimate assumed by ``δpᵢ`` moves the
@@ -506,10 +509,11 @@ def point_gain(cov_rows: FloatArray, design: FloatArray, weights: FloatArray) ->
 
     Parameters
     ----------
-    cov_rows : ndarray, shape (r, m)
-        The rows of the unknowns' covariance wanted (G's three, and λ's).
+    cov : ndarray, shape (m, m)
+        The unknowns' covariance, G first, then λ (with ``with_scale``), then any others.
     design : ndarray, shape (k, 3, m)
     weights : ndarray, shape (k, 3, 3)
+    with_scale : bool
 
     Examples
     --------
@@ -519,20 +523,31 @@ def point_gain(cov_rows: FloatArray, design: FloatArray, weights: FloatArray) ->
     >>> u = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
     >>> proj = np.eye(3) - u[:, :, None] * u[:, None, :]
     >>> cov = np.linalg.inv(proj.sum(axis=0))
-    >>> g = point_gain(cov, proj, proj)
-    >>> g[:, 0].round(3).tolist()  # rows: G's x, y, z; columns: line 1's point's x, y, z
+    >>> g = point_gain(cov, proj, proj, with_scale=False)
+    >>> g[:3, 0].round(3).tolist()  # rows: G's x, y, z; columns: line 1's point's x, y, z
     [[1.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.0]]
     """
-    return np.einsum("rm,kam,kab->rkb", cov_rows, design, weights)
+    rows = 3 + with_scale
+    gain = np.zeros((4, design.shape[0], 3))
+    gain[:rows] = np.einsum("rm,kam,kab->rkb", cov[:rows], design, weights)
+    return gain
 
 
 def line_design(
-    u: FloatArray, normals: FloatArray, shape: FloatArray, with_scale: bool
+    u: FloatArray,
+    normals: FloatArray,
+    shape: FloatArray,
+    with_scale: bool,
+    extra: FloatArray | None = None,
 ) -> FloatArray:
-    """``Dᵢ = Pᵢ [I, −fᵢnᵢ]`` (λ's column with ``with_scale``): the design of the lines'
-    residuals over G (and λ), shape (k, 3, 3 or 4); ``u``, ``normals`` (k, 3), ``shape`` (k,)."""
+    """``Dᵢ = Pᵢ [I, −fᵢnᵢ, Eᵢ]``: the design of the lines' residuals ``Pᵢ(G − qᵢ)`` over G,
+    λ (its column with ``with_scale``) and any further unknowns whose ``∂(G − qᵢ)/∂θ`` is
+    ``extra`` (k, 3, e), every column projected on the plane ⊥ ``uᵢ``; shape (k, 3, m).
+    ``u``, ``normals`` (k, 3), ``shape`` (k,)."""
     proj = np.eye(3) - u[:, :, None] * u[:, None, :]
     cols = [np.broadcast_to(np.eye(3), proj.shape)]
     if with_scale:
         cols.append(-(shape[:, None] * normals)[:, :, None])
+    if extra is not None:
+        cols.append(extra)
     return np.asarray(np.einsum("kij,kjm->kim", proj, np.concatenate(cols, axis=2)))

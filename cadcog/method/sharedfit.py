@@ -256,22 +256,17 @@ def _evaluate(lines: _Lines, x: FloatArray, *, information: bool = False) -> _St
     proj = np.eye(3) - u[:, :, None] * u[:, None, :]
     r = np.einsum("kij,kj->ki", proj, d)
     along = np.einsum("ki,ki->k", u, d)  # Lᵢ, signed
-    cols = [np.broadcast_to(np.eye(3), (k, 3, 3))]
-    if with_lam:
-        cols.append(-(shape[:, None] * lines.n)[:, :, None])
+    du = np.empty((k, 3, len(active)))
     if len(active):
         steps = JACOBIAN_STEP * lines.prior_sigma[active]
-        du = np.empty((k, 3, len(active)))
         for c, (j, h) in enumerate(zip(active, steps, strict=True)):
             up, down = theta.copy(), theta.copy()
             up[j] += h
             down[j] -= h
             du[:, :, c] = (_verticals(lines, up) - _verticals(lines, down)) / (2.0 * h)
-        cols.append(-along[:, None, None] * du)
-    # ∂(G − qᵢ)/∂x, then every column on the plane ⊥ uᵢ, where the residual and the weights
-    # live (once, here: a finite difference of a strongly corrected vertical is not exactly
-    # ⊥ uᵢ either).
-    design = np.einsum("kij,kjm->kim", proj, np.concatenate(cols, axis=2))
+    # ∂(G − qᵢ)/∂x, every column on the plane ⊥ uᵢ, where the residual and the weights live
+    # (a finite difference of a strongly corrected vertical is not exactly ⊥ uᵢ either)
+    design = gls.line_design(u, lines.n, shape, with_lam, -along[:, None, None] * du)
     normal = np.einsum("kai,kab,kbj->ij", design, w, design)
     chi2 = float(np.einsum("ka,kab,kb->", r, w, r))
     nr, nd, nw = _norm_terms(lines, theta, active, design.shape[2])
@@ -516,17 +511,9 @@ def fit_shared(
         tuple(residuals),
         state.scale_information,
         identified,
-        _point_gain(cov, state, with_lam),
+        gls.point_gain(cov, state.design, state.weights, with_lam),
         cov[:3, 3].copy() if with_lam else np.zeros(3),
     )
-
-
-def _point_gain(cov: FloatArray, state: _State, with_lam: bool) -> FloatArray:
-    """``∂(G, λ)/∂pᵢ`` at the solution, shape (4, k, 3) (λ's row 0 when it is known)."""
-    off = 3 + with_lam
-    gain = np.zeros((4, len(state.u), 3))
-    gain[:off] = gls.point_gain(cov[:off], state.design, state.weights)
-    return gain
 
 
 def _residuals(

@@ -120,15 +120,24 @@ def _cube_hangs():
     return g, p, n
 
 
+#: The per-hang errors of :func:`_noisy_cube`'s readings as the fits take them.
+CUBE_ERRORS = gls.LineErrors(0.08, 0.02, np.radians(0.06) ** 2)
+
+
+def _noisy_cube(seed: int):
+    """The cube's hangs read by a sensor with no shared error, each reading off by 0.05°."""
+    g, p, n = _cube_hangs()
+    u = (p - g) / np.linalg.norm(p - g, axis=1)[:, None]
+    rng = np.random.default_rng(seed)
+    x, y, top = sensor_readings(u, np.zeros(7))
+    return p, n, x + rng.normal(0, 0.05, 6), y + rng.normal(0, 0.05, 6), top
+
+
 def test_without_shared_figures_it_is_the_per_hang_estimator():
     """No shared figure, a known wire scale: the same minimum as plumb_gls (which weighs by the
     distances of its equal-weight pass, one step short of the fixed point: ~µm)."""
-    g, p, n = _cube_hangs()
-    u = (p - g) / np.linalg.norm(p - g, axis=1)[:, None]
-    rng = np.random.default_rng(2)
-    x, y, top = sensor_readings(u, np.zeros(7))
-    x, y = x + rng.normal(0, 0.05, 6), y + rng.normal(0, 0.05, 6)
-    errors = gls.LineErrors(0.08, 0.02, np.radians(0.06) ** 2)
+    p, n, x, y, top = _noisy_cube(2)
+    errors = CUBE_ERRORS
     fit = fit_shared(p, x, y, top, n, errors, gls.WireTerm(), np.zeros(7))
     uu = corrected_verticals(x, y, top, np.zeros(7)).u
     batch = gls.plumb_gls(p.T[:, :, None], uu.T[:, :, None], n.T[:, :, None], errors,
@@ -220,12 +229,8 @@ def test_the_point_gain_is_how_the_fit_follows_each_assumed_point(shared):
     gain (what moving a point changes in the weights is second order), for the per-hang GLS
     and for the fit with the sensor's shared parameters. It is what the swing's tensor takes
     as the CoG's share of each pivot's error (cadcog.dynamics.context.hang_terms)."""
-    g, p, n = _cube_hangs()
-    u = (p - g) / np.linalg.norm(p - g, axis=1)[:, None]
-    rng = np.random.default_rng(7)
-    x, y, top = sensor_readings(u, np.zeros(7))
-    x, y = x + rng.normal(0, 0.05, 6), y + rng.normal(0, 0.05, 6)
-    errors = gls.LineErrors(0.08, 0.02, np.radians(0.06) ** 2)
+    p, n, x, y, top = _noisy_cube(7)
+    errors = CUBE_ERRORS
     wire = gls.WireTerm("elastica", 0.5, 0.25)
     prior = np.array([0.3, 0.3, 0.01, 0.01, 0.5, 0.5, 0.5]) if shared else np.zeros(7)
 
