@@ -76,24 +76,35 @@ class Row:
     off: tuple[str, ...] = ()  # error sources switched off in truth and estimator (OFF)
 
 
-#: An error source switched off in the truth and the estimator alike (a row's ``off``): the
-#: parameter file's lines replaced, and the ``[swing]`` keys added. Which of the estimator's
-#: stated sources is over- or under-stated shows in how the tensor's χ² moves without it.
-OFF: dict[str, tuple[tuple[tuple[str, str], ...], str]] = {
-    "me": (((r"(?m)^cog_uncertainty_cube_mm = [0-9.]+", "cog_uncertainty_cube_mm = 0.0"),),
-           "me_inertia_rel = 0.0\n"),
-    "play": (((r"(?m)^play_mm = [0-9.]+", "play_mm = 0.001"),), ""),
-    "lambda": (((r"(?m)^wire_offset_max_mm = [0-9.]+", "wire_offset_max_mm = 0.0"),), ""),
-    "floor": ((), "frequency_model_rel = 0.0\n"),
-    "wire-length": ((), ""),  # the row's config: wire_length_sigma_mm = 0
-}  # fmt: skip
+@dataclass(frozen=True)
+class Off:
+    """An error source switched off in the truth and the estimator alike (a row's ``off``):
+    the parameter file's lines replaced, the ``[swing]`` keys added, the campaign's
+    configuration changed. Which of the estimator's stated sources is over- or under-stated
+    shows in how the tensor's χ² moves without it."""
+
+    edits: tuple[tuple[str, str], ...] = ()
+    swing: str = ""
+    config: tuple[tuple[str, Any], ...] = ()
+
+
+OFF: dict[str, Off] = {
+    "me": Off(
+        ((r"(?m)^cog_uncertainty_cube_mm = [0-9.]+", "cog_uncertainty_cube_mm = 0.0"),),
+        "me_inertia_rel = 0.0\n",
+        (("me_errors", False),),
+    ),
+    "play": Off(((r"(?m)^play_mm = [0-9.]+", "play_mm = 0.001"),)),
+    "lambda": Off(((r"(?m)^wire_offset_max_mm = [0-9.]+", "wire_offset_max_mm = 0.0"),)),
+    "floor": Off(swing="frequency_model_rel = 0.0\n"),
+    "wire-length": Off(config=(("wire_length_sigma_mm", 0.0),)),
+}
 
 
 def _off_row(off: tuple[str, ...]) -> Row:
     """The paper rig's 300 mm flexible-wire row with the ME drawn, ``off`` switched off."""
-    cfg = replace(BASE, one_wire="flexible", me_errors="me" not in off)
-    if "wire-length" in off:
-        cfg = replace(cfg, wire_length_sigma_mm=0.0)
+    cfg = replace(BASE, one_wire="flexible", me_errors=True)
+    cfg = replace(cfg, **{k: v for o in off for k, v in OFF[o].config})
     return Row(
         "rig6h_flex_me_off_" + "_".join(o.replace("-", "") for o in off),
         f"paper rig S1-S6, one flexible wire, L = 300 mm, off: {', '.join(off)}",
@@ -348,7 +359,7 @@ def parameter_source(row: Row) -> Path:
     if not row.off:
         return src
     text = src.read_text(encoding="utf-8")
-    for pattern, repl in (e for o in row.off for e in OFF[o][0]):
+    for pattern, repl in (e for o in row.off for e in OFF[o].edits):
         text, n = re.subn(pattern, repl, text)
         if not n:
             raise ValueError(f"{src.name}: no line matches {pattern!r}")
@@ -360,7 +371,7 @@ def parameter_source(row: Row) -> Path:
 
 def swing_extra(row: Row) -> str:
     """The ``[swing]`` keys a row's ``off`` adds."""
-    return "".join(OFF[o][1] for o in row.off)
+    return "".join(OFF[o].swing for o in row.off)
 
 
 def truth_of(row: Row) -> sf.Truth:
