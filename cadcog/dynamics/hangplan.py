@@ -16,7 +16,7 @@ the largest relative 1 σ of the three principal moments.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import combinations
 from typing import Any
@@ -85,16 +85,152 @@ class InertiaPlan(JsonResult):
         }
 
 
+#: Where each shared nuisance sits in a plan's shared vector ``v`` (and its covariance): the
+#: object's mass, the assembly's CoG, the wire's length, the top clamp's hinge, the sensor.
+_MASS, _COG, _LENGTH, _HINGE, _SENSOR = 0, slice(1, 4), 4, 5, slice(6, 9)
+
+
 def _shared_cov(
-    context: InertiaContext, mass_sigma_kg: float, cog_cov_mm2: FloatArray
+    context: InertiaContext, mass_sigma_kg: float, cog_cov_mm2: FloatArray, hinge_sigma_mm: float
 ) -> FloatArray:
+    """The shared nuisances' covariance, laid out as ``_MASS`` … ``_SENSOR``, shape (9, 9)."""
     sw = context.swing
     cov = np.zeros((9, 9))
-    cov[0, 0] = mass_sigma_kg**2
-    cov[1:4, 1:4] = cog_cov_mm2
-    cov[4, 4] = sw.wire_length_sigma_mm**2
-    cov[6:9, 6:9] = sw.sensor_position_sigma_mm**2 * np.eye(3)
+    cov[_MASS, _MASS] = mass_sigma_kg**2
+    cov[_COG, _COG] = cog_cov_mm2
+    cov[_LENGTH, _LENGTH] = sw.wire_length_sigma_mm**2
+    cov[_HINGE, _HINGE] = hinge_sigma_mm**2
+    cov[_SENSOR, _SENSOR] = sw.sensor_position_sigma_mm**2 * np.eye(3)
     return cov
+
+
+@dataclass(frozen=True)
+class _Hangs:
+    """The model of every candidate hang at the CAD: its modes as a function of the tensor's
+    entries ``p``, the shared nuisances ``v`` and its pivot."""
+
+    context: InertiaContext
+    me_mass_kg: float
+    p0: FloatArray  # the assembly's entries at the CAD
+    v0: FloatArray  # the shared nuisances at their nominal values
+    scale: float  # the tensor's trace: the entries' finite-difference step is 1e-6 of it
+
+    def modes_hz(self, p: FloatArray, v: FloatArray, exit_mm: FloatArray) -> FloatArray:
+        ctx = self.context
+        geo = HangGeometry(
+            exit_mm, v[_SENSOR], max(v[_LENGTH], 0.0), max(v[_HINGE], 0.0), *ctx.signs
+        )
+        return hang_modes(
+            tensor(p), v[_MASS] + self.me_mass_kg, v[_COG], geo, with_shapes=False
+        ).frequencies_hz
+
+    def info(
+        self, exit_mm: FloatArray, exit_cov: FloatArray, shared_cov: FloatArray
+    ) -> _HangInfo | None:
+        """One hang's usable body modes (those a :data:`PLAN_RECORD_S` record resolves), their
+        derivatives and own covariance; None when it has none."""
+        p0, v0 = self.p0, self.v0
+        f0 = self.modes_hz(p0, v0, exit_mm)
+        gaps = np.diff(f0)
+        close = np.zeros(len(f0), dtype=bool)
+        close[:-1] |= gaps < UNRESOLVED_BINS / PLAN_RECORD_S
+        close[1:] |= gaps < UNRESOLVED_BINS / PLAN_RECORD_S
+        keep = ~close
+        keep[: len(f0) - 2] = False  # the body modes only (as the estimator uses them)
+        if not keep.any():
+            return None
+
+        def derivative(step: FloatArray, where: str, h: float) -> FloatArray:
+            plus = self.modes_hz(*self._moved(where, step, exit_mm))
+            minus = self.modes_hz(*self._moved(where, -step, exit_mm))
+            return (plus - minus)[keep] / (2 * h)
+
+        jac = np.zeros((int(keep.sum()), 6))
+        for j in range(6):
+            jac[:, j] = derivative(1e-6 * self.scale * np.eye(6)[j], "p", 1e-6 * self.scale)
+        shared = np.zeros((int(keep.sum()), 9))
+        sig = np.sqrt(np.diag(shared_cov))
+        for i in range(6):  # the sensor's position (_SENSOR) moves no frequency, only shapes
+            if sig[i] != 0:
+                shared[:, i] = derivative(0.1 * sig[i] * np.eye(9)[i], "v", 0.1 * sig[i])
+        d_exit = np.zeros((int(keep.sum()), 3))
+        for a in range(3):
+            d_exit[:, a] = derivative(0.05 * np.eye(3)[a], "exit", 0.05)
+        local = (
+            np.diag((f0[keep] * self.context.swing.frequency_model_rel) ** 2)
+            + d_exit @ exit_cov @ d_exit.T
+        )
+        return _HangInfo(jac, local, shared)
+
+    def _moved(
+        self, where: str, step: FloatArray, exit_mm: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
+        if where == "p":
+            return self.p0 + step, self.v0, exit_mm
+        if where == "v":
+            return self.p0, self.v0 + step, exit_mm
+        return self.p0, self.v0, exit_mm + step
+
+
+def _set_cov(
+    infos: Sequence[_HangInfo | None],
+    group: Sequence[int],
+    shared_cov: FloatArray,
+    removal_cov: FloatArray,
+) -> FloatArray | None:
+    """The object's entries' covariance from hangs ``group`` (the GLS of their frequencies,
+    plus the ME's removal ``removal_cov``); None when they do not determine the tensor."""
+    hs = [infos[i] for i in group]
+    if any(h is None for h in hs):
+        return None
+    hh = [h for h in hs if h is not None]
+    jac = np.vstack([h.jac for h in hh])
+    if jac.shape[0] < 6:
+        return None
+    n = jac.shape[0]
+    c = np.zeros((n, n))
+    at = 0
+    for h in hh:
+        k = len(h.local_cov)
+        c[at : at + k, at : at + k] = h.local_cov
+        at += k
+    m = np.vstack([h.shared for h in hh])
+    c += m @ shared_cov @ m.T
+    try:
+        cov = np.linalg.inv(jac.T @ np.linalg.solve(c, jac))
+    except np.linalg.LinAlgError:
+        return None
+    if not np.all(np.isfinite(cov)) or np.min(np.linalg.eigvalsh(cov)) < 0:
+        return None
+    return np.asarray(cov + removal_cov)
+
+
+def _removal_cov(
+    ctx: InertiaContext,
+    p0: FloatArray,
+    v0: FloatArray,
+    mass_sigma_kg: float,
+    cog_cov_mm2: FloatArray,
+) -> tuple[FloatArray, FloatArray]:
+    """The ME's removal, which does not depend on the set: the object's entries at the CAD and
+    what the ME's CoGs and own inertia, the mass and the CoG add to their covariance."""
+    nuis = nuisances(
+        object_mass_kg=ctx.object_cad.mass_kg,
+        object_mass_sigma_kg=mass_sigma_kg,
+        cog_mm=v0[_COG],
+        wire_length_mm=ctx.swing.wire_length_mm,
+        wire_length_sigma_mm=0.0,
+        top_hinge_mm=float(v0[_HINGE]),
+        sensor_mm=ctx.sensor_mm,
+        sensor_sigma_mm=0.0,
+        exits_mm=np.zeros((0, 3)),
+        geometry_cov_mm2=np.pad(np.asarray(cog_cov_mm2, dtype=float), (0, 1)),
+        me_parts=ctx.me_parts,
+        me_cog_sigma_mm=ctx.me_cog_sigma_mm,
+        me_inertia_rel=ctx.swing.me_inertia_rel,
+    )
+    jc = direct_jacobian(lambda v: compensate(p0, nuis, v, ctx.me_parts)[0], nuis)
+    return compensate(p0, nuis, nuis.values, ctx.me_parts)[0], jc @ nuis.cov @ jc.T
 
 
 def plan_inertia(
@@ -125,118 +261,41 @@ def plan_inertia(
     """
     ctx = context
     truth = combine([ctx.object_cad, *ctx.me_parts])
-    p0 = entries(truth.inertia_kg_mm2)
     weight_n = truth.mass_kg * STANDARD_GRAVITY_M_S2
     hinge, hinge_sigma = ctx.top_hinge_mm(weight_n)
-    scale = float(np.trace(truth.inertia_kg_mm2))
-    shared_cov = _shared_cov(ctx, mass_sigma_kg, cog_cov_mm2)
-    shared_cov[5, 5] = hinge_sigma**2
+    shared_cov = _shared_cov(ctx, mass_sigma_kg, cog_cov_mm2, hinge_sigma)
+    model = _Hangs(
+        ctx,
+        sum(x.mass_kg for x in ctx.me_parts),
+        entries(truth.inertia_kg_mm2),
+        np.concatenate(
+            [
+                [ctx.object_cad.mass_kg],
+                truth.cog_mm,
+                [ctx.swing.wire_length_mm, hinge],
+                ctx.sensor_mm,
+            ]
+        ),
+        float(np.trace(truth.inertia_kg_mm2)),
+    )
     positions = np.array([c[1] for c in candidates], dtype=float).reshape(-1, 3)
     pivots, pivot_covs = ctx.pivots(positions, truth.cog_mm, weight_n)
-
-    def freqs(p: FloatArray, v: FloatArray, exit_mm: FloatArray) -> FloatArray:
-        geo = HangGeometry(exit_mm, v[6:9], max(v[4], 0.0), max(v[5], 0.0), *ctx.signs)
-        return hang_modes(tensor(p), v[0] + sum(x.mass_kg for x in ctx.me_parts), v[1:4], geo,
-                          with_shapes=False).frequencies_hz  # fmt: skip
-
-    v0 = np.concatenate(
-        [[ctx.object_cad.mass_kg], truth.cog_mm, [ctx.swing.wire_length_mm, hinge], ctx.sensor_mm]
-    )
-    infos: list[_HangInfo | None] = []
-    for exit_mm, exit_cov in zip(pivots, pivot_covs, strict=True):
-        f0 = freqs(p0, v0, exit_mm)
-        gaps = np.diff(f0)
-        close = np.zeros(len(f0), dtype=bool)
-        close[:-1] |= gaps < UNRESOLVED_BINS / PLAN_RECORD_S
-        close[1:] |= gaps < UNRESOLVED_BINS / PLAN_RECORD_S
-        keep = ~close
-        keep[: len(f0) - 2] = False  # the body modes only (as the estimator uses them)
-        if not keep.any():
-            infos.append(None)
-            continue
-        jac = np.zeros((int(keep.sum()), 6))
-        for j in range(6):
-            dp = np.zeros(6)
-            dp[j] = 1e-6 * scale
-            jac[:, j] = (freqs(p0 + dp, v0, exit_mm) - freqs(p0 - dp, v0, exit_mm))[keep] / (
-                2e-6 * scale
-            )
-        shared = np.zeros((int(keep.sum()), 9))
-        sig = np.sqrt(np.diag(shared_cov))
-        for i in range(6):  # the sensor's position (v[6:9]) moves no frequency, only shapes
-            if sig[i] == 0:
-                continue
-            dv = np.zeros(9)
-            dv[i] = 0.1 * sig[i]
-            shared[:, i] = (freqs(p0, v0 + dv, exit_mm) - freqs(p0, v0 - dv, exit_mm))[keep] / (
-                0.2 * sig[i]
-            )
-        d_exit = np.zeros((int(keep.sum()), 3))
-        for a in range(3):
-            de = np.zeros(3)
-            de[a] = 0.05
-            d_exit[:, a] = (freqs(p0, v0, exit_mm + de) - freqs(p0, v0, exit_mm - de))[keep] / 0.1
-        f_keep = f0[keep]
-        local = (
-            np.diag((f_keep * ctx.swing.frequency_model_rel) ** 2) + d_exit @ exit_cov @ d_exit.T
-        )
-        infos.append(_HangInfo(jac, local, shared))
-    # The ME's removal: its terms do not depend on the set.
-    nuis = nuisances(
-        object_mass_kg=ctx.object_cad.mass_kg,
-        object_mass_sigma_kg=mass_sigma_kg,
-        cog_mm=truth.cog_mm,
-        wire_length_mm=ctx.swing.wire_length_mm,
-        wire_length_sigma_mm=0.0,
-        top_hinge_mm=hinge,
-        sensor_mm=ctx.sensor_mm,
-        sensor_sigma_mm=0.0,
-        exits_mm=np.zeros((0, 3)),
-        geometry_cov_mm2=np.pad(np.asarray(cog_cov_mm2, dtype=float), (0, 1)),
-        me_parts=ctx.me_parts,
-        me_cog_sigma_mm=ctx.me_cog_sigma_mm,
-        me_inertia_rel=ctx.swing.me_inertia_rel,
-    )
-    jc = direct_jacobian(lambda v: compensate(p0, nuis, v, ctx.me_parts)[0], nuis)
-    comp_cov = jc @ nuis.cov @ jc.T
-    p_obj = compensate(p0, nuis, nuis.values, ctx.me_parts)[0]
+    infos = [
+        model.info(exit_mm, exit_cov, shared_cov)
+        for exit_mm, exit_cov in zip(pivots, pivot_covs, strict=True)
+    ]
+    p_obj, removal = _removal_cov(ctx, model.p0, model.v0, mass_sigma_kg, cog_cov_mm2)
+    closest = [np.inf]  # the smallest worst-moment σ of a set refused for exceeding the limit
 
     def screen(group: Sequence[int]) -> float:
         """A cheap figure for screening: the largest relative σ of the diagonal entries."""
-        out = _cov(group)
+        out = _set_cov(infos, group, shared_cov, removal)
         if out is None:
             return np.inf
         return float(np.max(np.sqrt(np.diag(out)[:3]) / p_obj[:3]))
 
-    def _cov(group: Sequence[int]) -> FloatArray | None:
-        hs = [infos[i] for i in group]
-        if any(h is None for h in hs):
-            return None
-        hh = [h for h in hs if h is not None]
-        jac = np.vstack([h.jac for h in hh])
-        if jac.shape[0] < 6:
-            return None
-        n = jac.shape[0]
-        c = np.zeros((n, n))
-        at = 0
-        for h in hh:
-            k = len(h.local_cov)
-            c[at : at + k, at : at + k] = h.local_cov
-            at += k
-        m = np.vstack([h.shared for h in hh])
-        c += m @ shared_cov @ m.T
-        try:
-            cov = np.linalg.inv(jac.T @ np.linalg.solve(c, jac))
-        except np.linalg.LinAlgError:
-            return None
-        if not np.all(np.isfinite(cov)) or np.min(np.linalg.eigvalsh(cov)) < 0:
-            return None
-        return np.asarray(cov + comp_cov)
-
-    closest = [np.inf]  # the smallest worst-moment σ of a set refused for exceeding the limit
-
     def evaluate(group: Sequence[int]) -> tuple[float, Any] | None:
-        cov = _cov(group)
+        cov = _set_cov(infos, group, shared_cov, removal)
         if cov is None:
             return None
         pr = principal_with_sigma(p_obj, cov)
@@ -247,12 +306,30 @@ def plan_inertia(
         return float(np.max(rel)), pr
 
     ids = [c[0] for c in candidates]
-    n = len(candidates)
+    best_sets = _grow(evaluate, screen, ids, max_set, start)
+    if not best_sets:
+        raise _nothing_determines(ctx, closest[0])
+    best = min(s["worst_moment_sigma_rel"] for s in best_sets)
+    recommended = next(s for s in best_sets if s["worst_moment_sigma_rel"] <= 1.1 * best)
+    return InertiaPlan(tuple(best_sets), recommended, weighed)
+
+
+def _grow(
+    evaluate: Callable[[Sequence[int]], tuple[float, Any] | None],
+    screen: Callable[[Sequence[int]], float],
+    ids: Sequence[str],
+    max_set: int,
+    start: Sequence[str],
+) -> list[dict[str, Any]]:
+    """The best set of each size: the best triple (screened on the diagonal entries, the best
+    :data:`SCREENED` judged on the principal moments), or ``start``, grown by one hang at a
+    time."""
+    n = len(ids)
     best_sets: list[dict[str, Any]] = []
     current: list[int] | None = None
     first = 3
     if start:
-        current = [ids.index(i) for i in start]
+        current = [list(ids).index(i) for i in start]
         first = len(current) + 1
         r = evaluate(current)
         if r is not None:
@@ -263,7 +340,6 @@ def plan_inertia(
             pool = list(combinations(range(n), 3))
             if len(pool) > MAX_TRIPLES:
                 pool = pool[:: len(pool) // MAX_TRIPLES + 1]
-            # Screen on the diagonal entries, then judge the best on the principal moments.
             figures = np.array([screen(g) for g in pool])
             pool = [pool[i] for i in np.argsort(figures)[:SCREENED]]
         elif current is None:
@@ -276,32 +352,35 @@ def plan_inertia(
         (merit, pr), group = min(scored, key=lambda t: t[0][0])
         current = list(group)
         best_sets.append(_entry([ids[i] for i in group], merit, pr))
-    if not best_sets:
-        if np.isfinite(closest[0]):
-            heavy = sum(x.mass_kg for x in ctx.me_parts) / ctx.object_cad.mass_kg
-            raise DegenerateGeometryError(
-                "no set of these candidates determines the inertia tensor usefully: the best "
-                + (
-                    f"gives a principal moment only to ±{100 * closest[0]:.0f} % at 1 σ"
-                    if closest[0] < 10
-                    else "leaves a principal moment undetermined (1 σ above 1000 %)"
-                )
-                + f" (a plan needs ±{100 * MAX_MOMENT_SIGMA_REL:.0f} % or better)"
-                + (
-                    f"; the measurement equipment weighs {heavy:.2f}× the object, and its "
-                    "inertia's uncertainty dominates: a lighter ME is the remedy"
-                    if heavy > 0.5
-                    else ""
-                )
+    return best_sets
+
+
+def _nothing_determines(ctx: InertiaContext, closest: float) -> DegenerateGeometryError:
+    """Why no set was planned: the best refused set's worst moment (``closest``, relative 1 σ;
+    inf when no set determined the tensor at all) and, when the ME outweighs half the object,
+    that its inertia is the remedy."""
+    if np.isfinite(closest):
+        heavy = sum(x.mass_kg for x in ctx.me_parts) / ctx.object_cad.mass_kg
+        return DegenerateGeometryError(
+            "no set of these candidates determines the inertia tensor usefully: the best "
+            + (
+                f"gives a principal moment only to ±{100 * closest:.0f} % at 1 σ"
+                if closest < 10
+                else "leaves a principal moment undetermined (1 σ above 1000 %)"
             )
-        raise DegenerateGeometryError(
-            "no set of these candidates determines the inertia tensor (each hang gives two "
-            "usable frequencies at most: three hangs whose plumb lines point in different "
-            "directions are the least)"
+            + f" (a plan needs ±{100 * MAX_MOMENT_SIGMA_REL:.0f} % or better)"
+            + (
+                f"; the measurement equipment weighs {heavy:.2f}× the object, and its "
+                "inertia's uncertainty dominates: a lighter ME is the remedy"
+                if heavy > 0.5
+                else ""
+            )
         )
-    best = min(s["worst_moment_sigma_rel"] for s in best_sets)
-    recommended = next(s for s in best_sets if s["worst_moment_sigma_rel"] <= 1.1 * best)
-    return InertiaPlan(tuple(best_sets), recommended, weighed)
+    return DegenerateGeometryError(
+        "no set of these candidates determines the inertia tensor (each hang gives two "
+        "usable frequencies at most: three hangs whose plumb lines point in different "
+        "directions are the least)"
+    )
 
 
 #: A set whose worst principal moment is known to worse than this (1 σ, relative) is not planned.
