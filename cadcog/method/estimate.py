@@ -130,61 +130,14 @@ def estimate_cog(
     """
     cfg = config or InclinometerConfig()
     mdl = model or default_model(cfg)
-    k = len(suspensions)
-    if self_calibrate and k < 3:
-        raise ValueError(
-            f"self-calibration of the wire needs three or more suspensions, got {k}: "
-            "with two, the CoG and the wire scale use up every measurement"
-        )
-    if self_calibrate and (body is None or not wire_correction):
-        raise ValueError("self-calibration of the wire needs the bolt axes (a rig or a set-up)")
+    _check_self_calibration(len(suspensions), self_calibrate, body, wire_correction)
     v = suspension_verticals(suspensions, cfg)
-    warnings = _reading_warnings(suspensions, v.normalized, cfg)
-    ids = {s.id for s in suspensions}
-    for s in suspensions:
-        if s.id.endswith("~") and s.id[:-1] in ids and not s.sensor_turned:
-            warnings.append(
-                f"suspension {s.id} is named as the reversal of {s.id[:-1]} but is read as a "
-                "plain hang: give the readings a sensor_turned column, true on its rows "
-                "(docs/estimate.md)"
-            )
+    warnings = _reading_warnings(suspensions, v.normalized, cfg) + _reversal_warnings(suspensions)
     weight_n = None if me is None else (me.object_mass_kg + me.me_mass_kg) * STANDARD_GRAVITY_M_S2
-    if body is not None:
-        normals = body.normals(suspensions)
-        if mdl.wire_model == "elastica" and weight_n is None and wire_correction:
-            raise ValueError("the elastica wire model needs the hung mass: give the ME data")
-        wire = gls.WireTerm.from_model(
-            mdl, weight_n or 1.0, correct=wire_correction, estimate=self_calibrate
-        )
-        errors = gls.LineErrors.from_model(
-            mdl,
-            [s.n_samples for s in suspensions],
-            angle_sigma_deg=angle_sigma_deg,
-            point_sigma_mm=point_sigma_mm,
-        )
-    else:
-        normals = np.zeros((k, 3))
-        wire = gls.WireTerm(mdl.wire_model)
-        prior = mdl.wire_prior(weight_n or 1.0)
-        iso = mdl.play_var_mm2 + prior.scatter_var_mm2 + prior.scale_var_mm2 + prior.scale_mm**2
-        errors = gls.LineErrors.from_model(
-            mdl,
-            [s.n_samples for s in suspensions],
-            angle_sigma_deg=angle_sigma_deg,
-            point_sigma_mm=np.sqrt(iso) if point_sigma_mm is None else point_sigma_mm,
-        )
-        if prior.scale_mm > 0:
-            warnings.append(
-                "no rig or set-up: the bolt axes are unknown, so the expected wire offset "
-                f"({prior.scale_mm:.2f} mm) is not corrected; it is counted as an isotropic "
-                "point error instead"
-            )
-    acc_var = accelerometer_variances(suspensions, cfg, mdl) if cfg.accelerometer else None
-    if acc_var is not None and angle_sigma_deg is None:
-        # (k, 1): a line per row, as LineErrors.from_model shapes per-line variances
-        errors = replace(errors, reading_var_rad2=acc_var[:, None], isotropic_reading=True)
-    elif acc_var is not None:
-        errors = replace(errors, isotropic_reading=True)
+    normals, wire, errors, acc_var = _line_model(
+        suspensions, cfg, mdl, body, weight_n, wire_correction, self_calibrate,
+        angle_sigma_deg, point_sigma_mm, warnings,
+    )  # fmt: skip
     p = np.array([s.position_mm for s in suspensions], dtype=float).T[:, :, None]
     u = v.u.T[:, :, None]
     nrm = normals.T[:, :, None]
@@ -202,45 +155,8 @@ def estimate_cog(
         joint = _joint(suspensions, p, u, nrm, errors, wire, body is not None, min_angle_deg,
                        warnings)  # fmt: skip
         verticals = v.u
-    reversal_pairs = {
-        frozenset((s.id, t.id))
-        for s in suspensions
-        for t in suspensions
-        if s.sensor_turned != t.sensor_turned and s.position_mm == t.position_mm
-    }
-    for a, b, angle in joint.skipped_pairs:
-        if frozenset((a, b)) in reversal_pairs:
-            continue  # a point and its reversal hang alike: that is the point of a reversal
-        warnings.append(
-            f"pair {a} & {b}: plumb lines meet at {angle:.2f}° (< {min_angle_deg:g}°), "
-            "ill-conditioned; left out of the pair table"
-        )
-    for r in joint.residuals:
-        if r.inconsistent:
-            warnings.append(
-                f"suspension {r.id}: its line passes {r.distance_mm:.2f} mm from the joint "
-                f"estimate ({r.normalized:.1f} σ, p = {r.p_value:.2g}): "
-                "inconsistent with the others"
-            )
-    comp = None
-    if me is None:
-        warnings.append(
-            "no measurement-equipment data: cog_mm is the CoG of the assembly (object + ME), "
-            "not compensated"
-        )
-    else:
-        comp = compensate_me(
-            joint.cog_mm,
-            joint.cov_mm2,
-            object_mass_kg=me.object_mass_kg,
-            me_mass_kg=me.me_mass_kg,
-            me_cog_mm=me.me_cog_mm,
-            me_cog_cov_mm2=me.me_cog_cov_mm2,
-            object_mass_sigma_kg=me.object_mass_sigma_kg,
-            object_mass_source=me.object_mass_source,
-        )
-    if comp is not None and body is not None and me is not None:
-        _refuse_outside(body, comp, me)
+    warnings += _joint_warnings(joint, suspensions, min_angle_deg)
+    comp = _compensation(joint, me, body, warnings)
     info = {
         "estimator": "generalised least squares over all plumb lines",
         "error_model": mdl.describe(),
@@ -255,6 +171,138 @@ def estimate_cog(
     return CogEstimate(
         tuple(suspensions), verticals, joint, comp, info, v.n_normalized, tuple(warnings)
     )
+
+
+def _check_self_calibration(
+    k: int, self_calibrate: bool, body: BodyBox | None, wire_correction: bool
+) -> None:
+    """Self-calibration of the wire needs three hangs and the bolt axes."""
+    if self_calibrate and k < 3:
+        raise ValueError(
+            f"self-calibration of the wire needs three or more suspensions, got {k}: "
+            "with two, the CoG and the wire scale use up every measurement"
+        )
+    if self_calibrate and (body is None or not wire_correction):
+        raise ValueError("self-calibration of the wire needs the bolt axes (a rig or a set-up)")
+
+
+def _reversal_warnings(suspensions: Sequence[Suspension]) -> list[str]:
+    """A hang named as another's reversal (``S3~``) but read as a plain hang."""
+    ids = {s.id for s in suspensions}
+    return [
+        f"suspension {s.id} is named as the reversal of {s.id[:-1]} but is read as a "
+        "plain hang: give the readings a sensor_turned column, true on its rows "
+        "(docs/estimate.md)"
+        for s in suspensions
+        if s.id.endswith("~") and s.id[:-1] in ids and not s.sensor_turned
+    ]
+
+
+def _line_model(
+    suspensions: Sequence[Suspension],
+    cfg: InclinometerConfig,
+    mdl: ErrorModel,
+    body: BodyBox | None,
+    weight_n: float | None,
+    wire_correction: bool,
+    self_calibrate: bool,
+    angle_sigma_deg: float | None,
+    point_sigma_mm: float | None,
+    warnings: list[str],
+) -> tuple[FloatArray, gls.WireTerm, gls.LineErrors, FloatArray | None]:
+    """What the estimate takes of each line: its bolt axis (zeros without a body), the wire
+    term, the line errors (an accelerometer's per-hang reading variances, when it is one, also
+    returned) and, without a body, the wire's mean offset counted as an isotropic point error
+    (warned of)."""
+    k = len(suspensions)
+    samples = [s.n_samples for s in suspensions]
+    if body is not None:
+        normals = body.normals(suspensions)
+        if mdl.wire_model == "elastica" and weight_n is None and wire_correction:
+            raise ValueError("the elastica wire model needs the hung mass: give the ME data")
+        wire = gls.WireTerm.from_model(
+            mdl, weight_n or 1.0, correct=wire_correction, estimate=self_calibrate
+        )
+        errors = gls.LineErrors.from_model(
+            mdl, samples, angle_sigma_deg=angle_sigma_deg, point_sigma_mm=point_sigma_mm
+        )
+    else:
+        normals = np.zeros((k, 3))
+        wire = gls.WireTerm(mdl.wire_model)
+        prior = mdl.wire_prior(weight_n or 1.0)
+        iso = mdl.play_var_mm2 + prior.scatter_var_mm2 + prior.scale_var_mm2 + prior.scale_mm**2
+        errors = gls.LineErrors.from_model(
+            mdl,
+            samples,
+            angle_sigma_deg=angle_sigma_deg,
+            point_sigma_mm=np.sqrt(iso) if point_sigma_mm is None else point_sigma_mm,
+        )
+        if prior.scale_mm > 0:
+            warnings.append(
+                "no rig or set-up: the bolt axes are unknown, so the expected wire offset "
+                f"({prior.scale_mm:.2f} mm) is not corrected; it is counted as an isotropic "
+                "point error instead"
+            )
+    acc_var = accelerometer_variances(suspensions, cfg, mdl) if cfg.accelerometer else None
+    if acc_var is not None and angle_sigma_deg is None:
+        # (k, 1): a line per row, as LineErrors.from_model shapes per-line variances
+        errors = replace(errors, reading_var_rad2=acc_var[:, None], isotropic_reading=True)
+    elif acc_var is not None:
+        errors = replace(errors, isotropic_reading=True)
+    return normals, wire, errors, acc_var
+
+
+def _joint_warnings(
+    joint: JointEstimate, suspensions: Sequence[Suspension], min_angle_deg: float
+) -> list[str]:
+    """The joint estimate's ill-conditioned pairs (but a point and its reversal, which hang
+    alike by design) and its inconsistent lines."""
+    reversal_pairs = {
+        frozenset((s.id, t.id))
+        for s in suspensions
+        for t in suspensions
+        if s.sensor_turned != t.sensor_turned and s.position_mm == t.position_mm
+    }
+    out = [
+        f"pair {a} & {b}: plumb lines meet at {angle:.2f}° (< {min_angle_deg:g}°), "
+        "ill-conditioned; left out of the pair table"
+        for a, b, angle in joint.skipped_pairs
+        if frozenset((a, b)) not in reversal_pairs
+    ]
+    out += [
+        f"suspension {r.id}: its line passes {r.distance_mm:.2f} mm from the joint "
+        f"estimate ({r.normalized:.1f} σ, p = {r.p_value:.2g}): "
+        "inconsistent with the others"
+        for r in joint.residuals
+        if r.inconsistent
+    ]
+    return out
+
+
+def _compensation(
+    joint: JointEstimate, me: MEData | None, body: BodyBox | None, warnings: list[str]
+) -> Compensation | None:
+    """The ME removed from the joint CoG (eqs. 10, 16), refused outside the object's box;
+    without the ME's data None, and a warning that the CoG is the assembly's."""
+    if me is None:
+        warnings.append(
+            "no measurement-equipment data: cog_mm is the CoG of the assembly (object + ME), "
+            "not compensated"
+        )
+        return None
+    comp = compensate_me(
+        joint.cog_mm,
+        joint.cov_mm2,
+        object_mass_kg=me.object_mass_kg,
+        me_mass_kg=me.me_mass_kg,
+        me_cog_mm=me.me_cog_mm,
+        me_cog_cov_mm2=me.me_cog_cov_mm2,
+        object_mass_sigma_kg=me.object_mass_sigma_kg,
+        object_mass_source=me.object_mass_source,
+    )
+    if body is not None:
+        _refuse_outside(body, comp, me)
+    return comp
 
 
 def _refuse_outside(body: BodyBox, comp: Compensation, me: MEData) -> None:
