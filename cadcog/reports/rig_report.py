@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from cadcog.core import numformat as nf
 from cadcog.core.fileio import staged_output_dir
@@ -32,6 +33,8 @@ from cadcog.uncertainty.montecarlo import Scenario
 from cadcog.uncertainty.random_points import SimulationReport, SimulationSettings, run_simulation
 from cadcog.validation.campaign import virtual_campaign, write_campaign
 from cadcog.validation.verification import CampaignValidation, validate_campaign
+
+FloatArray = npt.NDArray[np.float64]
 
 REPORT_FILE = "index.html"
 PARTS_DIR = "parts"
@@ -210,16 +213,52 @@ def render_html(
     virtual: bool,
     campaign_path: Path | None,
 ) -> str:
+    """The report's page: a summary line, then one section per step of the chain."""
     esc = html.escape
     pm_truth = np.array(truth["bodies"]["proof_mass"]["cog_mm"])
+    sections = [
+        _summary(estimate, pm_truth, sim),
+        _rig_section(rig, truth, figures["rig"]),
+        _truth_section(truth),
+        _budget_section(budget),
+        _mc_section(sim, figures["histogram"]),
+        _validation_section(validation, figures["validation"], virtual, campaign_path),
+        _estimate_section(estimate, pm_truth, figures["estimate"]),
+    ]
+    body = "\n\n".join(sections)
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>cadcog report: {esc(rig.name)}</title><style>{CSS}</style></head>
+<body>
+<h1>Centre of gravity report: {esc(rig.name)}</h1>
+<p class="sub">cadcog {esc(__version__)} · rig file <code>{esc(str(rig.source))}</code></p>
+<nav><a href="#rig">Rig</a><a href="#truth">Ground truth</a><a href="#budget">Error budget</a>
+<a href="#mc">Monte Carlo</a><a href="#validation">Validation</a>
+<a href="#estimate">Estimate</a></nav>
+
+{body}
+</body></html>
+"""
+
+
+def _yes_no(ok: bool) -> str:
+    return '<span class="ok">yes</span>' if ok else '<span class="bad">no</span>'
+
+
+def _summary(estimate: CogEstimate, pm_truth: FloatArray, sim: SimulationReport) -> str:
     error = estimate.cog_mm - pm_truth
     sigma = np.sqrt(np.diag(estimate.cov_mm2))
-    listed = [*truth["bodies"].items(), ("assembly", truth["assembly"])]
-    mass_unit = nf.mass_unit(b["mass_kg"] for _, b in listed)  # one unit for the column
-    bodies = [
-        [esc(name), nf.in_unit(b["mass_kg"], mass_unit), vec(b["cog_mm"]), nf.sig(b["volume_mm3"])]
-        for name, b in listed
-    ]
+    q95, sc = sim.fits.q95_mm, sim.screened
+    cog = vec(estimate.cog_mm)
+    return f"""<p class="big">Compensated CoG: <b>{cog} mm</b> ± {vec(sigma)} mm (1 σ);
+CAD truth {vec(pm_truth)} mm; error {np.linalg.norm(error):.3f} mm.
+Simulated 95 % error of one pair: {q95:.2f} mm ({sc.get("q95_mm", float("nan")):.2f} mm
+over the pairs whose lines meet at {sc["min_angle_deg"]:g}° or more).</p>"""
+
+
+def _rig_section(rig: Rig, truth: dict[str, Any], figure: Path) -> str:
+    esc = html.escape
     points = [
         [
             esc(p["id"]),
@@ -228,10 +267,40 @@ def render_html(
             f"{p['ideal_reading_deg'][0]:.1f}",
             f"{p['ideal_reading_deg'][1]:.1f}",
             "yes" if p["top_face_up"] else "no",
-            '<span class="ok">yes</span>' if p["in_range"] else '<span class="bad">no</span>',
+            _yes_no(p["in_range"]),
         ]
         for p in truth["suspension_points"]
     ]
+    head = ["point", "face", "wire exit (mm)", "X (deg)", "Y (deg)", "top face up", "in range"]
+    size = rig.proof_mass.size_mm
+    return f"""<h2 id="rig">The rig</h2>
+<p>A {size[0]:g} × {size[1]:g} ×
+{size[2]:g} mm {esc(rig.proof_mass.material)} proof mass of
+{rig.proof_mass.mass_kg:g} kg with {len(rig.suspension_points)} drilled suspension points, and the
+measurement equipment on its +z face. Each plumb line runs from a suspension point through the
+assembly's CoG.</p>
+{img_tag(figure, "rig with suspension points and plumb lines")}
+{table(head, points, 2)}"""
+
+
+def _truth_section(truth: dict[str, Any]) -> str:
+    esc = html.escape
+    listed = [*truth["bodies"].items(), ("assembly", truth["assembly"])]
+    mass_unit = nf.mass_unit(b["mass_kg"] for _, b in listed)  # one unit for the column
+    bodies = [
+        [esc(name), nf.in_unit(b["mass_kg"], mass_unit), vec(b["cog_mm"]), nf.sig(b["volume_mm3"])]
+        for name, b in listed
+    ]
+    error = truth["integration"]["estimated_relative_error"]
+    return f"""<h2 id="truth">Ground truth from CAD</h2>
+<p>Exact B-rep integration per solid with its own density (OCCT); estimated relative integration
+error {error:.1g}. The holes shift the proof-mass CoG
+by {vec(truth["hole_cog_shift_mm"], 4)} mm.</p>
+{table(["body", f"mass ({mass_unit[0]})", "CoG (mm)", "volume (mm³)"], bodies)}"""
+
+
+def _budget_section(budget: Budget) -> str:
+    esc = html.escape
     sources = [
         [
             esc(s.source),
@@ -242,32 +311,50 @@ def render_html(
         ]
         for s in budget.sources
     ]
-    f = sim.fits
-    fits = [
+    pair = f"{esc(budget.pair[0])}-{esc(budget.pair[1])}"
+    return f"""<h2 id="budget">Error budget</h2>
+<p>Shares of the CoG error variance for pair {pair} (plumb
+lines at {budget.pair_angle_deg:.1f}°, the median pair of the rig), by linear propagation.</p>
+{table(["source", "distribution", "σ", "CoG σ (mm)", "share"], sources, 2)}
+<p>Bias with every source at its mean: {vec(budget.bias_mm)} mm (the wire offset's mean).</p>"""
+
+
+def _mc_section(sim: SimulationReport, figure: Path) -> str:
+    esc = html.escape
+    f, sc = sim.fits, sim.screened
+    fits: list[tuple[str, str, float]] = [
+        ("Rayleigh, maximum likelihood", f"σ = {f.rayleigh_sigma_mm:.3f}", f.ks_rayleigh),
+        ("Maxwell, maximum likelihood", f"a = {f.maxwell_a_mm:.3f}", f.ks_maxwell),
+        ("Rayleigh, median-matched", f"σ = {f.rayleigh_sigma_median_mm:.3f}", f.ks_rayleigh_median),
+        ("Maxwell, median-matched", f"a = {f.maxwell_a_median_mm:.3f}", f.ks_maxwell_median),
+    ]
+    quantiles = [
+        ["all", f"{f.q50_mm:.3f}", f"{f.q95_mm:.3f}", f"{sim.q99_mm:.3f}"],
         [
-            "Rayleigh, maximum likelihood",
-            f"σ = {f.rayleigh_sigma_mm:.3f}",
-            "",
-            "",
-            f"{f.ks_rayleigh:.3f}",
-        ],
-        ["Maxwell, maximum likelihood", f"a = {f.maxwell_a_mm:.3f}", "", "", f"{f.ks_maxwell:.3f}"],
-        [
-            "Rayleigh, median-matched",
-            f"σ = {f.rayleigh_sigma_median_mm:.3f}",
-            "",
-            "",
-            f"{f.ks_rayleigh_median:.3f}",
-        ],
-        [
-            "Maxwell, median-matched",
-            f"a = {f.maxwell_a_median_mm:.3f}",
-            "",
-            "",
-            f"{f.ks_maxwell_median:.3f}",
+            f"lines at ≥ {sc['min_angle_deg']:g}° ({sc['n_groups']})",
+            *(f"{sc.get(q, float('nan')):.3f}" for q in ("q50_mm", "q95_mm", "q99_mm")),
         ],
     ]
-    v = validation.validation
+    fit_rows = [[name, scale, "", "", f"{ks:.3f}"] for name, scale, ks in fits]
+    return f"""<h2 id="mc">Monte Carlo</h2>
+<p>{f.n} trials: {len(sim.groups)} pairs of {len(sim.scenario.ids)} random suspension points,
+{sim.settings.trials_per_group} trials each (seed {sim.settings.seed}): each simulated campaign
+hangs the object once from every point and estimates every pair from those hangs, as
+<code>cadcog estimate</code> does. Error model: {esc(sim.model.summary())}.</p>
+{table(["pairs", "median (mm)", "95 % (mm)", "99 % (mm)"], quantiles)}
+{img_tag(figure, "histogram of simulated error norms with fits")}
+<p>Moment fits, shown with their KS distance as their quality (not the result):</p>
+{table(["fit", "scale (mm)", "", "", "KS"], fit_rows)}
+<p class="note">Maximum-likelihood fits are dragged by the few near-collinear pairs in the tail;
+the median-matched fits describe the body of the distribution; the empirical quantiles are the
+figures to quote.</p>"""
+
+
+def _validation_section(
+    validation: CampaignValidation, figure: Path, virtual: bool, campaign_path: Path | None
+) -> str:
+    esc = html.escape
+    v, c = validation.validation, validation.verdict
     windows = [
         [
             f"{w.eps_mm:g}",
@@ -277,12 +364,10 @@ def render_html(
             f"{w.p_hat:.3f}",
             f"[{w.ci_low:.3f}, {w.ci_high:.3f}]",
             f"{w.null_k_low}-{w.null_k_high}",
-            '<span class="ok">yes</span>' if w.consistent else '<span class="bad">no</span>',
+            _yes_no(w.consistent),
         ]
         for w in v.windows
     ]
-    c = validation.verdict
-    sc = sim.screened
     pair_rows = [
         [f"{a}-{b}", f"{e:.3f}"] for (a, b), e in zip(v.pairs, v.measured_norms_mm, strict=True)
     ]
@@ -298,117 +383,42 @@ def render_html(
         if c.consistent
         else '<span class="bad">not consistent with the error model</span>'
     )
-    warnings = "".join(f"<li>{esc(w)}</li>" for w in estimate.warnings) or "<li>none</li>"
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<meta name="viewport" content="width=device-width, initial-scale=1">
-<title>cadcog report: {esc(rig.name)}</title><style>{CSS}</style></head>
-<body>
-<h1>Centre of gravity report: {esc(rig.name)}</h1>
-<p class="sub">cadcog {esc(__version__)} · rig file <code>{esc(str(rig.source))}</code></p>
-<nav><a href="#rig">Rig</a><a href="#truth">Ground truth</a><a href="#budget">Error budget</a>
-<a href="#mc">Monte Carlo</a><a href="#validation">Validation</a>
-<a href="#estimate">Estimate</a></nav>
-
-<p class="big">Compensated CoG: <b>{vec(estimate.cog_mm)} mm</b> ± {vec(sigma)} mm (1 σ);
-CAD truth {vec(pm_truth)} mm; error {np.linalg.norm(error):.3f} mm.
-Simulated 95 % error of one pair: {f.q95_mm:.2f} mm ({sc.get("q95_mm", float("nan")):.2f} mm
-over the pairs whose lines meet at {sc["min_angle_deg"]:g}° or more).</p>
-
-<h2 id="rig">The rig</h2>
-<p>A {rig.proof_mass.size_mm[0]:g} × {rig.proof_mass.size_mm[1]:g} ×
-{rig.proof_mass.size_mm[2]:g} mm {esc(rig.proof_mass.material)} proof mass of
-{rig.proof_mass.mass_kg:g} kg with {len(rig.suspension_points)} drilled suspension points, and the
-measurement equipment on its +z face. Each plumb line runs from a suspension point through the
-assembly's CoG.</p>
-{img_tag(figures["rig"], "rig with suspension points and plumb lines")}
-{
-        table(
-            ["point", "face", "wire exit (mm)", "X (deg)", "Y (deg)", "top face up", "in range"],
-            points,
-            2,
-        )
-    }
-
-<h2 id="truth">Ground truth from CAD</h2>
-<p>Exact B-rep integration per solid with its own density (OCCT); estimated relative integration
-error {truth["integration"]["estimated_relative_error"]:.1g}. The holes shift the proof-mass CoG
-by {vec(truth["hole_cog_shift_mm"], 4)} mm.</p>
-{table(["body", f"mass ({mass_unit[0]})", "CoG (mm)", "volume (mm³)"], bodies)}
-
-<h2 id="budget">Error budget</h2>
-<p>Shares of the CoG error variance for pair {esc(budget.pair[0])}-{esc(budget.pair[1])} (plumb
-lines at {budget.pair_angle_deg:.1f}°, the median pair of the rig), by linear propagation.</p>
-{table(["source", "distribution", "σ", "CoG σ (mm)", "share"], sources, 2)}
-<p>Bias with every source at its mean: {vec(budget.bias_mm)} mm (the wire offset's mean).</p>
-
-<h2 id="mc">Monte Carlo</h2>
-<p>{f.n} trials: {len(sim.groups)} pairs of {len(sim.scenario.ids)} random suspension points,
-{sim.settings.trials_per_group} trials each (seed {sim.settings.seed}): each simulated campaign
-hangs the object once from every point and estimates every pair from those hangs, as
-<code>cadcog estimate</code> does. Error model: {esc(sim.model.summary())}.</p>
-{
-        table(
-            ["pairs", "median (mm)", "95 % (mm)", "99 % (mm)"],
-            [
-                ["all", f"{f.q50_mm:.3f}", f"{f.q95_mm:.3f}", f"{sim.q99_mm:.3f}"],
-                [
-                    f"lines at ≥ {sc['min_angle_deg']:g}° ({sc['n_groups']})",
-                    f"{sc.get('q50_mm', float('nan')):.3f}",
-                    f"{sc.get('q95_mm', float('nan')):.3f}",
-                    f"{sc.get('q99_mm', float('nan')):.3f}",
-                ],
-            ],
-        )
-    }
-{img_tag(figures["histogram"], "histogram of simulated error norms with fits")}
-<p>Moment fits, shown with their KS distance as their quality (not the result):</p>
-{table(["fit", "scale (mm)", "", "", "KS"], fits)}
-<p class="note">Maximum-likelihood fits are dragged by the few near-collinear pairs in the tail;
-the median-matched fits describe the body of the distribution; the empirical quantiles are the
-figures to quote.</p>
-
-<h2 id="validation">Validation (eqs. 14-15)</h2>
+    head = ["ε (mm)", "F(ε)", "k", "n", "p̂", "95 % CI (indep.)", "null k", "consistent"]
+    return f"""<h2 id="validation">Validation (eqs. 14-15)</h2>
 <p>{campaign_note}</p>
 <p>Each of the {len(v.pairs)} pairs gives a compensated CoG; success is |e| &lt; ε. The
 simulated F(ε) and the null range of k come from {validation.null.n_campaigns} whole campaigns
 simulated on the campaign's own points (pairs share hangs, as in the lab). Campaign test (each
 hang's line against the known CoG): T = {c.statistic:.2f}, p = {c.p_value:.3f} at level
 {c.level:g}. Verdict: {verdict}.</p>
-{img_tag(figures["validation"], "measured and simulated error CDFs")}
-{
-        table(
-            ["ε (mm)", "F(ε)", "k", "n", "p̂", "95 % CI (indep.)", "null k", "consistent"],
-            windows,
-            0,
-        )
-    }
+{img_tag(figure, "measured and simulated error CDFs")}
+{table(head, windows, 0)}
 <p class="note">The Clopper-Pearson intervals treat the pairs as independent, as the paper does;
 they are not, since pairs share hangs. The null range of k and the campaign test simulate that
 sharing and hold their stated level. KS of the pair errors (independent pairs assumed):
 D = {v.ks_statistic:.3f}, p = {v.ks_p_value:.3f}.</p>
-<details><summary>error of every pair</summary>{table(["pair", "|e| (mm)"], pair_rows)}</details>
+<details><summary>error of every pair</summary>{table(["pair", "|e| (mm)"], pair_rows)}</details>"""
 
-<h2 id="estimate">Compensated estimate</h2>
+
+def _estimate_section(estimate: CogEstimate, pm_truth: FloatArray, figure: Path) -> str:
+    esc = html.escape
+    error = estimate.cog_mm - pm_truth
+    sigma = np.sqrt(np.diag(estimate.cov_mm2))
+    rows = [
+        ["assembly (object + ME)", *[f"{c:.3f}" for c in estimate.assembly_cog_mm]],
+        ["object (ME removed)", *[f"{c:.3f}" for c in estimate.cog_mm]],
+        ["1 σ", *[f"{c:.3f}" for c in sigma]],
+        ["CAD truth", *[f"{c:.3f}" for c in pm_truth]],
+        ["estimate − truth", *[f"{c:+.3f}" for c in error]],
+    ]
+    warnings = "".join(f"<li>{esc(w)}</li>" for w in estimate.warnings) or "<li>none</li>"
+    return f"""<h2 id="estimate">Compensated estimate</h2>
 <p>Generalised least-squares point of all {len(estimate.suspensions)} plumb lines (each
 weighted by its covariance from the error model), each suspension point corrected for the wire
 offset the rig's error model expects, ME removed (eq. 10) with its uncertainty propagated
 (eq. 16).</p>
-{
-        table(
-            ["", "x (mm)", "y (mm)", "z (mm)"],
-            [
-                ["assembly (object + ME)", *[f"{c:.3f}" for c in estimate.assembly_cog_mm]],
-                ["object (ME removed)", *[f"{c:.3f}" for c in estimate.cog_mm]],
-                ["1 σ", *[f"{c:.3f}" for c in sigma]],
-                ["CAD truth", *[f"{c:.3f}" for c in pm_truth]],
-                ["estimate − truth", *[f"{c:+.3f}" for c in error]],
-            ],
-        )
-    }
-{img_tag(figures["estimate"], "uncertainty ellipses of the estimate")}
+{table(["", "x (mm)", "y (mm)", "z (mm)"], rows)}
+{img_tag(figure, "uncertainty ellipses of the estimate")}
 <p>Warnings:</p><ul>{warnings}</ul>
 <p class="sub">Data of every step: budget.json, simulation.json, validation.json,
-estimate.json, parts/ground_truth.json beside this page.</p>
-</body></html>
-"""
+estimate.json, parts/ground_truth.json beside this page.</p>"""
