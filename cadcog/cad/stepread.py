@@ -311,6 +311,27 @@ def read_step(path: str | Path) -> StepModel:
     if not p.is_file():  # OCCT reads STEP files from disk, not from a pipe
         raise CadcogError(f"{p}: {not_a_regular_file(p)}")
     note_input(p, "the STEP model it reads")
+    doc, declared = _transfer(p)
+    shape_tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+    free = Sequence_TDF_Label()
+    shape_tool.GetFreeShapes(free)
+    tree = _Tree()
+    tree.walk([free.Value(i) for i in range(1, free.Length() + 1)], TopLoc_Location(), ())
+    bodies = _unique_paths(tree.bodies)
+    firsts = {b.nodes[0].name for b in bodies}
+    if len(firsts) == 1 and all(len(b.nodes) > 1 for b in bodies):
+        root = firsts.pop()
+        bodies = [replace(b, root=root) for b in bodies]
+    if not bodies:
+        raise CadcogError(f"{p}: no solids and no surfaces found")
+    return StepModel(
+        p, tuple(bodies), declared, len(tree.products), tree.n_instances, tuple(tree.curve_only)
+    )
+
+
+def _transfer(p: Path) -> tuple[TDocStd_Document, tuple[str, ...]]:
+    """Read ``p`` into an XCAF document (names and materials kept), and its declared length
+    units; a file OCCT cannot read or transfer is refused, naming it."""
     app = XCAFApp_Application.GetApplication_s()
     doc = TDocStd_Document(TCollection_ExtendedString("XmlXCAF"))
     app.InitDocument(doc)
@@ -341,106 +362,113 @@ def read_step(path: str | Path) -> StepModel:
         transferred = reader.Transfer(doc)
     if not transferred:
         raise CadcogError(f"{p}: the STEP file holds nothing OCCT can transfer to shapes")
-    shape_tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
-    free = Sequence_TDF_Label()
-    shape_tool.GetFreeShapes(free)
+    return doc, declared
 
-    bodies: list[StepBody] = []
-    parts: dict[str, _Part] = {}
-    products: set[str] = set()
-    curve_only: list[str] = []
-    n_instances = 0
 
-    def entry(label: TDF_Label) -> str:
-        text = TCollection_AsciiString()
-        TDF_Tool.Entry_s(label, text)
-        return str(text.ToCString())
+def _entry(label: TDF_Label) -> str:
+    """A label's XCAF entry (``0:1:1:3``): one per product."""
+    text = TCollection_AsciiString()
+    TDF_Tool.Entry_s(label, text)
+    return str(text.ToCString())
 
-    def referred(label: TDF_Label) -> tuple[TDF_Label, TopLoc_Location | None]:
-        if XCAFDoc_ShapeTool.IsReference_s(label):
-            ref = TDF_Label()
-            XCAFDoc_ShapeTool.GetReferredShape_s(label, ref)
-            return ref, XCAFDoc_ShapeTool.GetLocation_s(label)
-        return label, None
 
-    def node_of(label: TDF_Label, ref: TDF_Label) -> tuple[str, str]:
-        instance = _label_name(label) if label != ref else ""
-        if _GENERATED_NAME.match(instance):
-            instance = ""
-        product = _label_name(ref)
-        return instance, product
+def _referred(label: TDF_Label) -> tuple[TDF_Label, TopLoc_Location | None]:
+    """The product an instance refers to and the instance's own placement (None: a product)."""
+    if XCAFDoc_ShapeTool.IsReference_s(label):
+        ref = TDF_Label()
+        XCAFDoc_ShapeTool.GetReferredShape_s(label, ref)
+        return ref, XCAFDoc_ShapeTool.GetLocation_s(label)
+    return label, None
 
-    def walk(labels: list[TDF_Label], loc: TopLoc_Location, above: tuple[Node, ...]) -> None:
-        nonlocal n_instances
+
+def _node_names(label: TDF_Label, ref: TDF_Label) -> tuple[str, str]:
+    """An instance's own name (empty for a product, or a CAD tool's generated ``=>[0:1:1:2]``)
+    and its product's."""
+    instance = _label_name(label) if label != ref else ""
+    if _GENERATED_NAME.match(instance):
+        instance = ""
+    return instance, _label_name(ref)
+
+
+@dataclass
+class _Tree:
+    """The assembly tree as it is walked: every body at its global placement, each product's
+    split into solids and a surface once, the products and instances counted, and the paths of
+    the nodes that hold only curves."""
+
+    bodies: list[StepBody] = field(default_factory=list)
+    parts: dict[str, _Part] = field(default_factory=dict)
+    products: set[str] = field(default_factory=set)
+    curve_only: list[str] = field(default_factory=list)
+    n_instances: int = 0
+
+    def walk(self, labels: list[TDF_Label], loc: TopLoc_Location, above: tuple[Node, ...]) -> None:
+        """The nodes ``labels`` (siblings, named uniquely among themselves) under placement
+        ``loc`` and path ``above``, and everything below them."""
         resolved = []
         for label in labels:
-            ref, own = referred(label)
-            instance, product = node_of(label, ref)
-            resolved.append((label, ref, own, instance, product))
-        display = [r[3] or r[4] or "unnamed" for r in resolved]
-        for (_label, ref, own, instance, product), name in zip(
+            ref, own = _referred(label)
+            resolved.append((ref, own, *_node_names(label, ref)))
+        display = [r[2] or r[3] or "unnamed" for r in resolved]
+        for (ref, own, instance, product), name in zip(
             resolved, _unique_names(display), strict=True
         ):
-            n_instances += 1
-            key = entry(ref)
-            products.add(key)
+            self.n_instances += 1
+            key = _entry(ref)
+            self.products.add(key)
             here_loc = loc if own is None else loc.Multiplied(own)
             here = (*above, Node(name, instance, product))
             if XCAFDoc_ShapeTool.IsAssembly_s(ref):
                 comps = Sequence_TDF_Label()
                 XCAFDoc_ShapeTool.GetComponents_s(ref, comps, False)
-                walk([comps.Value(i) for i in range(1, comps.Length() + 1)], here_loc, here)
+                self.walk([comps.Value(i) for i in range(1, comps.Length() + 1)], here_loc, here)
                 continue
-            part = parts.get(key)
-            if part is None:
-                part = parts[key] = _split_part(XCAFDoc_ShapeTool.GetShape_s(ref))
-                _part_materials(ref, part)
-            several = len(part.solids) + (part.surface is not None) > 1
-            for k, (solid, from_shell) in enumerate(part.solids, start=1):
-                nodes = here
-                if several:
-                    last = here[-1]
-                    nodes = (*here[:-1], Node(f"{last.name}#{k}", last.instance, last.product))
-                bodies.append(
-                    StepBody(
-                        nodes,
-                        "solid",
-                        solid.Moved(here_loc),
-                        solid,
-                        here_loc,
-                        f"{key}#{k}",
-                        part.materials[k - 1],
-                        from_shell,
-                    )
-                )
-            if part.surface is not None:
-                nodes = here
-                if several:
-                    last = here[-1]
-                    nodes = (*here[:-1], Node(f"{last.name}#surface", last.instance, last.product))
-                bodies.append(
-                    StepBody(
-                        nodes,
-                        "surface",
-                        part.surface.Moved(here_loc),
-                        part.surface,
-                        here_loc,
-                        f"{key}#surface",
-                        part.surface_material,
-                    )
-                )
-            if not part.solids and part.surface is None:
-                curve_only.append("/".join(n.name for n in here))
+            self._add_part(ref, key, here, here_loc)
 
-    walk([free.Value(i) for i in range(1, free.Length() + 1)], TopLoc_Location(), ())
-    bodies = _unique_paths(bodies)
-    firsts = {b.nodes[0].name for b in bodies}
-    if len(firsts) == 1 and all(len(b.nodes) > 1 for b in bodies):
-        root = firsts.pop()
-        bodies = [replace(b, root=root) for b in bodies]
-    if not bodies:
-        raise CadcogError(f"{p}: no solids and no surfaces found")
-    return StepModel(p, tuple(bodies), declared, len(products), n_instances, tuple(curve_only))
+    def _add_part(
+        self, ref: TDF_Label, key: str, here: tuple[Node, ...], here_loc: TopLoc_Location
+    ) -> None:
+        """A leaf's bodies: each solid, then its surface body, at the global placement
+        (``#k``, ``#surface`` after the name when the product has several)."""
+        part = self.parts.get(key)
+        if part is None:
+            part = self.parts[key] = _split_part(XCAFDoc_ShapeTool.GetShape_s(ref))
+            _part_materials(ref, part)
+        several = len(part.solids) + (part.surface is not None) > 1
+
+        def nodes(suffix: str) -> tuple[Node, ...]:
+            if not several:
+                return here
+            last = here[-1]
+            return (*here[:-1], Node(f"{last.name}#{suffix}", last.instance, last.product))
+
+        for k, (solid, from_shell) in enumerate(part.solids, start=1):
+            self.bodies.append(
+                StepBody(
+                    nodes(str(k)),
+                    "solid",
+                    solid.Moved(here_loc),
+                    solid,
+                    here_loc,
+                    f"{key}#{k}",
+                    part.materials[k - 1],
+                    from_shell,
+                )
+            )
+        if part.surface is not None:
+            self.bodies.append(
+                StepBody(
+                    nodes("surface"),
+                    "surface",
+                    part.surface.Moved(here_loc),
+                    part.surface,
+                    here_loc,
+                    f"{key}#surface",
+                    part.surface_material,
+                )
+            )
+        if not part.solids and part.surface is None:
+            self.curve_only.append("/".join(n.name for n in here))
 
 
 def length_unit_mm(name: str) -> float | None:
