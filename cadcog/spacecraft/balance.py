@@ -47,6 +47,7 @@ by how much (at least that much: the relaxation's).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -263,11 +264,93 @@ def least_ballast(
     if len(set(names[1:])) != len(names) - 1:
         raise CadcogError(f"configurations {names[1:]}: a name is given twice")
     states = [state, *(st for _, st in configurations)]
-    positions = np.array([p.position_mm for p in spec.points], dtype=float).reshape(-1, 3)
     zero = np.zeros(len(spec.points))
-    uniform = np.full((len(states), 6), z_uniform)
     before = [_figures(st, spec, zero, centre, limits, alpha) for st in states]
     sd0 = [np.sqrt(np.maximum(np.diag(st.cog_cov_mm2), 0.0)) for st in states]
+    run = _settle(states, spec, centre, limits, alpha, z_uniform, allocate, sd0)
+    found, z, lower = run.found, run.z, run.lower
+    shortfall: list[dict[str, Any]] = []
+    if found is None:
+        shortfall = face_shortfall(run.blocks, spec, alpha, [st.mass_kg for st in states], names)
+        notes = _infeasible_notes(names, sd0, z_uniform, limits, bool(shortfall))
+        masses, counts, optimal, bound = np.zeros(len(spec.points)), None, False, None
+        z = np.full((len(states), 6), z_uniform)
+    else:
+        notes = []
+        masses, counts = found.masses_kg, found.counts
+        total = float(masses.sum())
+        bound = found.bound_kg if lower is None else lower
+        close = lower is None or total - lower <= PROVEN_RTOL * max(total, 1e-12) + 1e-15
+        optimal = found.optimal and close and run.settled
+    after = [_figures(st, spec, masses, centre, limits, alpha) for st in states]
+    if found is not None:
+        for name, fig in zip(names, after, strict=True):
+            if np.any(fig[5] < -EXACT_GAP_RTOL * np.maximum(limits, 1.0)):
+                raise CadcogError(
+                    f"the ballast found leaves {name} a margin of {fig[5].tolist()} mm "
+                    "(please report)"
+                )
+    mass, sigma_m, cog, cov, offset, margin, prob, _ = after[0]
+    per_config = tuple(
+        _configuration(name, fig, z[i], before[i])
+        for i, (name, fig) in enumerate(zip(names, after, strict=True))
+        if i > 0
+    )
+    return BalanceResult(
+        spec,
+        state,
+        centre,
+        limits,
+        float(confidence),
+        z[0],
+        found is not None,
+        masses,
+        counts,
+        bool(optimal),
+        bound,
+        mass,
+        sigma_m,
+        cog,
+        cov,
+        offset,
+        margin,
+        prob,
+        _before(before[0]),
+        tuple(shortfall),
+        tuple(notes),
+        per_config,
+    )
+
+
+@dataclass(frozen=True)
+class _Settled:
+    """What :func:`_settle` ends with: the ballast found (None: none meets the envelope), each
+    configuration's face quantiles and the proven lower bound (joint allocation), whether the
+    spread assumed is the spread found, and the last face rows (for a shortfall)."""
+
+    found: Any
+    z: FloatArray
+    lower: float | None
+    settled: bool
+    blocks: list[Any]
+
+
+def _settle(
+    states: Sequence[UncertainMass],
+    spec: BallastSpec,
+    centre: FloatArray,
+    limits: FloatArray,
+    alpha: float,
+    z_uniform: float,
+    allocate: bool,
+    sd0: Sequence[FloatArray],
+) -> _Settled:
+    """Solve for the ballast with the CoG's spread (``σ T``) held, recompute the spread at the
+    ballast found (its own mass counts), and repeat until the two agree: a fixed point, or a
+    spread assumed that covers the spread found (safe), taken only upwards after
+    :data:`MAX_FACTOR_ITERATIONS` tries so that it settles."""
+    positions = np.array([p.position_mm for p in spec.points], dtype=float).reshape(-1, 3)
+    uniform = np.full((len(states), 6), z_uniform)
     spread = np.array([st.mass_kg * sd for st, sd in zip(states, sd0, strict=True)])
     z, found, lower, settled = uniform, None, None, False
     for attempt in range(2 * MAX_FACTOR_ITERATIONS):
@@ -301,81 +384,53 @@ def least_ballast(
             spread = np.maximum(new, spread)  # only up from here: it settles, conservatively
     else:
         raise CadcogError("the ballast's uncertainty did not settle (please report)")
-    notes: list[str] = []
-    shortfall: list[dict[str, Any]] = []
-    if found is None:
-        shortfall = face_shortfall(blocks, spec, alpha, [st.mass_kg for st in states], names)
-        for name, sd in zip(names, sd0, strict=True):
-            where = f" ({name})" if len(states) > 1 else ""
-            for k in np.flatnonzero(z_uniform * sd >= limits):
-                notes.append(
-                    f"along {'xyz'[k]}{where} the CoG's own uncertainty (1σ {sd[k]:.3g} mm, "
-                    f"{z_uniform:.3g} σ = {z_uniform * sd[k]:.3g} mm) exceeds the half-width "
-                    f"{limits[k]:g} mm: ballast can only dilute it; measure the CoG (--readings) "
-                    "or state the masses more tightly"
-                )
-        if not shortfall:
+    return _Settled(found, z, lower, settled, blocks)
+
+
+def _infeasible_notes(
+    names: Sequence[str],
+    sd0: Sequence[FloatArray],
+    z_uniform: float,
+    limits: FloatArray,
+    short: bool,
+) -> list[str]:
+    """Why no ballast meets the envelope: an axis whose CoG uncertainty alone exceeds the
+    half-width (ballast only dilutes it), or, with no face short (``short`` False), the
+    pieces or the locations' limits."""
+    notes = []
+    for name, sd in zip(names, sd0, strict=True):
+        where = f" ({name})" if len(names) > 1 else ""
+        for k in np.flatnonzero(z_uniform * sd >= limits):
             notes.append(
-                "continuous masses would meet the envelope: the sizes available, or the "
-                "locations' limits in whole pieces, do not"
+                f"along {'xyz'[k]}{where} the CoG's own uncertainty (1σ {sd[k]:.3g} mm, "
+                f"{z_uniform:.3g} σ = {z_uniform * sd[k]:.3g} mm) exceeds the half-width "
+                f"{limits[k]:g} mm: ballast can only dilute it; measure the CoG (--readings) "
+                "or state the masses more tightly"
             )
-        masses, counts, optimal, bound = np.zeros(len(positions)), None, False, None
-        z = uniform
-    else:
-        masses, counts = found.masses_kg, found.counts
-        total = float(masses.sum())
-        bound = found.bound_kg if lower is None else lower
-        close = lower is None or total - lower <= PROVEN_RTOL * max(total, 1e-12) + 1e-15
-        optimal = found.optimal and close and settled
-    after = [_figures(st, spec, masses, centre, limits, alpha) for st in states]
-    if found is not None:
-        for name, fig in zip(names, after, strict=True):
-            if np.any(fig[5] < -EXACT_GAP_RTOL * np.maximum(limits, 1.0)):
-                raise CadcogError(
-                    f"the ballast found leaves {name} a margin of {fig[5].tolist()} mm "
-                    "(please report)"
-                )
-    mass, sigma_m, cog, cov, offset, margin, prob, _ = after[0]
-    per_config = tuple(
-        {
-            "name": name,
-            "mass_kg": fig[0],
-            "mass_sigma_kg": fig[1],
-            "cog_mm": fig[2].tolist(),
-            "cog_cov_mm2": fig[3].tolist(),
-            "offset_mm": fig[4].tolist(),
-            "margin_mm": fig[5].tolist(),
-            "probability_inside": fig[6],
-            "face_quantiles": z[i].tolist(),
-            "before": _before(before[i]),
-        }
-        for i, (name, fig) in enumerate(zip(names, after, strict=True))
-        if i > 0
-    )
-    return BalanceResult(
-        spec,
-        state,
-        centre,
-        limits,
-        float(confidence),
-        z[0],
-        found is not None,
-        masses,
-        counts,
-        bool(optimal),
-        bound,
-        mass,
-        sigma_m,
-        cog,
-        cov,
-        offset,
-        margin,
-        prob,
-        _before(before[0]),
-        tuple(shortfall),
-        tuple(notes),
-        per_config,
-    )
+    if not short:
+        notes.append(
+            "continuous masses would meet the envelope: the sizes available, or the "
+            "locations' limits in whole pieces, do not"
+        )
+    return notes
+
+
+def _configuration(
+    name: str, fig: tuple[Any, ...], z: FloatArray, before: tuple[Any, ...]
+) -> dict[str, Any]:
+    """One other configuration's figures with the ballast, as the result's ``configurations``."""
+    return {
+        "name": name,
+        "mass_kg": fig[0],
+        "mass_sigma_kg": fig[1],
+        "cog_mm": fig[2].tolist(),
+        "cog_cov_mm2": fig[3].tolist(),
+        "offset_mm": fig[4].tolist(),
+        "margin_mm": fig[5].tolist(),
+        "probability_inside": fig[6],
+        "face_quantiles": z.tolist(),
+        "before": _before(before),
+    }
 
 
 def _before(fig: tuple[Any, ...]) -> dict[str, Any]:
