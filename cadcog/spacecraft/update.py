@@ -174,7 +174,61 @@ def update_budget(
     r0 = y - null_model.predict(zero)
     differs_chi2 = float(r0 @ np.linalg.solve(null_model.noise, r0))
     model_rejected = max(p_values) < LEVEL
-    # Mixture of the derived quantities over the hypotheses that matter.
+    mean_d, cov_d = _derived_mixture(sols, weights)
+    cad = combine([i.properties for i in items] + ([fixed] if fixed is not None else []))
+    cad_prior = linear_prior(items, fixed)
+    measured_cog, measured_cov = recompensate(measurement)
+    inertia, inertia_sigma = _inertia_with_sigma(mean_d[4:], np.diag(cov_d)[4:])
+    if model_rejected:
+        posterior = MassProperties(measurement.mass_kg, measured_cog, inertia, cad.volume_mm3)
+        post_mass_sigma = measurement.mass_sigma_kg
+        post_cog_cov = measured_cov
+    else:
+        posterior = MassProperties(float(mean_d[0]), mean_d[1:4], inertia, cad.volume_mm3)
+        post_mass_sigma = float(np.sqrt(max(cov_d[0, 0], 0.0)))
+        post_cog_cov = cov_d[1:4, 1:4]
+    items_out = _item_changes(items, sols, weights)
+    u_mass, u_sigma, u_cog, u_cov, u_negative, u_prob = _unmodelled_mixture(sols, weights)
+    result = UpdateResult(
+        cad=cad,
+        cad_cog_cov_mm2=cad_prior.cog_cov_mm2,
+        cad_mass_sigma_kg=cad_prior.mass_sigma_kg,
+        measured_mass_kg=measurement.mass_kg,
+        measured_mass_sigma_kg=measurement.mass_sigma_kg,
+        measured_cog_mm=measured_cog,
+        measured_cog_cov_mm2=measured_cov,
+        posterior=posterior,
+        posterior_mass_sigma_kg=post_mass_sigma,
+        posterior_cog_cov_mm2=0.5 * (post_cog_cov + post_cog_cov.T),
+        posterior_inertia_sigma_kg_mm2=inertia_sigma,
+        items=items_out,
+        explanations=_explanations(sols, weights, p_values, items_out),
+        unmodelled_mass_kg=u_mass,
+        unmodelled_mass_sigma_kg=u_sigma,
+        unmodelled_cog_mm=u_cog,
+        unmodelled_cog_cov_mm2=u_cov,
+        unmodelled_negative=u_negative,
+        unmodelled_probability=u_prob,
+        differs_chi2=differs_chi2,
+        differs_p_value=chi2_sf(differs_chi2, dof),
+        chi2=sols[0].chi2,
+        p_value=p_values[0],
+        model_rejected=model_rejected,
+        dof=dof,
+    )
+    notes = list(dropped)
+    notes.extend(_wider_than_cad(result, sols, weights, measured_cov))
+    if not items:
+        notes.append(
+            "no item states a mass uncertainty ([mass_uncertainty] in the materials file): "
+            "the CAD is taken as exact, and only an unmodelled mass can explain a gap"
+        )
+    return replace(result, notes=tuple(notes))
+
+
+def _derived_mixture(sols: Sequence[Any], weights: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The mass, CoG and inertia each hypothesis that matters (weight ≥ 1e-9) derives, with its
+    covariance (first order), mixed by the hypotheses' posterior weights."""
     derived_means, derived_covs, used = [], [], []
     for s, w in zip(sols, weights, strict=True):
         if w < 1e-9:
@@ -189,29 +243,32 @@ def update_budget(
         derived_means.append(f0)
         derived_covs.append(jd @ s.cov @ jd.T)
         used.append(w)
-    mean_d, cov_d = mixture(np.array(used), derived_means, derived_covs)
-    cad = combine([i.properties for i in items] + ([fixed] if fixed is not None else []))
-    cad_prior = linear_prior(items, fixed)
-    measured_cog, measured_cov = recompensate(measurement)
-    inertia = np.zeros((3, 3))
+    return mixture(np.array(used), derived_means, derived_covs)
+
+
+def _inertia_with_sigma(upper: FloatArray, upper_var: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The tensor (3, 3) from its upper triangle in row order (xx, xy, xz, yy, yz, zz) and each
+    entry's σ from the triangle's variances."""
     iu = np.triu_indices(3)
-    inertia[iu] = mean_d[4:]
+    inertia = np.zeros((3, 3))
+    inertia[iu] = upper
     inertia = inertia + np.triu(inertia, 1).T
-    inertia_sigma = np.zeros((3, 3))
-    inertia_sigma[iu] = np.sqrt(np.maximum(np.diag(cov_d)[4:], 0.0))
-    inertia_sigma = np.maximum(inertia_sigma, inertia_sigma.T)
-    if model_rejected:
-        posterior = MassProperties(measurement.mass_kg, measured_cog, inertia, cad.volume_mm3)
-        post_mass_sigma = measurement.mass_sigma_kg
-        post_cog_cov = measured_cov
-    else:
-        posterior = MassProperties(float(mean_d[0]), mean_d[1:4], inertia, cad.volume_mm3)
-        post_mass_sigma = float(np.sqrt(max(cov_d[0, 0], 0.0)))
-        post_cog_cov = cov_d[1:4, 1:4]
-    items_out = _item_changes(items, sols, weights)
+    sigma = np.zeros((3, 3))
+    sigma[iu] = np.sqrt(np.maximum(upper_var, 0.0))
+    return inertia, np.maximum(sigma, sigma.T)
+
+
+def _explanations(
+    sols: Sequence[Any],
+    weights: FloatArray,
+    p_values: Sequence[float],
+    items_out: Sequence[ItemChange],
+) -> tuple[Explanation, ...]:
+    """Each hypothesis with its prior and posterior probability and fit, most probable first;
+    equally probable ones (to 0.01 %) by the item that can move the mass and the CoG most (its
+    stated 1-σ mass), never a washer by file order."""
     weight_of = {c.key: c.mass_sigma_kg for c in items_out}
-    u_mass, u_sigma, u_cog, u_cov, u_negative, u_prob = _unmodelled_mixture(sols, weights)
-    explanations = tuple(
+    return tuple(
         sorted(
             (
                 Explanation(
@@ -226,46 +283,9 @@ def update_budget(
                 )
                 for s, w, p in zip(sols, weights, p_values, strict=True)
             ),
-            # Equally probable explanations (to 0.01 %): the item that can move the mass and
-            # the CoG most first (its stated 1-σ mass), never a washer by file order.
             key=lambda e: (-round(e.probability, 4), -weight_of.get(e.item, np.inf)),
         )
     )
-    result = UpdateResult(
-        cad,
-        cad_prior.cog_cov_mm2,
-        cad_prior.mass_sigma_kg,
-        measurement.mass_kg,
-        measurement.mass_sigma_kg,
-        measured_cog,
-        measured_cov,
-        posterior,
-        post_mass_sigma,
-        0.5 * (post_cog_cov + post_cog_cov.T),
-        inertia_sigma,
-        items_out,
-        explanations,
-        u_mass,
-        u_sigma,
-        u_cog,
-        u_cov,
-        u_negative,
-        u_prob,
-        differs_chi2,
-        chi2_sf(differs_chi2, dof),
-        sols[0].chi2,
-        p_values[0],
-        model_rejected,
-        dof,
-    )
-    notes = list(dropped)
-    notes.extend(_wider_than_cad(result, sols, weights, measured_cov))
-    if not items:
-        notes.append(
-            "no item states a mass uncertainty ([mass_uncertainty] in the materials file): "
-            "the CAD is taken as exact, and only an unmodelled mass can explain a gap"
-        )
-    return replace(result, notes=tuple(notes))
 
 
 def _wider_than_cad(
