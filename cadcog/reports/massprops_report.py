@@ -263,10 +263,51 @@ def _configurations_html(report: MassReport) -> str:
 
 
 def render_html(report: MassReport, views: Path, refusal: str | None = None) -> str:
+    """The page: the refusal (if any), the summary line, then one section per view of the
+    count (import audit, budget, inertia, views, envelope, bodies)."""
     esc = html.escape
-    r, b = report.result, report.budget
-    t = r.total
+    r = report.result
     name = Path(r.audit.source).name
+    refusal_html = (
+        f'<p class="big"><span class="bad">Refused (exit 2):</span> {esc(refusal)}</p>'
+        "<p>What follows is the model counted as it is, so that the refusal can be read.</p>"
+        if refusal
+        else ""
+    )
+    sections = "\n\n".join(
+        [
+            _audit_section(report),
+            _budget_section(report),
+            _inertia_section(report),
+            f"""<h2 id="views">Views</h2>
+{img_tag(views, "three views of the model with its CoG and principal axes")}""",
+            _envelope_section(report),
+            _bodies_section(report),
+        ]
+    )
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>cadcog mass properties: {esc(name)}</title><style>{CSS}</style></head>
+<body>
+<h1>Mass properties: {esc(name)}</h1>
+<p class="sub">cadcog {esc(__version__)} · <code>{esc(r.audit.source)}</code></p>
+<nav><a href="#audit">Import audit</a><a href="#budget">Mass budget</a>
+<a href="#inertia">Inertia</a><a href="#views">Views</a><a href="#envelope">Envelope</a>
+<a href="#bodies">Bodies</a></nav>
+
+{refusal_html}
+{_summary(report)}
+
+{sections}
+<p class="sub">Every figure on this page is in massprops.json beside it.</p>
+</body></html>
+"""
+
+
+def _summary(report: MassReport) -> str:
+    """The mass and the CoG with their σ (the materials file's), and the growth allowances'."""
+    b, t = report.budget, report.result.total
     sigma_txt = ""
     if b.mass_sigma_kg is not None:
         u = nf.mass_unit([t.mass_kg])
@@ -275,9 +316,57 @@ def render_html(report: MassReport, views: Path, refusal: str | None = None) -> 
     cog_sigma = ""
     if b.cog_cov_mm2 is not None:
         cog_sigma = f" ± {vec(np.sqrt(np.diag(b.cog_cov_mm2)))} mm (1 σ)"
+    growth = f" With growth allowances: {nf.mass(b.predicted.mass_kg)}." if b.growth_kg else ""
+    mass, cog = nf.mass(t.mass_kg), vec(t.cog_mm)
+    return f"""<p class="big">Mass <b>{mass}</b>{sigma_txt}; CoG <b>{cog} mm</b>{cog_sigma}
+(model frame).{growth}</p>"""
+
+
+def _audit_section(report: MassReport) -> str:
+    esc = html.escape
+    r = report.result
+    pair_rows = [
+        [
+            esc(report.short(p.a)),
+            esc(report.short(p.b)),
+            nf.sig(p.volume_mm3),
+            nf.sig(p.mass_kg * 1e3),
+            esc(report.short(p.kept_by)),
+        ]
+        for p in r.overlaps.pairs[:10]
+    ]
+    overlaps_html = (
+        '<div class="wide">'
+        + table(["a", "b", "common volume (mm³)", "counted twice (g)", "denser"], pair_rows, 2)
+        + "</div>"
+        if pair_rows
+        else ""
+    )
+    notes = "".join(f"<li>{esc(n)}</li>" for n in r.notes) or "<li>none</li>"
+    info = "".join(f"<li>{esc(n)}</li>" for n in r.info) or "<li>none</li>"
+    return f"""<h2 id="audit">Import audit</h2>
+{table(["what was read", "found"], _audit_rows(report), 2)}
+{overlaps_html}
+<p>Notes (things to look at):</p><ul>{notes}</ul>
+<p>Done as asked:</p><ul>{info}</ul>"""
+
+
+def _budget_section(report: MassReport) -> str:
+    return f"""<h2 id="budget">Mass budget</h2>
+<p>By assembly node, heaviest first; identical copies of a part are one row (<i>name ×n</i>,
+with the mass of each). Current best estimate; ± is 1 σ from the materials file's mass
+uncertainties, whose items vary independently; k is the radius of gyration about the node's
+own CoG (model axes). "With MGA" is the predicted mass with the materials file's mass growth
+allowances (AIAA S-120A's current best estimate plus growth). Siblings each under 0.1 % of the
+mass are summed as "N others" (every body is in massprops.json and in <code>--csv</code>).</p>
+{_budget_table(report)}"""
+
+
+def _inertia_section(report: MassReport) -> str:
+    esc = html.escape
+    t = report.result.total
     j = t.inertia_kg_mm2
     unit = nf.inertia_unit(j.ravel())
-    inertia_rows = _inertia_rows(j, unit)
     product_rows = [
         [
             esc(PRODUCT_CONVENTIONS[c]),
@@ -298,15 +387,26 @@ def render_html(report: MassReport, views: Path, refusal: str | None = None) -> 
     f = report.frame
     jf = report.frame_inertia_kg_mm2
     frame_unit = nf.inertia_unit(jf.ravel())
-    frame_rows = _inertia_rows(jf, frame_unit)
     degenerate = f" ({esc(pa.degeneracy_note())})" if pa.degeneracy_note() else ""
     radii = np.sqrt(np.clip(np.diagonal(j), 0.0, None) / t.mass_kg)
-    refusal_html = (
-        f'<p class="big"><span class="bad">Refused (exit 2):</span> {esc(refusal)}</p>'
-        "<p>What follows is the model counted as it is, so that the refusal can be read.</p>"
-        if refusal
-        else ""
-    )
+    principal_header = ["axis", f"moment ({unit[0]})", "direction", "angle from nearest axis (°)"]
+    return f"""<h2 id="inertia">Inertia</h2>
+<p>About the CoG, model axes ({unit[0]}). Tensor: {esc(TENSOR_CONVENTION)}.</p>
+{table(["tensor", "x", "y", "z"], _inertia_rows(j, unit))}
+{table(["products of inertia", "xy", "xz", "yz"], product_rows)}
+<p>Radii of gyration about the CoG: kx {nf.sig(radii[0])}, ky {nf.sig(radii[1])},
+kz {nf.sig(radii[2])} mm.</p>
+<p>Principal moments and axes (model components; each axis's largest component is positive,
+the third is the cross product of the first two){degenerate}:</p>
+{table(principal_header, principal_rows)}
+<p>In the frame at {esc(f.label)} (origin {vec(f.origin_mm)} mm): CoG
+{vec(f.point_to_frame(t.cog_mm))} mm; inertia tensor about the origin ({frame_unit[0]};
+off-diagonal −∫ x·y dm):</p>
+{table(["tensor", "x", "y", "z"], _inertia_rows(jf, frame_unit))}"""
+
+
+def _envelope_section(report: MassReport) -> str:
+    esc = html.escape
     env = report.envelope
     envelope_html = "<p>No form factor or limits given (<code>--form-factor</code>).</p>"
     if env is not None:
@@ -328,7 +428,14 @@ def render_html(report: MassReport, views: Path, refusal: str | None = None) -> 
             f"edge of the CAD uncertainty: {_ok(env.within_at_95)}. "
             f"<span class='sub'>{esc(env.source)}</span></p>"
         )
-    configurations_html = _configurations_html(report)
+    return f"""<h2 id="envelope">CoG envelope</h2>
+{envelope_html}
+{_configurations_html(report)}"""
+
+
+def _bodies_section(report: MassReport) -> str:
+    esc = html.escape
+    r = report.result
     body_unit = nf.mass_unit(x.properties.mass_kg for x in r.bodies)
     body_rows = [
         [
@@ -341,16 +448,6 @@ def render_html(report: MassReport, views: Path, refusal: str | None = None) -> 
         ]
         for x in r.bodies
     ]
-    pair_rows = [
-        [
-            esc(report.short(p.a)),
-            esc(report.short(p.b)),
-            nf.sig(p.volume_mm3),
-            nf.sig(p.mass_kg * 1e3),
-            esc(report.short(p.kept_by)),
-        ]
-        for p in r.overlaps.pairs[:10]
-    ]
     body_header = [
         "path",
         "kind",
@@ -359,73 +456,7 @@ def render_html(report: MassReport, views: Path, refusal: str | None = None) -> 
         f"mass ({body_unit[0]})",
         "CoG (mm)",
     ]
-    notes = "".join(f"<li>{esc(n)}</li>" for n in r.notes) or "<li>none</li>"
-    info = "".join(f"<li>{esc(n)}</li>" for n in r.info) or "<li>none</li>"
-    overlaps_html = (
-        '<div class="wide">'
-        + table(["a", "b", "common volume (mm³)", "counted twice (g)", "denser"], pair_rows, 2)
-        + "</div>"
-        if pair_rows
-        else ""
-    )
-    table_budget = _budget_table(report)
-    growth = f" With growth allowances: {nf.mass(b.predicted.mass_kg)}." if b.growth_kg else ""
-    principal_header = ["axis", f"moment ({unit[0]})", "direction", "angle from nearest axis (°)"]
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<meta name="viewport" content="width=device-width, initial-scale=1">
-<title>cadcog mass properties: {esc(name)}</title><style>{CSS}</style></head>
-<body>
-<h1>Mass properties: {esc(name)}</h1>
-<p class="sub">cadcog {esc(__version__)} · <code>{esc(r.audit.source)}</code></p>
-<nav><a href="#audit">Import audit</a><a href="#budget">Mass budget</a>
-<a href="#inertia">Inertia</a><a href="#views">Views</a><a href="#envelope">Envelope</a>
-<a href="#bodies">Bodies</a></nav>
-
-{refusal_html}
-<p class="big">Mass <b>{nf.mass(t.mass_kg)}</b>{sigma_txt}; CoG <b>{vec(t.cog_mm)} mm</b>{cog_sigma}
-(model frame).{growth}</p>
-
-<h2 id="audit">Import audit</h2>
-{table(["what was read", "found"], _audit_rows(report), 2)}
-{overlaps_html}
-<p>Notes (things to look at):</p><ul>{notes}</ul>
-<p>Done as asked:</p><ul>{info}</ul>
-
-<h2 id="budget">Mass budget</h2>
-<p>By assembly node, heaviest first; identical copies of a part are one row (<i>name ×n</i>,
-with the mass of each). Current best estimate; ± is 1 σ from the materials file's mass
-uncertainties, whose items vary independently; k is the radius of gyration about the node's
-own CoG (model axes). "With MGA" is the predicted mass with the materials file's mass growth
-allowances (AIAA S-120A's current best estimate plus growth). Siblings each under 0.1 % of the
-mass are summed as "N others" (every body is in massprops.json and in <code>--csv</code>).</p>
-{table_budget}
-
-<h2 id="inertia">Inertia</h2>
-<p>About the CoG, model axes ({unit[0]}). Tensor: {esc(TENSOR_CONVENTION)}.</p>
-{table(["tensor", "x", "y", "z"], inertia_rows)}
-{table(["products of inertia", "xy", "xz", "yz"], product_rows)}
-<p>Radii of gyration about the CoG: kx {nf.sig(radii[0])}, ky {nf.sig(radii[1])},
-kz {nf.sig(radii[2])} mm.</p>
-<p>Principal moments and axes (model components; each axis's largest component is positive,
-the third is the cross product of the first two){degenerate}:</p>
-{table(principal_header, principal_rows)}
-<p>In the frame at {esc(f.label)} (origin {vec(f.origin_mm)} mm): CoG
-{vec(f.point_to_frame(t.cog_mm))} mm; inertia tensor about the origin ({frame_unit[0]};
-off-diagonal −∫ x·y dm):</p>
-{table(["tensor", "x", "y", "z"], frame_rows)}
-
-<h2 id="views">Views</h2>
-{img_tag(views, "three views of the model with its CoG and principal axes")}
-
-<h2 id="envelope">CoG envelope</h2>
-{envelope_html}
-{configurations_html}
-
-<h2 id="bodies">Bodies</h2>
+    return f"""<h2 id="bodies">Bodies</h2>
 <details><summary>{len(r.bodies)} bodies</summary>
 <div class="wide">{table(body_header, body_rows, 4)}</div>
-</details>
-<p class="sub">Every figure on this page is in massprops.json beside it.</p>
-</body></html>
-"""
+</details>"""
