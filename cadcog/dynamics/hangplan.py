@@ -140,36 +140,29 @@ class _Hangs:
         if not keep.any():
             return None
 
-        def derivative(step: FloatArray, where: str, h: float) -> FloatArray:
-            plus = self.modes_hz(*self._moved(where, step, exit_mm))
-            minus = self.modes_hz(*self._moved(where, -step, exit_mm))
+        def derivative(h: float, dp: Any = 0.0, dv: Any = 0.0, de: Any = 0.0) -> FloatArray:
+            """Central difference of the kept modes along a step of the entries (``dp``),
+            the shared nuisances (``dv``) or the pivot (``de``) of size ``h``."""
+            plus = self.modes_hz(p0 + dp, v0 + dv, exit_mm + de)
+            minus = self.modes_hz(p0 - dp, v0 - dv, exit_mm - de)
             return (plus - minus)[keep] / (2 * h)
 
         jac = np.zeros((int(keep.sum()), 6))
         for j in range(6):
-            jac[:, j] = derivative(1e-6 * self.scale * np.eye(6)[j], "p", 1e-6 * self.scale)
+            jac[:, j] = derivative(1e-6 * self.scale, dp=1e-6 * self.scale * np.eye(6)[j])
         shared = np.zeros((int(keep.sum()), 9))
         sig = np.sqrt(np.diag(shared_cov))
         for i in range(6):  # the sensor's position (_SENSOR) moves no frequency, only shapes
             if sig[i] != 0:
-                shared[:, i] = derivative(0.1 * sig[i] * np.eye(9)[i], "v", 0.1 * sig[i])
+                shared[:, i] = derivative(0.1 * sig[i], dv=0.1 * sig[i] * np.eye(9)[i])
         d_exit = np.zeros((int(keep.sum()), 3))
         for a in range(3):
-            d_exit[:, a] = derivative(0.05 * np.eye(3)[a], "exit", 0.05)
+            d_exit[:, a] = derivative(0.05, de=0.05 * np.eye(3)[a])
         local = (
             np.diag((f0[keep] * self.context.swing.frequency_model_rel) ** 2)
             + d_exit @ exit_cov @ d_exit.T
         )
         return _HangInfo(jac, local, shared)
-
-    def _moved(
-        self, where: str, step: FloatArray, exit_mm: FloatArray
-    ) -> tuple[FloatArray, FloatArray, FloatArray]:
-        if where == "p":
-            return self.p0 + step, self.v0, exit_mm
-        if where == "v":
-            return self.p0, self.v0 + step, exit_mm
-        return self.p0, self.v0, exit_mm + step
 
 
 def _set_cov(
