@@ -12,6 +12,7 @@ import numpy as np
 from cadcog.cli._table import text_table
 from cadcog.core import numformat as nf
 from cadcog.mass.inertia import products_of_inertia
+from cadcog.mass.properties import radii_of_gyration_mm
 from cadcog.spacecraft.mass_budget import budget_rows
 from cadcog.spacecraft.mass_summary import MassReport, density_sources
 
@@ -129,7 +130,7 @@ def print_inertia(report: MassReport, products: str) -> None:
         f"  {symbol}xy {nf.in_unit(p['xy'], unit)}  {symbol}xz {nf.in_unit(p['xz'], unit)}  "
         f"{symbol}yz {nf.in_unit(p['yz'], unit)}  ({PRODUCT_LABELS[products]}; --products)"
     )
-    k = np.sqrt(np.clip(np.diagonal(j), 0.0, None) / t.mass_kg)
+    k = radii_of_gyration_mm(t.mass_kg, j)
     print(f"  radii of gyration kx {nf.sig(k[0])}  ky {nf.sig(k[1])}  kz {nf.sig(k[2])} mm")
     pa = report.principal
     print(f"principal moments ({unit[0]}) and axes (model components):")

@@ -161,6 +161,19 @@ def parallel_axis_kg_mm2(masses_kg: FloatArray, offsets_mm: FloatArray) -> Float
     return np.asarray(masses_kg[:, None, None] * shift)
 
 
+def radii_of_gyration_mm(mass_kg: float, inertia_kg_mm2: npt.ArrayLike) -> FloatArray:
+    """``k = √(I / m)`` of each diagonal moment (mm), shape (3,): the one place it is computed
+    (a negative round-off moment reads 0; a massless body has none, zeros).
+
+    Examples
+    --------
+    >>> radii_of_gyration_mm(2.0, np.diag([50.0, 18.0, 0.0])).tolist()
+    [5.0, 3.0, 0.0]
+    """
+    d = np.clip(np.diagonal(np.asarray(inertia_kg_mm2, dtype=float)), 0.0, None)
+    return np.asarray(np.sqrt(d / mass_kg)) if mass_kg > 0 else np.zeros(3)
+
+
 def combine(parts: Iterable[MassProperties]) -> MassProperties:
     """Mass properties of a union of bodies: masses add, the CoG is mass-weighted.
 

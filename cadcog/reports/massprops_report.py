@@ -23,6 +23,7 @@ from cadcog.core.fileio import staged_output_dir
 from cadcog.core.jsontext import dumps_json
 from cadcog.core.version import __version__
 from cadcog.mass.inertia import PRODUCT_CONVENTIONS, TENSOR_CONVENTION, products_of_inertia
+from cadcog.mass.properties import radii_of_gyration_mm
 from cadcog.reports.html import CSS, img_tag, table, vec
 from cadcog.spacecraft.mass_budget import budget_rows
 from cadcog.spacecraft.mass_summary import MassReport, density_sources
@@ -388,7 +389,7 @@ def _inertia_section(report: MassReport) -> str:
     jf = report.frame_inertia_kg_mm2
     frame_unit = nf.inertia_unit(jf.ravel())
     degenerate = f" ({esc(pa.degeneracy_note())})" if pa.degeneracy_note() else ""
-    radii = np.sqrt(np.clip(np.diagonal(j), 0.0, None) / t.mass_kg)
+    radii = radii_of_gyration_mm(t.mass_kg, j)
     principal_header = ["axis", f"moment ({unit[0]})", "direction", "angle from nearest axis (°)"]
     return f"""<h2 id="inertia">Inertia</h2>
 <p>About the CoG, model axes ({unit[0]}). Tensor: {esc(TENSOR_CONVENTION)}.</p>

@@ -34,7 +34,12 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core.results import JsonResult
-from cadcog.mass.properties import MassProperties, combine, parallel_axis_kg_mm2
+from cadcog.mass.properties import (
+    MassProperties,
+    combine,
+    parallel_axis_kg_mm2,
+    radii_of_gyration_mm,
+)
 from cadcog.spacecraft.items import items_from_bodies, linear_prior
 
 FloatArray = npt.NDArray[np.float64]
@@ -119,8 +124,7 @@ class BudgetNode(JsonResult):
     @property
     def radii_of_gyration_mm(self) -> FloatArray:
         """``k = √(I / m)`` about the node's own CoG, model axes x, y, z (mm), shape (3,)."""
-        d = np.clip(np.diagonal(self.inertia_kg_mm2), 0.0, None)
-        return np.asarray(np.sqrt(d / self.mass_kg)) if self.mass_kg > 0 else np.zeros(3)
+        return radii_of_gyration_mm(self.mass_kg, self.inertia_kg_mm2)
 
     def walk(self, max_depth: int | None = None, depth: int = 0) -> list[tuple[int, BudgetNode]]:
         """The node and its descendants, depth first, with their depth."""
@@ -451,8 +455,7 @@ class BudgetRow:
     @property
     def radii_of_gyration_mm(self) -> FloatArray:
         """``√(I / m)`` about the row's CoG, model axes (mm), shape (3,)."""
-        d = np.clip(np.diagonal(self.inertia_kg_mm2), 0.0, None)
-        return np.asarray(np.sqrt(d / self.mass_kg)) if self.mass_kg > 0 else np.zeros(3)
+        return radii_of_gyration_mm(self.mass_kg, self.inertia_kg_mm2)
 
 
 def _merged(nodes: Sequence[BudgetNode], level: int, name: str, collapsed: bool) -> BudgetRow:
