@@ -14,7 +14,6 @@ settled), or the simulated device's own operator (:class:`SimulatedOperator`).
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -389,7 +388,3 @@ def _assess(
         return base
     reason = f"its line is {chk.sigma:.1f} σ from the others (p = {chk.p_value:.2g})"
     return replace(base, outcome="inconsistent", reason=reason)
-
-
-def stdout_say(text: str) -> None:
-    print(text, file=sys.stdout, flush=True)

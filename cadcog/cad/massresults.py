@@ -219,10 +219,6 @@ class ImportAudit(JsonResult):
     #: The weighed total every density was scaled to (``--total-mass-kg``), or None.
     total_mass_given_kg: float | None = None
 
-    @property
-    def extent_mm(self) -> np.ndarray:
-        return np.asarray(self.bbox_mm[1]) - np.asarray(self.bbox_mm[0])
-
     def to_dict(self) -> dict[str, Any]:
         return {
             "source": self.source,

@@ -11,7 +11,7 @@ import numpy.typing as npt
 
 from cadcog.core.fittest import FitTest
 from cadcog.core.results import JsonResult
-from cadcog.dynamics.tensorfit import ENTRIES, entries, tensor
+from cadcog.dynamics.tensorfit import ENTRIES, tensor
 from cadcog.mass.inertia import TENSOR_CONVENTION, principal_axes
 
 FloatArray = npt.NDArray[np.float64]
@@ -324,8 +324,3 @@ class InertiaResult(JsonResult):
             warnings=tuple(str(w) for w in d["warnings"]),
             sigma_scale=float(c["sigma_scale"]),
         )
-
-
-def inertia_entries(result: InertiaResult) -> FloatArray:
-    """The six entries of the result's tensor (the covariance's order)."""
-    return entries(result.inertia_kg_mm2)
