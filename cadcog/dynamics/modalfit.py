@@ -380,8 +380,6 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
         When no resolved mode is visible above the noise (the object did not swing, or the
         record is too short to see it).
     """
-    from scipy.optimize import least_squares
-
     start = _small_swing_start(swing)
     t = swing.t_s[start:] - swing.t_s[start]
     y = swing.inc_deg[start:]
@@ -390,98 +388,13 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
     nyquist = 0.5 * swing.rate_hz
     groups = [g for g in groups if np.mean(start_all[g]) < 0.9 * nyquist]
     while True:
-        modes = [k for g in groups for k in g]
-        k = len(modes)
-        ng = len(groups)
-        member = np.zeros((k, ng))
-        centre0 = np.array([np.mean(start_all[g]) for g in groups])
-        base = np.zeros(k)
-        pos = 0
-        for j, g in enumerate(groups):
-            for m in g:
-                member[pos, j] = 1.0
-                base[pos] = start_all[m] - centre0[j]
-                pos += 1
-        x_c, s0, d_g = centre0.copy(), np.full(k, 0.05), np.zeros(ng)
-        nd = ng if drift else 0
-        drift_sigma = DRIFT_PRIOR_REL * centre0 if drift else None
-        # The first pass weighs both channels alike and leaves the drifts free (within their
-        # bounds): its residuals give each channel's noise. Later passes weigh each channel by
-        # it, with the drifts' prior (whose σ is only on the scale of noise-weighted residuals),
-        # until the noise settles.
-        w, prior, previous = np.ones(2), None, None
-        # the search band stays where the periodogram put each group: a frequency that moved
-        # within it each pass could walk away (a 3.40 Hz mode reached a 2.35 Hz combination
-        # tone over five passes)
-        lo = np.concatenate(
-            [
-                centre0 * (1 - SEARCH_BAND),
-                np.zeros(k),
-                -MAX_DRIFT_PRIORS * DRIFT_PRIOR_REL * centre0[:nd],
-            ]
-        )
-        hi_f = np.minimum(centre0 * (1 + SEARCH_BAND), nyquist)
-        for _ in range(MAX_PASSES):
-            hi = np.concatenate(
-                [hi_f, member @ x_c + base, MAX_DRIFT_PRIORS * DRIFT_PRIOR_REL * centre0[:nd]]
-            )
-            x0 = np.clip(np.concatenate([x_c, s0, d_g[:nd]]), lo + 1e-12, hi - 1e-12)
-
-            fun, jac = _objective(t, y, w, member, base, prior, drift)
-            sol = least_squares(
-                fun, x0, jac=jac, bounds=(lo, hi), x_scale="jac", xtol=1e-12, ftol=1e-12
-            )
-            x_c, s0 = sol.x[:ng], sol.x[ng : ng + k]
-            if drift:
-                d_g = sol.x[ng + k :]
-            f0, d0 = member @ x_c + base, member @ d_g
-            coef, resid = _solve(t, y, np.ones(2), f0, s0, d0)
-            nparam = 1 + 3 * k + nd
-            noise = np.sqrt(np.mean(resid**2, axis=0) * len(t) / (len(t) - nparam))
-            settled = previous is not None and bool(
-                np.all(np.abs(noise - previous) <= 0.01 * previous)
-            )
-            previous = noise
-            # a channel that does not swing (constant, quantised) has no noise of its own: it
-            # is weighed as a hundredth of the other's, not infinitely
-            w = 1.0 / np.maximum(noise, max(NOISE_FLOOR_SHARE * float(np.max(noise)), 1e-12))
-            prior = drift_sigma
-            if settled:
-                break
-        full = _jacobian(t, f0, s0, d0, coef, w)
-        cols = [full[:, :k] @ member, full[:, k : 2 * k]]
-        if drift:
-            cols.append(full[:, 2 * k : 3 * k] @ member)
-        reduced = np.hstack([*cols, full[:, 3 * k :]])
-        info = reduced.T @ reduced
-        if drift_sigma is not None:  # the drifts' prior
-            info[ng + k : ng + k + nd, ng + k : ng + k + nd] += np.diag(drift_sigma**-2)
-        white = np.linalg.pinv(info)
-        rho = _lag1(resid)
-        inflation = (1.0 + rho) / (1.0 - rho)
-        cov = white * inflation
-        nlin = 1 + 2 * k
-        off = ng + k + nd  # first linear coefficient in the reduced parameters
-        amp = np.zeros(ng)
-        amp_se = np.zeros(ng)
-        for j in range(ng):
-            rows = [i for i in range(k) if member[i, j]]
-            idx = [off + c * nlin + 1 + i for c in range(2) for i in rows] + [
-                off + c * nlin + 1 + k + i for c in range(2) for i in rows
-            ]
-            vec = np.array(
-                [coef[1 + i, c] for c in range(2) for i in rows]
-                + [coef[1 + k + i, c] for c in range(2) for i in rows]
-            )
-            amp[j] = float(np.linalg.norm(vec))
-            grad = vec / max(amp[j], 1e-300)
-            # Visible against the noise (white): residual structure a linear model leaves
-            # (a large swing's harmonics) inflates the frequencies' σ, not this test.
-            amp_se[j] = float(np.sqrt(max(grad @ white[np.ix_(idx, idx)] @ grad, 0.0)))
+        fit = _fit_groups(t, y, groups, start_all, nyquist, drift)
+        white, cov, inflation = _parameter_cov(t, fit)
+        amp, amp_se = _amplitudes(fit, white)
         visible = amp > VISIBLE_AMPLITUDE_SIGMA * amp_se
         if visible.all():
             break
-        swung = np.std(y - y.mean(axis=0), axis=0) > VISIBLE_AMPLITUDE_SIGMA * noise
+        swung = np.std(y - y.mean(axis=0), axis=0) > VISIBLE_AMPLITUDE_SIGMA * fit.noise
         if not visible.any() and any(len(g) > 1 for g in groups) and swung.any():
             # the record swings well above its noise, but an unresolved pair's amplitudes are
             # not determined apart (a beat) and nothing else stands out: the record is too
@@ -500,6 +413,7 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
             )
         if not any(len(g) == 1 for g in groups):
             break  # what it sees are unresolved pairs: said below
+    x_c, member, ng = fit.x_c, fit.member, fit.ng
     # Keep the labels in ascending frequency, as the model's modes are (a fit may cross two).
     order = np.argsort(x_c, kind="stable")
     if np.any(order != np.arange(ng)) and all(len(g) == 1 for g in groups):
@@ -518,9 +432,158 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
         np.array([groups[j][0] for j in single], dtype=np.int64),
         x_c[single],
         np.asarray(cov[np.ix_(single, single)], dtype=float),
-        s0[rows],
+        fit.s0[rows],
         amp[single],
-        noise,
+        fit.noise,
         float(inflation),
-        d_g[single] if drift else None,
+        fit.d_g[single] if drift else None,
     )
+
+
+@dataclass(frozen=True)
+class _GroupFit:
+    """One fit of a record by groups of modes (a group: modes too close to resolve, fitted with
+    one free frequency and the predicted spacing). ``member`` (k, ng) maps groups to modes and
+    ``base`` (k,) is each mode's offset from its group's centre; ``x_c`` the groups' centres,
+    ``s0`` the modes' decays, ``d_g`` the groups' drifts; ``f0``, ``d0`` per mode; ``coef`` and
+    ``resid`` the linear coefficients and residuals at them; ``noise`` and ``w`` each
+    channel's; ``drift_sigma`` the drifts' prior σ (None without drifts)."""
+
+    member: FloatArray
+    base: FloatArray
+    x_c: FloatArray
+    s0: FloatArray
+    d_g: FloatArray
+    f0: FloatArray
+    d0: FloatArray
+    coef: FloatArray
+    resid: FloatArray
+    noise: FloatArray
+    w: FloatArray
+    drift_sigma: FloatArray | None
+
+    @property
+    def k(self) -> int:
+        return int(self.member.shape[0])
+
+    @property
+    def ng(self) -> int:
+        return int(self.member.shape[1])
+
+    @property
+    def nd(self) -> int:
+        return 0 if self.drift_sigma is None else self.ng
+
+
+def _fit_groups(
+    t: FloatArray,
+    y: FloatArray,
+    groups: list[list[int]],
+    start_all: FloatArray,
+    nyquist: float,
+    drift: bool,
+) -> _GroupFit:
+    """Fit the record by ``groups`` from their periodogram starts, reweighing each channel by
+    its noise until the noise settles (at most :data:`MAX_PASSES` passes)."""
+    from scipy.optimize import least_squares
+
+    modes = [k for g in groups for k in g]
+    k = len(modes)
+    ng = len(groups)
+    member = np.zeros((k, ng))
+    centre0 = np.array([np.mean(start_all[g]) for g in groups])
+    base = np.zeros(k)
+    pos = 0
+    for j, g in enumerate(groups):
+        for m in g:
+            member[pos, j] = 1.0
+            base[pos] = start_all[m] - centre0[j]
+            pos += 1
+    x_c, s0, d_g = centre0.copy(), np.full(k, 0.05), np.zeros(ng)
+    nd = ng if drift else 0
+    drift_sigma = DRIFT_PRIOR_REL * centre0 if drift else None
+    # The first pass weighs both channels alike and leaves the drifts free (within their
+    # bounds): its residuals give each channel's noise. Later passes weigh each channel by
+    # it, with the drifts' prior (whose σ is only on the scale of noise-weighted residuals),
+    # until the noise settles.
+    w, prior, previous = np.ones(2), None, None
+    # the search band stays where the periodogram put each group: a frequency that moved
+    # within it each pass could walk away (a 3.40 Hz mode reached a 2.35 Hz combination
+    # tone over five passes)
+    lo = np.concatenate(
+        [
+            centre0 * (1 - SEARCH_BAND),
+            np.zeros(k),
+            -MAX_DRIFT_PRIORS * DRIFT_PRIOR_REL * centre0[:nd],
+        ]
+    )
+    hi_f = np.minimum(centre0 * (1 + SEARCH_BAND), nyquist)
+    for _ in range(MAX_PASSES):
+        hi = np.concatenate(
+            [hi_f, member @ x_c + base, MAX_DRIFT_PRIORS * DRIFT_PRIOR_REL * centre0[:nd]]
+        )
+        x0 = np.clip(np.concatenate([x_c, s0, d_g[:nd]]), lo + 1e-12, hi - 1e-12)
+
+        fun, jac = _objective(t, y, w, member, base, prior, drift)
+        sol = least_squares(
+            fun, x0, jac=jac, bounds=(lo, hi), x_scale="jac", xtol=1e-12, ftol=1e-12
+        )
+        x_c, s0 = sol.x[:ng], sol.x[ng : ng + k]
+        if drift:
+            d_g = sol.x[ng + k :]
+        f0, d0 = member @ x_c + base, member @ d_g
+        coef, resid = _solve(t, y, np.ones(2), f0, s0, d0)
+        nparam = 1 + 3 * k + nd
+        noise = np.sqrt(np.mean(resid**2, axis=0) * len(t) / (len(t) - nparam))
+        settled = previous is not None and bool(np.all(np.abs(noise - previous) <= 0.01 * previous))
+        previous = noise
+        # a channel that does not swing (constant, quantised) has no noise of its own: it
+        # is weighed as a hundredth of the other's, not infinitely
+        w = 1.0 / np.maximum(noise, max(NOISE_FLOOR_SHARE * float(np.max(noise)), 1e-12))
+        prior = drift_sigma
+        if settled:
+            break
+    return _GroupFit(member, base, x_c, s0, d_g, f0, d0, coef, resid, noise, w, drift_sigma)
+
+
+def _parameter_cov(t: FloatArray, fit: _GroupFit) -> tuple[FloatArray, FloatArray, float]:
+    """The reduced parameters' Gauss-Newton covariance (centres, decays, drifts, linear
+    coefficients) with the drifts' prior: as white noise would leave it, and inflated by
+    ``(1 + ρ)/(1 − ρ)`` for the residuals' lag-1 correlation ρ (the factor returned)."""
+    k, ng, nd, member = fit.k, fit.ng, fit.nd, fit.member
+    full = _jacobian(t, fit.f0, fit.s0, fit.d0, fit.coef, fit.w)
+    cols = [full[:, :k] @ member, full[:, k : 2 * k]]
+    if fit.drift_sigma is not None:
+        cols.append(full[:, 2 * k : 3 * k] @ member)
+    reduced = np.hstack([*cols, full[:, 3 * k :]])
+    info = reduced.T @ reduced
+    if fit.drift_sigma is not None:  # the drifts' prior
+        info[ng + k : ng + k + nd, ng + k : ng + k + nd] += np.diag(fit.drift_sigma**-2)
+    white = np.linalg.pinv(info)
+    rho = _lag1(fit.resid)
+    inflation = (1.0 + rho) / (1.0 - rho)
+    return white, white * inflation, inflation
+
+
+def _amplitudes(fit: _GroupFit, white: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Each group's amplitude (both channels' cosine and sine coefficients of its modes) and
+    its standard error against white noise: residual structure a linear model leaves (a large
+    swing's harmonics) inflates the frequencies' σ, not this test."""
+    k, ng, member, coef = fit.k, fit.ng, fit.member, fit.coef
+    nlin = 1 + 2 * k
+    off = ng + k + fit.nd  # first linear coefficient in the reduced parameters
+    amp = np.zeros(ng)
+    amp_se = np.zeros(ng)
+    for j in range(ng):
+        rows = [i for i in range(k) if member[i, j]]
+        idx = [off + c * nlin + 1 + i for c in range(2) for i in rows] + [
+            off + c * nlin + 1 + k + i for c in range(2) for i in rows
+        ]
+        vec = np.array(
+            [coef[1 + i, c] for c in range(2) for i in rows]
+            + [coef[1 + k + i, c] for c in range(2) for i in rows]
+        )
+        amp[j] = float(np.linalg.norm(vec))
+        grad = vec / max(amp[j], 1e-300)
+        amp_se[j] = float(np.sqrt(max(grad @ white[np.ix_(idx, idx)] @ grad, 0.0)))
+    return amp, amp_se
