@@ -6,6 +6,7 @@ for it, then simulates the best few; ``cadcog plan`` prints its :class:`Plan`.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import chain, combinations
 from math import comb
@@ -236,97 +237,32 @@ def plan_test(
         )
     scenario = setup.scenario(usable)
     n = len(usable)
-    u_nom = np.array([(scenario.points_mm[i] - g) for i in range(n)])
-    u_nom /= np.linalg.norm(u_nom, axis=1, keepdims=True)
-    cos = np.clip(np.abs(u_nom @ u_nom.T), 0.0, 1.0)
-    angle = np.degrees(np.arccos(cos))
-    z = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,))).standard_normal(
-        (_SCREEN_DRAWS, 3)
-    )
-
-    def conditioning(groups: npt.NDArray[np.int64]) -> FloatArray:
-        best = np.zeros(len(groups))
-        for a, b in combinations(range(groups.shape[1]), 2):
-            best = np.maximum(best, angle[groups[:, a], groups[:, b]])
-        return best
-
-    # At the nominal readings every line's weight is its own, whatever set it is in: the
-    # equal-weight pass of the estimator finds the CoG exactly, so each point's distance is
-    # known. One weight per candidate, then every set is a sum.
-    p_all = scenario.points_mm.T[:, :, None]
-    n_all = scenario.normals.T[:, :, None]
-    u_all = u_nom.T[:, :, None]
-    wire = gls.WireTerm.from_model(model, scenario.weight_n)
-    weights = gls.plumb_gls(p_all, u_all, n_all, gls.LineErrors.from_model(model), wire).weights
-    shape_all = (
-        np.ones(n)
-        if wire.model == "paper"
-        else wire_shape_factor(np.sum(u_nom * scenario.normals, axis=1), wire.model)
-    )
-    ratio = scenario.me_mass_kg / scenario.pm_mass_kg
-
-    terms = gls.LineTerms.of_lines(p_all, n_all, shape_all[:, None], weights)  # per candidate
-
-    def predicted(groups: npt.NDArray[np.int64]) -> FloatArray:
-        """Compensated linearised covariances (m, 3, 3) of sets (m, k)."""
-        cov = terms.take(groups.T).solve(wire)[1]  # the lines' terms (k, m), summed over k
-        return np.asarray(
-            (1 + ratio) ** 2 * sym3.sym_to_full(cov) + ratio**2 * model.me_sigma_mm**2 * np.eye(3)
-        )
-
+    screen = _Screen.of(scenario, model, g, seed)
     pair_idx = _combinations(n, 2)
-    pair_idx = pair_idx[conditioning(pair_idx) >= min_angle_deg]
+    pair_idx = pair_idx[screen.conditioning(pair_idx) >= min_angle_deg]
     if not len(pair_idx):
         return nothing(
             f"no two usable candidates' plumb lines meet at {min_angle_deg:g}° or more (the "
             "object hangs the same way from each: the points lie in line with its CoG, or the ME "
             "outweighs it): add candidates far apart on other faces"
         )
-    pair_q95 = _linearised_q95(predicted(pair_idx), z)
+    pair_q95 = screen.q95(pair_idx)
     pairs = sorted(
         (
             {
                 "a": usable[a].id,
                 "b": usable[b].id,
-                "angle_deg": float(angle[a, b]),
+                "angle_deg": float(screen.angle[a, b]),
                 "linearised_q95_mm": float(q),
             }
             for (a, b), q in zip(pair_idx, pair_q95, strict=True)
         ),
         key=lambda d: d["linearised_q95_mm"],
     )
-    best_sets: list[dict[str, Any]] = []
-    current = pair_idx[int(np.argmin(pair_q95))]
-    for k in range(2, min(max_set, n) + 1):
-        if k == 2:
-            groups, lin = pair_idx, pair_q95
-        else:
-            if comb(n, k) <= PLAN_MAX_SETS:
-                groups = _combinations(n, k)
-            else:  # grow the best set of the previous size by one point
-                groups = np.array(
-                    [sorted((*current.tolist(), j)) for j in range(n) if j not in current]
-                )
-            groups = groups[conditioning(groups) >= min_angle_deg]
-            if not len(groups):
-                break
-            tr = np.trace(predicted(groups), axis1=1, axis2=2)
-            top = np.argsort(tr)[: 50 * PLAN_FINALISTS]
-            groups = groups[top]
-            lin = _linearised_q95(predicted(groups), z)
-        finalists = groups[np.argsort(lin)[:PLAN_FINALISTS]]
-        res = simulate(scenario, model, [tuple(f) for f in finalists], trials, seed + k)
-        i = int(np.argmin(res.group_q95_mm))
-        current = finalists[i]
-        best_sets.append(
-            {
-                "points": [usable[j].id for j in current],
-                "q95_mm": res.group_q95_mm[i],
-                "q50_mm": res.group_q50_mm[i],
-                "mean_mm": res.group_mean_mm[i],
-                "linearised_q95_mm": float(lin[np.argsort(lin)[i]]),
-            }
-        )
+    best_sets = _best_sets(
+        screen, scenario, model, [c.id for c in usable], pair_idx, pair_q95,
+        max_set=max_set, min_angle_deg=min_angle_deg, trials=trials, seed=seed,
+    )  # fmt: skip
     recommended = min(best_sets, key=lambda s: float(s["q95_mm"]))
     chosen = [next(j for j, c in enumerate(usable) if c.id == pid) for pid in recommended["points"]]
     reversal = best_reversal(
@@ -335,10 +271,10 @@ def plan_test(
         scenario.normals[chosen],
         g,
         gls.LineErrors.from_model(model),
-        wire,
+        screen.wire,
         model.shared_sensor_sigmas,
         setup.rig.inclinometer,
-        me_ratio=ratio,
+        me_ratio=screen.ratio,
         me_sigma_mm=model.me_sigma_mm,
     )
     warnings = _warnings(setup, model)
@@ -361,3 +297,117 @@ def plan_test(
         warnings,
         reversal=reversal,
     )
+
+
+@dataclass(frozen=True)
+class _Screen:
+    """The screening of sets of usable candidates at the nominal readings: the angles between
+    their plumb lines, and the covariance the estimator predicts for a set.
+
+    At the nominal readings every line's weight is its own, whatever set it is in: the
+    equal-weight pass of the estimator finds the CoG exactly, so each point's distance is
+    known. One weight per candidate (``terms``), then every set is a sum."""
+
+    angle: FloatArray  # (n, n) degrees between the candidates' plumb lines
+    terms: gls.LineTerms
+    wire: gls.WireTerm
+    ratio: float  # the ME's mass over the object's
+    me_sigma_mm: float
+    z: FloatArray  # standard normal draws for the linearised 95 % error
+
+    @classmethod
+    def of(cls, scenario: Any, model: Any, cog_mm: FloatArray, seed: int) -> _Screen:
+        n = len(scenario.points_mm)
+        u_nom = np.array([(scenario.points_mm[i] - cog_mm) for i in range(n)])
+        u_nom /= np.linalg.norm(u_nom, axis=1, keepdims=True)
+        cos = np.clip(np.abs(u_nom @ u_nom.T), 0.0, 1.0)
+        angle = np.degrees(np.arccos(cos))
+        z = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,))).standard_normal(
+            (_SCREEN_DRAWS, 3)
+        )
+        p_all = scenario.points_mm.T[:, :, None]
+        n_all = scenario.normals.T[:, :, None]
+        u_all = u_nom.T[:, :, None]
+        wire = gls.WireTerm.from_model(model, scenario.weight_n)
+        errors = gls.LineErrors.from_model(model)
+        weights = gls.plumb_gls(p_all, u_all, n_all, errors, wire).weights
+        shape_all = (
+            np.ones(n)
+            if wire.model == "paper"
+            else wire_shape_factor(np.sum(u_nom * scenario.normals, axis=1), wire.model)
+        )
+        ratio = scenario.me_mass_kg / scenario.pm_mass_kg
+        terms = gls.LineTerms.of_lines(p_all, n_all, shape_all[:, None], weights)
+        return cls(angle, terms, wire, ratio, model.me_sigma_mm, z)
+
+    def conditioning(self, groups: npt.NDArray[np.int64]) -> FloatArray:
+        """Each set's widest angle between two of its plumb lines (degrees), shape (m,)."""
+        best = np.zeros(len(groups))
+        for a, b in combinations(range(groups.shape[1]), 2):
+            best = np.maximum(best, self.angle[groups[:, a], groups[:, b]])
+        return best
+
+    def predicted(self, groups: npt.NDArray[np.int64]) -> FloatArray:
+        """Compensated linearised covariances (m, 3, 3) of sets (m, k)."""
+        cov = self.terms.take(groups.T).solve(self.wire)[1]  # the lines' terms, summed over k
+        r = self.ratio
+        return np.asarray(
+            (1 + r) ** 2 * sym3.sym_to_full(cov) + r**2 * self.me_sigma_mm**2 * np.eye(3)
+        )
+
+    def q95(self, groups: npt.NDArray[np.int64]) -> FloatArray:
+        """Each set's linearised 95 % CoG error (mm)."""
+        return _linearised_q95(self.predicted(groups), self.z)
+
+
+def _best_sets(
+    screen: _Screen,
+    scenario: Any,
+    model: Any,
+    ids: Sequence[str],
+    pair_idx: npt.NDArray[np.int64],
+    pair_q95: FloatArray,
+    *,
+    max_set: int,
+    min_angle_deg: float,
+    trials: int,
+    seed: int,
+) -> list[dict[str, Any]]:
+    """The best set of each size from 2 to ``max_set``: every set while there are at most
+    :data:`PLAN_MAX_SETS`, else the previous size's best grown by one point; the
+    :data:`PLAN_FINALISTS` best by the linearised error simulated, the smallest simulated 95 %
+    error kept."""
+    n = len(ids)
+    best_sets: list[dict[str, Any]] = []
+    current = pair_idx[int(np.argmin(pair_q95))]
+    for k in range(2, min(max_set, n) + 1):
+        if k == 2:
+            groups, lin = pair_idx, pair_q95
+        else:
+            if comb(n, k) <= PLAN_MAX_SETS:
+                groups = _combinations(n, k)
+            else:  # grow the best set of the previous size by one point
+                groups = np.array(
+                    [sorted((*current.tolist(), j)) for j in range(n) if j not in current]
+                )
+            groups = groups[screen.conditioning(groups) >= min_angle_deg]
+            if not len(groups):
+                break
+            tr = np.trace(screen.predicted(groups), axis1=1, axis2=2)
+            top = np.argsort(tr)[: 50 * PLAN_FINALISTS]
+            groups = groups[top]
+            lin = screen.q95(groups)
+        finalists = groups[np.argsort(lin)[:PLAN_FINALISTS]]
+        res = simulate(scenario, model, [tuple(f) for f in finalists], trials, seed + k)
+        i = int(np.argmin(res.group_q95_mm))
+        current = finalists[i]
+        best_sets.append(
+            {
+                "points": [ids[j] for j in current],
+                "q95_mm": res.group_q95_mm[i],
+                "q50_mm": res.group_q50_mm[i],
+                "mean_mm": res.group_mean_mm[i],
+                "linearised_q95_mm": float(lin[np.argsort(lin)[i]]),
+            }
+        )
+    return best_sets
