@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError, ParameterFileError
@@ -29,6 +30,8 @@ from cadcog.spacecraft.ballast_spec import BallastSpec, UncertainMass
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM, source_for
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG, items_from_bodies, linear_prior
 from cadcog.spacecraft.setup_draft import form_factor_mismatch
+
+FloatArray = npt.NDArray[np.float64]
 
 #: The confidences ``balance`` takes: below a half a "confidence" says little, and beyond
 #: 0.9999 the miss budget nears the solver's tolerances.
@@ -72,6 +75,67 @@ def run_balance(
         Bad or missing options (naming them), a bad ballast file (naming its key), a location
         inside a solid (naming both), an envelope not given.
     """
+    objectives = _objectives(
+        model, setup, confidence, readings, weighed_mass_kg, mass_sigma_kg, overlaps,
+        form_factor, cog_limits_mm, configurations, max_product_kg_mm2, max_axis_angle_deg,
+        inertia_confidence,
+    )  # fmt: skip
+    spec = load_ballast(ballast)
+    configs: tuple[Any, ...] = ()
+    if configurations is not None:
+        from cadcog.spacecraft.configurations import load_configurations
+
+        configs = load_configurations(configurations)
+    notes: list[str] = []
+    if setup is not None:
+        state, box, limits, label, bodies, setup_source = _from_setup(
+            setup, readings, weighed_mass_kg, mass_sigma_kg or DEFAULT_WEIGHING_SIGMA_KG, notes
+        )
+    else:
+        assert model is not None
+        state, box, label, bodies = _from_model(model, materials, units, workers, overlaps, notes)
+        limits, setup_source = None, ""
+    centre = 0.5 * (box[0] + box[1])
+    _refuse_outside(spec, box, label)
+    others = _configuration_states(state, bodies, configs, str(configurations or ""))
+    limits, source = _envelope(cog_limits_mm, form_factor, box, limits, setup_source, label, notes)
+    _refuse_inside(spec, model, setup, units)
+    if configs:
+        notes.extend(_configuration_overlaps(bodies, configs, model, setup, units, configurations))
+    if not np.any(np.diag(state.cog_cov_mm2) > 0.0):
+        notes.append(
+            "the CoG carries no uncertainty (no [mass_uncertainty] in the materials file): the "
+            "ballast meets the envelope only as the CAD stands"
+        )
+    if objectives is None:
+        result = least_ballast(state, spec, centre, limits, confidence, configurations=others)
+    else:
+        from cadcog.spacecraft.balance_inertia import least_ballast_with_inertia
+
+        result = least_ballast_with_inertia(
+            state, _tensor_prior(bodies, state), spec, centre, limits, confidence, objectives
+        )
+    notes += _ballast_notes(result, state, measured=readings is not None)
+    return replace(result, notes=(*result.notes, *notes), envelope_source=source)
+
+
+def _objectives(
+    model: Path | None,
+    setup: Path | None,
+    confidence: float,
+    readings: Path | None,
+    weighed_mass_kg: float | None,
+    mass_sigma_kg: float | None,
+    overlaps: str,
+    form_factor: str | None,
+    cog_limits_mm: tuple[float, float, float] | None,
+    configurations: Path | None,
+    max_product_kg_mm2: float | None,
+    max_axis_angle_deg: float | None,
+    inertia_confidence: float | None,
+) -> Any:
+    """The options checked together (each refusal names them), and the inertia objectives
+    they ask for (None: the CoG alone)."""
     if (model is None) == (setup is None):
         raise CadcogError("give a MODEL or --setup (one of them)")
     if not MIN_CONFIDENCE <= confidence <= MAX_CONFIDENCE:
@@ -112,24 +176,21 @@ def run_balance(
         raise CadcogError(
             "--inertia-confidence goes with --max-product-kg-mm2 or --max-axis-angle-deg"
         )
-    spec = load_ballast(ballast)
-    configs: tuple[Any, ...] = ()
-    if configurations is not None:
-        from cadcog.spacecraft.configurations import load_configurations
+    return objectives
 
-        configs = load_configurations(configurations)
-    notes: list[str] = []
-    if setup is not None:
-        state, box, limits, label, bodies, setup_source = _from_setup(
-            setup, readings, weighed_mass_kg, mass_sigma_kg or DEFAULT_WEIGHING_SIGMA_KG, notes
-        )
-    else:
-        assert model is not None
-        state, box, label, bodies = _from_model(model, materials, units, workers, overlaps, notes)
-        limits, setup_source = None, ""
-    centre = 0.5 * (box[0] + box[1])
-    _refuse_outside(spec, box, label)
-    others = _configuration_states(state, bodies, configs, str(configurations or ""))
+
+def _envelope(
+    cog_limits_mm: tuple[float, float, float] | None,
+    form_factor: str | None,
+    box: tuple[FloatArray, FloatArray],
+    setup_limits: FloatArray | None,
+    setup_source: str,
+    label: str,
+    notes: list[str],
+) -> tuple[FloatArray, str]:
+    """The envelope's half-widths and where they come from: ``--cog-limits-mm``, a form
+    factor's (noted when the model's box does not fit it), or the set-up's."""
+    limits = setup_limits
     if cog_limits_mm is not None:
         limits = np.array(cog_limits_mm, dtype=float)
     elif form_factor is not None:
@@ -147,30 +208,20 @@ def run_balance(
         source = source_for(form_factor)
     else:
         source = setup_source
-
     if limits is None:
         raise CadcogError(
             f"{label}: no envelope: give --form-factor or --cog-limits-mm (or form_factor in "
             "the set-up)"
         )
-    _refuse_inside(spec, model, setup, units)
-    if configs:
-        notes.extend(_configuration_overlaps(bodies, configs, model, setup, units, configurations))
-    if not np.any(np.diag(state.cog_cov_mm2) > 0.0):
-        notes.append(
-            "the CoG carries no uncertainty (no [mass_uncertainty] in the materials file): the "
-            "ballast meets the envelope only as the CAD stands"
-        )
-    if objectives is None:
-        result = least_ballast(state, spec, centre, limits, confidence, configurations=others)
-    else:
-        from cadcog.spacecraft.balance_inertia import least_ballast_with_inertia
+    return limits, source
 
-        result = least_ballast_with_inertia(
-            state, _tensor_prior(bodies, state), spec, centre, limits, confidence, objectives
-        )
+
+def _ballast_notes(result: BalanceResult, state: UncertainMass, measured: bool) -> list[str]:
+    """What a team should know of the ballast found: that it mostly dilutes the CoG's
+    uncertainty, or that it outweighs the spacecraft."""
+    notes = []
     if result.feasible and result.total_ballast_kg > 0.0 and mostly_dilutes(result):
-        better = "measuring it (--readings)" if readings is None else "a tighter test"
+        better = "a tighter test" if measured else "measuring it (--readings)"
         notes.append(
             "the ballast mostly dilutes the CoG's uncertainty (σ × M/(M + m)) rather than "
             f"moving it: {better} may need none"
@@ -180,7 +231,7 @@ def run_balance(
             f"the ballast ({result.total_ballast_kg:.3g} kg) outweighs the spacecraft "
             f"({state.mass_kg:.3g} kg): move mass inside it instead"
         )
-    return replace(result, notes=(*result.notes, *notes), envelope_source=source)
+    return notes
 
 
 def _tensor_prior(bodies: Sequence[Any], state: UncertainMass) -> Any:
