@@ -57,6 +57,18 @@ HANGS = (
     ("3U CubeSat", ROOT / "parts" / "cubesat_3u_setup.toml", "setup", ("+y_-30_-150",)),
 )
 LENGTH_MM = 300.0
+#: Every record here: 60 s at 50 samples/s.
+RATE_HZ, RECORD_S = 50.0, 60.0
+
+
+def _record_times() -> np.ndarray:
+    """The sampling instants of a record (s)."""
+    return np.arange(1, int(RECORD_S * RATE_HZ) + 1) / RATE_HZ
+
+
+def _truth(path: Path, kind: str) -> sf.Truth:
+    """The independent truth of a rig (``kind`` "rig") or a set-up file."""
+    return sf.rig_truth(path) if kind == "rig" else sf.setup_truth(path)
 
 
 def _horizontal(deg: float, azimuth_deg: float) -> np.ndarray:
@@ -91,8 +103,8 @@ def releases() -> dict[str, st.Release]:
 def backbone() -> None:
     """The CubeSat's hang on a damped wire: whole-record fit and correction against the
     two-half extrapolation to zero amplitude."""
-    fs, duration, tau = 50.0, 60.0, 20.0
-    t = np.arange(1, int(duration * fs) + 1) / fs
+    tau = 20.0
+    t = _record_times()
     truth = sf.setup_truth(HANGS[1][1])
     pid = HANGS[1][3][0]
     hinge = truth.exit_of(pid)
@@ -119,7 +131,7 @@ def backbone() -> None:
         ]
         whole = fits[0]
         drifting = fit_swing(Swing(pid, t, readings), linear)
-        for i, (fc, f0) in _to_zero(*fits, duration).items():
+        for i, (fc, f0) in _to_zero(*fits, RECORD_S).items():
             if i < len(linear) - 2:
                 continue
             f = whole.frequencies_hz[list(whole.mode_index).index(i)]
@@ -201,8 +213,7 @@ def stated(seeds: int) -> None:
     import study_inertia as si
 
     model_rel = SwingOptions().frequency_model_rel
-    fs, duration = 50.0, 60.0
-    t = np.arange(1, int(duration * fs) + 1) / fs
+    t = _record_times()
     objects = (
         ("3U CubeSat", si.SETUP, "setup", si.CUBESAT_INERTIA_PLAN6),
         ("paper rig", si.RIG, "rig", si.RIG6),
@@ -213,7 +224,7 @@ def stated(seeds: int) -> None:
     )
     print("|---|---|---|---|---|---|---|---|")
     for label, path, kind, points in objects:
-        truth = sf.rig_truth(path) if kind == "rig" else sf.setup_truth(path)
+        truth = _truth(path, kind)
         for amp in (3.0, 5.0, 10.0):
             cfg = sf.SwingConfig(amplitude_deg=amp, yaw_rate_deg_s=0.0)
             err, z, refused = [], [], 0
@@ -231,7 +242,7 @@ def stated(seeds: int) -> None:
                     except CadcogError:
                         refused += 1
                         continue
-                    data = swing_data([fit], [duration], model_rel)
+                    data = swing_data([fit], [RECORD_S], model_rel)
                     sigma = np.sqrt(np.diag(data.cov_hz2))
                     for f, s_hz, i in zip(data.frequencies_hz, sigma, fit.mode_index, strict=True):
                         if i >= len(linear) - 2:
@@ -260,15 +271,14 @@ def main() -> None:
     if args.backbone:
         backbone()
         return
-    fs, duration = 50.0, 60.0
-    t = np.arange(1, int(duration * fs) + 1) / fs
+    t = _record_times()
     print(
         "| object, hang | release | mode | linear Hz | reading amplitude | shift | "
         "estimator's correction (−A²/16) | shift / correction |"
     )
     print("|---|---|---|---|---|---|---|---|")
     for label, path, kind, points in HANGS:
-        truth = sf.rig_truth(path) if kind == "rig" else sf.setup_truth(path)
+        truth = _truth(path, kind)
         for pid in points:
             hinge = truth.exit_of(pid)
             linear = _linear_hz(truth, hinge, LENGTH_MM)
