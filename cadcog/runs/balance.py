@@ -76,10 +76,20 @@ def run_balance(
         inside a solid (naming both), an envelope not given.
     """
     objectives = _objectives(
-        model, setup, confidence, readings, weighed_mass_kg, mass_sigma_kg, overlaps,
-        form_factor, cog_limits_mm, configurations, max_product_kg_mm2, max_axis_angle_deg,
-        inertia_confidence,
-    )  # fmt: skip
+        model=model,
+        setup=setup,
+        confidence=confidence,
+        readings=readings,
+        weighed_mass_kg=weighed_mass_kg,
+        mass_sigma_kg=mass_sigma_kg,
+        overlaps=overlaps,
+        form_factor=form_factor,
+        cog_limits_mm=cog_limits_mm,
+        configurations=configurations,
+        max_product_kg_mm2=max_product_kg_mm2,
+        max_axis_angle_deg=max_axis_angle_deg,
+        inertia_confidence=inertia_confidence,
+    )
     spec = load_ballast(ballast)
     configs: tuple[Any, ...] = ()
     if configurations is not None:
@@ -120,6 +130,7 @@ def run_balance(
 
 
 def _objectives(
+    *,
     model: Path | None,
     setup: Path | None,
     confidence: float,
