@@ -135,8 +135,9 @@ def estimate_cog(
     warnings = _reading_warnings(suspensions, v.normalized, cfg) + _reversal_warnings(suspensions)
     weight_n = None if me is None else (me.object_mass_kg + me.me_mass_kg) * STANDARD_GRAVITY_M_S2
     normals, wire, errors, acc_var = _line_model(
-        suspensions, cfg, mdl, body, weight_n, wire_correction, self_calibrate,
-        angle_sigma_deg, point_sigma_mm, warnings,
+        suspensions, cfg, mdl, body, weight_n, warnings,
+        wire_correction=wire_correction, self_calibrate=self_calibrate,
+        angle_sigma_deg=angle_sigma_deg, point_sigma_mm=point_sigma_mm,
     )  # fmt: skip
     p = np.array([s.position_mm for s in suspensions], dtype=float).T[:, :, None]
     u = v.u.T[:, :, None]
@@ -204,11 +205,12 @@ def _line_model(
     mdl: ErrorModel,
     body: BodyBox | None,
     weight_n: float | None,
+    warnings: list[str],
+    *,
     wire_correction: bool,
     self_calibrate: bool,
     angle_sigma_deg: float | None,
     point_sigma_mm: float | None,
-    warnings: list[str],
 ) -> tuple[FloatArray, gls.WireTerm, gls.LineErrors, FloatArray | None]:
     """What the estimate takes of each line: its bolt axis (zeros without a body), the wire
     term, the line errors (an accelerometer's per-hang reading variances, when it is one, also
