@@ -106,7 +106,7 @@ NAMED_BOUNDS: dict[str, Bound] = {
     "offset_g": Bound(0.0, 0.3, "an accelerometer's zero offset per axis; datasheets: tens of mg"),
     "accuracy_g": Bound(0.0, 0.1, "an accelerometer's unmodelled error per axis (nonlinearity)"),
     "cross_axis_rel": Bound(0.0, 0.1, "an accelerometer's cross-axis sensitivity (2 % is 0.02)"),
-    "frequency_model_rel": Bound(0.0, 0.1, "the swing model's relative frequency error (5e-4)"),
+    "frequency_model_rel": Bound(0.0, 0.1, "a frequency's model error (default: air carried)"),
     "me_inertia_rel": Bound(0.0, 1.0, "the ME's inertia uncertainty, a fraction (0.3)"),
     "total_mass_kg": Bound(1e-6, MASS_MAX_KG, "a weighed total from 1 mg to 10 t"),
     "object_mass_kg": Bound(1e-6, MASS_MAX_KG, "the object's mass, from 1 mg to 10 t"),

@@ -153,3 +153,6 @@ def areal_density_kg_m2_to_kg_mm2(areal_density_kg_m2: float) -> float:
 
 #: Standard gravity (m/s²), to turn masses into the wire tension W.
 STANDARD_GRAVITY_M_S2 = 9.80665
+
+#: Density of dry air at 20 °C and 101.325 kPa (kg/m³): what a swinging body carries with it.
+AIR_DENSITY_KG_M3 = 1.204

@@ -159,7 +159,7 @@ class _Hangs:
         for a in range(3):
             d_exit[:, a] = derivative(0.05, de=0.05 * np.eye(3)[a])
         local = (
-            np.diag((f0[keep] * self.context.swing.frequency_model_rel) ** 2)
+            np.diag((f0[keep] * self.context.frequency_model_rel) ** 2)
             + d_exit @ exit_cov @ d_exit.T
         )
         return _HangInfo(jac, local, shared)

@@ -193,7 +193,7 @@ def _fit_tensor_to(inputs: _Inputs, used: UsedHangs) -> _TensorFit:
     frequencies' own covariance, then by that plus what the nuisances do to the modelled
     frequencies (efficient weights; the χ²'s reference)."""
     ctx, est = inputs.context, inputs.estimate
-    data = swing_data(used.fits, used.records_s, ctx.swing.frequency_model_rel)
+    data = swing_data(used.fits, used.records_s, ctx.frequency_model_rel)
     nuis = nuisances(
         object_mass_kg=inputs.object_mass_kg,
         object_mass_sigma_kg=inputs.object_mass_sigma_kg,
@@ -406,6 +406,7 @@ def measure_inertia(
     hangs = _hang_swings(used, state)
     chi2, dof = fit_chi2, len(data.frequencies_hz) - 6
     warnings = [f"{d}: this hang is left out of the tensor" for d in dropped] + mode_notes
+    warnings += used.halves_notes()
     scale, misfit_warning = _misfit_scale(chi2, dof)
     warnings += misfit_warning
     if dof == 0:

@@ -13,10 +13,17 @@ small-swing limit the linear model of the hang predicts.
 For given ``(f, σ, d)`` the model is linear in ``c, A, B`` (solved by least squares); the outer
 fit is over ``(f, σ, d)`` only (variable projection), started from the periodogram's peak nearest
 to each mode the CAD predicts. Each channel is weighted by its residual noise; the covariance of
-``f`` is the Gauss-Newton one of the full model, inflated for the residuals' correlation in time
-(quantisation and unmodelled motion are not white). A mode whose amplitude is not above
-:data:`VISIBLE_AMPLITUDE_SIGMA` of its own uncertainty is dropped (not excited, or not seen by
-the sensor) and the fit repeated without it.
+``f`` is the Gauss-Newton one of the full model, scaled for the residuals' correlation in time
+(quantisation and unmodelled motion are not white): each parameter by the density at its own
+frequency of AR(1) noise with the residuals' lag-1 correlation (:func:`ar1_density`). A mode
+whose amplitude is not above :data:`VISIBLE_AMPLITUDE_SIGMA` of its own uncertainty is dropped
+(not excited, or not seen by the sensor) and the fit repeated without it.
+
+The fit is then checked against itself: each half of the fitted stretch is fitted alone, and
+what the halves' small-swing frequencies disagree by beyond their noise is the model's error
+(a large swing's nonlinearity the drift does not follow, energy passing between modes), kept
+per mode in :attr:`ModalFit.halves_excess_hz2` for the tensor fit to add to that frequency's
+variance.
 """
 
 from __future__ import annotations
@@ -29,6 +36,7 @@ import numpy.typing as npt
 
 from cadcog.core.errors import DegenerateGeometryError
 from cadcog.dynamics.swingfile import Swing
+from cadcog.dynamics.swingmodel import jacobian, projected_jacobian, solve
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -63,6 +71,17 @@ MAX_PASSES = 5
 #: frequencies' σ 1e-28 Hz).
 NOISE_FLOOR_SHARE = 0.01
 
+#: The two halves of a fit disagree when their frequencies differ by more than this many σ of
+#: their noise (each half's own covariance): 3 σ, which noise alone exceeds in 0.27 % of modes.
+HALVES_SIGNIFICANCE = 3.0
+
+#: The share of the halves' squared disagreement beyond their noise taken as the whole fit's
+#: model-error variance: a quarter, the variance of the halves' mean when their model errors are
+#: independent (the whole record weighs both). On noise-free single hangs of the nonlinear
+#: simulation the whole fit's squared errors summed to 0.05-0.33 of what the halves' excess
+#: predicts with a share of 1 (docs/inertia_validation.md).
+HALVES_SHARE = 0.25
+
 #: Predicted modes closer than this many frequency bins (1/record length) start as one peak.
 UNRESOLVED_BINS = 3.0
 
@@ -91,12 +110,18 @@ class ModalFit:
         Initial reading amplitude of each mode (both axes, degrees).
     noise_deg : ndarray, shape (2,)
         Residual standard deviation of each axis.
-    correlation_inflation : float
-        Factor applied to the covariance for the residuals' correlation in time (≥ 1).
+    residual_lag1 : float
+        ``ρ``, the residuals' lag-1 correlation (in [0, 0.95]): each parameter's covariance is
+        the white-noise one scaled by :func:`ar1_density` at the parameter's frequency.
     drift_hz : ndarray, shape (k,) or None
         ``d_k``: how far each mode's frequency stood from ``frequencies_hz`` at the start of the
         fit, fading as its squared amplitude; None when the fit held each frequency fixed (then
         ``frequencies_hz`` are the record's mean frequencies, not the small-swing limit).
+    halves_excess_hz2 : ndarray, shape (k,) or None
+        Each mode's model-error variance from the halves' check (:data:`HALVES_SHARE` of what
+        the two halves' frequencies disagree by beyond their noise, 0 when within
+        :data:`HALVES_SIGNIFICANCE` σ); NaN where a half did not show the mode (not checked);
+        None when not asked for.
     """
 
     point_id: str
@@ -106,8 +131,9 @@ class ModalFit:
     decay_per_s: FloatArray
     amplitudes_deg: FloatArray
     noise_deg: FloatArray
-    correlation_inflation: float
+    residual_lag1: float
     drift_hz: FloatArray | None = None
+    halves_excess_hz2: FloatArray | None = None
 
     def take(self, keep: npt.NDArray[np.bool_]) -> ModalFit:
         """The fit with only the modes the mask ``keep`` (k,) selects."""
@@ -120,95 +146,10 @@ class ModalFit:
             decay_per_s=self.decay_per_s[idx],
             amplitudes_deg=self.amplitudes_deg[idx],
             drift_hz=None if self.drift_hz is None else self.drift_hz[idx],
+            halves_excess_hz2=(
+                None if self.halves_excess_hz2 is None else self.halves_excess_hz2[idx]
+            ),
         )
-
-
-_Waves = tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]
-
-
-def _drift_time(t: FloatArray, s: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """``h(t) = (1 − e^(−2σt))/(2σ)``, the time integral of a drift that fades as the squared
-    amplitude does, and ``∂h/∂σ``, both (n, k) (series near σ = 0, where h → t)."""
-    x = 2.0 * np.outer(t, s)
-    tt = t[:, None] * np.ones_like(s)[None, :]
-    small = np.abs(x) < 1e-4
-    safe = np.where(small, 1.0, x)
-    h = np.where(small, tt * (1.0 - x / 2.0 + x**2 / 6.0), tt * (-np.expm1(-safe)) / safe)
-    # d/dσ of t·(1 − e^(−x))/x with x = 2σt: 2t² (x e^(−x) − (1 − e^(−x)))/x²
-    dh = np.where(
-        small,
-        tt**2 * (-1.0 + 2.0 * x / 3.0),
-        2.0 * tt**2 * (safe * np.exp(-safe) + np.expm1(-safe)) / safe**2,
-    )
-    return h, dh
-
-
-def _waves(t: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray) -> _Waves:
-    """The basis (n, 1 + 2k) at ``(f, σ, d)``, with the envelopes, cosines and sines it is made
-    of and the drift's ``h`` and ``∂h/∂σ`` (which the model's derivatives reuse). The phase of
-    mode k is ``2π (f_k t + d_k h_k(t))``: its frequency ``f_k + d_k e^(−2σ_k t)`` drifts to
-    ``f_k`` as its squared amplitude dies away."""
-    env = np.exp(-np.outer(t, s))
-    h, dh = _drift_time(t, s)
-    ph = 2.0 * np.pi * (np.outer(t, f) + h * d[None, :])
-    cos, sin = np.cos(ph), np.sin(ph)
-    return np.hstack([np.ones((len(t), 1)), env * cos, env * sin]), env, cos, sin, h, dh
-
-
-def _basis(t: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray) -> FloatArray:
-    return _waves(t, f, s, d)[0]
-
-
-def _lstsq(b: FloatArray, rhs: FloatArray) -> FloatArray:
-    """Least squares ``b x ≈ rhs`` through the small Gram matrix (a tall LAPACK solve is slow
-    under a loaded machine's BLAS threads; the basis is well scaled)."""
-    gram = b.T @ b
-    sol, *_ = np.linalg.lstsq(gram, b.T @ rhs, rcond=None)
-    return np.asarray(sol)
-
-
-def _solve(
-    t: FloatArray, y: FloatArray, w: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray
-) -> tuple[FloatArray, FloatArray]:
-    b = _basis(t, f, s, d)
-    coef = _lstsq(b, y)
-    resid = (y - b @ coef) * w[None, :]
-    return coef, resid
-
-
-def _model_derivatives(
-    t: FloatArray, waves: _Waves, coef: FloatArray, d: FloatArray
-) -> list[FloatArray]:
-    """Per channel, the model's derivative w.r.t. ``(f, σ, d)`` at the linear coefficients
-    ``coef``, from :func:`_waves` at ``(f, σ, d)``: 2 × (n, 3k)."""
-    _, env, cos, sin, h, dh = waves
-    k = cos.shape[1]
-    out = []
-    for c in range(2):
-        a = coef[1 : 1 + k, c]
-        b = coef[1 + k :, c]
-        turn = 2.0 * np.pi * env * (-a * sin + b * cos)  # ∂/∂(phase / 2π)
-        out.append(
-            np.hstack(
-                [
-                    t[:, None] * turn,
-                    -t[:, None] * env * (a * cos + b * sin) + d[None, :] * dh * turn,
-                    h * turn,
-                ]
-            )
-        )
-    return out
-
-
-def _projected_jacobian(
-    t: FloatArray, y: FloatArray, w: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray
-) -> FloatArray:
-    """Kaufman's variable-projection Jacobian of the weighted residuals w.r.t. (f, σ, d): the
-    derivative of the model at the current linear coefficients, projected off the basis."""
-    waves = _waves(t, f, s, d)
-    b = waves[0]
-    derivs = _model_derivatives(t, waves, _lstsq(b, y), d)
-    return np.vstack([-w[c] * (dv - b @ _lstsq(b, dv)) for c, dv in enumerate(derivs)])
 
 
 def _periodogram(t: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -260,23 +201,6 @@ def _starts(
     return starts, groups
 
 
-def _jacobian(
-    t: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray, coef: FloatArray, w: FloatArray
-) -> FloatArray:
-    """Jacobian of the weighted residuals of both channels w.r.t. (f, σ, d, linear
-    coefficients)."""
-    waves = _waves(t, f, s, d)
-    basis = waves[0]
-    derivs = _model_derivatives(t, waves, coef, d)
-    nlin = basis.shape[1]
-    blocks = []
-    for c, dv in enumerate(derivs):
-        lin = np.zeros((len(t), 2 * nlin))
-        lin[:, c * nlin : (c + 1) * nlin] = basis
-        blocks.append(w[c] * np.hstack([dv, lin]))
-    return np.vstack(blocks)
-
-
 def _lag1(resid: FloatArray) -> float:
     """Mean lag-1 autocorrelation of the residual channels (clipped to [0, 0.95])."""
     rho = []
@@ -286,6 +210,23 @@ def _lag1(resid: FloatArray) -> float:
         if denom > 0:
             rho.append(float(r[1:] @ r[:-1]) / denom)
     return float(np.clip(np.mean(rho) if rho else 0.0, 0.0, 0.95))
+
+
+def ar1_density(rho: float, cycles: npt.ArrayLike) -> FloatArray:
+    """The spectral density of AR(1) noise of lag-1 correlation ``rho`` at ``cycles`` per
+    sample, over that of white noise of the same variance: ``(1 − ρ²)/(1 − 2ρ cos 2πν + ρ²)``,
+    ``(1 + ρ)/(1 − ρ)`` at 0. A sinusoid's parameters are as uncertain as the noise is dense
+    at its frequency.
+
+    Examples
+    --------
+    >>> ar1_density(0.5, [0.0, 0.25, 0.5]).round(3).tolist()
+    [3.0, 0.6, 0.333]
+    >>> ar1_density(0.0, [0.1]).tolist()  # white
+    [1.0]
+    """
+    nu = np.asarray(cycles, dtype=float)
+    return (1.0 - rho**2) / (1.0 - 2.0 * rho * np.cos(2.0 * np.pi * nu) + rho**2)
 
 
 def _small_swing_start(swing: Swing) -> int:
@@ -325,11 +266,11 @@ def _objective(
         return member @ x[:ng] + base, x[ng : ng + k], d
 
     def fun(x: FloatArray) -> FloatArray:
-        r = _solve(t, y, w, *split(x))[1].T.ravel()
+        r = solve(t, y, w, *split(x))[1].T.ravel()
         return np.concatenate([r, x[ng + k :] / ds]) if with_prior else r
 
     def jac(x: FloatArray) -> FloatArray:
-        j = _projected_jacobian(t, y, w, *split(x))
+        j = projected_jacobian(t, y, w, *split(x))
         cols = [j[:, :k] @ member, j[:, k : 2 * k]]
         if not drift:
             return np.hstack(cols)
@@ -349,7 +290,9 @@ RECORD_LONGER = (
 )
 
 
-def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> ModalFit:
+def fit_swing(
+    swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True, halves: bool = True
+) -> ModalFit:
     """Fit the modes of one hang's swing, starting from the predicted frequencies.
 
     Modes closer than :data:`UNRESOLVED_BINS` bins of the record are fitted as a group that
@@ -368,6 +311,10 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
         each frequency is held fixed and is the record's mean (kept for comparison: a large
         swing then reads slow, and the wire's own swing, which a tilt sensor does not see,
         makes the body modes read fast).
+    halves : bool
+        Check the fit against itself: fit each half of the fitted stretch alone and keep what
+        their frequencies disagree by beyond their noise (:attr:`ModalFit.halves_excess_hz2`;
+        default). Without, that attribute is None (three times faster).
 
     Returns
     -------
@@ -384,12 +331,57 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
     t = swing.t_s[start:] - swing.t_s[start]
     y = swing.inc_deg[start:]
     predicted = np.sort(np.asarray(predicted_hz, dtype=float))
-    start_all, groups = _starts(t, y, predicted)
     nyquist = 0.5 * swing.rate_hz
+    fit = _fit_stretch(swing.point_id, t, y, predicted, nyquist, drift)
+    if not halves:
+        return fit
+    mid = len(t) // 2
+    parts: list[ModalFit | None] = []
+    for part in (slice(None, mid), slice(mid, None)):
+        try:
+            parts.append(
+                _fit_stretch(
+                    swing.point_id, t[part] - t[part][0], y[part], predicted, nyquist, drift
+                )
+            )
+        except DegenerateGeometryError:
+            parts.append(None)  # a half that shows no mode checks none
+    return replace(fit, halves_excess_hz2=_halves_excess(fit, parts[0], parts[1]))
+
+
+def _halves_excess(whole: ModalFit, first: ModalFit | None, second: ModalFit | None) -> FloatArray:
+    """Each mode of ``whole``: :data:`HALVES_SHARE` of the halves' squared frequency difference
+    beyond their noise when it exceeds :data:`HALVES_SIGNIFICANCE` σ, else 0; NaN where a half
+    lacks the mode."""
+    out = np.full(len(whole.mode_index), np.nan)
+    if first is None or second is None:
+        return out
+    for j, mode in enumerate(whole.mode_index):
+        a = np.flatnonzero(first.mode_index == mode)
+        b = np.flatnonzero(second.mode_index == mode)
+        if a.size == 0 or b.size == 0:
+            continue
+        diff = float(first.frequencies_hz[a[0]] - second.frequencies_hz[b[0]])
+        noise = float(first.frequency_cov_hz2[a[0], a[0]] + second.frequency_cov_hz2[b[0], b[0]])
+        beyond = diff**2 > HALVES_SIGNIFICANCE**2 * noise
+        out[j] = HALVES_SHARE * (diff**2 - noise) if beyond else 0.0
+    return out
+
+
+def _fit_stretch(
+    point_id: str,
+    t: FloatArray,
+    y: FloatArray,
+    predicted: FloatArray,
+    nyquist: float,
+    drift: bool,
+) -> ModalFit:
+    """:func:`fit_swing` on the samples ``y`` (n, 2) at ``t`` (n,), from 0 s."""
+    start_all, groups = _starts(t, y, predicted)
     groups = [g for g in groups if np.mean(start_all[g]) < 0.9 * nyquist]
     while True:
         fit = _fit_groups(t, y, groups, start_all, nyquist, drift)
-        white, cov, inflation = _parameter_cov(t, fit)
+        white, cov, rho = _parameter_cov(t, fit)
         amp, amp_se = _amplitudes(fit, white)
         visible = amp > VISIBLE_AMPLITUDE_SIGMA * amp_se
         if visible.all():
@@ -400,14 +392,14 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
             # not determined apart (a beat) and nothing else stands out: the record is too
             # short to see the modes, not the swing too weak
             raise DegenerateGeometryError(
-                f"hang {swing.point_id}: every mode has a neighbour closer than this "
+                f"hang {point_id}: every mode has a neighbour closer than this "
                 f"{t[-1]:.0f} s record can resolve, and no mode stands out alone; {RECORD_LONGER}"
             )
         groups = [g for g, v in zip(groups, visible, strict=True) if v]
         if not groups:
             seen = ", ".join(f"{a:.2g} ± {e:.2g}" for a, e in zip(amp, amp_se, strict=True))
             raise DegenerateGeometryError(
-                f"hang {swing.point_id}: no swing mode stands out of the noise (amplitudes "
+                f"hang {point_id}: no swing mode stands out of the noise (amplitudes "
                 f"{seen}°, each under {VISIBLE_AMPLITUDE_SIGMA:g} σ); was the object released "
                 "swinging?"
             )
@@ -423,19 +415,19 @@ def fit_swing(swing: Swing, predicted_hz: npt.ArrayLike, drift: bool = True) -> 
     single = [j for j, g in enumerate(groups) if len(g) == 1]
     if not single:
         raise DegenerateGeometryError(
-            f"hang {swing.point_id}: every mode has a neighbour closer than this "
+            f"hang {point_id}: every mode has a neighbour closer than this "
             f"{t[-1]:.0f} s record can resolve; {RECORD_LONGER}"
         )
     rows = [int(np.argmax(member[:, j])) for j in single]
     return ModalFit(
-        swing.point_id,
+        point_id,
         np.array([groups[j][0] for j in single], dtype=np.int64),
         x_c[single],
         np.asarray(cov[np.ix_(single, single)], dtype=float),
         fit.s0[rows],
         amp[single],
         fit.noise,
-        float(inflation),
+        rho,
         fit.d_g[single] if drift else None,
     )
 
@@ -532,7 +524,7 @@ def _fit_groups(
         if drift:
             d_g = sol.x[ng + k :]
         f0, d0 = member @ x_c + base, member @ d_g
-        coef, resid = _solve(t, y, np.ones(2), f0, s0, d0)
+        coef, resid = solve(t, y, np.ones(2), f0, s0, d0)
         nparam = 1 + 3 * k + nd
         noise = np.sqrt(np.mean(resid**2, axis=0) * len(t) / (len(t) - nparam))
         settled = previous is not None and bool(np.all(np.abs(noise - previous) <= 0.01 * previous))
@@ -548,10 +540,12 @@ def _fit_groups(
 
 def _parameter_cov(t: FloatArray, fit: _GroupFit) -> tuple[FloatArray, FloatArray, float]:
     """The reduced parameters' Gauss-Newton covariance (centres, decays, drifts, linear
-    coefficients) with the drifts' prior: as white noise would leave it, and inflated by
-    ``(1 + ρ)/(1 − ρ)`` for the residuals' lag-1 correlation ρ (the factor returned)."""
+    coefficients) with the drifts' prior: as white noise would leave it, and scaled for the
+    residuals' lag-1 correlation ρ (returned), each parameter by :func:`ar1_density` at its
+    own frequency (a group's centre, drift and a mode's decay and sinusoid at the mode's, the
+    constant at 0)."""
     k, ng, nd, member = fit.k, fit.ng, fit.nd, fit.member
-    full = _jacobian(t, fit.f0, fit.s0, fit.d0, fit.coef, fit.w)
+    full = jacobian(t, fit.f0, fit.s0, fit.d0, fit.coef, fit.w)
     cols = [full[:, :k] @ member, full[:, k : 2 * k]]
     if fit.drift_sigma is not None:
         cols.append(full[:, 2 * k : 3 * k] @ member)
@@ -561,8 +555,11 @@ def _parameter_cov(t: FloatArray, fit: _GroupFit) -> tuple[FloatArray, FloatArra
         info[ng + k : ng + k + nd, ng + k : ng + k + nd] += np.diag(fit.drift_sigma**-2)
     white = np.linalg.pinv(info)
     rho = _lag1(fit.resid)
-    inflation = (1.0 + rho) / (1.0 - rho)
-    return white, white * inflation, inflation
+    channel = np.concatenate([[0.0], fit.f0, fit.f0])  # constant, cosines, sines
+    freq = np.concatenate([fit.x_c, fit.f0, fit.x_c[:nd], channel, channel])
+    step_s = float(t[-1] - t[0]) / (len(t) - 1)
+    scale = np.sqrt(ar1_density(rho, freq * step_s))
+    return white, white * np.outer(scale, scale), rho
 
 
 def _amplitudes(fit: _GroupFit, white: FloatArray) -> tuple[FloatArray, FloatArray]:

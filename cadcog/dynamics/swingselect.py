@@ -142,6 +142,33 @@ class UsedHangs:
         fits[hang] = fit.take(np.array([j not in modes for j in range(n)]))
         return replace(self, fits=tuple(fits))
 
+    def halves_notes(self) -> list[str]:
+        """The frequencies whose record's two halves disagreed beyond their noise (their σ
+        holds it) and those a half did not show (not checked), one note each kind."""
+        widened, unchecked = [], []
+        for fit in self.fits:
+            if fit.halves_excess_hz2 is None:
+                continue
+            for f, x in zip(fit.frequencies_hz, fit.halves_excess_hz2, strict=True):
+                where = f"{fit.point_id} ({f:.3f} Hz"
+                if np.isnan(x):
+                    unchecked.append(f"{where})")
+                elif x > 0:
+                    widened.append(f"{where}: ± {100 * np.sqrt(x) / f:.2g} %)")
+        notes = []
+        if widened:
+            notes.append(
+                "the two halves of these swings disagree beyond their noise, and each "
+                f"frequency's σ holds it: {', '.join(widened)} (a large swing's nonlinearity; "
+                "docs/method.md, 'The fit checked against itself')"
+            )
+        if unchecked:
+            notes.append(
+                "a half of the record did not show these modes, not checked: "
+                + ", ".join(unchecked)
+            )
+        return notes
+
     def weak_note(self) -> str:
         """What to add to a refusal when hangs showed one body mode of two: their swings were
         too small, or released along one face, to show both (more hangs would not help as

@@ -217,7 +217,9 @@ def swing_data(fits: Sequence[ModalFit], record_s: Sequence[float], model_rel: f
     :data:`TRUSTED_DRIFT_PRIORS` of its prior by is added to the frequency's σ. A fit that held
     each frequency fixed is corrected, ``f₀ = f / (1 − ⟨A²⟩/16)`` with the reading amplitude
     taken as the body's (an approximation: the accelerometer sees a mode scaled), half of it
-    kept as its 1 σ. Every frequency carries the relative ``model_rel`` besides.
+    kept as its 1 σ. What the fit's two halves disagree by beyond their noise
+    (:attr:`~cadcog.dynamics.modalfit.ModalFit.halves_excess_hz2`, where checked) is added to
+    the variance, and every frequency carries the relative ``model_rel`` besides.
     """
     freqs, covs = [], []
     for fit, rec in zip(fits, record_s, strict=True):
@@ -231,6 +233,8 @@ def swing_data(fits: Sequence[ModalFit], record_s: Sequence[float], model_rel: f
             f0 = fit.frequencies_hz
             limit = TRUSTED_DRIFT_PRIORS * DRIFT_PRIOR_REL * f0
             extra = np.maximum(np.abs(fit.drift_hz) - limit, 0.0) ** 2
+        if fit.halves_excess_hz2 is not None:  # a mode a half did not show: not checked
+            extra = extra + np.nan_to_num(fit.halves_excess_hz2, nan=0.0)
         covs.append(fit.frequency_cov_hz2 + np.diag(extra + (f0 * model_rel) ** 2))
         freqs.append(f0)
     n = sum(len(f) for f in freqs)

@@ -309,8 +309,10 @@ def swing_options(t: TableReader) -> SwingOptions:
         sensor_position_sigma_mm=t.number(
             "sensor_position_sigma_mm", nonnegative=True, default=d.sensor_position_sigma_mm
         ),
-        frequency_model_rel=t.number(
-            "frequency_model_rel", nonnegative=True, default=d.frequency_model_rel
+        frequency_model_rel=(
+            t.number("frequency_model_rel", nonnegative=True)
+            if t.has("frequency_model_rel")
+            else d.frequency_model_rel
         ),
         me_inertia_rel=t.number("me_inertia_rel", nonnegative=True, default=d.me_inertia_rel),
     )

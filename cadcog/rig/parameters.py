@@ -136,9 +136,11 @@ class SwingOptions:
         (the measured tensor does not depend on it; a simulated swing's amplitudes do).
     sensor_position_sigma_mm : float
         1 σ per axis of that point.
-    frequency_model_rel : float
+    frequency_model_rel : float or None
         Relative 1 σ of every modelled frequency for what the linear model leaves out (air's
-        added inertia, the wire's mass and torsion): an assumption.
+        added inertia, the wire's mass and torsion): an assumption. None (the default): the
+        air the object carries, from its box and mass
+        (:attr:`cadcog.dynamics.context.InertiaContext.frequency_model_rel`).
     me_inertia_rel : float
         Relative 1 σ of each ME volume's own inertia (a homogeneous box is an approximation).
     """
@@ -147,7 +149,7 @@ class SwingOptions:
     wire_length_sigma_mm: float = 2.0
     sensor_position_mm: tuple[float, float, float] | None = None
     sensor_position_sigma_mm: float = 5.0
-    frequency_model_rel: float = 5e-4
+    frequency_model_rel: float | None = None
     me_inertia_rel: float = 0.3
 
 

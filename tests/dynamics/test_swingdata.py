@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -31,6 +33,14 @@ def test_a_drift_fit_is_taken_as_the_small_swing_limit_and_a_large_drift_widens_
     data = swing_data([_fit(f, d)], [60.0], model_rel=5e-4)
     assert data.frequencies_hz.tolist() == f.tolist()
     expected = 1e-6 + (5e-4 * f) ** 2 + np.array([0.0, (d[1] - limit[1]) ** 2])
+    assert np.diag(data.cov_hz2) == pytest.approx(expected, rel=1e-12)
+
+
+def test_what_the_halves_disagree_by_is_added_and_an_unchecked_mode_adds_nothing():
+    f = np.array([2.5, 3.5])
+    fit = replace(_fit(f, np.zeros(2)), halves_excess_hz2=np.array([4e-6, np.nan]))
+    data = swing_data([fit], [60.0], model_rel=1e-4)
+    expected = 1e-6 + (1e-4 * f) ** 2 + np.array([4e-6, 0.0])
     assert np.diag(data.cov_hz2) == pytest.approx(expected, rel=1e-12)
 
 
