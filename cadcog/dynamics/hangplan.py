@@ -2,8 +2,11 @@
 
 For a set of hangs the prediction is the estimator's linearised covariance at the CAD
 (:mod:`cadcog.dynamics.tensorfit`): each hang's usable modes (those its record can resolve) with
-the relative model error ``frequency_model_rel`` as their σ (the fit's own σ is one to two orders
-smaller); each hang's pivot uncertainty in its own block; the wire length, top hinge, sensor
+the relative model error (:attr:`~cadcog.dynamics.context.InertiaContext.frequency_model_rel`)
+as their σ; the fit's own σ and what its halves disagree by come on top and are not known
+before the swing (on the nonlinear study's 3U CubeSat the stated σ had a median of 7·10⁻⁴
+against the air's 4·10⁻⁴), so where the frequencies dominate the plan's σ are on the low
+side; each hang's pivot uncertainty in its own block; the wire length, top hinge, sensor
 position, object mass and CoG shared by every hang. Generalised least squares with that
 covariance ``C`` gives ``Cov p = (Jᵀ C⁻¹ J)⁻¹``; the ME's removal adds its own terms (ME CoGs and
 own inertia, the mass and CoG through the parallel-axis terms), taken as independent of the rest
