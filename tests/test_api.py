@@ -282,7 +282,7 @@ def test_update_with_swings_is_what_the_command_prints(tmp_path, capsys) -> None
         ("simulate", "simulate_rig", ("run_simulation", "SimulationSettings", "ErrorModel")),
         ("validate", "validate_readings", ("validate_campaign", "read_readings")),
         ("update", "update_from_files", ("update_for_setup", "inertia_observation")),
-        ("campaign", "run_campaign", ("simulated_readings", "campaign_text", "virtual_swings")),
+        ("campaign", "run_campaign", ("simulated_campaign", "campaign_text", "virtual_swings")),
         ("setup", "run_setup_init", ("read_step", "draft_materials", "project_grid")),
         ("acquire", "run_acquire", ("run_session", "compare_with_cad", "write_run_report")),
         ("plan", "run_plan", ("plan_test", "plan_inertia_for_setup")),

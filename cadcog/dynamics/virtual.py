@@ -11,6 +11,7 @@ the estimator is validated against an independent nonlinear simulation
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -74,21 +75,36 @@ def virtual_swings(
     context: InertiaContext,
     suspensions: Sequence[Suspension],
     seed: int | np.random.Generator,
+    *,
+    pivots_mm: npt.ArrayLike | None = None,
+    me_cog_error_mm: npt.ArrayLike | None = None,
+    top_hinge_mm: float | None = None,
     **options: Any,
 ) -> list[Swing]:
     """A swing for each of a virtual campaign's hangs, the CAD as the truth.
 
     Each hang swings about its expected pivot (the wire exit moved by the wire's expected
     offset) and settles to its hang's mean readings; the hangs follow one another on the
-    device's clock (a minute of swing, then half a minute to re-hang). ``options`` go to
+    device's clock (a minute of swing, then half a minute to re-hang). Given what the
+    campaign's readings were drawn with (:class:`cadcog.validation.campaign.CampaignTruth`:
+    each hang's true pivot (k, 3), the ME's CoG error (3,), the wire's ``λ`` as the top
+    clamp's hinge), the hangs swing about those instead, with the ME moved by its error: the
+    swings and the readings then tell of one campaign. ``options`` go to
     :func:`virtual_swing`.
     """
     rng = np.random.default_rng(seed)
-    truth = combine([context.object_cad, *context.me_parts])
+    me = tuple(context.me_parts)
+    if me_cog_error_mm is not None:
+        shift = np.asarray(me_cog_error_mm, dtype=float)
+        me = tuple(replace(part, cog_mm=part.cog_mm + shift) for part in me)
+    truth = combine([context.object_cad, *me])
     weight_n = truth.mass_kg * STANDARD_GRAVITY_M_S2
-    top, _ = context.top_hinge_mm(weight_n)
-    positions = np.array([s.position_mm for s in suspensions], dtype=float)
-    pivots, _ = context.pivots(positions, truth.cog_mm, weight_n)
+    top = context.top_hinge_mm(weight_n)[0] if top_hinge_mm is None else top_hinge_mm
+    if pivots_mm is None:
+        positions = np.array([s.position_mm for s in suspensions], dtype=float)
+        pivots, _ = context.pivots(positions, truth.cog_mm, weight_n)
+    else:
+        pivots = np.asarray(pivots_mm, dtype=float)
     out = []
     start = 0.0
     for s, pivot in zip(suspensions, pivots, strict=True):

@@ -2,7 +2,7 @@
 :func:`cadcog.campaign`.
 
 One hang per suspension point of the rig (or per listed candidate of a set-up), drawn from the
-error model every command uses (:func:`cadcog.validation.campaign.simulated_readings`), written
+error model every command uses (:func:`cadcog.validation.campaign.simulated_campaign`), written
 as a readings CSV; with ``swings``, the same hangs' swings too. Both files are computed before
 either is written, and written together: a failure (a full disk, a bad path) leaves neither.
 """
@@ -24,7 +24,7 @@ from cadcog.rig.parameters import Rig
 from cadcog.runs import check_distinct_ids
 from cadcog.spacecraft.setup import Setup
 from cadcog.uncertainty.montecarlo import Scenario
-from cadcog.validation.campaign import campaign_suspensions, campaign_text, simulated_readings
+from cadcog.validation.campaign import campaign_suspensions, campaign_text, simulated_campaign
 
 
 @dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
@@ -135,7 +135,7 @@ def run_campaign(
         if points is not None:
             raise CadcogError("--points goes with --setup")
         model = with_overrides(ErrorModel.from_rig(rig), samples=samples, noise_deg=noise_deg)
-        rows = simulated_readings(Scenario.from_rig(rig), model, rig.inclinometer, seed)
+        rows, truth = simulated_campaign(Scenario.from_rig(rig), model, rig.inclinometer, seed)
         comment = (
             f"cadcog virtual campaign: rig {rig.name}, seed {seed}, "
             f"{model.samples} samples per hang; {model.summary()}"
@@ -152,7 +152,7 @@ def run_campaign(
             )
         model = with_overrides(setup.error_model(), samples=samples, noise_deg=noise_deg)
         scenario = setup.scenario(tuple(by_id[i] for i in ids))
-        rows = simulated_readings(scenario, model, setup.rig.inclinometer, seed)
+        rows, truth = simulated_campaign(scenario, model, setup.rig.inclinometer, seed)
         comment = f"cadcog virtual campaign: setup {setup.name}, seed {seed}; {model.summary()}"
         inclinometer = setup.rig.inclinometer
         n_hangs = len(ids)
@@ -168,7 +168,16 @@ def run_campaign(
             else context_for_rig(rig)  # type: ignore[arg-type]  # rig is given (checked above)
         )
         hangs = campaign_suspensions(rows, inclinometer)
-        swing_text = swings_text(virtual_swings(context, hangs, seed=seed))
+        swing_text = swings_text(
+            virtual_swings(
+                context,
+                hangs,
+                seed=seed,
+                pivots_mm=truth.pivots_mm,
+                me_cog_error_mm=truth.me_cog_error_mm,
+                top_hinge_mm=truth.wire_lambda_mm,
+            )
+        )
     # Both staged and filled, then put in place together (or neither).
     outputs = [out] if swing_text is None else [out, swings]
     with staged_files(*outputs) as staged:

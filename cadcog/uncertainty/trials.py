@@ -235,8 +235,19 @@ def hang(
     """True upward verticals when hanging from each point of ``group``: shape (3, k, n).
 
     The object hangs from the *true* virtual suspension point (nominal point + play + wire
-    offset along the bolt axis) and its true assembly CoG (CAD + the ME's CoG error).
+    offset along the bolt axis) and its true assembly CoG (CAD + the ME's CoG error):
+    :func:`true_pivots`.
     """
+    pivots, g_true, _ = true_pivots(scenario, model, group, pert)
+    return _unit(pivots - g_true)
+
+
+def true_pivots(
+    scenario: Scenario, model: ErrorModel, group: Sequence[int], pert: Perturbations
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The drawn truth of hanging from each point of ``group``: the true virtual suspension
+    points (3, k, n), the true assembly CoG (3, 1, n) and the wire's offset scale ``λ`` (1, n)
+    the hangs share (0 for the paper's per-hang offsets)."""
     idx = np.asarray(group)
     ratio = scenario.me_mass_kg / scenario.total_mass_kg
     g_true = (scenario.assembly_cog_mm[:, None] + ratio * pert.me_mm)[:, None, :]  # (3, 1, n)
@@ -244,6 +255,7 @@ def hang(
     nrm = scenario.normals[idx].T[:, :, None]
     t1, t2 = (t[idx].T[:, :, None] for t in scenario.tangents)
     q = p + pert.play_mm[0] * t1 + pert.play_mm[1] * t2  # (3, k, n)
+    lam = np.zeros((1, q.shape[2]))
     if model.wire_model == "paper":
         delta = pert.wire
     elif "wire_offset" in model.sources:
@@ -258,7 +270,7 @@ def hang(
             delta = lam * wire_shape_factor(_dot(u0, nrm), "elastica")
     else:
         delta = np.zeros(q.shape[1:])
-    return _unit(q + delta * nrm - g_true)
+    return q + delta * nrm, g_true, np.asarray(lam, dtype=float)
 
 
 def estimate_trials(

@@ -32,6 +32,7 @@ from cadcog.method.readings import (
 from cadcog.rig.inclinometer import InclinometerConfig, sensor_readings
 from cadcog.rig.parameters import Rig
 from cadcog.uncertainty.montecarlo import Scenario, draw_perturbations, hang
+from cadcog.uncertainty.trials import true_pivots
 
 #: The header of a virtual campaign: raw counts, as the bench records them.
 HEADER = ",".join(header_columns(COUNT_COLUMNS))
@@ -53,14 +54,38 @@ def virtual_campaign(rig: Rig, seed: int, model: ErrorModel | None = None) -> li
     )
 
 
+@dataclass(frozen=True)
+class CampaignTruth:
+    """What a simulated campaign drew once for its hangs: each hang's true virtual suspension
+    point (k, 3), the ME's CoG error (3,) and the one wire's offset scale ``λ`` (None for the
+    paper's per-hang offsets), mm. The virtual swings swing about the same points."""
+
+    pivots_mm: np.ndarray
+    me_cog_error_mm: np.ndarray
+    wire_lambda_mm: float | None
+
+
 def simulated_readings(
     scenario: Scenario, model: ErrorModel, inclinometer: InclinometerConfig, seed: int
 ) -> list[CampaignRow]:
     """One simulated hang per point of ``scenario``, ``model.samples`` raw ADC readings each."""
+    return simulated_campaign(scenario, model, inclinometer, seed)[0]
+
+
+def simulated_campaign(
+    scenario: Scenario, model: ErrorModel, inclinometer: InclinometerConfig, seed: int
+) -> tuple[list[CampaignRow], CampaignTruth]:
+    """:func:`simulated_readings` and the truth it drew."""
     rng = np.random.default_rng(seed)
     k = len(scenario.ids)
     pert = draw_perturbations(model.only("me_cog", "point_play", "wire_offset"), rng, 1, k)
     u = hang(scenario, model, range(k), pert)[:, :, 0]  # (3, k)
+    pivots, _, lam = true_pivots(scenario, model, range(k), pert)
+    truth = CampaignTruth(
+        pivots[:, :, 0].T.copy(),
+        pert.me_mm[:, 0].astype(float),
+        None if model.wire_model == "paper" else float(lam[0, 0]),
+    )
     # One sensor for the whole campaign: its offsets, sensitivities and mounting drawn once
     # (nothing is drawn when the model declares none).
     shared = model.sample_shared_sensor(rng, 1)[:, 0]
@@ -88,7 +113,7 @@ def simulated_readings(
                     bool(u[2, j] > 0),
                 )
             )
-    return rows
+    return rows, truth
 
 
 def campaign_text(rows: list[CampaignRow], comment: str = "") -> str:
