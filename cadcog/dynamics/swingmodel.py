@@ -106,8 +106,9 @@ def projected_jacobian(
 def jacobian(
     t: FloatArray, f: FloatArray, s: FloatArray, d: FloatArray, coef: FloatArray, w: FloatArray
 ) -> FloatArray:
-    """Jacobian of the weighted residuals of both channels w.r.t. (f, σ, d, linear
-    coefficients)."""
+    """Jacobian of both channels' weighted model (the residuals', up to its sign) w.r.t.
+    ``(f, σ, d)`` and the linear coefficients (channel by channel), rows stacked by channel:
+    shape (2n, 3k + 2(1 + 2k))."""
     waves = waves_at(t, f, s, d)
     basis = waves[0]
     derivs = model_derivatives(t, waves, coef, d)
