@@ -24,11 +24,12 @@ exit (the play's ±0.5 mm left out of the reference).
 
 ``--stated N`` asks whether each frequency's **stated σ** holds, the σ the tensor fit weighs
 it by (:func:`cadcog.dynamics.tensorfit.swing_data`: the fit's own, what a drift exceeds its
-prior by, and ``frequency_model_rel``): every hang of the CubeSat's inertia row and of the paper
-rig's six on a 300 mm wire, released as ``study_inertia.py``'s campaigns release (the body
-tilted up to the amplitude, the wire swung, no yaw), N seeds a release size, decay time 30 s,
-60 s at 50 samples/s with 0.005° of white noise, at the nominal exit (no play, no ADC): each
-body mode's fitted small-swing limit against the hang's linear frequency, over its stated σ.
+prior by, what its two halves disagree by, and ``frequency_model_rel``, the object's air by
+default): every hang of the CubeSat's inertia row and of the paper rig's six on a 300 mm
+wire, released as ``study_inertia.py``'s campaigns release (the body tilted up to the
+amplitude, the wire swung, no yaw), N seeds a release size, decay time 30 s, 60 s at 50
+samples/s with 0.005° of white noise, at the nominal exit (no play, no ADC): each body mode's
+fitted small-swing limit against the hang's linear frequency, over its stated σ.
 
 Run: ``.venv/bin/python benchmarks/study_amplitude.py [--backbone | --campaigns N | --stated
 N]`` (~30 s; ~10 s a campaign; ``--stated 10`` ~3 min).
@@ -45,6 +46,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from cadcog.dynamics.context import InertiaContext, context_for_rig, context_for_setup  # noqa: E402
 from cadcog.dynamics.hungbody import HangGeometry, hang_modes  # noqa: E402
 from cadcog.dynamics.modalfit import ModalFit, fit_swing  # noqa: E402
 from cadcog.dynamics.swingfile import Swing  # noqa: E402
@@ -69,6 +71,15 @@ def _record_times() -> np.ndarray:
 def _truth(path: Path, kind: str) -> sf.Truth:
     """The independent truth of a rig (``kind`` "rig") or a set-up file."""
     return sf.rig_truth(path) if kind == "rig" else sf.setup_truth(path)
+
+
+def _context(path: Path, kind: str) -> InertiaContext:
+    """The estimator's context of a rig (``kind`` "rig") or a set-up file."""
+    import cadcog
+
+    if kind == "rig":
+        return context_for_rig(cadcog.load_rig(path))
+    return context_for_setup(cadcog.load_setup(path), np.zeros((6, 6)))
 
 
 def _horizontal(deg: float, azimuth_deg: float) -> np.ndarray:
@@ -207,12 +218,10 @@ def stated(seeds: int) -> None:
     """Each body mode's error over the σ the tensor fit states for it (module docstring)."""
     from cadcog.core.errors import CadcogError
     from cadcog.dynamics.tensorfit import swing_data
-    from cadcog.rig.parameters import SwingOptions
 
     sys.path.insert(0, str(ROOT / "benchmarks"))
     import study_inertia as si
 
-    model_rel = SwingOptions().frequency_model_rel
     t = _record_times()
     objects = (
         ("3U CubeSat", si.SETUP, "setup", si.CUBESAT_INERTIA_PLAN6),
@@ -225,6 +234,7 @@ def stated(seeds: int) -> None:
     print("|---|---|---|---|---|---|---|---|")
     for label, path, kind, points in objects:
         truth = _truth(path, kind)
+        model_rel = _context(path, kind).frequency_model_rel  # what the estimator states
         for amp in (3.0, 5.0, 10.0):
             cfg = sf.SwingConfig(amplitude_deg=amp, yaw_rate_deg_s=0.0)
             err, z, refused = [], [], 0
