@@ -19,8 +19,7 @@ frequency of AR(1) noise with the residuals' lag-1 correlation (:func:`ar1_densi
 whose amplitude is not above :data:`VISIBLE_AMPLITUDE_SIGMA` of its own uncertainty is dropped
 (not excited, or not seen by the sensor) and the fit repeated without it.
 
-The fit is then checked against itself: each half of the fitted stretch (halves of its energy)
-is fitted alone, and
+The fit is then checked against itself: each half of the fitted stretch is fitted alone, and
 what the halves' small-swing frequencies disagree by beyond their noise is the model's error
 (a large swing's nonlinearity the drift does not follow, energy passing between modes), kept
 per mode in :attr:`ModalFit.halves_excess_hz2` for the tensor fit to add to that frequency's
@@ -75,9 +74,6 @@ NOISE_FLOOR_SHARE = 0.01
 #: The two halves of a fit disagree when their frequencies differ by more than this many σ of
 #: their noise (each half's own covariance): 3 σ, which noise alone exceeds in 0.27 % of modes.
 HALVES_SIGNIFICANCE = 3.0
-
-#: The two halves split the swing's energy in two, within this middle share of the stretch.
-HALVES_MIDDLE = 0.8
 
 #: The share of the halves' squared disagreement beyond their noise taken as the whole fit's
 #: model-error variance: a quarter, the variance of the halves' mean when their model errors are
@@ -339,7 +335,7 @@ def fit_swing(
     fit = _fit_stretch(swing.point_id, t, y, predicted, nyquist, drift)
     if not halves:
         return fit
-    mid = _halfway(y, fit.noise_deg)
+    mid = len(t) // 2
     parts: list[ModalFit | None] = []
     for part in (slice(None, mid), slice(mid, None)):
         try:
@@ -351,31 +347,6 @@ def fit_swing(
         except DegenerateGeometryError:
             parts.append(None)  # a half that shows no mode checks none
     return replace(fit, halves_excess_hz2=_halves_excess(fit, parts[0], parts[1]))
-
-
-def _halfway(y: FloatArray, noise_deg: FloatArray) -> int:
-    """The sample that splits the swing's energy in two (each half then shows the modes about
-    as well: a record that goes on after the swing has died away is not split at its middle):
-    the squared deviations from the mean of the stretch's last quarter, less each channel's
-    residual noise, summed; kept within the middle :data:`HALVES_MIDDLE` of the stretch.
-
-    Examples
-    --------
-    >>> t = np.arange(1000) / 10.0  # 100 s recorded at 10 samples/s
-    >>> def dying(tau_s):
-    ...     return np.exp(-t / tau_s)[:, None] * np.column_stack([np.cos(t), np.sin(t)])
-    >>> _halfway(dying(100.0), np.zeros(2))  # e^(−t/50) = (1 + e^(−2))/2 at 28.3 s
-    283
-    >>> _halfway(dying(10.0), np.zeros(2))  # half the energy at 3.5 s: the middle 80 % from 10 s
-    100
-    """
-    n = len(y)
-    centre = y[-max(n // 4, 1) :].mean(axis=0)
-    power = np.maximum((y - centre) ** 2 - noise_deg**2, 0.0).sum(axis=1)
-    cum = np.cumsum(power)
-    mid = int(np.searchsorted(cum, 0.5 * cum[-1])) if cum[-1] > 0 else n // 2
-    edge = round(0.5 * (1.0 - HALVES_MIDDLE) * n)
-    return min(max(mid, edge), n - edge)
 
 
 def _halves_excess(whole: ModalFit, first: ModalFit | None, second: ModalFit | None) -> FloatArray:
