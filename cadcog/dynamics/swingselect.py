@@ -164,8 +164,9 @@ class UsedHangs:
             )
         if unchecked:
             notes.append(
-                "a half of the record did not show these modes, not checked: "
-                + ", ".join(unchecked)
+                "a half of the record did not show these modes (they died away in the first "
+                "half, or half a record cannot resolve them), so their fit is not checked "
+                "against itself: " + ", ".join(unchecked)
             )
         return notes
 
