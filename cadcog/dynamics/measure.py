@@ -195,7 +195,7 @@ class _TensorFit(NamedTuple):
     gain: FloatArray
 
 
-def _fit_tensor_to(inputs: _Inputs, used: UsedHangs, start: FloatArray | None = None) -> _TensorFit:
+def _fit_tensor_to(inputs: _Inputs, used: UsedHangs) -> _TensorFit:
     """The assembly's tensor that explains ``used``'s frequencies, in two steps: weighed by the
     frequencies' own covariance, then by that plus what the nuisances do to the modelled
     frequencies (efficient weights; the χ²'s reference)."""
