@@ -287,3 +287,33 @@ def test_a_cog_estimated_with_its_own_point_sigma_gives_a_valid_covariance():
     assert np.all(np.linalg.eigvalsh(r.cov_kg2_mm4) > 0)
     d = entries(r.inertia_kg_mm2) - entries(RIG.analytic_proof_mass.inertia_kg_mm2)
     assert float(d @ np.linalg.solve(r.cov_kg2_mm4, d)) < 22.5
+
+
+def test_a_frequency_whose_removal_makes_the_fit_worse_is_kept(monkeypatch):
+    """The guard on leaving frequencies out: when the refit without the frequencies the
+    linearised check rejects has a higher χ² than the fit with them (another minimum: a 75 mm
+    campaign of the nonlinear study ended with I₁ 58 % off that way), they are kept with a
+    note, and nothing else is left out. The check and the two χ² are stubbed: the frequencies
+    and the fits are the campaign's own."""
+    from cadcog.dynamics import measure
+
+    calls = {"worst": 0, "chi2": 0}
+    real_chi2 = measure.weighted_chi2
+
+    def worst(fits, p_asm, data, geo):
+        calls["worst"] += 1
+        return (0, {1}, 30.0, 1e-9) if calls["worst"] == 1 else None  # S1's faster mode
+
+    def chi2(p, data, geo):
+        calls["chi2"] += 1
+        if calls["chi2"] <= 2:  # with the mode, then without it: worse by 40
+            return (10.0, 50.0)[calls["chi2"] - 1]
+        return real_chi2(p, data, geo)
+
+    monkeypatch.setattr(measure, "worst_contradiction", worst)
+    monkeypatch.setattr(measure, "weighted_chi2", chi2)
+    r = _campaign(0, RIG.analytic_proof_mass)
+    assert calls["worst"] == 1  # no further candidate was looked for
+    assert any("S1" in w and "but the fit without it is worse: kept" in w for w in r.warnings)
+    assert len(r.hangs[0].frequencies_hz) == 2  # S1 keeps both body modes
+    assert not any("left out of the tensor" in w for w in r.warnings)
