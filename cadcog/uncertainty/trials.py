@@ -239,7 +239,13 @@ def hang(
     :func:`true_pivots`.
     """
     pivots, g_true, _ = true_pivots(scenario, model, group, pert)
-    return _unit(pivots - g_true)
+    return verticals(pivots, g_true)
+
+
+def verticals(pivots_mm: FloatArray, cog_mm: FloatArray) -> FloatArray:
+    """The upward verticals of hanging from ``pivots_mm`` (3, k, n) with the CoG at ``cog_mm``
+    (3, 1, n), as :func:`true_pivots` gives them: unit vectors (3, k, n)."""
+    return _unit(pivots_mm - cog_mm)
 
 
 def true_pivots(

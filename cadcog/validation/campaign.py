@@ -31,8 +31,8 @@ from cadcog.method.readings import (
 )
 from cadcog.rig.inclinometer import InclinometerConfig, sensor_readings
 from cadcog.rig.parameters import Rig
-from cadcog.uncertainty.montecarlo import Scenario, draw_perturbations, hang
-from cadcog.uncertainty.trials import true_pivots
+from cadcog.uncertainty.montecarlo import Scenario, draw_perturbations
+from cadcog.uncertainty.trials import true_pivots, verticals
 
 #: The header of a virtual campaign: raw counts, as the bench records them.
 HEADER = ",".join(header_columns(COUNT_COLUMNS))
@@ -79,8 +79,8 @@ def simulated_campaign(
     rng = np.random.default_rng(seed)
     k = len(scenario.ids)
     pert = draw_perturbations(model.only("me_cog", "point_play", "wire_offset"), rng, 1, k)
-    u = hang(scenario, model, range(k), pert)[:, :, 0]  # (3, k)
-    pivots, _, lam = true_pivots(scenario, model, range(k), pert)
+    pivots, g_true, lam = true_pivots(scenario, model, range(k), pert)
+    u = verticals(pivots, g_true)[:, :, 0]  # (3, k)
     truth = CampaignTruth(
         pivots[:, :, 0].T.copy(),
         pert.me_mm[:, 0].astype(float),
