@@ -1,7 +1,7 @@
 """cadcog from Python: the main entry points, each returning the result object the CLI prints.
 
 Every function here is what one command does, without the printing: it reads the same files,
-applies the same defaults (``tests/test_api.py`` compares them with the parsers') and returns
+applies the same defaults (``tests/api/`` compares them with the parsers') and returns
 the same object, whose ``to_dict()`` is the command's ``--json`` and ``to_json()`` its text.
 Errors are the same too: a bad file or value raises :class:`~cadcog.core.errors.CadcogError`
 (its subclasses name the file, line or key), which the command prints in one line.
