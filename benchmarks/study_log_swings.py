@@ -52,6 +52,7 @@ from cadcog.mass.inertia import principal_axes
 from cadcog.rig.file import load_rig
 from cadcog.runs.acquire_log import acquire_log
 from support import phone_logs as pl
+from support import phone_scenarios as ps
 from support.rigtools import package_rig
 
 CHI2_6_95 = float(stats.chi2.ppf(0.95, 6))
@@ -68,7 +69,7 @@ POINTS = {"phone": (2, 3, 4, 5), "mpu6050": (0, 1, 2, 3, 4, 5), "adxl355": (0, 1
 
 def truth_entries() -> np.ndarray:
     """The object's tensor (the steel box without the package), ``[xx, yy, zz, xy, xz, yz]``."""
-    j = pl._box(9.2, (200.0, 75.0, 78.0))
+    j = ps._box(9.2, (200.0, 75.0, 78.0))
     return np.array([j[0, 0], j[1, 1], j[2, 2], j[0, 1], j[0, 2], j[1, 2]])
 
 
@@ -95,7 +96,7 @@ def rig_file(folder: Path, sensor: str, spec: pl.LogSpec) -> Path:
 def test_spec(sensor: str, seed: int) -> pl.LogSpec:
     """One log's test: the scenario's points (those the sensor leaves free, each within its
     play), one wire length, and per hang a release, a decay time and a wait to below 0.05°."""
-    spec = pl.with_play(pl.scenario("paper_rig", sensor), "paper_rig", seed)
+    spec = ps.with_play(ps.scenario("paper_rig", sensor), "paper_rig", seed)
     rng = np.random.default_rng([seed, 31])
     wire = float(rng.normal(300.0, 2.0))
     hangs = []
@@ -112,7 +113,7 @@ def test_spec(sensor: str, seed: int) -> pl.LogSpec:
 def run_row(sensor: str, seeds: list[int], work: Path, chunk: int) -> dict:
     truth = truth_entries()
     rig = None
-    moments_true = principal_axes(pl._box(9.2, (200.0, 75.0, 78.0))).moments_kg_mm2
+    moments_true = principal_axes(ps._box(9.2, (200.0, 75.0, 78.0))).moments_kg_mm2
     rel, inside, chi2, dropped, cog_in, cut, failed = [], [], [], [], 0, 0, []
     for lo in range(0, len(seeds), chunk):
         part = seeds[lo : lo + chunk]

@@ -53,6 +53,7 @@ from cadcog.rig.file import load_rig
 from cadcog.rig.inclinometer import InclinometerConfig
 from cadcog.runs.acquire_log import acquire_log, readings_text
 from support import phone_logs as pl
+from support import phone_scenarios as ps
 from support.rigtools import paper_rig_dict, write_rig
 
 CHI2_95 = float(stats.chi2.ppf(0.95, 3))
@@ -62,7 +63,7 @@ WIRE_MAX_MM = 1.0
 
 def declared(sensor: str) -> dict[str, float]:
     """The figures a team declares for ``sensor``: the generator's bounds (its datasheet)."""
-    s = pl.SENSORS[sensor]
+    s = ps.SENSORS[sensor]
     offset = max(np.atleast_1d(s.offset_g))
     out = {
         "offset_g": float(offset),
@@ -82,7 +83,7 @@ def rig_file(folder: Path, axes: tuple[str, str, str], sensor: str, wire_max_mm:
 
 
 def _spec(name: str, sensor: str, variant: str, seed: int) -> pl.LogSpec:
-    spec = pl.with_play(pl.scenario(name, sensor), name, seed)
+    spec = ps.with_play(ps.scenario(name, sensor), name, seed)
     if variant == "plain":
         return spec
     hangs = list(spec.hangs)
@@ -104,9 +105,9 @@ def _estimate_3u(spec: pl.LogSpec, log_path: Path, out: Path, sensor: str) -> ob
     seg = segment_log(read_log(log_path), SettleCriterion())
     if len(seg.hangs) != len(spec.hangs):
         raise LogError(f"{len(seg.hangs)} hangs for {len(spec.hangs)}")
-    nominal = pl.scenario("cubesat_3u", sensor).hangs  # where the team thinks it hung
+    nominal = ps.scenario("cubesat_3u", sensor).hangs  # where the team thinks it hung
     faces = [
-        (np.asarray(h.point_mm), pl.face_normal(h.point_mm, pl.BOXES_MM["cubesat_3u"]))
+        (np.asarray(h.point_mm), ps.face_normal(h.point_mm, ps.BOXES_MM["cubesat_3u"]))
         for h in nominal
     ]
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 SUPPORT = Path(__file__).resolve().parents[1] / "support"
-INDEPENDENT = ("swing_truth", "rig_campaigns", "forward_model", "phone_logs")
+INDEPENDENT = ("swing_truth", "rig_campaigns", "forward_model", "phone_logs", "phone_scenarios")
 
 
 def _imported_roots(path: Path) -> set[str]:

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from support import phone_logs as pl
+from support import phone_scenarios as ps
 
 G = 9.80665
 
@@ -24,7 +25,7 @@ def _box(m: float, size: tuple[float, float, float]) -> np.ndarray:
     return np.diag([m * (b * b + c * c), m * (a * a + c * c), m * (a * a + b * b)]) / 12.0
 
 
-BODY = pl.composite([(2.0, (60.0, 40.0, 30.0), _box(2.0, (120.0, 80.0, 60.0)))])
+BODY = ps.composite([(2.0, (60.0, 40.0, 30.0), _box(2.0, (120.0, 80.0, 60.0)))])
 COG = np.array([60.0, 40.0, 30.0])
 COMMON = dict(wire_length_mm=200.0, release_deg=3.0, decay_time_s=1.5, settle_s=10.0,
               average_s=4.0, handling_s=3.0)  # fmt: skip
@@ -153,10 +154,10 @@ def _rot_deg(rotvec_deg: np.ndarray) -> np.ndarray:
 
 
 def test_noise_density_and_bandwidth_give_the_per_sample_sigma():
-    assert pl.MPU6050.sigma_g == pytest.approx(400e-6 * np.sqrt(44.0))
-    assert pl.ADXL355.sigma_g == pytest.approx(25e-6 * np.sqrt(125.0 / 4))
-    assert replace(pl.ADXL355, bandwidth_hz=None).sigma_g == pytest.approx(25e-6 * np.sqrt(62.5))
-    assert pl.PHONE.sigma_g == 0.002
+    assert ps.MPU6050.sigma_g == pytest.approx(400e-6 * np.sqrt(44.0))
+    assert ps.ADXL355.sigma_g == pytest.approx(25e-6 * np.sqrt(125.0 / 4))
+    assert replace(ps.ADXL355, bandwidth_hz=None).sigma_g == pytest.approx(25e-6 * np.sqrt(62.5))
+    assert ps.PHONE.sigma_g == 0.002
 
 
 def test_same_seed_gives_the_same_bytes_and_batches_change_nothing(tmp_path):
@@ -272,10 +273,10 @@ def test_phyphox_writer_reads_back_with_the_csv_module(noisy, tmp_path):
 
 
 def test_scenarios_are_the_stated_objects():
-    rig = pl.scenario("paper_rig")
+    rig = ps.scenario("paper_rig")
     assert rig.body.mass_kg == pytest.approx(9.2 + 0.19) and len(rig.hangs) == 6
     assert np.linalg.norm(np.subtract(rig.body.cog_mm, (100.0, 37.5, 39.0))) < 2.0
-    sat = pl.scenario("cubesat_3u", "adxl355", decay_time_s=6.0)
+    sat = ps.scenario("cubesat_3u", "adxl355", decay_time_s=6.0)
     assert 2.9 < sat.body.mass_kg < 3.3 and len(sat.hangs) == 6
     off = np.linalg.norm(np.subtract(sat.body.cog_mm, (50.0, 50.0, 170.25)))
     assert 3.0 < off < 20.0
@@ -290,8 +291,8 @@ def test_cli_writes_the_log_and_its_truth(tmp_path, monkeypatch):
     import json
 
     small = replace(SPEC, hangs=(replace(HANGS[0], settle_s=2.0, average_s=1.0, decay_time_s=0.4),))
-    monkeypatch.setattr(pl, "scenario", lambda name, sensor: small)
-    assert pl.main(["--seed", "3", "--out", str(tmp_path), "--knock", "1"]) == 0
+    monkeypatch.setattr(ps, "scenario", lambda name, sensor: small)
+    assert ps.main(["--seed", "3", "--out", str(tmp_path), "--knock", "1"]) == 0
     truth = json.loads((tmp_path / "truth.json").read_text())
     assert truth["hangs"][0]["knock_t_s"] is not None and truth["seed"] == 3
     assert truth["cog_mm"] == pytest.approx(COG.tolist())

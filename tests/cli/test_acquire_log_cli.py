@@ -17,6 +17,7 @@ from scipy import stats
 from cadcog.bench.protocol import ACCEL_EXAMPLE, format_header, format_sample
 from cadcog.cli import main
 from support import phone_logs as pl
+from support import phone_scenarios as ps
 from support.rigtools import package_rig, paper_rig_dict, write_rig
 
 CHI2_95 = float(stats.chi2.ppf(0.95, 3))
@@ -41,7 +42,7 @@ def logs(tmp_path_factory):
     settles), written as phyphox exports them."""
     folder = tmp_path_factory.mktemp("logs")
     seeds = list(range(3400, 3416))
-    specs = [pl.with_play(pl.scenario("paper_rig", "phone"), "paper_rig", s) for s in seeds]
+    specs = [ps.with_play(ps.scenario("paper_rig", "phone"), "paper_rig", s) for s in seeds]
     base = specs[0]
     knocked = list(base.hangs)
     knocked[2] = replace(knocked[2], knock_after_s=knocked[2].average_s / 2)
@@ -325,7 +326,7 @@ def test_the_api_gives_what_the_command_prints(logs, tmp_path, capsys):
 def test_a_board_at_20_hz_on_whole_milliseconds_is_cut(tmp_path, capsys):
     """The ADXL355 sketch sends 20 samples a second (its filter at 7.8 Hz) on a clock of whole
     milliseconds: the same test's log, each 50 ms averaged, is cut into its hangs."""
-    spec = pl.scenario("paper_rig", "adxl355")
+    spec = ps.scenario("paper_rig", "adxl355")
     log = pl.generate(spec, 11)
     slot = np.floor(log.t_s * 20.0).astype(int)
     edges = np.flatnonzero(np.diff(slot, prepend=-1) > 0)
@@ -395,7 +396,7 @@ def swing_log(tmp_path_factory):
     """One MPU-6050 log of the paper rig left to swing (decay 12 s, released at 4-6°) and the
     rig that describes it."""
     folder = tmp_path_factory.mktemp("swing_log")
-    spec = pl.with_play(pl.scenario("paper_rig", "mpu6050"), "paper_rig", 3434)
+    spec = ps.with_play(ps.scenario("paper_rig", "mpu6050"), "paper_rig", 3434)
     rng = np.random.default_rng(3434)
     hangs = []
     for h in spec.hangs:
@@ -432,7 +433,7 @@ def test_a_logs_swings_give_the_tensor_cadcog_inertia_gives(swing_log, tmp_path,
         again["inertia_kg_mm2"], data["inertia"]["inertia_kg_mm2"], rtol=1e-12
     )
     j = np.asarray(again["inertia_kg_mm2"])
-    truth = pl._box(9.2, (200.0, 75.0, 78.0))
+    truth = ps._box(9.2, (200.0, 75.0, 78.0))
     idx = ([0, 1, 2, 0, 0, 1], [0, 1, 2, 1, 2, 2])
     d = j[idx] - truth[idx]
     chi2 = float(d @ np.linalg.solve(np.asarray(again["inertia_cov"]), d))
