@@ -61,7 +61,7 @@ LONG_FILES_FIRST = (
     "tests/core/test_fuzz_parsers.py",  # ~7 s: hypothesis
     "tests/bench/test_session.py",  # ~6 s
     "tests/core/test_fileio.py",  # ~5 s, mostly a `cadcog report` subprocess
-    "tests/cli/test_inertia_cli.py",  # ~5 s
+    "tests/cli/test_inertia.py",  # ~5 s
     "tests/test_docs_site.py",  # ~5 s: mkdocs build
 )
 

@@ -14,7 +14,7 @@ from cadcog.uncertainty.montecarlo import NormHistogram
 from cadcog.validation.verification import Validation
 
 #: √(χ²₃ quantile at 0.95): the 95 % ellipsoid of a 3-D normal is this many σ
-#: (``scipy.stats.chi2.ppf(0.95, 3)`` = 7.814727903251178; tests/test_plots.py checks it).
+#: (``scipy.stats.chi2.ppf(0.95, 3)`` = 7.814727903251178; tests/reports/test_plots.py checks it).
 K95_3D = 2.7954834829151074
 
 
