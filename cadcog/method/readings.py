@@ -282,6 +282,16 @@ def data_rows(rows: Any, fail: Any) -> Iterator[tuple[int, list[str]]]:
         yield rows.line_num, fields
 
 
+@dataclass(frozen=True)
+class _Layout:
+    """Where a readings file's columns are, from its header."""
+
+    header: list[str]
+    col: dict[str, int]  # column name → field index
+    angle_cols: tuple[str, ...]  # the two degree or count columns, or the three g columns
+    counts: bool  # angles given as ADC counts
+
+
 def _read_groups(
     rows: Any, p: Path, cfg: InclinometerConfig
 ) -> tuple[list[str] | None, dict[str, _Group]]:
@@ -290,125 +300,141 @@ def _read_groups(
     def fail(line: int, message: str) -> ReadingsError:
         return ReadingsError(f"{p}, line {line}: {message}")
 
-    header: list[str] | None = None
+    layout: _Layout | None = None
     groups: dict[str, _Group] = {}
-    max_counts = cfg.sensor.max_counts
-    counts = False
-    col: dict[str, int] = {}
-    angle_cols: tuple[str, ...] = DEG_COLUMNS
     for line, fields in data_rows(rows, fail):
-        if header is None:
-            header = [f.strip() for f in fields]
-            twice = next((c for i, c in enumerate(header) if c and c in header[:i]), None)
-            if twice is not None:
-                first, second = [i + 1 for i, c in enumerate(header) if c == twice][:2]
-                raise fail(
-                    line,
-                    f"column {quote(twice)} appears twice (fields {first} and {second}): "
-                    "expected each column once",
-                )
-            acc = _accelerometer_header(header, cfg, line, fail)
-            missing = [c for c in (POSITION_COLUMNS if acc else BASE_COLUMNS) if c not in header]
-            has_deg = all(c in header for c in DEG_COLUMNS)
-            has_counts = all(c in header for c in COUNT_COLUMNS)
-            if has_deg and has_counts:
-                raise fail(line, "give angles either in degrees or in counts, not both")
-            if not (has_deg or has_counts or acc):
-                missing += [c for c in DEG_COLUMNS if c not in header]
-            if missing:
-                expected = (
-                    ",".join(POSITION_COLUMNS + ACC_COLUMNS)
-                    if acc
-                    else f"{','.join(BASE_COLUMNS[:4] + DEG_COLUMNS + BASE_COLUMNS[4:])} "
-                    f"(or {', '.join(COUNT_COLUMNS)} instead of the degree columns)"
-                )
-                raise fail(
-                    line, f"missing column(s) {', '.join(missing)}; expected header {expected}"
-                )
-            angle_cols = ACC_COLUMNS if acc else DEG_COLUMNS if has_deg else COUNT_COLUMNS
-            counts = has_counts and not has_deg
-            col = {name: header.index(name) for name in (*POSITION_COLUMNS, *angle_cols)}
-            if not acc:
-                col[FACE_COLUMN] = header.index(FACE_COLUMN)
-            if TURNED_COLUMN in header:
-                col[TURNED_COLUMN] = header.index(TURNED_COLUMN)
+        if layout is None:
+            layout = _layout([f.strip() for f in fields], cfg, line, fail)
             continue
-        if len(fields) != len(header):
-            raise fail(line, f"expected {len(header)} fields as in the header, got {len(fields)}")
-        pid = fields[col["point_id"]].strip()
-        raw_position = (fields[col["x_mm"]], fields[col["y_mm"]], fields[col["z_mm"]])
-        raw_flag = fields[col[FACE_COLUMN]] if FACE_COLUMN in col else "true"
-        raw_turned = fields[col[TURNED_COLUMN]] if TURNED_COLUMN in col else ""
-        group = groups.get(pid)
-        if (
-            group is None
-            or raw_position != group.raw_position
-            or raw_flag != group.raw_flag
-            or raw_turned != group.raw_turned
-        ):
-            # a new point, or a row that differs from its point's first: check it in full
-            problem = id_problem(pid)
-            if problem is not None:
-                raise fail(line, f"column point_id: {problem}")
-            position = (
-                _number(fields, col, "x_mm", line, fail),
-                _number(fields, col, "y_mm", line, fail),
-                _number(fields, col, "z_mm", line, fail),
+        if len(fields) != len(layout.header):
+            raise fail(
+                line, f"expected {len(layout.header)} fields as in the header, got {len(fields)}"
             )
-            flag = _BOOLS.get(raw_flag.strip().lower())
-            if flag is None:
-                raise fail(
-                    line,
-                    f"column top_face_up: expected true, false, 1 or 0, got {raw_flag.strip()!r}",
-                )
-            turned = _BOOLS.get(raw_turned.strip().lower()) if TURNED_COLUMN in col else False
-            if turned is None:
-                raise fail(
-                    line,
-                    f"column {TURNED_COLUMN}: expected true, false, 1 or 0, got "
-                    f"{raw_turned.strip()!r}",
-                )
-            if group is None:
-                group = groups[pid] = _Group(
-                    position, flag, line, _Running(), _Running(), raw_position, raw_flag,
-                    turned, raw_turned, _Running() if FACE_COLUMN not in col else None,
-                )  # fmt: skip
-            elif position != group.position:
-                raise fail(
-                    line,
-                    f"point {pid} at {list(position)} mm, but line {group.line} puts it at "
-                    f"{list(group.position)} mm: one point_id must have one position",
-                )
-            elif flag != group.top_face_up:
-                raise fail(line, f"point {pid}: top_face_up differs from line {group.line}")
-            elif turned != group.turned:
-                raise fail(
-                    line,
-                    f"point {pid}: {TURNED_COLUMN} differs from line {group.line} (a reversal "
-                    "is its own point_id at the same position)",
-                )
-        runs = (group.x, group.y) if group.z is None else (group.x, group.y, group.z)
-        for column, running in zip(angle_cols, runs, strict=True):
-            value = _number(fields, col, column, line, fail)
-            if group.z is not None:
-                if abs(value) > MAX_ACC_G:
-                    raise fail(
-                        line, f"column {column}: {value:g} g is beyond ±{MAX_ACC_G:g} g at rest"
-                    )
-                running.add(value)
-                continue
-            if counts:
-                if not 0 <= value <= max_counts:
-                    raise fail(
-                        line,
-                        f"column {column}: {value:g} outside the "
-                        f"{cfg.sensor.adc_bits}-bit ADC range 0..{max_counts}",
-                    )
-                value = cfg.sensor.count_to_deg(value)
-            if abs(value) > 90.0:
-                raise fail(line, f"column {column}: angle {value:g}° is beyond ±90°")
+        group = _point_of(fields, layout, groups, line, fail)
+        _add_samples(fields, layout, group, cfg, line, fail)
+    return (None if layout is None else layout.header), groups
+
+
+def _layout(header: list[str], cfg: InclinometerConfig, line: int, fail: Any) -> _Layout:
+    """The columns a header names, checked: each once, all the chain needs, one kind of angle."""
+    twice = next((c for i, c in enumerate(header) if c and c in header[:i]), None)
+    if twice is not None:
+        first, second = [i + 1 for i, c in enumerate(header) if c == twice][:2]
+        raise fail(
+            line,
+            f"column {quote(twice)} appears twice (fields {first} and {second}): "
+            "expected each column once",
+        )
+    acc = _accelerometer_header(header, cfg, line, fail)
+    missing = [c for c in (POSITION_COLUMNS if acc else BASE_COLUMNS) if c not in header]
+    has_deg = all(c in header for c in DEG_COLUMNS)
+    has_counts = all(c in header for c in COUNT_COLUMNS)
+    if has_deg and has_counts:
+        raise fail(line, "give angles either in degrees or in counts, not both")
+    if not (has_deg or has_counts or acc):
+        missing += [c for c in DEG_COLUMNS if c not in header]
+    if missing:
+        expected = (
+            ",".join(POSITION_COLUMNS + ACC_COLUMNS)
+            if acc
+            else f"{','.join(BASE_COLUMNS[:4] + DEG_COLUMNS + BASE_COLUMNS[4:])} "
+            f"(or {', '.join(COUNT_COLUMNS)} instead of the degree columns)"
+        )
+        raise fail(line, f"missing column(s) {', '.join(missing)}; expected header {expected}")
+    angle_cols = ACC_COLUMNS if acc else DEG_COLUMNS if has_deg else COUNT_COLUMNS
+    col = {name: header.index(name) for name in (*POSITION_COLUMNS, *angle_cols)}
+    if not acc:
+        col[FACE_COLUMN] = header.index(FACE_COLUMN)
+    if TURNED_COLUMN in header:
+        col[TURNED_COLUMN] = header.index(TURNED_COLUMN)
+    return _Layout(header, col, angle_cols, has_counts and not has_deg)
+
+
+def _point_of(
+    fields: list[str], layout: _Layout, groups: dict[str, _Group], line: int, fail: Any
+) -> _Group:
+    """The group a row belongs to: a new point is added; a row that differs from its point's
+    first row is checked in full and must agree with it (one position, one orientation)."""
+    col = layout.col
+    pid = fields[col["point_id"]].strip()
+    raw_position = (fields[col["x_mm"]], fields[col["y_mm"]], fields[col["z_mm"]])
+    raw_flag = fields[col[FACE_COLUMN]] if FACE_COLUMN in col else "true"
+    raw_turned = fields[col[TURNED_COLUMN]] if TURNED_COLUMN in col else ""
+    group = groups.get(pid)
+    if (
+        group is not None
+        and raw_position == group.raw_position
+        and raw_flag == group.raw_flag
+        and raw_turned == group.raw_turned
+    ):
+        return group  # as its point's first row, already checked
+    problem = id_problem(pid)
+    if problem is not None:
+        raise fail(line, f"column point_id: {problem}")
+    position = (
+        _number(fields, col, "x_mm", line, fail),
+        _number(fields, col, "y_mm", line, fail),
+        _number(fields, col, "z_mm", line, fail),
+    )
+    flag = _BOOLS.get(raw_flag.strip().lower())
+    if flag is None:
+        raise fail(
+            line, f"column top_face_up: expected true, false, 1 or 0, got {raw_flag.strip()!r}"
+        )
+    turned = _BOOLS.get(raw_turned.strip().lower()) if TURNED_COLUMN in col else False
+    if turned is None:
+        raise fail(
+            line,
+            f"column {TURNED_COLUMN}: expected true, false, 1 or 0, got {raw_turned.strip()!r}",
+        )
+    if group is None:
+        group = groups[pid] = _Group(
+            position, flag, line, _Running(), _Running(), raw_position, raw_flag,
+            turned, raw_turned, _Running() if FACE_COLUMN not in col else None,
+        )  # fmt: skip
+    elif position != group.position:
+        raise fail(
+            line,
+            f"point {pid} at {list(position)} mm, but line {group.line} puts it at "
+            f"{list(group.position)} mm: one point_id must have one position",
+        )
+    elif flag != group.top_face_up:
+        raise fail(line, f"point {pid}: top_face_up differs from line {group.line}")
+    elif turned != group.turned:
+        raise fail(
+            line,
+            f"point {pid}: {TURNED_COLUMN} differs from line {group.line} (a reversal "
+            "is its own point_id at the same position)",
+        )
+    return group
+
+
+def _add_samples(
+    fields: list[str], layout: _Layout, group: _Group, cfg: InclinometerConfig, line: int,
+    fail: Any,
+) -> None:  # fmt: skip
+    """A row's angles (degrees, or counts converted) or specific forces (g), checked against
+    their range, added to its point's running sums."""
+    runs = (group.x, group.y) if group.z is None else (group.x, group.y, group.z)
+    for column, running in zip(layout.angle_cols, runs, strict=True):
+        value = _number(fields, layout.col, column, line, fail)
+        if group.z is not None:
+            if abs(value) > MAX_ACC_G:
+                raise fail(line, f"column {column}: {value:g} g is beyond ±{MAX_ACC_G:g} g at rest")
             running.add(value)
-    return header, groups
+            continue
+        if layout.counts:
+            max_counts = cfg.sensor.max_counts
+            if not 0 <= value <= max_counts:
+                raise fail(
+                    line,
+                    f"column {column}: {value:g} outside the "
+                    f"{cfg.sensor.adc_bits}-bit ADC range 0..{max_counts}",
+                )
+            value = cfg.sensor.count_to_deg(value)
+        if abs(value) > 90.0:
+            raise fail(line, f"column {column}: angle {value:g}° is beyond ±90°")
+        running.add(value)
 
 
 def _accelerometer_header(header: list[str], cfg: InclinometerConfig, line: int, fail: Any) -> bool:
