@@ -60,7 +60,7 @@ from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError, quote
 from cadcog.core.units import LENGTH_UNIT_MM, UNIT_CHOICES
 from cadcog.mass.materials import MaterialMap
-from cadcog.mass.properties import combine
+from cadcog.mass.properties import MassProperties, combine
 
 __all__ = [
     "AllExcludedError",
@@ -274,93 +274,19 @@ class _Parts:
         CadcogError
             If no body has mass.
         """
-        model, bodies, materials = self.model, self.bodies, self.materials
-        total_mass_kg, units, scale = self.total_mass_kg, self.units, self.scale
-        excluded, audit_bits, src = self.excluded, self.audit_bits, model.source
-        bbox = self.bbox
+        model, bodies, units, scale = self.model, self.bodies, self.units, self.scale
+        excluded, audit_bits, src, bbox = self.excluded, self.audit_bits, model.source, self.bbox
+        total_mass_kg = self.total_mass_kg
         notes, info = list(notes_so_far), list(info_so_far)
         raw = [with_mass_factor(b.props, b.density_kg_mm3) for b in bodies]
         counted = [(b, p) for b, p in zip(bodies, raw, strict=True) if p.mass_kg > 0]
         if not counted:
             raise CadcogError(f"{src}: no body has mass (only surfaces without an areal density?)")
-        factor = 1.0
-        if total_mass_kg is not None:
-            factor = total_mass_kg / sum(p.mass_kg for _, p in counted)
-            info.append(
-                f"densities scaled by {factor:.6g} to match the weighed {total_mass_kg:g} kg"
-            )
-            volume = sum(b.props.volume_mm3 for b, _ in counted)
-            mean = total_mass_kg / volume * 1e9 if volume > 0 else float("inf")
-            lo_d, hi_d = PLAUSIBLE_MEAN_DENSITY_KG_M3
-            if units is None and not lo_d <= mean <= hi_d:
-                notes.append(
-                    f"the weighed mass implies a mean density of {mean:.4g} kg/m³: the file's "
-                    f"declared unit ({model.declared_unit or 'none'}) may be wrong; pass --units"
-                )
-        if factor != 1.0 and summary.pairs:
-            summary = replace(
-                summary,
-                mass_kg=summary.mass_kg * factor,
-                pairs=tuple(replace(p, mass_kg=p.mass_kg * factor) for p in summary.pairs),
-            )
-        if summary.pairs and summary.policy == "check":
-            notes.append(
-                f"{summary.headline()}; under the refusal threshold of "
-                f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%}: each solid counted as it is"
-            )
-        elif summary.pairs and summary.policy == "allow":  # the user chose: info, not a note
-            info.append(f"{summary.headline()}; --allow-overlap: each solid counted as it is")
-        results = []
-        for b, p in counted:
-            sigma, growth = item_rules(b.step, materials)
-            results.append(
-                BodyResult(
-                    b.step.path,
-                    tuple(n.name for n in b.step.nodes),
-                    b.step.kind,
-                    b.material,
-                    b.source,
-                    None if b.density_kg_m3 is None else b.density_kg_m3 * factor,
-                    None if b.areal_density_kg_m2 is None else b.areal_density_kg_m2 * factor,
-                    with_mass_factor(p, factor),
-                    b.props.mass_kg if b.step.kind == "surface" else 0.0,
-                    b.removed_mm3,
-                    None if sigma is None else sigma.value,
-                    b.step.path if sigma is None else sigma.item,
-                    0.0 if growth is None else growth.value,
-                    "" if growth is None else growth.label,
-                    None
-                    if materials is None
-                    else materials.cog_uncertainty(item_candidates(b.step)),
-                    b.surface_area_mm2,
-                    tuple(n.product for n in b.step.nodes),
-                )
-            )
+        factor = self._weighed_factor(counted, notes, info)
+        summary = _overlap_lines(_scaled_summary(summary, factor), notes, info)
+        results = [self._body_result(b, p, factor) for b, p in counted]
         left_out = tuple((b.step.path, b.props.mass_kg) for b in bodies if b.density_kg_mm3 == 0.0)
-        if left_out:
-            area = sum(a for _, a in left_out)
-            shown = ", ".join(f"{p} ({a:.4g} mm²)" for p, a in left_out[:WORST_PAIRS_SHOWN])
-            more = f" and {len(left_out) - WORST_PAIRS_SHOWN} more" if len(left_out) > 10 else ""
-            notes.append(
-                f"{len(left_out)} surface bod{'y' if len(left_out) == 1 else 'ies'} "
-                f"({area:.4g} mm² in all) have no volume and are left out: {shown}{more}; give "
-                "them an areal density in the materials file's [surfaces] table"
-            )
-        if audit_bits["made_solid"]:
-            notes.append(
-                f"closed shells made into solids: {', '.join(audit_bits['made_solid'][:10])}"
-                + (" ..." if len(audit_bits["made_solid"]) > 10 else "")
-            )
-        if invalid:
-            notes.append(
-                f"OCCT reports invalid topology in {len(invalid)} solid(s) "
-                f"({', '.join(invalid[:10])}); integrated anyway"
-            )
-        if model.curve_only_parts:
-            notes.append(
-                f"{len(model.curve_only_parts)} part(s) hold only curves or points, no mass: "
-                + ", ".join(model.curve_only_parts[:10])
-            )
+        notes += _quality_notes(left_out, audit_bits["made_solid"], invalid, model)
         sources: dict[str, int] = {}
         for r in results:
             kind = r.density_source.split(" ", 1)[0]
@@ -385,3 +311,111 @@ class _Parts:
         )
         total = combine(r.properties for r in results)
         return ModelMassProperties(total, tuple(results), audit, summary, tuple(notes), tuple(info))
+
+    def _weighed_factor(
+        self, counted: list[tuple[Body, MassProperties]], notes: list[str], info: list[str]
+    ) -> float:
+        """The factor that scales every density to the weighed total mass (1 without one); a
+        note when the mean density it implies is implausible for the declared unit."""
+        total_mass_kg = self.total_mass_kg
+        if total_mass_kg is None:
+            return 1.0
+        factor = total_mass_kg / sum(p.mass_kg for _, p in counted)
+        info.append(f"densities scaled by {factor:.6g} to match the weighed {total_mass_kg:g} kg")
+        volume = sum(b.props.volume_mm3 for b, _ in counted)
+        mean = total_mass_kg / volume * 1e9 if volume > 0 else float("inf")
+        lo_d, hi_d = PLAUSIBLE_MEAN_DENSITY_KG_M3
+        if self.units is None and not lo_d <= mean <= hi_d:
+            notes.append(
+                f"the weighed mass implies a mean density of {mean:.4g} kg/m³: the file's "
+                f"declared unit ({self.model.declared_unit or 'none'}) may be wrong; pass --units"
+            )
+        return factor
+
+    def _body_result(self, b: Body, p: MassProperties, factor: float) -> BodyResult:
+        """One body's line of the result, its densities scaled by ``factor``."""
+        materials = self.materials
+        sigma, growth = item_rules(b.step, materials)
+        return BodyResult(
+            b.step.path,
+            tuple(n.name for n in b.step.nodes),
+            b.step.kind,
+            b.material,
+            b.source,
+            None if b.density_kg_m3 is None else b.density_kg_m3 * factor,
+            None if b.areal_density_kg_m2 is None else b.areal_density_kg_m2 * factor,
+            with_mass_factor(p, factor),
+            b.props.mass_kg if b.step.kind == "surface" else 0.0,
+            b.removed_mm3,
+            None if sigma is None else sigma.value,
+            b.step.path if sigma is None else sigma.item,
+            0.0 if growth is None else growth.value,
+            "" if growth is None else growth.label,
+            None if materials is None else materials.cog_uncertainty(item_candidates(b.step)),
+            b.surface_area_mm2,
+            tuple(n.product for n in b.step.nodes),
+        )
+
+
+def _scaled_summary(summary: OverlapSummary, factor: float) -> OverlapSummary:
+    """The overlaps' masses scaled with the densities."""
+    if factor == 1.0 or not summary.pairs:
+        return summary
+    return replace(
+        summary,
+        mass_kg=summary.mass_kg * factor,
+        pairs=tuple(replace(p, mass_kg=p.mass_kg * factor) for p in summary.pairs),
+    )
+
+
+def _overlap_lines(summary: OverlapSummary, notes: list[str], info: list[str]) -> OverlapSummary:
+    """The overlaps counted as they are: a note under ``check``, an info line under ``allow``
+    (the user chose it)."""
+    if summary.pairs and summary.policy == "check":
+        notes.append(
+            f"{summary.headline()}; under the refusal threshold of "
+            f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%}: each solid counted as it is"
+        )
+    elif summary.pairs and summary.policy == "allow":
+        info.append(f"{summary.headline()}; --allow-overlap: each solid counted as it is")
+    return summary
+
+
+def _quality_notes(
+    left_out: tuple[tuple[str, float], ...],
+    made_solid: list[str],
+    invalid: list[str],
+    model: StepModel,
+) -> list[str]:
+    """What the model's geometry made cadcog do: surfaces without volume left out (``left_out``:
+    path and area), shells made solid, invalid solids integrated, parts with no mass."""
+    notes = []
+    if left_out:
+        area = sum(a for _, a in left_out)
+        shown = ", ".join(f"{p} ({a:.4g} mm²)" for p, a in left_out[:WORST_PAIRS_SHOWN])
+        more = (
+            f" and {len(left_out) - WORST_PAIRS_SHOWN} more"
+            if len(left_out) > WORST_PAIRS_SHOWN
+            else ""
+        )
+        notes.append(
+            f"{len(left_out)} surface bod{'y' if len(left_out) == 1 else 'ies'} "
+            f"({area:.4g} mm² in all) have no volume and are left out: {shown}{more}; give "
+            "them an areal density in the materials file's [surfaces] table"
+        )
+    if made_solid:
+        notes.append(
+            f"closed shells made into solids: {', '.join(made_solid[:10])}"
+            + (" ..." if len(made_solid) > 10 else "")
+        )
+    if invalid:
+        notes.append(
+            f"OCCT reports invalid topology in {len(invalid)} solid(s) "
+            f"({', '.join(invalid[:10])}); integrated anyway"
+        )
+    if model.curve_only_parts:
+        notes.append(
+            f"{len(model.curve_only_parts)} part(s) hold only curves or points, no mass: "
+            + ", ".join(model.curve_only_parts[:10])
+        )
+    return notes
