@@ -300,71 +300,8 @@ def load_setup(path: str | Path) -> Setup:
         limits = np.array(CDS_COG_LIMITS_MM[form])
     lo, hi = massprops.bbox_mm
 
-    me_t = root.table("measurement_equipment")
-    rig = load_rig(base / me_t.string("rig")) if me_t.has("rig") else load_rig(default_rig_path())
-    target = np.array(me_t.vector("base_center_mm"))
-    if (problem := me_base_problem(target, lo, hi)) is not None:
-        raise me_t.error("base_center_mm", problem)
-    me_t.finish()
-    rig_base = np.array([*rig.analytic_me.cog_mm[:2], rig.proof_mass.size_mm[2]])
-    shift = target - rig_base
-    volumes = tuple(
-        replace(v, center_mm=_triple(np.asarray(v.center_mm) + shift)) for v in rig.me_volumes
-    )
-
-    cand_t = root.table("candidates")
-    cands: list[Candidate] = []
-    if cand_t.has("faces"):
-        faces_value = cand_t.strings("faces", choices=list(FACES))
-        spacing = cand_t.number("spacing_mm", positive=True)
-        margin = cand_t.number("margin_mm", nonnegative=True)
-        count = sum(_grid_size(f, lo, hi, spacing, margin) for f in faces_value)
-        if count > bounds.MAX_CANDIDATES:
-            raise cand_t.error(
-                "spacing_mm",
-                f"{spacing:g} mm gives {count} candidate points on {', '.join(faces_value)}; "
-                f"at most {bounds.MAX_CANDIDATES} (every pair is screened): use a wider spacing",
-            )
-        for f in faces_value:
-            cands.extend(_grid(f, lo, hi, spacing, margin))
-    if cand_t.has("points"):
-        for t in cand_t.tables("points"):
-            pos = np.array(t.vector("position_mm"))
-            if t.has("face"):  # a point on the model itself, anywhere within its box
-                normal = face_normal(t.string("face", choices=list(FACES)))
-                tol = tolerances.SUSPENSION_ON_FACE_MM
-                if np.any(pos < lo - tol) or np.any(pos > hi + tol):
-                    raise t.error(
-                        "position_mm",
-                        f"{pos.tolist()} lies outside the model's bounding box "
-                        f"{np.round(lo, 3).tolist()}..{np.round(hi, 3).tolist()} mm: a point "
-                        "with a face must sit on the model",
-                    )
-            else:
-                try:
-                    normal = face_normal_of_point(pos, lo, hi)
-                except ValueError:
-                    raise t.error(
-                        "position_mm",
-                        f"{pos.tolist()} is inside the model's bounding box: a suspension "
-                        'point must be on its surface (name its face, face = "+x", for a point '
-                        "on the model inside its box)",
-                    ) from None
-            pid = t.string("id")
-            problem = id_problem(pid)
-            if problem is not None:
-                raise t.error("id", f"{pid!r}: {problem}")
-            if any(c.id == pid for c in cands):
-                raise t.error("id", f"duplicate candidate id {pid!r}")
-            twin = next(
-                (c for c in cands if c.listed and same_point(c.position_mm, pos)),
-                None,
-            )
-            if twin is not None:
-                raise t.error("position_mm", f"{pid!r} is the point of candidate {twin.id!r}")
-            cands.append(Candidate(pid, pos, normal, listed=True))
-            t.finish()
-    cand_t.finish()
+    rig, volumes = _measurement_equipment(root.table("measurement_equipment"), base, lo, hi)
+    cands = _candidates(root.table("candidates"), lo, hi)
     swing = swing_options(root.table("swing")) if root.has("swing") else rig.swing
     if swing.sensor_position_mm is not None:
         problem = _sensor_problem(np.asarray(swing.sensor_position_mm), lo, hi, volumes)
@@ -386,6 +323,86 @@ def load_setup(path: str | Path) -> Setup:
         tuple(massprops.bodies),
         swing,
     )
+
+
+def _measurement_equipment(
+    me_t: TableReader, base: Path, lo: FloatArray, hi: FloatArray
+) -> tuple[Rig, tuple[MEVolume, ...]]:
+    """``[measurement_equipment]``: the rig whose ME carries the spacecraft (the paper's by
+    default) and its volumes moved so that its base centre is at ``base_center_mm``."""
+    rig = load_rig(base / me_t.string("rig")) if me_t.has("rig") else load_rig(default_rig_path())
+    target = np.array(me_t.vector("base_center_mm"))
+    if (problem := me_base_problem(target, lo, hi)) is not None:
+        raise me_t.error("base_center_mm", problem)
+    me_t.finish()
+    rig_base = np.array([*rig.analytic_me.cog_mm[:2], rig.proof_mass.size_mm[2]])
+    shift = target - rig_base
+    volumes = tuple(
+        replace(v, center_mm=_triple(np.asarray(v.center_mm) + shift)) for v in rig.me_volumes
+    )
+    return rig, volumes
+
+
+def _candidates(cand_t: TableReader, lo: FloatArray, hi: FloatArray) -> list[Candidate]:
+    """``[candidates]``: a grid on named faces of the model's box, then the listed points."""
+    cands: list[Candidate] = []
+    if cand_t.has("faces"):
+        faces_value = cand_t.strings("faces", choices=list(FACES))
+        spacing = cand_t.number("spacing_mm", positive=True)
+        margin = cand_t.number("margin_mm", nonnegative=True)
+        count = sum(_grid_size(f, lo, hi, spacing, margin) for f in faces_value)
+        if count > bounds.MAX_CANDIDATES:
+            raise cand_t.error(
+                "spacing_mm",
+                f"{spacing:g} mm gives {count} candidate points on {', '.join(faces_value)}; "
+                f"at most {bounds.MAX_CANDIDATES} (every pair is screened): use a wider spacing",
+            )
+        for f in faces_value:
+            cands.extend(_grid(f, lo, hi, spacing, margin))
+    if cand_t.has("points"):
+        for t in cand_t.tables("points"):
+            cands.append(_listed_point(t, lo, hi, cands))
+            t.finish()
+    cand_t.finish()
+    return cands
+
+
+def _listed_point(
+    t: TableReader, lo: FloatArray, hi: FloatArray, cands: Sequence[Candidate]
+) -> Candidate:
+    """One ``[[candidates.points]]``: on the model's box (on a named face, or its face found
+    from where it lies), its id valid and new, not the point of another listed candidate."""
+    pos = np.array(t.vector("position_mm"))
+    if t.has("face"):  # a point on the model itself, anywhere within its box
+        normal = face_normal(t.string("face", choices=list(FACES)))
+        tol = tolerances.SUSPENSION_ON_FACE_MM
+        if np.any(pos < lo - tol) or np.any(pos > hi + tol):
+            raise t.error(
+                "position_mm",
+                f"{pos.tolist()} lies outside the model's bounding box "
+                f"{np.round(lo, 3).tolist()}..{np.round(hi, 3).tolist()} mm: a point "
+                "with a face must sit on the model",
+            )
+    else:
+        try:
+            normal = face_normal_of_point(pos, lo, hi)
+        except ValueError:
+            raise t.error(
+                "position_mm",
+                f"{pos.tolist()} is inside the model's bounding box: a suspension "
+                'point must be on its surface (name its face, face = "+x", for a point '
+                "on the model inside its box)",
+            ) from None
+    pid = t.string("id")
+    problem = id_problem(pid)
+    if problem is not None:
+        raise t.error("id", f"{pid!r}: {problem}")
+    if any(c.id == pid for c in cands):
+        raise t.error("id", f"duplicate candidate id {pid!r}")
+    twin = next((c for c in cands if c.listed and same_point(c.position_mm, pos)), None)
+    if twin is not None:
+        raise t.error("position_mm", f"{pid!r} is the point of candidate {twin.id!r}")
+    return Candidate(pid, pos, normal, listed=True)
 
 
 def _sensor_problem(
