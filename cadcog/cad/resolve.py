@@ -75,16 +75,41 @@ def handle_overlaps(
     if not found:
         summary = OverlapSummary(policy, n_candidates=n_candidates, n_contact=n_contact)
         return summary, [], in_booleans, None
+    pairs, partners = _pairs(found, solids, scale)
+    # Exact totals, also where three or more solids share a region: each less dense solid is cut
+    # by its denser partners; what it loses is what was counted more than once.
+    after = _cut_losers(placed_solids, solids, partners, scale, src, progress, workers)
+    removed = []
+    for i, props in after.items():
+        if solids[i].props.volume_mm3 - props.volume_mm3 > 0:
+            region = combine([solids[i].props, props.scaled(-1.0)])
+            removed.append(with_mass_factor(region, solids[i].density_kg_mm3))
+    summary = _summary(policy, bodies, pairs, removed, n_candidates, n_contact)
+    if policy == "check" and summary.mass_fraction > tolerances.OVERLAP_REFUSE_MASS_FRACTION:
+        return summary, [], in_booleans, _refusal(summary, bodies, src)
+    if policy != "resolve":
+        return summary, [], in_booleans, None
+    for i, props in after.items():
+        solids[i].removed_mm3 = solids[i].props.volume_mm3 - props.volume_mm3
+        solids[i].props = props
+    info = [
+        f"--resolve-overlaps: {len(found)} overlapping pair(s) resolved, the denser solid of "
+        f"each keeping the common volume ({summary.mass_kg * 1e3:.4g} g no longer counted more "
+        "than once)"
+    ]
+    return summary, info, in_booleans, None
 
-    def lighter(o: Overlap) -> tuple[int, int]:
-        """(less dense, denser): the later solid in file order loses a tie."""
-        da, db = solids[o.a].density_kg_mm3, solids[o.b].density_kg_mm3
-        return (o.b, o.a) if db <= da else (o.a, o.b)
 
+def _pairs(
+    found: Sequence[Overlap], solids: Sequence[Body], scale: float
+) -> tuple[list[OverlapPair], dict[int, list[int]]]:
+    """Each overlap as a pair (its common volume's mass at the less dense solid's density,
+    which loses it), and each losing solid's denser partners."""
     pairs = []
     partners: dict[int, list[int]] = {}
     for o in found:
-        lose, keep = lighter(o)
+        da, db = solids[o.a].density_kg_mm3, solids[o.b].density_kg_mm3
+        lose, keep = (o.b, o.a) if db <= da else (o.a, o.b)  # the later solid loses a tie
         partners.setdefault(lose, []).append(keep)
         common = scaled_lengths(o.common, scale, 3)
         pairs.append(
@@ -96,8 +121,25 @@ def handle_overlaps(
                 solids[keep].step.path,
             )
         )
-    # Exact totals, also where three or more solids share a region: each less dense solid is cut
-    # by its denser partners; what it loses is what was counted more than once.
+    return pairs, partners
+
+
+def _cut_losers(
+    placed_solids: Sequence[Placed],
+    solids: Sequence[Body],
+    partners: dict[int, list[int]],
+    scale: float,
+    src: Any,
+    progress: ProgressFactory | None,
+    workers: int,
+) -> dict[int, MassProperties]:
+    """Each losing solid's unit-density properties once its partners are cut out of it.
+
+    Raises
+    ------
+    CadcogError
+        If OCCT cannot cut one.
+    """
     losers = list(partners)
     cuts = _cuts(placed_solids, losers, partners, progress, workers)
     failed = [solids[i].step.path for i, c in zip(losers, cuts, strict=True) if c is None]
@@ -106,54 +148,49 @@ def handle_overlaps(
             f"{src}: OCCT could not cut the overlaps out of {', '.join(failed[:10])}; "
             "--exclude them or fix the model"
         )
-    removed = []
-    after: dict[int, MassProperties] = {}
-    for i, cut in zip(losers, cuts, strict=True):
-        assert cut is not None
-        after[i] = scaled_lengths(cut, scale, 3)
-        lost = solids[i].props.volume_mm3 - after[i].volume_mm3
-        if lost > 0:
-            region = combine([solids[i].props, after[i].scaled(-1.0)])
-            removed.append(with_mass_factor(region, solids[i].density_kg_mm3))
+    return {
+        i: scaled_lengths(c, scale, 3) for i, c in zip(losers, cuts, strict=True) if c is not None
+    }
+
+
+def _summary(
+    policy: OverlapPolicy,
+    bodies: Sequence[Body],
+    pairs: Sequence[OverlapPair],
+    removed: Sequence[MassProperties],
+    n_candidates: int,
+    n_contact: int,
+) -> OverlapSummary:
+    """The overlaps' totals: the mass counted more than once, its share of the model's, and
+    how far it moves the CoG."""
     as_is = [with_mass_factor(b.props, b.density_kg_mm3) for b in bodies if b.density_kg_mm3 > 0]
     total_as_is = combine(as_is)
     double_mass = sum(r.mass_kg for r in removed)
     single = combine([*as_is, *(r.scaled(-1.0) for r in removed)]) if removed else total_as_is
-    fraction = double_mass / total_as_is.mass_kg
     shift = total_as_is.cog_mm - single.cog_mm
-    ranked = tuple(sorted(pairs, key=lambda p: -p.mass_kg))
-    summary = OverlapSummary(
+    return OverlapSummary(
         policy,
-        ranked,
+        tuple(sorted(pairs, key=lambda p: -p.mass_kg)),
         sum(r.volume_mm3 for r in removed),
         double_mass,
-        fraction,
+        double_mass / total_as_is.mass_kg,
         (float(shift[0]), float(shift[1]), float(shift[2])),
         n_candidates,
         n_contact,
     )
-    if policy == "check" and fraction > tolerances.OVERLAP_REFUSE_MASS_FRACTION:
-        root = _common_root([b.step.path for b in bodies])
-        worst = "; ".join(p.describe(root) for p in ranked[:3])
-        refusal = (
-            f"{src}: {summary.headline()}, above the "
-            f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%} threshold; worst: {worst}. Fix the "
-            "model, --exclude one of each pair, --resolve-overlaps (the denser solid keeps the "
-            "common volume) or --allow-overlap (count each solid as it is); --json lists every "
-            "pair"
-        )
-        return summary, [], in_booleans, refusal
-    if policy != "resolve":
-        return summary, [], in_booleans, None
-    for i, props in after.items():
-        solids[i].removed_mm3 = solids[i].props.volume_mm3 - props.volume_mm3
-        solids[i].props = props
-    info = [
-        f"--resolve-overlaps: {len(found)} overlapping pair(s) resolved, the denser solid of "
-        f"each keeping the common volume ({double_mass * 1e3:.4g} g no longer counted more than "
-        "once)"
-    ]
-    return summary, info, in_booleans, None
+
+
+def _refusal(summary: OverlapSummary, bodies: Sequence[Body], src: Any) -> str:
+    """The message that refuses a model whose overlaps count too much mass twice."""
+    root = _common_root([b.step.path for b in bodies])
+    worst = "; ".join(p.describe(root) for p in summary.pairs[:3])
+    return (
+        f"{src}: {summary.headline()}, above the "
+        f"{tolerances.OVERLAP_REFUSE_MASS_FRACTION:.1%} threshold; worst: {worst}. Fix the "
+        "model, --exclude one of each pair, --resolve-overlaps (the denser solid keeps the "
+        "common volume) or --allow-overlap (count each solid as it is); --json lists every "
+        "pair"
+    )
 
 
 def _cuts(
