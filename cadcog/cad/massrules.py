@@ -94,49 +94,89 @@ def assign_densities(
     stamps = {(m.name, m.density_kg_m3) for b in xcaf_usable if (m := b.step.material)}
     stamped_default = len(solids) >= 2 and len(xcaf_usable) == len(solids) and len(stamps) == 1
     for b in bodies:
-        names = b.step.rule_names
         if b.step.kind == "surface":
-            found_s = materials.assign_surface(names) if materials is not None else None
-            if found_s is None:
-                b.material, b.source = "none", "left out (no areal density)"
-                b.areal_density_kg_m2 = 0.0
-            else:
-                b.material = found_s.material
-                b.source = f"materials rule {found_s.rule!r} ({origin})"
-                b.areal_density_kg_m2 = found_s.areal_density_kg_m2
+            _assign_surface(b, materials, origin)
             continue
-        found = materials.assign(names) if materials is not None else None
+        outcome = _assign_solid(b, materials, origin, uniform, stamped_default)
         xm = b.step.material
-        usable = xm is not None and xm.density_kg_m3 and lo_d <= xm.density_kg_m3 <= hi_d
-        named_stub = bool(usable and xm is not None and is_placeholder_material(xm.name))
-        stub = named_stub or stamped_default
-        # A catch-all rule of a materials file is a default: the STEP's own material first.
-        default_only = (
-            found is not None
-            and found.rule == "*"
-            and materials is not None
-            and materials.step_first
-        )
-        if found is not None and default_only and usable and not stub:
-            found = None
-        if found is not None:
-            b.material, b.density_kg_m3 = found.material, found.density_kg_m3
-            b.source = f"materials rule {found.rule!r} ({origin})"
-            if stub and default_only and xm is not None:
-                defaulted.setdefault(xm.name, []).append(b)
-        elif uniform:
-            b.material, b.density_kg_m3 = "uniform", 1000.0
-            b.source = "uniform (scaled to --total-mass-kg)"
-        elif usable and xm is not None and xm.density_kg_m3 is not None:
-            b.material, b.density_kg_m3 = xm.name, xm.density_kg_m3
-            b.source = f"STEP material {xm.name!r} ({xm.density_kg_m3:g} kg/m³)"
-            if named_stub:
-                b.source += ", a placeholder"
-                placeholder.setdefault(xm.name, []).append(b)
-        else:
+        if outcome == "defaulted" and xm is not None:
+            defaulted.setdefault(xm.name, []).append(b)
+        elif outcome == "placeholder" and xm is not None:
+            placeholder.setdefault(xm.name, []).append(b)
+        elif outcome == "missing":
             if xm is not None:
                 bad_xcaf.add(f"{xm.name} ({xm.raw or 'no density'})")
             missing.append(b.step.path)
+    notes += _placeholder_notes(placeholder)
+    _defaulted_lines(defaulted, stamped_default, notes, info)
+    notes += _stamp_notes(solids)
+    if bad_xcaf:
+        notes.append(
+            "STEP materials without a usable density (kg/m³ between "
+            f"{lo_d:g} and {hi_d:g}): {', '.join(sorted(bad_xcaf))}"
+        )
+    if missing:
+        shown = _listed(missing)
+        raise CadcogError(
+            f"{src}: no density for {len(missing)} solid(s): {shown}; give a materials file "
+            '(--materials; a catch-all "*" rule gives a default) or --density-kg-m3'
+        )
+
+
+def _assign_surface(b: Body, materials: MaterialMap | None, origin: str) -> None:
+    """A surface body's areal density from the materials file's ``[surfaces]``, or none (it is
+    left out)."""
+    found = materials.assign_surface(b.step.rule_names) if materials is not None else None
+    if found is None:
+        b.material, b.source = "none", "left out (no areal density)"
+        b.areal_density_kg_m2 = 0.0
+    else:
+        b.material = found.material
+        b.source = f"materials rule {found.rule!r} ({origin})"
+        b.areal_density_kg_m2 = found.areal_density_kg_m2
+
+
+def _assign_solid(
+    b: Body, materials: MaterialMap | None, origin: str, uniform: bool, stamped_default: bool
+) -> str | None:
+    """A solid's material and density: a materials rule (a catch-all one only where the STEP's
+    own material is a placeholder or a stamped default, or the file says rules come first),
+    else uniform, else the STEP's own material. Returns what the caller must note:
+    ``"defaulted"`` (a catch-all rule replaced the STEP's placeholder or stamp),
+    ``"placeholder"`` (the STEP's placeholder kept), ``"missing"`` (no density), or None."""
+    lo_d, hi_d = DENSITY_RANGE_KG_M3
+    found = materials.assign(b.step.rule_names) if materials is not None else None
+    xm = b.step.material
+    usable = xm is not None and xm.density_kg_m3 and lo_d <= xm.density_kg_m3 <= hi_d
+    named_stub = bool(usable and xm is not None and is_placeholder_material(xm.name))
+    stub = named_stub or stamped_default
+    # A catch-all rule of a materials file is a default: the STEP's own material first.
+    default_only = (
+        found is not None and found.rule == "*" and materials is not None and materials.step_first
+    )
+    if found is not None and default_only and usable and not stub:
+        found = None
+    if found is not None:
+        b.material, b.density_kg_m3 = found.material, found.density_kg_m3
+        b.source = f"materials rule {found.rule!r} ({origin})"
+        return "defaulted" if stub and default_only and xm is not None else None
+    if uniform:
+        b.material, b.density_kg_m3 = "uniform", 1000.0
+        b.source = "uniform (scaled to --total-mass-kg)"
+        return None
+    if usable and xm is not None and xm.density_kg_m3 is not None:
+        b.material, b.density_kg_m3 = xm.name, xm.density_kg_m3
+        b.source = f"STEP material {xm.name!r} ({xm.density_kg_m3:g} kg/m³)"
+        if named_stub:
+            b.source += ", a placeholder"
+            return "placeholder"
+        return None
+    return "missing"
+
+
+def _placeholder_notes(placeholder: dict[str, list[Body]]) -> list[str]:
+    """A note per exporter's placeholder material kept: which solids, how much mass."""
+    notes = []
     for name, group in sorted(placeholder.items()):
         mass_g = 1e3 * sum(g.props.mass_kg * g.density_kg_mm3 for g in group)
         notes.append(
@@ -144,6 +184,17 @@ def assign_densities(
             f"({group[0].density_kg_m3:g} kg/m³), {mass_g:.4g} g as counted: "
             f"{_listed([g.step.path for g in group])}; give them their material"
         )
+    return notes
+
+
+def _defaulted_lines(
+    defaulted: dict[str, list[Body]],
+    stamped_default: bool,
+    notes: list[str],
+    info: list[str] | None,
+) -> None:
+    """A line per STEP material a catch-all rule replaced: an info line for a stamped default
+    (the file asked for it), a note for a placeholder."""
     for name, group in sorted(defaulted.items()):
         stamp = stamped_default and not is_placeholder_material(name)
         what = (
@@ -156,33 +207,28 @@ def assign_densities(
             f"{group[0].material!r}: {_listed([g.step.path for g in group])}; name a part in "
             "the materials file to keep the STEP's"
         )
+
+
+def _stamp_notes(solids: Sequence[Body]) -> list[str]:
+    """A note where the STEP's own materials look like an exporter's stamp: one material on
+    every solid, or a lone solid in Fusion 360's default 'Steel'."""
     from_file = [b for b in solids if b.source.startswith("STEP material")]
     if len(from_file) >= 2 and len({(b.material, b.density_kg_m3) for b in from_file}) == 1:
         b0 = from_file[0]
-        notes.append(
+        return [
             f"all {len(from_file)} solids without a materials rule carry the same STEP material "
             f"{b0.material!r} ({b0.density_kg_m3:g} kg/m³): exporters stamp a default material "
             "on every body (Fusion 360 writes 'Steel' on boards and plastics alike); check it, "
             "or give a materials file"
-        )
-    elif len(solids) == 1 and from_file and from_file[0].material.strip().lower() == "steel":
+        ]
+    if len(solids) == 1 and from_file and from_file[0].material.strip().lower() == "steel":
         b0 = from_file[0]  # one solid cannot show a stamp: Fusion 360's default is its name
-        notes.append(
+        return [
             f"the one solid carries the STEP material {b0.material!r} ({b0.density_kg_m3:g} "
             "kg/m³), the default Fusion 360 writes on every body: check it, or give a "
             "materials file"
-        )
-    if bad_xcaf:
-        notes.append(
-            "STEP materials without a usable density (kg/m³ between "
-            f"{lo_d:g} and {hi_d:g}): {', '.join(sorted(bad_xcaf))}"
-        )
-    if missing:
-        shown = _listed(missing)
-        raise CadcogError(
-            f"{src}: no density for {len(missing)} solid(s): {shown}; give a materials file "
-            '(--materials; a catch-all "*" rule gives a default) or --density-kg-m3'
-        )
+        ]
+    return []
 
 
 def _listed(paths: Sequence[str], most: int = 10) -> str:
