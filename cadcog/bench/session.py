@@ -21,8 +21,14 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from cadcog.bench.readingsfile import ReadingsFile, block_text, parse_block, suspension_of
-from cadcog.bench.recorder import HangData, Recorder
+from cadcog.bench.readingsfile import (
+    HangBlock,
+    ReadingsFile,
+    block_text,
+    parse_block,
+    suspension_of,
+)
+from cadcog.bench.recorder import DeviceUnits, HangData, Recorder
 from cadcog.bench.swinglog import SwingLog, default_swing_path
 from cadcog.bench.target import (
     BenchTarget,
@@ -210,6 +216,35 @@ def run_session(
     rfile, blocks, repaired = ReadingsFile.open(out, units, preamble, turned=reversal)
     swings = SwingLog.open(swing_path)
     result = SessionResult(Path(out), units.header.describe(), repaired_lines=repaired)
+    suspensions = _resumed(blocks, target, units, out, result)
+    if repaired:
+        say(f"{out}: {repaired} line(s) of an interrupted hang turned into comments")
+    if result.resumed:
+        say(f"resuming {out}: already recorded {', '.join(result.resumed)}")
+    done = set(result.resumed)
+    todo = [(i, h) for i, h in enumerate(target.hangs) if h.id not in done]
+    already = sum(h.id in done for h in target.hangs)  # of this plan (the file may hold others)
+    run = _Run(target, recorder, operator, say, out, units, rfile, swings, result, suspensions)
+    turned_before = bool(blocks) and blocks[-1].sensor_turned
+    for n, (index, h) in enumerate(todo, 1):
+        if run.hang(index, h, f"{already + n}/{len(target.hangs)}", turned_before):
+            turned_before = h.sensor_turned
+    result.link = recorder.stats.summary()
+    if len(suspensions) >= 2:
+        final = read_readings(out, target.inclinometer)
+        result.estimate = estimate_hangs(target, final)
+        result.inertia, result.inertia_note = _inertia(target, swings, final)
+    return result
+
+
+def _resumed(
+    blocks: list[HangBlock],
+    target: BenchTarget,
+    units: DeviceUnits,
+    out: str | Path,
+    result: SessionResult,
+) -> list[Suspension]:
+    """The hangs an earlier run recorded in ``out``, each where the plan puts its point."""
     planned = {h.id: h for h in target.hangs}
     suspensions: list[Suspension] = []
     for b in blocks:
@@ -222,42 +257,42 @@ def run_session(
             )
         suspensions.append(suspension_of(b, units))
         result.resumed.append(b.point_id)
-    if repaired:
-        say(f"{out}: {repaired} line(s) of an interrupted hang turned into comments")
-    if result.resumed:
-        say(f"resuming {out}: already recorded {', '.join(result.resumed)}")
-    done = set(result.resumed)
-    todo = [(i, h) for i, h in enumerate(target.hangs) if h.id not in done]
-    already = sum(h.id in done for h in target.hangs)  # of this plan (the file may hold others)
-    turned_before = bool(blocks) and blocks[-1].sensor_turned
-    for n, (index, h) in enumerate(todo, 1):
+    return suspensions
+
+
+@dataclass
+class _Run:
+    """What each hang of a run records into and reports to."""
+
+    target: BenchTarget
+    recorder: Recorder
+    operator: Operator
+    say: Callable[[str], None]
+    out: str | Path
+    units: DeviceUnits
+    rfile: ReadingsFile
+    swings: SwingLog
+    result: SessionResult
+    suspensions: list[Suspension]
+
+    def hang(self, index: int, h: PlannedHang, counter: str, turned_before: bool) -> bool:
+        """Hang ``h`` until it is recorded, skipped or given up; whether it was recorded."""
         attempt = 0
         while True:
             attempt += 1
-            face = "UP" if h.top_face_up else "DOWN"
-            turn = (
-                ", the sensor TURNED 180° on its mount (a reversal: docs/bench.md)"
-                if h.sensor_turned
-                else (", the sensor turned BACK to its normal orientation" if turned_before else "")
-            )
-            say(
-                f"\n[{already + n}/{len(target.hangs)}] hang from {h.id} at "
-                f"({h.position_mm[0]:g}, {h.position_mm[1]:g}, {h.position_mm[2]:g}) mm{turn}, "
-                f"inclinometer top face {face}; expect X ≈ {h.expected_x_deg:.1f}°, "
-                f"Y ≈ {h.expected_y_deg:.1f}°" + (f" (attempt {attempt})" if attempt > 1 else "")
-            )
-            recorder.link.flush_input()
-            began = operator.hang(index, h, attempt)
+            self.say(_prompt(h, counter, attempt, turned_before))
+            self.recorder.link.flush_input()
+            began = self.operator.hang(index, h, attempt)
             if began == -np.inf:
-                result.hangs.append(HangReport(h.id, attempt, "skipped", "by the operator"))
-                say(f"  {h.id}: skipped")
-                break
+                self.result.hangs.append(HangReport(h.id, attempt, "skipped", "by the operator"))
+                self.say(f"  {h.id}: skipped")
+                return False
             try:
-                data = recorder.record_hang(began)
+                data = self.recorder.record_hang(began)
             except CadcogError as exc:
-                kept = [s.id for s in suspensions]
+                kept = [s.id for s in self.suspensions]
                 where = (
-                    f"{', '.join(kept)} recorded in {out}; run again to resume"
+                    f"{', '.join(kept)} recorded in {self.out}; run again to resume"
                     if kept
                     else "nothing recorded yet"
                 )
@@ -267,41 +302,50 @@ def run_session(
                 h.position_mm,
                 h.top_face_up,
                 data,
-                units,
-                _info(attempt, data, recorder.average_s, recorder.stats.summary()),
-                h.sensor_turned if rfile.turned_column else None,
+                self.units,
+                _info(attempt, data, self.recorder.average_s, self.recorder.stats.summary()),
+                h.sensor_turned if self.rfile.turned_column else None,
             )
             # The new suspension is read back from the very text the file gets, so the running
             # estimate sees exactly what `cadcog estimate` will read.
-            new = suspension_of(parse_block(text), units)
-            report = _assess(target, h, data, new, suspensions, say)
+            new = suspension_of(parse_block(text), self.units)
+            report = _assess(self.target, h, data, new, self.suspensions, self.say)
             if report.outcome == "refused":
-                result.hangs.append(report_with(report, attempt))
-                if operator.redo(h, report.reason, attempt):
+                self.result.hangs.append(report_with(report, attempt))
+                if self.operator.redo(h, report.reason, attempt):
                     continue
-                say(f"  {h.id}: not recorded")
-                break
+                self.say(f"  {h.id}: not recorded")
+                return False
             if report.outcome == "inconsistent":
-                if operator.redo(h, report.reason, attempt):
-                    rfile.append_rejected(text, report.reason)
-                    result.hangs.append(report_with(report, attempt, "redone"))
+                if self.operator.redo(h, report.reason, attempt):
+                    self.rfile.append_rejected(text, report.reason)
+                    self.result.hangs.append(report_with(report, attempt, "redone"))
                     continue
                 report = report_with(report, attempt, "kept")
             else:
                 report = report_with(report, attempt, "recorded")
-            rfile.append(text)
-            swings.append(h.id, data.swing_t_s, data.swing_deg)
-            suspensions.append(new)
-            result.hangs.append(report)
-            say(f"  {h.id}: recorded {report.samples} samples in {out}")
-            turned_before = h.sensor_turned
-            break
-    result.link = recorder.stats.summary()
-    if len(suspensions) >= 2:
-        final = read_readings(out, target.inclinometer)
-        result.estimate = estimate_hangs(target, final)
-        result.inertia, result.inertia_note = _inertia(target, swings, final)
-    return result
+            self.rfile.append(text)
+            self.swings.append(h.id, data.swing_t_s, data.swing_deg)
+            self.suspensions.append(new)
+            self.result.hangs.append(report)
+            self.say(f"  {h.id}: recorded {report.samples} samples in {self.out}")
+            return True
+
+
+def _prompt(h: PlannedHang, counter: str, attempt: int, turned_before: bool) -> str:
+    """What the operator is told before a hang: where, which face up, what to expect."""
+    face = "UP" if h.top_face_up else "DOWN"
+    turn = (
+        ", the sensor TURNED 180° on its mount (a reversal: docs/bench.md)"
+        if h.sensor_turned
+        else (", the sensor turned BACK to its normal orientation" if turned_before else "")
+    )
+    return (
+        f"\n[{counter}] hang from {h.id} at "
+        f"({h.position_mm[0]:g}, {h.position_mm[1]:g}, {h.position_mm[2]:g}) mm{turn}, "
+        f"inclinometer top face {face}; expect X ≈ {h.expected_x_deg:.1f}°, "
+        f"Y ≈ {h.expected_y_deg:.1f}°" + (f" (attempt {attempt})" if attempt > 1 else "")
+    )
 
 
 def _inertia(
