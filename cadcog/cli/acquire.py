@@ -18,10 +18,6 @@ FAULTS = ("none", "slip", "never-settle", "stall", "foreign")
 
 
 def add_parser(sub: Any) -> None:
-    from cadcog.bench.link import DEFAULT_BAUD
-    from cadcog.bench.swing import SettleCriterion
-
-    c = SettleCriterion()
     p = sub.add_parser(
         "acquire",
         help="guided test run: record each hang from the inclinometer into a readings CSV",
@@ -58,6 +54,20 @@ def add_parser(sub: Any) -> None:
         "t_s,ax,ay,az CSV): cut into the hangs of --points in that order; the set-up's "
         '[inclinometer] must declare device = "accelerometer" (docs/bench.md)',
     )
+    _add_log_options(p.add_argument_group("an accelerometer's log (--log, or --port with one)"))
+    _add_device_options(p.add_argument_group("the device, the settling and the operator"))
+    _add_simulation_options(p.add_argument_group("simulated device (--simulate)"))
+    p.add_argument(
+        "--report",
+        type=Path,
+        metavar="DIR",
+        help="write the test record (hangs, link, CoG, CAD comparison) as an HTML page to DIR",
+    )
+    p.add_argument("--json", action="store_true", help="print the run's summary as JSON")
+    p.set_defaults(func=run, also_written=_also_written)
+
+
+def _add_log_options(p: Any) -> None:
     p.add_argument(
         "--drop-hangs",
         metavar="N,N",
@@ -84,6 +94,13 @@ def add_parser(sub: Any) -> None:
         help='phyphox: its "Acceleration with g" CSV export (default); csv: a header t_s,ax,ay,az '
         "(m/s²) or t_s,ax_g,ay_g,az_g (g)",
     )
+
+
+def _add_device_options(p: Any) -> None:
+    from cadcog.bench.link import DEFAULT_BAUD
+    from cadcog.bench.swing import SettleCriterion
+
+    c = SettleCriterion()
     p.add_argument("--baud", type=int, default=DEFAULT_BAUD, help=f"default {DEFAULT_BAUD}")
     p.add_argument(
         "--average-s", type=float, default=10.0, help="seconds averaged per hang (default 10)"
@@ -130,7 +147,9 @@ def add_parser(sub: Any) -> None:
         default=1,
         help="without an operator: redo a bad hang at most this many times (default 1)",
     )
-    sim = p.add_argument_group("simulated device (--simulate)")
+
+
+def _add_simulation_options(sim: Any) -> None:
     sim.add_argument("--device", choices=("analog", "digital"), default="analog")
     sim.add_argument("--seed", type=int, default=0, help="seed of the simulation (default 0)")
     sim.add_argument(
@@ -146,14 +165,6 @@ def add_parser(sub: Any) -> None:
         help="rehearse a failure: a slipped wire on the 3rd hang, a swing that never settles, "
         "a stream that stops, a device speaking another protocol",
     )
-    p.add_argument(
-        "--report",
-        type=Path,
-        metavar="DIR",
-        help="write the test record (hangs, link, CoG, CAD comparison) as an HTML page to DIR",
-    )
-    p.add_argument("--json", action="store_true", help="print the run's summary as JSON")
-    p.set_defaults(func=run, also_written=_also_written)
 
 
 def _also_written(args: argparse.Namespace) -> list[Path]:

@@ -49,6 +49,15 @@ def add_parser(sub: Any) -> None:
         "(CADCOG_NO_CACHE=1 computes afresh). See docs/spacecraft.md.",
     )
     p.add_argument("model", type=Path, help="STEP file (part or assembly)")
+    _add_density_options(p.add_argument_group("densities"))
+    _add_counting_options(p.add_argument_group("what is counted"))
+    _add_frame_options(p.add_argument_group("the inertia's frame"))
+    _add_envelope_options(p.add_argument_group("the CoG envelope and configurations"))
+    _add_output_options(p.add_argument_group("output"))
+    p.set_defaults(func=run, also_written=lambda a: [a.csv])
+
+
+def _add_density_options(p: Any) -> None:
     g = p.add_mutually_exclusive_group()
     g.add_argument(
         "--materials",
@@ -65,6 +74,9 @@ def add_parser(sub: Any) -> None:
         help="the file's true length unit, when its declared unit is wrong (the reader already "
         "converts the declared unit; this never scales twice)",
     )
+
+
+def _add_counting_options(p: Any) -> None:
     p.add_argument(
         "--exclude",
         action="append",
@@ -98,6 +110,9 @@ def add_parser(sub: Any) -> None:
         help="also each body's face area and each assembly's sum (for insulation blankets and "
         "coatings): a column in the budget, surface_area_mm2 in the JSON and the CSV",
     )
+
+
+def _add_frame_options(p: Any) -> None:
     p.add_argument(
         "--about",
         type=_point,
@@ -119,6 +134,9 @@ def add_parser(sub: Any) -> None:
         help="sign convention of the products of inertia shown (JSON has both): positive "
         "Pxy = +∫xy dm (default), negative Ixy = −∫xy dm",
     )
+
+
+def _add_envelope_options(p: Any) -> None:
     p.add_argument(
         "--form-factor",
         choices=tuple(CDS_COG_LIMITS_MM),
@@ -135,6 +153,9 @@ def add_parser(sub: Any) -> None:
         help="also each configuration of a configurations file (TOML: parts moved about a hinge "
         "or along a rail, masses changed): mass, CoG, inertia, uncertainty, envelope",
     )
+
+
+def _add_output_options(p: Any) -> None:
     p.add_argument("--depth", type=int, default=2, help="budget tree levels shown (default 2)")
     p.add_argument(
         "--collapse-below-percent",
@@ -156,7 +177,6 @@ def add_parser(sub: Any) -> None:
         "--workers", type=int, help="processes for integration and overlap checks (default: CPUs)"
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(func=run, also_written=lambda a: [a.csv])
 
 
 #: Steps from which a phase reports on a stderr that is not a terminal (a log, CI).
