@@ -83,8 +83,10 @@ def add_all(terms: Sequence[FloatArray] | FloatArray) -> FloatArray:
 
 
 def rows_sum(c: FloatArray) -> FloatArray:
-    """Sum over the first axis, row by row: what ``c.sum(axis=0)`` gives (numpy adds the rows of
-    an outer axis in order), without a reduction's overhead for the usual two or three lines."""
+    """Sum over the first axis, row by row in order, whatever the trailing shape: a trial's sum
+    is the same to the bit alone or among a million (numpy's ``c.sum(axis=0)`` adds in order
+    when the rows hold many trials, but pairwise when they hold one, and differs in the last bit
+    from nine rows on), without a reduction's overhead for the usual two or three lines."""
     return add_all(c)
 
 
