@@ -6,7 +6,7 @@ difference ``d = r_measured − G_CAD`` then varies for two reasons: the measure
 CoG, :mod:`cadcog.spacecraft.items`). Under that null, to first order in the items'
 parameters ``θ``,
 
-    Cov d = C_meas + (J_G + a J_M) P (J_G + a J_M)ᵀ
+    Cov d = C_meas + (J_G − a J_M) P (J_G − a J_M)ᵀ
 
 with ``C_meas`` the measurement's covariance with the object mass exact, ``J_G``, ``J_M`` the
 CAD CoG's and mass's Jacobians in ``θ``, ``P`` their prior covariance, and ``a = ∂r/∂m_obj``
@@ -93,7 +93,7 @@ def compare_with_cad(
         a = compensation.mass_gradient_mm_kg
     else:
         c_meas, a = cov, np.zeros(3)
-    jac = prior.jac_cog + np.outer(a, prior.jac_mass)
+    jac = prior.jac_cog - np.outer(a, prior.jac_mass)
     diff_cov = c_meas + jac @ prior.prior_cov @ jac.T
     diff = cog - prior.cog_mm
     # A joint test: the CoG difference, and with a weighing the mass difference too.
