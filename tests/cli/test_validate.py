@@ -1,4 +1,4 @@
-"""``cadcog campaign`` and ``cadcog validate`` in-process."""
+"""``cadcog validate`` in-process, on a campaign ``cadcog campaign`` writes."""
 
 from __future__ import annotations
 
@@ -41,9 +41,3 @@ def test_validate_rejects_bad_options(tmp_path, capsys):
     assert "--campaigns" in capsys.readouterr().err
     assert main(["validate", str(csv), "--level", "1.5"]) == 2
     assert "--level" in capsys.readouterr().err
-
-
-def test_campaign_rejects_bad_samples(tmp_path, capsys):
-    assert main(["campaign", "--samples", "0", "--out", str(tmp_path / "c.csv")]) == 2
-    assert "samples" in capsys.readouterr().err
-    assert not (tmp_path / "c.csv").exists()
