@@ -1,9 +1,10 @@
 """Virtual swings from the linear model: what ``cadcog campaign`` writes beside its readings.
 
 Each hang's swing is the superposition of the model's modes (:func:`hang_modes`) from a random
-release (each mode's amplitude uniform in ``amplitude_deg``, random phase), damped with ratio
-``damping_ratio``, seen with the hang's settled readings as offset, white noise per sample and
-sample-time jitter. This is the estimator's own model, for rehearsal and tests of the plumbing;
+release (each mode's amplitude uniform in ``amplitude_deg``, random phase), every mode decaying
+as ``exp(−t/decay_time_s)`` (mass-proportional damping: a wire's swing dies in 5-30 s at the
+bench, docs/bench.md), seen with the hang's settled readings as offset, white noise per sample
+and sample-time jitter. This is the estimator's own model, for rehearsal and tests of the plumbing;
 the estimator is validated against an independent nonlinear simulation
 (``tests/inertia/``, ``docs/inertia_validation.md``).
 """
@@ -39,7 +40,7 @@ def virtual_swing(
     duration_s: float = 60.0,
     rate_hz: float = 50.0,
     amplitude_deg: tuple[float, float] = (0.5, 3.0),
-    damping_ratio: float = 0.01,
+    decay_time_s: float = 20.0,
     noise_deg: float = 0.01,
     jitter_s: float = 0.001,
     start_s: float = 0.0,
@@ -51,6 +52,10 @@ def virtual_swing(
     settled_deg : array_like, shape (2,)
         The readings the swing settles to (device signs applied).
     rng : numpy.random.Generator
+    decay_time_s : float
+        Every mode's amplitude falls by e in this time (its damping ratio is
+        ``1/(2π f decay_time_s)``; 20 s: a 2.4 Hz mode at ζ = 0.0033, long enough for each half
+        of a minute's record to show it, as the modal fit's halves check wants).
     """
     modes = hang_modes(inertia_cog_kg_mm2, mass_kg, cog_mm, geometry)
     n = round(duration_s * rate_hz) + 1
@@ -61,11 +66,10 @@ def virtual_swing(
     lo, hi = amplitude_deg
     for f, shape in zip(modes.frequencies_hz, modes.reading_shapes_deg, strict=True):
         w = 2.0 * np.pi * f
+        zeta = 1.0 / (w * decay_time_s)
         amp = rng.uniform(lo, hi) / max(float(np.max(np.abs(shape))), 1e-12)  # rad
         phase = rng.uniform(0.0, 2.0 * np.pi)
-        wave = np.exp(-damping_ratio * w * tau) * np.cos(
-            w * np.sqrt(1 - damping_ratio**2) * tau + phase
-        )
+        wave = np.exp(-tau / decay_time_s) * np.cos(w * np.sqrt(1 - zeta**2) * tau + phase)
         y += amp * np.outer(wave, shape)
     y += rng.normal(0.0, noise_deg, y.shape)
     return Swing(point_id, t, y)

@@ -19,12 +19,13 @@ CTX = context_for_rig(RIG)
 
 
 def _modes(pivot_mm, top_mm):
-    """The hang's modes as the virtual swing draws them: damped with ratio 0.01, each at
-    ``f √(1 − ζ²)``."""
+    """The hang's modes as the virtual swing draws them: each decaying in 20 s, at
+    ``f √(1 − ζ²)`` with ``ζ = 1/(2π f · 20 s)``."""
     truth = combine([CTX.object_cad, *CTX.me_parts])
     geo = HangGeometry(pivot_mm, CTX.sensor_mm, CTX.swing.wire_length_mm, top_mm, *CTX.signs)
     modes = hang_modes(truth.inertia_kg_mm2, truth.mass_kg, truth.cog_mm, geo).frequencies_hz
-    return modes * np.sqrt(1 - 0.01**2)
+    zeta = 1.0 / (2.0 * np.pi * modes * 20.0)
+    return modes * np.sqrt(1 - zeta**2)
 
 
 def test_the_swings_swing_about_the_pivots_the_readings_were_drawn_with():
