@@ -155,6 +155,7 @@ class Model:
         fixed: MassProperties | None,
         meas: Measurement | None,
         with_unmodelled: bool,
+        region_mm: tuple[FloatArray, FloatArray] | None = None,
     ) -> None:
         self.n = len(items)
         self.m = np.array([i.properties.mass_kg for i in items])
@@ -167,6 +168,7 @@ class Model:
             s0 = s0 + fixed.mass_kg * fixed.cog_mm
         self.s0 = np.asarray(s0, dtype=float)
         self.with_u = with_unmodelled
+        self.region_mm = region_mm  # the box an unmodelled mass sits in (its prior's)
         self._meas = meas
         self.size = 4 * self.n + (4 if with_unmodelled else 0)
         if meas is None:  # the CAD alone (derived quantities only, no observation)
@@ -216,11 +218,15 @@ class Model:
 
     def _inertia(self, thetas: FloatArray) -> FloatArray:
         """The spacecraft's six entries about its CoG for rows of ``thetas`` (an unmodelled
-        mass at its own position ``h / m_u``)."""
+        mass at its own position ``h / m_u``, held in its box: as ``m_u`` → 0, ``h / m_u``
+        runs off to where the point's inertia ``|h|²/m_u`` is unbounded, and the fit with it;
+        the prior puts the mass in the box)."""
         at = np.zeros(3)
         if self.with_u:
             _, _, mu, h = self.split(thetas[0])
             at = h / mu if mu > 0 else at
+            if self.region_mm is not None:
+                at = np.clip(at, *self.region_mm)
         return np.asarray(self.derived(thetas, at)[:, _INERTIA_ORDER])
 
     def jacobian(self, theta: FloatArray) -> FloatArray:
@@ -406,7 +412,8 @@ def solve(
     """MAP, covariance, evidence and prior-predictive χ² of one hypothesis (module docstring);
     an unmodelled mass the data want negative is held at 0."""
     unmodelled = hyp.unmodelled
-    model = Model(items, fixed, meas, unmodelled is not None)
+    region = None if unmodelled is None else (unmodelled.lo_mm, unmodelled.hi_mm)
+    model = Model(items, fixed, meas, unmodelled is not None, region)
     theta0, p0 = parameter_prior(items, hyp, unmodelled)
     j0 = model.jacobian(theta0)
     r0 = y - model.predict(theta0)
@@ -429,7 +436,7 @@ def solve(
         full = np.zeros((size + 4, size + 4))
         full[:size, :size] = cov
         cov = full
-        model = Model(items, fixed, meas, True)
+        model = Model(items, fixed, meas, True, region)
     return Solution(hyp, model, theta, cov, log_evidence, chi2, negative)
 
 
