@@ -150,6 +150,13 @@ def print_balance(r: Any) -> None:
         f"as it is:  CoG {_vec(b['cog_mm'])} mm, margin {_vec(b['margin_mm'])} mm, "
         f"P(inside) {b['probability_inside']:.4f}"
     )
+    if b["axes_without_budget"]:
+        axes = " and ".join(b["axes_without_budget"])
+        print(
+            f"           ({axes}: negative only because the other axes' faces already miss "
+            f"with a probability above {1 - r.confidence:.3g}, which leaves {axes} none to "
+            "spend; on its own it is inside)"
+        )
     if not r.feasible and r.inertia is not None and not r.shortfall:
         print("no ballast found that meets the envelope and the inertia objectives:")
         print_inertia_objectives(r.inertia)

@@ -292,7 +292,7 @@ def least_ballast(
                 )
     mass, sigma_m, cog, cov, offset, margin, prob, _ = after[0]
     per_config = tuple(
-        _configuration(name, fig, z[i], before[i])
+        _configuration(name, fig, z[i], before[i], alpha)
         for i, (name, fig) in enumerate(zip(names, after, strict=True))
         if i > 0
     )
@@ -315,7 +315,7 @@ def least_ballast(
         offset,
         margin,
         prob,
-        _before(before[0]),
+        _before(before[0], alpha),
         tuple(shortfall),
         tuple(notes),
         per_config,
@@ -416,7 +416,7 @@ def _infeasible_notes(
 
 
 def _configuration(
-    name: str, fig: tuple[Any, ...], z: FloatArray, before: tuple[Any, ...]
+    name: str, fig: tuple[Any, ...], z: FloatArray, before: tuple[Any, ...], alpha: float
 ) -> dict[str, Any]:
     """One other configuration's figures with the ballast, as the result's ``configurations``."""
     return {
@@ -429,13 +429,18 @@ def _configuration(
         "margin_mm": fig[5].tolist(),
         "probability_inside": fig[6],
         "face_quantiles": z.tolist(),
-        "before": _before(before),
+        "before": _before(before, alpha),
     }
 
 
-def _before(fig: tuple[Any, ...]) -> dict[str, Any]:
-    """The figures without ballast, as the result's ``before``."""
-    b_mass, _, b_cog, b_cov, b_off, b_margin, b_prob, _ = fig
+def _before(fig: tuple[Any, ...], alpha: float) -> dict[str, Any]:
+    """The figures without ballast, as the result's ``before``; ``axes_without_budget``: the
+    axes whose margin is negative only because the other axes' faces already miss with a
+    probability of at least ``alpha`` (their margin is then taken at ``Z_MAX`` σ) while their
+    own two faces miss with less."""
+    b_mass, _, b_cog, b_cov, b_off, b_margin, b_prob, miss = fig
+    own = [float(miss[2 * k] + miss[2 * k + 1]) for k in range(3)]
+    others = [float(miss.sum()) - own[k] for k in range(3)]
     return {
         "mass_kg": b_mass,
         "cog_mm": b_cog.tolist(),
@@ -443,4 +448,7 @@ def _before(fig: tuple[Any, ...]) -> dict[str, Any]:
         "offset_mm": b_off.tolist(),
         "margin_mm": b_margin.tolist(),
         "probability_inside": b_prob,
+        "axes_without_budget": [
+            "xyz"[k] for k in range(3) if others[k] >= alpha > own[k] and b_margin[k] < 0
+        ],
     }

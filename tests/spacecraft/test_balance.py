@@ -72,6 +72,19 @@ def test_nothing_needed_when_inside_already():
     assert r.feasible and r.total_ballast_kg == 0.0 and r.probability_inside > 0.99
 
 
+def test_an_axis_short_only_because_another_misses_is_named():
+    """y far out (its face misses with P ≈ 0.9), x centred: x's margin is negative only
+    because y spends more than the whole 5 %; ``before`` names x (its own faces miss with
+    ~1e-8), not y (short on its own) nor z (positive)."""
+    s = state(1.0, (0.0, 28.0, 0.0), (3.0, 3.0, 0.02))
+    r = least_ballast(s, spec(((0.0, -60.0, 0.0), None)), np.zeros(3), [20.0, 25.0, 5.0], 0.95)
+    b = r.before
+    assert norm.sf((25.0 - 28.0) / 3.0) > 0.05  # y alone spends the budget
+    assert b["margin_mm"][0] < 0 and b["margin_mm"][2] > 0
+    assert b["axes_without_budget"] == ["x"]
+    assert r.feasible and min(r.margin_mm) >= -1e-7  # with the ballast, every axis inside
+
+
 def _independent_lp(s, positions, caps, total, centre, limits, z):
     """The multiplied-out programme written again from its definition, for linprog."""
     a, b = [], []
