@@ -60,6 +60,11 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
     if t.has("overlaps"):
         value = t.string("overlaps", choices=("check", "allow", "resolve", "skip"))
         overlaps = value if value in ("allow", "resolve", "skip") else "check"  # type: ignore[assignment]
+    for key, path in (("model" if t.has("model") else "model_step", source),
+                      ("materials", materials_path)):  # fmt: skip
+        if path is not None and not path.exists():
+            raise t.error(key, f"{path}: file not found (a path is read from the folder of "
+                               "the file that names it)")  # fmt: skip
     files = [source] if materials_path is None else [source, materials_path]
     settings = cache.model_settings(
         "model" if t.has("model") else "model_step",

@@ -544,6 +544,28 @@ CASES = [
         {"s.toml": setup_with('form_factor = "3U"', 'form_facter = "3U"')},
     ),
     Case(
+        "setup-model-step-missing",
+        ["plan", "sub/s.toml"],
+        r"sub/s\.toml: key 'model_step': sub/gone\.step: file not found \(a path is read from "
+        r"the folder of the file that names it\)",
+        {
+            "sub/s.toml": setup_with(
+                f'model = "{(PARTS / "cubesat_3u.toml").as_posix()}"', 'model_step = "gone.step"'
+            )
+        },
+    ),
+    Case(
+        "setup-materials-missing",
+        ["plan", "s.toml"],
+        r"s\.toml: key 'materials': nomat\.toml: file not found",
+        {
+            "s.toml": setup_with(
+                f'model = "{(PARTS / "cubesat_3u.toml").as_posix()}"',
+                f'model = "{(PARTS / "cubesat_3u.toml").as_posix()}"\nmaterials = "nomat.toml"',
+            )
+        },
+    ),
+    Case(
         "plan-trials",
         ["plan", "s.toml", "--trials", "1"],
         r"--trials 1: expected at least 2",
