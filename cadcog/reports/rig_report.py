@@ -19,13 +19,15 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core import numformat as nf
+from cadcog.core.errors import ReadingsError, named_by
 from cadcog.core.fileio import staged_output_dir
 from cadcog.core.jsontext import dumps_json
 from cadcog.core.version import __version__
+from cadcog.method.bodybox import BodyBox
 from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.errormodel import ErrorModel
 from cadcog.method.estimate import estimate_for_rig
-from cadcog.method.readings import read_readings
+from cadcog.method.readings import Suspension, read_readings
 from cadcog.reports.html import CSS, img_tag, table, vec
 from cadcog.rig.parameters import Rig
 from cadcog.uncertainty.error_budget import Budget, error_budget
@@ -55,6 +57,19 @@ class ReportResult:
     campaign_is_virtual: bool
 
 
+def _measured(rig: Rig, campaign_csv: Path) -> list[Suspension]:
+    """A measured campaign's hangs, checked on the rig's body before any long step runs."""
+    suspensions = read_readings(campaign_csv, rig.inclinometer)
+    try:
+        BodyBox.of_rig(rig).normals(suspensions)
+    except ReadingsError as exc:
+        raise ReadingsError(
+            f"{campaign_csv}: {exc}; `cadcog report` runs a rig's chain (its --rig, the "
+            "paper's by default): a spacecraft's readings go to `cadcog estimate --setup`"
+        ) from None
+    return suspensions
+
+
 def build_report(
     rig: Rig,
     out_dir: str | Path,
@@ -67,14 +82,15 @@ def build_report(
     from cadcog.reports import plots
 
     out = Path(out_dir)
+    measured = None if campaign_csv is None else _measured(rig, campaign_csv)
     with staged_output_dir(out) as stage:
         truth = rig_parts(rig, stage / PARTS_DIR, log)
         log("error budget")
         budget = error_budget(Scenario.from_rig(rig), ErrorModel.from_rig(rig))
         log("Monte Carlo (25 random points, 300 pairs, 1000 trials each)")
         sim = run_simulation(rig, SimulationSettings(seed=seed))
-        virtual = campaign_csv is None
-        if campaign_csv is None:
+        virtual = measured is None
+        if measured is None:
             campaign_csv = stage / "campaign.csv"
             log("virtual test campaign")
             write_campaign(
@@ -82,11 +98,13 @@ def build_report(
                 virtual_campaign(rig, seed),
                 f"cadcog virtual campaign, rig {rig.name}, seed {seed}",
             )
-        suspensions = read_readings(campaign_csv, rig.inclinometer)
-        log("validation against simulated campaigns")
-        validation = validate_campaign(rig, suspensions, seed=seed)
-        log("compensated estimate")
-        estimate = estimate_for_rig(rig, suspensions)
+            measured = read_readings(campaign_csv, rig.inclinometer)
+        suspensions = measured
+        with named_by(None if virtual else campaign_csv):  # refusals name the user's file
+            log("validation against simulated campaigns")
+            validation = validate_campaign(rig, suspensions, seed=seed)
+            log("compensated estimate")
+            estimate = estimate_for_rig(rig, suspensions)
         figures = {
             "rig": stage / "rig.png",
             "histogram": stage / "histogram.png",

@@ -441,6 +441,13 @@ CASES = [
         r"no\.csv: file not found",
     ),
     Case(
+        "report-spacecraft-campaign",
+        ["report", "--campaign", "sat.csv", "--out", "rep"],
+        r"sat\.csv: line 2: suspension A at \[50\.0, 30\.0, 40\.0\] mm lies inside the bounding "
+        r"box of the body .*`cadcog report` runs a rig's chain .*`cadcog estimate --setup`",
+        {"sat.csv": HEADER + "A,50,30,40,-10,5,true\nB,60,30,40,10,5,true\n"},
+    ),
+    Case(
         "report-seed", ["report", "--seed", "-5", "--out", "rep"], r"--seed -5: expected at least 0"
     ),
     # --- massprops -----------------------------------------------------------------------------
