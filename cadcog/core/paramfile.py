@@ -214,7 +214,9 @@ class TableReader:
     def _get(self, name: str) -> Any:
         self._used.add(name)
         if name not in self._data:
-            raise self.error(name, "missing required key")
+            written = difflib.get_close_matches(name, [str(k) for k in self._data], n=1)
+            hint = f" (the table has {written[0]!r}: a misspelling?)" if written else ""
+            raise self.error(name, f"missing required key{hint}")
         return self._data[name]
 
     def number(

@@ -38,3 +38,24 @@ def test_unreasonable_toml_is_refused_naming_the_file_and_key(tmp_path, text, me
     with pytest.raises(ParameterFileError, match=re.escape(message)) as info:
         read_toml(path)
     assert str(path) in str(info.value) and "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("written", "hint"),
+    [
+        ({"base_centre_mm": [1, 2, 3]}, "(the table has 'base_centre_mm': a misspelling?)"),
+        ({"something_else": 1}, None),
+        ({}, None),
+    ],
+)
+def test_a_missing_key_names_a_close_spelling_the_table_has(tmp_path, written, hint):
+    """A required key spelt the British way is 'missing'; the message says what was written."""
+    from cadcog.core.errors import ParameterFileError
+    from cadcog.core.paramfile import TableReader
+
+    t = TableReader(written, tmp_path / "s.toml", "measurement_equipment")
+    with pytest.raises(ParameterFileError) as info:
+        t.vector("base_center_mm")
+    text = str(info.value)
+    assert "key 'measurement_equipment.base_center_mm': missing required key" in text
+    assert (hint in text) if hint else ("misspelling" not in text)
