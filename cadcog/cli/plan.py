@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -107,8 +108,7 @@ def run(args: argparse.Namespace) -> int:
         f"{len(plan.checks) - len(bad)} of {len(plan.checks)} candidates keep the "
         "inclinometer's readings in range and trustworthy"
     )
-    for c in bad:
-        print(f"  {c.id}: cannot work: {c.reason}")
+    _print_unusable(bad)
     if plan.model is not None:
         print(f"error model: {plan.model.summary()}")
     print("\nbest pairs (linearised 95 % error):")
@@ -173,8 +173,7 @@ def _accelerometer_plan(args: argparse.Namespace, setup: Any) -> int:
         return status
     bad = [c for c in checks if not c.usable]
     print(f"{setup.name}: {len(checks) - len(bad)} of {len(checks)} candidates usable")
-    for c in bad:
-        print(f"  {c.id}: cannot work: {c.reason}")
+    _print_unusable(bad)
     print(f"error model: {setup.error_model().summary()}\n")
     print_accel_sizes(budget, args.target_mm)
     return status
@@ -206,3 +205,15 @@ def _print_recommended_both(cog: dict[str, Any], inertia: dict[str, Any]) -> Non
         f"{len(cog['points'])}, predicted 95 % error {cog['q95_mm']:.3f} mm{added}; worst "
         f"moment ± {100 * inertia['worst_moment_sigma_rel']:.2f} % at 1 σ)"
     )
+
+
+#: Unusable candidates listed one per line; the rest are counted (``--json`` has them all).
+UNUSABLE_SHOWN = 10
+
+
+def _print_unusable(bad: Sequence[Any]) -> None:
+    """Why candidates cannot work: the first :data:`UNUSABLE_SHOWN`, then how many more."""
+    for c in bad[:UNUSABLE_SHOWN]:
+        print(f"  {c.id}: cannot work: {c.reason}")
+    if len(bad) > UNUSABLE_SHOWN:
+        print(f"  ... and {len(bad) - UNUSABLE_SHOWN} more (--json gives each one's reason)")
