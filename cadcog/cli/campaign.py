@@ -90,6 +90,8 @@ def _written(args: argparse.Namespace, run: CampaignRun) -> int:
         print(f"report: {args.out}", file=sys.stderr)
     if run.swings is not None:
         print(f"report: {run.swings}", file=sys.stderr)
+    for w in run.warnings:
+        print(f"warning: {w}", file=sys.stderr)
     if args.json:
         print(dumps_json(run.to_dict()), end="", file=out)
     else:

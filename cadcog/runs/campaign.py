@@ -22,6 +22,7 @@ from cadcog.core.results import JsonResult
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.parameters import Rig
 from cadcog.runs import check_distinct_ids
+from cadcog.spacecraft.plan import check_candidate
 from cadcog.spacecraft.setup import Setup
 from cadcog.uncertainty.montecarlo import Scenario
 from cadcog.validation.campaign import campaign_suspensions, campaign_text, simulated_campaign
@@ -42,6 +43,8 @@ class CampaignRun(JsonResult):
     seed : int
     swings : str or None
         The swing file, when asked for.
+    warnings : tuple of str
+        Hangs ``cadcog plan`` says cannot work (simulated as the sensor would read them).
     """
 
     out: str
@@ -49,6 +52,7 @@ class CampaignRun(JsonResult):
     n_hangs: int
     seed: int
     swings: str | None = None
+    warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         data: dict[str, Any] = {
@@ -59,6 +63,8 @@ class CampaignRun(JsonResult):
         }
         if self.swings is not None:
             data["swings"] = self.swings
+        if self.warnings:
+            data["warnings"] = list(self.warnings)
         return data
 
 
@@ -142,6 +148,7 @@ def run_campaign(
         )
         inclinometer = rig.inclinometer
         n_hangs = len(rig.suspension_points)
+        warnings: tuple[str, ...] = ()
     else:
         ids = check_points(points)
         by_id = {c.id: c for c in setup.candidates}
@@ -151,6 +158,12 @@ def run_campaign(
                 f"--points: unknown candidate(s) {', '.join(unknown)} in {setup.source}"
             )
         model = with_overrides(setup.error_model(), samples=samples, noise_deg=noise_deg)
+        warnings = tuple(
+            f"{i}: cannot work, as `cadcog plan` says ({c.reason}): simulated as the sensor "
+            "would read it"
+            for i in ids
+            if not (c := check_candidate(setup, by_id[i])).usable
+        )
         scenario = setup.scenario(tuple(by_id[i] for i in ids))
         rows, truth = simulated_campaign(scenario, model, setup.rig.inclinometer, seed)
         comment = f"cadcog virtual campaign: setup {setup.name}, seed {seed}; {model.summary()}"
@@ -184,4 +197,6 @@ def run_campaign(
         staged[0].write_text(campaign_text(rows, comment), encoding="utf-8")
         if swing_text is not None:
             staged[1].write_text(swing_text, encoding="utf-8")
-    return CampaignRun(str(out), len(rows), n_hangs, seed, None if swings is None else str(swings))
+    return CampaignRun(
+        str(out), len(rows), n_hangs, seed, None if swings is None else str(swings), warnings
+    )
