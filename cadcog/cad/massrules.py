@@ -109,7 +109,7 @@ def assign_densities(
             missing.append(b.step.path)
     notes += _placeholder_notes(placeholder)
     _defaulted_lines(defaulted, stamped_default, notes, info)
-    notes += _stamp_notes(solids)
+    notes += _stamp_notes(solids, materials is not None)
     if bad_xcaf:
         notes.append(
             "STEP materials without a usable density (kg/m³ between "
@@ -209,9 +209,17 @@ def _defaulted_lines(
         )
 
 
-def _stamp_notes(solids: Sequence[Body]) -> list[str]:
+def _stamp_notes(solids: Sequence[Body], with_materials: bool) -> list[str]:
     """A note where the STEP's own materials look like an exporter's stamp: one material on
-    every solid, or a lone solid in Fusion 360's default 'Steel'."""
+    every solid, or a lone solid in Fusion 360's default 'Steel'; what to do depends on
+    whether a materials file was given (its catch-all rule does not override a STEP's own
+    material: only a rule that names the part does)."""
+    remedy = (
+        'name the part in the materials file (its "*" rule does not override a STEP\'s own '
+        "material)"
+        if with_materials
+        else "give a materials file"
+    )
     from_file = [b for b in solids if b.source.startswith("STEP material")]
     if len(from_file) >= 2 and len({(b.material, b.density_kg_m3) for b in from_file}) == 1:
         b0 = from_file[0]
@@ -219,14 +227,13 @@ def _stamp_notes(solids: Sequence[Body]) -> list[str]:
             f"all {len(from_file)} solids without a materials rule carry the same STEP material "
             f"{b0.material!r} ({b0.density_kg_m3:g} kg/m³): exporters stamp a default material "
             "on every body (Fusion 360 writes 'Steel' on boards and plastics alike); check it, "
-            "or give a materials file"
+            f"or {remedy}"
         ]
     if len(solids) == 1 and from_file and from_file[0].material.strip().lower() == "steel":
         b0 = from_file[0]  # one solid cannot show a stamp: Fusion 360's default is its name
         return [
             f"the one solid carries the STEP material {b0.material!r} ({b0.density_kg_m3:g} "
-            "kg/m³), the default Fusion 360 writes on every body: check it, or give a "
-            "materials file"
+            f"kg/m³), the default Fusion 360 writes on every body: check it, or {remedy}"
         ]
     return []
 

@@ -172,6 +172,13 @@ def test_one_solid_of_steel_is_flagged_as_fusions_likely_default(tmp_path):
     top.add(Part("frame", [((5.0, 5.0, 5.0), (0.0, 0.0, 0.0))], 7850.0, "Steel"))
     r = model_mass_properties(_model(tmp_path, top, "steel"), None)
     assert any("the one solid carries the STEP material 'Steel'" in n for n in r.notes), r.notes
+    assert any(n.endswith("or give a materials file") for n in r.notes), r.notes
+    # With a materials file whose catch-all rule leaves the STEP's own material in place (a
+    # drafted file as a new user keeps it), the remedy is a rule that names the part.
+    mats = _materials(tmp_path, '[materials]\n"*" = "aluminium 6061-T6"\n')
+    r = model_mass_properties(_model(tmp_path, top, "steel2"), mats)
+    assert {b.density_kg_m3 for b in r.bodies} == {7850.0}
+    assert any("name the part in the materials file" in n for n in r.notes), r.notes
     other = Assembly("top")
     other.add(Part("frame", [((5.0, 5.0, 5.0), (0.0, 0.0, 0.0))], 2700.0, "Aluminum 6061"))
     assert not model_mass_properties(_model(tmp_path, other, "al"), None).notes
