@@ -421,7 +421,8 @@ def _refuse_inside(
                 Path(spec.source),
                 f"points[{i}].position_mm",
                 f"{point.id!r} at {np.asarray(point.position_mm).tolist()} mm lies inside the "
-                f"solid {inside!r}: ballast sits on a face or in free space",
+                f"solid {inside!r}: ballast sits on a face, or in free space within the "
+                "model's bounding box",
             )
 
 
