@@ -61,7 +61,8 @@ def add_parser(sub: Any) -> None:
         "--report",
         type=Path,
         metavar="DIR",
-        help="write the test record (hangs, link, CoG, CAD comparison) as an HTML page to DIR",
+        help="write the test record (hangs, link, CoG, CAD comparison) as an HTML page to DIR "
+        "(a device run with an inclinometer: not yet from --log or an accelerometer's recording)",
     )
     p.add_argument("--json", action="store_true", help="print the run's summary as JSON")
     p.set_defaults(func=run, also_written=_also_written)
