@@ -49,6 +49,11 @@ FORM_FACTOR_TOLERANCE = 0.08
 GRID_SPACING_FRACTION = 0.6
 GRID_MARGIN_FRACTION = 0.15
 
+#: A box extent under this fraction of the next one is a thin body's (a board, a panel): the
+#: grid is sized by the next extent, not by the thickness (a 1.6 mm solar panel drafted 272
+#: points 5 mm apart; its thin edges get one row each, :data:`THIN_ROWS`).
+THIN_EXTENT_FRACTION = 0.2
+
 _SUFFIX = re.compile(r"(\[\d+\]|#\d+)+$")
 _NOT_ID = re.compile(r"[^A-Za-z0-9_-]+")
 
@@ -280,15 +285,18 @@ class DraftPoint:
 
 
 def grid_spacing(bbox_lo_mm: npt.ArrayLike, bbox_hi_mm: npt.ArrayLike) -> tuple[float, float]:
-    """The draft's grid spacing and margin (mm): 60 % and 15 % of the box's smallest extent.
+    """The draft's grid spacing and margin (mm): 60 % and 15 % of the box's smallest extent,
+    or of the next one when the smallest is a thin body's (:data:`THIN_EXTENT_FRACTION`).
 
     Examples
     --------
     >>> grid_spacing([-50, -50, -170], [50, 50, 170])
     (60.0, 15.0)
+    >>> grid_spacing([0, 0, 0], [98, 82.6, 1.6])  # a 1U solar panel: by its width, not 1.6 mm
+    (50.0, 12.0)
     """
-    ext = np.asarray(bbox_hi_mm, dtype=float) - np.asarray(bbox_lo_mm, dtype=float)
-    side = float(np.min(ext))
+    ext = np.sort(np.asarray(bbox_hi_mm, dtype=float) - np.asarray(bbox_lo_mm, dtype=float))
+    side = float(ext[1] if ext[0] < THIN_EXTENT_FRACTION * ext[1] else ext[0])
     spacing = max(5.0, round(GRID_SPACING_FRACTION * side / 5.0) * 5.0)
     margin = max(2.0, float(round(GRID_MARGIN_FRACTION * side)))
     return spacing, margin
@@ -316,7 +324,7 @@ def face_grid(
     [[50.0, -30.0, -150.0], [50.0, -30.0, -90.0]]
     >>> g = face_grid("+x", [-50, -40, -5], [50, 40, 1.6])  # a board, a part below it
     >>> g.shape, g[0, :, 2].round(2).tolist()  # one row in z: its heights, the middle first
-    ((16, 5, 3), [-1.7, -3.02, -0.38, -4.34, 0.94])
+    ((2, 5, 3), [-1.7, -3.02, -0.38, -4.34, 0.94])
     >>> face_grid("+x", [-50, -50, -170], [50, 50, 170], refine=1).shape  # 30 mm apart
     (33, 1, 3)
     """
