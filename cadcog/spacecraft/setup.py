@@ -204,18 +204,31 @@ def estimate_for_setup(
 
 
 def _outside_warning(setup: Setup, cog_mm: FloatArray, cov_mm2: FloatArray) -> str:
-    """A warning when the CoG lies outside the model's bounding box by more than 3 σ on an axis:
-    a CoG cannot be there, so the test did not locate it (too heavy a measurement equipment,
-    hangs too close to parallel, or readings from another object)."""
+    """A warning when the CoG lies outside the model's bounding box: by more than 3 σ on an
+    axis, the test did not locate it (too heavy a measurement equipment, hangs too close to
+    parallel, or readings from another object); within its noise, the test cannot place the
+    CoG within the object along that axis (its σ is wider than the object there)."""
     sigma = np.sqrt(np.maximum(np.diag(cov_mm2), 0.0))
-    beyond = setup.body().outside_by_mm(cog_mm) > 3 * sigma
+    outside = setup.body().outside_by_mm(cog_mm)
+    beyond = outside > 3 * sigma
     out = [axis for axis, b in zip("xyz", beyond, strict=True) if b]
+    cog = ", ".join(f"{v:.1f}" for v in cog_mm)
+    where = f"the CoG [{cog}] mm lies outside the model's bounding box"
     if not out:
-        return ""
+        noisy = [
+            f"{axis} by {d:.2g} mm ({d / s:.2g} σ)"
+            for axis, d, s in zip("xyz", outside, sigma, strict=True)
+            if d > 0
+        ]
+        if not noisy:
+            return ""
+        return (
+            f"{where} along {', '.join(noisy)}: within its noise, so this test cannot place the "
+            "CoG within the object along that axis (`cadcog plan` predicts the test's error)"
+        )
     ratio = setup.me_mass_kg / setup.mass.mass_kg
     return (
-        f"the CoG [{', '.join(f'{v:.1f}' for v in cog_mm)}] mm lies outside the model's bounding "
-        f"box along {', '.join(out)} by more than 3 σ: the test did not locate it (the "
+        f"{where} along {', '.join(out)} by more than 3 σ: the test did not locate it (the "
         f"measurement equipment weighs {ratio:.2g} × the spacecraft; check the hangs, the "
         "readings and the set-up)"
     )

@@ -141,12 +141,15 @@ def test_setup_point_inside_the_model_names_the_key(tmp_path, capsys):
 
 
 def test_a_cog_outside_the_model_is_said_to_be_unlocated(cubesat_setup):
-    """A compensated CoG more than 3 σ outside the bounding box cannot be the spacecraft's."""
+    """A compensated CoG more than 3 σ outside the bounding box cannot be the spacecraft's;
+    outside within its noise, the test cannot place it within the object along that axis (a
+    KiCad board's CoG at z = -6.4 ± 6.3 mm under a 1.5 mm board said nothing)."""
     from cadcog.spacecraft.setup import _outside_warning
 
     cov = np.eye(3) * 4.0  # 2 mm
     assert _outside_warning(cubesat_setup, np.array([0.0, 0.0, 10.0]), cov) == ""
-    assert _outside_warning(cubesat_setup, np.array([55.0, 0.0, 10.0]), cov) == ""  # 2.5 σ out
+    noisy = _outside_warning(cubesat_setup, np.array([55.0, 0.0, 10.0]), cov)  # 2.5 σ out
+    assert "along x by 5 mm (2.5 σ): within its noise" in noisy and "did not locate" not in noisy
     text = _outside_warning(cubesat_setup, np.array([0.0, 57.0, 10.0]), cov)
     assert "outside the model's bounding box along y" in text and "did not locate it" in text
 
