@@ -13,6 +13,7 @@ from cadcog.cli._table import text_table
 from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
+from cadcog.core.plusminus import mass_pm
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
 from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.medata import MEData
@@ -244,10 +245,8 @@ def print_estimate(result: CogEstimate) -> None:
     else:
         c = result.compensation
         sigma = np.sqrt(np.diag(c.cov_mm2))
-        mass = f"object {c.object_mass_kg:g}"
-        if c.object_mass_sigma_kg > 0:
-            mass += f" ± {c.object_mass_sigma_kg:.4g}"
-        mass += f" kg ({c.object_mass_source})"
+        mass = f"object {mass_pm(c.object_mass_kg, c.object_mass_sigma_kg)}"
+        mass += f" ({c.object_mass_source})"
         print(
             f"object CoG (ME removed):    {_fmt(c.cog_mm)} mm  ± {_fmt(sigma)} mm  "
             f"({mass}, ME {c.me_mass_kg:g} kg at {_fmt(c.me_cog_mm, 0, 2)})"

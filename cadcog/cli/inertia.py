@@ -12,7 +12,7 @@ import numpy as np
 from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core.errors import CadcogError
 from cadcog.core.fittest import TEST_LEVEL, FitTest
-from cadcog.core.plusminus import pm
+from cadcog.core.plusminus import mass_pm, pm
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
 
 
@@ -126,7 +126,7 @@ def print_inertia(result: Any) -> None:
         )
     print(
         f"about the CoG {np.round(result.cog_mm, 3).tolist()} mm; object mass "
-        f"{result.mass_kg:g} ± {result.mass_sigma_kg:.3g} kg ({result.mass_source})"
+        f"{mass_pm(result.mass_kg, result.mass_sigma_kg)} ({result.mass_source})"
     )
     print("\nwhere the uncertainty comes from (share of the principal moments' variance):")
     for name, share in result.budget:

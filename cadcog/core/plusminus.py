@@ -76,3 +76,17 @@ def signed(text: str) -> str:
     except ValueError:
         positive = False
     return "+" + text if positive else text
+
+
+def mass_pm(value_kg: float, sigma_kg: float) -> str:
+    """A mass beside its σ in the unit that suits it (g below 1 kg), or alone when exact.
+
+    Examples
+    --------
+    >>> mass_pm(2.583, 0.001), mass_pm(0.0227561, 0.00108), mass_pm(9.2, 0.0)
+    ('2.5830 ± 0.0010 kg', '22.8 ± 1.1 g', '9.2 kg')
+    """
+    if not sigma_kg > 0:
+        return nf.mass(value_kg)
+    name, factor = nf.mass_unit([abs(value_kg) + abs(sigma_kg)])
+    return f"{pm(value_kg, sigma_kg, factor)} {name}"
