@@ -159,6 +159,10 @@ def mass_properties(
 
     f = "mass_properties"
     check_choice(f, "overlaps", overlaps, ("check", "allow", "resolve", "skip"))
+    if form_factor is not None:
+        from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
+
+        check_choice(f, "form_factor", form_factor, tuple(CDS_COG_LIMITS_MM))
     check_text(f, "axes", axes, "'+y,-x,+z'")
     if materials is not None and density_kg_m3 is not None:
         raise CadcogError(f"{f}: give either materials or density_kg_m3, not both")

@@ -108,7 +108,7 @@ def balance(
     model: str | Path | None = None,
     materials: str | Path | None = None,
     *,
-    setup: str | Path | None = None,
+    setup: Setup | str | Path | None = None,
     units: str | None = None,
     form_factor: str | None = None,
     cog_limits_mm: Sequence[float] | None = None,
@@ -135,8 +135,8 @@ def balance(
         A STEP model (the CAD's mass, CoG and stated uncertainty).
     materials : str or Path, optional
         The model's materials file (densities and ``[mass_uncertainty]``).
-    setup : str or Path, optional
-        A set-up file instead of a model (its envelope is the default).
+    setup : Setup, str or Path, optional
+        A set-up (or its file) instead of a model (its envelope is the default).
     units : str, optional
         The model's true length unit.
     form_factor : str, optional
@@ -219,7 +219,7 @@ def balance(
         model=None if model is None else _path(f, "model", model),
         materials=None if materials is None else _path(f, "materials", materials),
         units=units,
-        setup=None if setup is None else _path(f, "setup", setup),
+        setup=None if setup is None else _setup_path(f, setup),
         form_factor=form_factor,
         cog_limits_mm=limits,
         confidence=float(confidence),
@@ -235,3 +235,13 @@ def balance(
         max_axis_angle_deg=max_axis_angle_deg,
         inertia_confidence=inertia_confidence,
     )
+
+
+def _setup_path(function: str, setup: Setup | str | Path) -> Path:
+    """The set-up file a balance reads: a :class:`~cadcog.spacecraft.setup.Setup`'s own, as
+    ``plan``, ``estimate`` and ``update`` accept one, or a path."""
+    from cadcog.spacecraft.setup import Setup
+
+    if isinstance(setup, Setup):
+        return Path(setup.source)
+    return _path(function, "setup", setup)

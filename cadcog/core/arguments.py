@@ -1,5 +1,6 @@
 """Checks of the kind of an API argument, before any work: a wrong kind is a
-:class:`~cadcog.core.errors.CadcogError` naming the function and the argument, never a bare
+:class:`~cadcog.core.errors.CadcogError` naming the function and the argument as every API
+refusal does (``plan(goal='foo'): ...``), never a bare
 ValueError or AttributeError from deep inside (issue 21: ``overlaps='maybe'``, ``axes=[...]``).
 """
 
@@ -19,11 +20,11 @@ def check_choice(function: str, name: str, value: object, choices: Sequence[str]
     >>> check_choice("f", "overlaps", "maybe", ("check", "allow"))
     Traceback (most recent call last):
     ...
-    cadcog.core.errors.CadcogError: f: overlaps='maybe': expected one of check, allow
+    cadcog.core.errors.CadcogError: f(overlaps='maybe'): expected one of check, allow
     """
     if not isinstance(value, str) or value not in choices:
         raise CadcogError(
-            f"{function}: {name}={quote(value)}: expected one of {', '.join(choices)}"
+            f"{function}({name}={quote(value)}): expected one of {', '.join(choices)}"
         )
 
 
@@ -35,10 +36,10 @@ def check_text(function: str, name: str, value: object, example: str) -> None:
     >>> check_text("f", "axes", ["+x"], "'+y,-x,+z'")
     Traceback (most recent call last):
     ...
-    cadcog.core.errors.CadcogError: f: axes=['+x']: expected a str such as '+y,-x,+z', got list
+    cadcog.core.errors.CadcogError: f(axes=['+x']): expected a str such as '+y,-x,+z', got list
     """
     if not isinstance(value, str):
         raise CadcogError(
-            f"{function}: {name}={quote(value)}: expected a str such as {example}, got "
+            f"{function}({name}={quote(value)}): expected a str such as {example}, got "
             f"{type(value).__name__}"
         )

@@ -41,7 +41,7 @@ BAD_CALLS = [
     ),
     (
         lambda: cadcog.simulate(inclinometer_model="perfect"),
-        r"simulate: inclinometer_model='perfect': expected one of hang-bias, paper-averaged",
+        r"simulate\(inclinometer_model='perfect'\): expected one of hang-bias, paper-averaged",
     ),
     (
         lambda: cadcog.simulate(self_calibrate_wire=True),
@@ -72,6 +72,10 @@ BAD_CALLS = [
     (
         lambda: cadcog.mass_properties("m.step", density_kg_m3=2700, total_mass_kg=-1.0),
         r"mass_properties\(total_mass_kg=-1\.0\): expected at least 1e-06",
+    ),
+    (
+        lambda: cadcog.mass_properties("m.step", density_kg_m3=2700, form_factor="7U"),
+        r"mass_properties\(form_factor='7U'\): expected one of 1U, 1\.5U",
     ),
     (
         lambda: cadcog.mass_properties("m.step", density_kg_m3=2700, cog_limits_mm=[1, 2]),

@@ -16,3 +16,17 @@ def test_plan_for_both_is_what_the_command_prints(tmp_path, capsys) -> None:
     mine = cadcog.plan(setup, trials=300, goal="both")
     assert mine.to_json() == theirs
     assert mine.inertia is not None and json.loads(theirs)["goal"] == "both"
+
+
+def test_balance_takes_a_setup_as_plan_estimate_and_update_do(tmp_path) -> None:
+    """A loaded ``Setup`` in ``setup=`` (a new user passed one, as to ``plan``) balances as its
+    file does; it was refused as 'expected a file path'."""
+    setup = "parts/cubesat_3u_setup.toml"
+    ballast = tmp_path / "b.toml"
+    ballast.write_text('[[points]]\nid = "B1"\nposition_mm = [0.0, 0.0, -170.25]\n')
+    by_file = cadcog.balance(ballast, setup=setup, cog_limits_mm=[20.0, 20.0, 10.0])
+    by_object = cadcog.balance(
+        ballast, setup=cadcog.load_setup(setup), cog_limits_mm=[20.0, 20.0, 10.0]
+    )
+    assert by_object.to_json() == by_file.to_json()
+    assert by_file.feasible and by_file.total_ballast_kg > 0  # the CoG 12 mm up: ballast below

@@ -32,8 +32,8 @@ def test_axes_that_are_not_text_are_a_value_error_naming_the_kind(axes):
 
 
 def test_the_api_helpers_name_function_argument_and_expectation():
-    with pytest.raises(CadcogError, match=r"^mass_properties: overlaps='maybe': expected one of"):
+    with pytest.raises(CadcogError, match=r"^mass_properties\(overlaps='maybe'\): expected one of"):
         check_choice("mass_properties", "overlaps", "maybe", ("check", "allow", "resolve"))
-    with pytest.raises(CadcogError, match=r"^mass_properties: axes=\['\+x'\]: expected a str"):
+    with pytest.raises(CadcogError, match=r"^mass_properties\(axes=\['\+x'\]\): expected a str"):
         check_text("mass_properties", "axes", ["+x"], "'+y,-x,+z'")
     check_text("mass_properties", "axes", "+y,-x,+z", "'+y,-x,+z'")
