@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from cadcog.core import bounds, tolerances
+from cadcog.core.errors import ParameterFileError
 from cadcog.core.paramfile import TableReader, read_toml
 from cadcog.core.tolerances import MIN_SOLID_DIMENSION_MM
 from cadcog.core.units import density_kg_mm3_to_kg_m3
@@ -63,7 +64,15 @@ def load_rig(path: str | Path) -> Rig:
         Naming the file and the offending key.
     """
     path = Path(path)
-    root = TableReader(read_toml(path), path)
+    data = read_toml(path)
+    if "proof_mass" not in data and ("candidates" in data or "measurement_equipment" in data):
+        raise ParameterFileError(
+            path,
+            "proof_mass",
+            "missing: this is a spacecraft set-up ([candidates], [measurement_equipment]), not "
+            "a rig file: give it as the set-up (--setup, or setup= from Python)",
+        )
+    root = TableReader(data, path)
     name = _name(root, "name")
 
     pm_t = root.table("proof_mass")

@@ -167,6 +167,12 @@ CASES = [
     ),
     # --- estimate ------------------------------------------------------------------------------
     Case("readings-missing", ["estimate", "none.csv"], r"none\.csv: file not found"),
+    Case(
+        "estimate-rig-is-a-setup",
+        ["estimate", "r.csv", "--rig", "s.toml"],
+        r"s\.toml: key 'proof_mass': missing: this is a spacecraft set-up .*give it as the set-up",
+        {"s.toml": SETUP, "r.csv": HEADER + GOOD_ROWS},
+    ),
     Case("readings-directory", ["estimate", "d"], r"d: is a directory", {"d/x": "x"}),
     Case(
         "readings-nan",
