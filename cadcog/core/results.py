@@ -51,12 +51,17 @@ class JsonResult:
         Large results use it (their dataclass is declared with ``repr=False``); a plan's full
         dataclass repr runs to a hundred kilobytes.
         """
-        if not dataclasses.is_dataclass(self):
-            return object.__repr__(self)
-        parts = []
-        for f in dataclasses.fields(self):
-            parts.append(f"{f.name}={_short(getattr(self, f.name))}")
-        return f"{type(self).__name__}({', '.join(parts)})"
+        return one_line_repr(self)
+
+
+def one_line_repr(obj: Any) -> str:
+    """A dataclass in one line: numbers and short texts as they are, arrays by their shape,
+    collections by their length, nested dataclasses by their type (what a notebook shows of a
+    result, or of a set-up)."""
+    if not dataclasses.is_dataclass(obj):
+        return object.__repr__(obj)
+    parts = [f"{f.name}={_short(getattr(obj, f.name))}" for f in dataclasses.fields(obj)]
+    return f"{type(obj).__name__}({', '.join(parts)})"
 
 
 def _short(value: Any) -> str:

@@ -22,6 +22,7 @@ import numpy.typing as npt
 from cadcog.core import bounds, tolerances
 from cadcog.core.errors import CadcogError, ParameterFileError
 from cadcog.core.paramfile import TableReader, read_toml
+from cadcog.core.results import one_line_repr
 from cadcog.mass.properties import MassProperties
 from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.errormodel import ErrorModel
@@ -63,7 +64,7 @@ class Candidate:
     listed: bool = False
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)  # one line: its bodies and candidates by their count
 class Setup:
     """A spacecraft's test set-up, read by :func:`load_setup`: its CAD mass properties and
     bounding box, the measurement equipment placed on it, the rig (inclinometer and error
@@ -80,6 +81,9 @@ class Setup:
     cog_limits_mm: FloatArray | None
     bodies: tuple[Any, ...]  # cadcog.cad.stepmass.BodyResult: mass, CoG, uncertainty item
     swing: SwingOptions = field(default_factory=SwingOptions)  # [swing], else the rig's
+
+    def __repr__(self) -> str:
+        return one_line_repr(self)
 
     @property
     def geometric_center_mm(self) -> FloatArray:

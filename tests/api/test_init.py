@@ -161,3 +161,10 @@ def test_short_field_texts() -> None:
     assert _short(np.array([1.0, 2.0])) == "[1.0, 2.0]"
     assert _short(list(range(10))) == "<list of 10>"
     assert _short("x" * 100).endswith("...") and len(_short("x" * 100)) == 60
+
+
+def test_a_setup_prints_in_one_short_line() -> None:
+    """``load_setup``'s repr ran to 21 847 characters in a notebook (every body and candidate)."""
+    text = repr(cadcog.load_setup("parts/cubesat_3u_setup.toml"))
+    assert "\n" not in text and len(text) < 400, text
+    assert text.startswith("Setup(name='cubesat_3u'") and "candidates=<tuple of 49>" in text
