@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from cadcog.core import tolerances
+from cadcog.core.errors import CadcogError
 from cadcog.dynamics.cached import cached_inertia
 from cadcog.dynamics.measure import inertia_for_rig, inertia_for_setup
 from cadcog.dynamics.result import InertiaResult
@@ -61,4 +62,29 @@ def inertia_from_files(
         "swings": str(swings_path),
         "readings": str(readings_path),
     }
-    return cached_inertia(compute, inputs, [Path(swings_path), Path(readings_path)])[0]
+    try:
+        return cached_inertia(compute, inputs, [Path(swings_path), Path(readings_path)])[0]
+    except CadcogError as exc:
+        hint = _not_the_rigs_hint(rig, readings_path) if setup is None else ""
+        if not hint:
+            raise
+        raise CadcogError(f"{hint}; {exc}") from None
+
+
+def _not_the_rigs_hint(rig: Rig | None, readings_path: str | Path) -> str:
+    """When a refusal comes from readings that name none of the rig's points (a spacecraft's
+    files read with the paper's rig, the default): what to give instead."""
+    if rig is None:
+        return ""
+    try:
+        ids = {s.id for s in read_readings(readings_path, rig.inclinometer)}
+    except CadcogError:
+        return ""
+    own = {p.id for p in rig.suspension_points}
+    if ids & own:
+        return ""
+    return (
+        f"{readings_path}: the readings name none of rig {rig.name}'s points "
+        f"({', '.join(sorted(own))}): a spacecraft's swings and readings go with its set-up "
+        "(--setup, or setup=)"
+    )

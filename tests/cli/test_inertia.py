@@ -94,3 +94,21 @@ def test_update_observes_the_swings_tensor(tmp_path, capsys):
     assert out["verdict"]["dof"] == 10
     api = cadcog.update(readings, setup, mass, swings=swings)
     assert json.loads(api.to_json()) == out
+
+
+def test_a_spacecraft_s_files_without_its_setup_are_told_to_give_it(tmp_path, capsys):
+    """The 3U example's campaign read with the paper rig (no --setup: the default) ended in
+    advice to redo the hangs (a new user from Python); the refusal now says first that the
+    readings name none of the rig's points, and what to give."""
+    readings, swings = tmp_path / "c.csv", tmp_path / "s.csv"
+    setup = "parts/cubesat_3u_setup.toml"
+    points = "+x_-30_-150,+x_-30_90,-x_-30_-150,+y_-30_-150,+y_30_-30,-y_-30_-30"
+    argv = ["campaign", "--setup", setup, f"--points={points}", "--out", str(readings)]
+    assert main([*argv, "--swings", str(swings)]) == 0
+    capsys.readouterr()
+    assert main(["inertia", str(swings), "--readings", str(readings)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert re.search(r"c\.csv: the readings name none of rig paper_rig's points \(S1, .*S6\): "
+                     r"a spacecraft's swings and readings go with its set-up", err)  # fmt: skip
+    assert main(["inertia", str(swings), "--readings", str(readings), "--setup", setup]) == 0
