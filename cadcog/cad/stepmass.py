@@ -283,7 +283,8 @@ class _Parts:
         if not counted:
             raise CadcogError(f"{src}: no body has mass (only surfaces without an areal density?)")
         factor = self._weighed_factor(counted, notes, info)
-        summary = _overlap_lines(_scaled_summary(summary, factor), notes, info)
+        summary = _scaled_summary(summary, factor)
+        _overlap_lines(summary, notes, info)
         results = [self._body_result(b, p, factor) for b, p in counted]
         left_out = tuple((b.step.path, b.props.mass_kg) for b in bodies if b.density_kg_mm3 == 0.0)
         notes += _quality_notes(left_out, audit_bits["made_solid"], invalid, model)
@@ -368,7 +369,7 @@ def _scaled_summary(summary: OverlapSummary, factor: float) -> OverlapSummary:
     )
 
 
-def _overlap_lines(summary: OverlapSummary, notes: list[str], info: list[str]) -> OverlapSummary:
+def _overlap_lines(summary: OverlapSummary, notes: list[str], info: list[str]) -> None:
     """The overlaps counted as they are: a note under ``check``, an info line under ``allow``
     (the user chose it)."""
     if summary.pairs and summary.policy == "check":
@@ -378,7 +379,6 @@ def _overlap_lines(summary: OverlapSummary, notes: list[str], info: list[str]) -
         )
     elif summary.pairs and summary.policy == "allow":
         info.append(f"{summary.headline()}; --allow-overlap: each solid counted as it is")
-    return summary
 
 
 def _quality_notes(

@@ -65,17 +65,15 @@ def inertia_from_files(
     try:
         return cached_inertia(compute, inputs, [Path(swings_path), Path(readings_path)])[0]
     except CadcogError as exc:
-        hint = _not_the_rigs_hint(rig, readings_path) if setup is None else ""
+        hint = "" if rig is None else _not_the_rigs_hint(rig, readings_path)
         if not hint:
             raise
         raise CadcogError(f"{hint}; {exc}") from None
 
 
-def _not_the_rigs_hint(rig: Rig | None, readings_path: str | Path) -> str:
+def _not_the_rigs_hint(rig: Rig, readings_path: str | Path) -> str:
     """When a refusal comes from readings that name none of the rig's points (a spacecraft's
     files read with the paper's rig, the default): what to give instead."""
-    if rig is None:
-        return ""
     try:
         ids = {s.id for s in read_readings(readings_path, rig.inclinometer)}
     except CadcogError:
