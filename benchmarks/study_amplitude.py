@@ -220,7 +220,8 @@ def stated(seeds: int) -> None:
     from cadcog.dynamics.tensorfit import swing_data
 
     sys.path.insert(0, str(ROOT / "benchmarks"))
-    import study_inertia as si
+    import study_inertia_rows as si
+    from study_inertia import rate
 
     t = _record_times()
     objects = (
@@ -262,7 +263,7 @@ def stated(seeds: int) -> None:
             k3, n = int(np.sum(zz > 3)), len(zz)
             print(
                 f"| {label} | {amp:g}° | {n} | {refused} | {100 * np.median(e):.3f} % | "
-                f"{np.median(zz):.2f} | {si.rate(k3, n)} | {int(np.sum(zz > 5))} |"
+                f"{np.median(zz):.2f} | {rate(k3, n)} | {int(np.sum(zz > 5))} |"
             )
 
 
