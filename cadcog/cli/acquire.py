@@ -9,9 +9,9 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.cli._output import print_json, warn, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs
-from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 
 FAULTS = ("none", "slip", "never-settle", "stall", "foreign")
@@ -347,7 +347,7 @@ def _print_log_run(args: argparse.Namespace, run: Any, log: Path) -> int:
 
     est = run.estimate
     if args.json:
-        print(dumps_json(run.data), end="")
+        print_json(run.data)
     else:
         print(f"hangs cut from {log}:")
         for h in run.data["hangs"]:
@@ -364,12 +364,12 @@ def _print_log_run(args: argparse.Namespace, run: Any, log: Path) -> int:
             _print_log_inertia(run, args.swings)
     for path in (args.out, args.swings):
         if path is not None:
-            print(f"report: {path}", file=sys.stderr)
+            wrote(path)
     for w in (*run.warnings, *est.warnings):
-        print(f"cadcog: warning: {w}", file=sys.stderr)
+        warn(w)
     if run.inertia is not None:
         for w in run.inertia.warnings:
-            print(f"cadcog: warning: inertia: {w}", file=sys.stderr)
+            warn(f"inertia: {w}")
     return 0
 
 
@@ -465,7 +465,7 @@ def _finish(args: argparse.Namespace, run: Any) -> int:
         run.data,
     )
     if args.json:
-        print(dumps_json(data), end="")
+        print_json(data)
     else:
         print(f"\nlink: {result.link}")
         if est is None:
@@ -490,13 +490,13 @@ def _finish(args: argparse.Namespace, run: Any) -> int:
             else:
                 print(f"\nno inertia from the swings: {result.inertia_note}")
     if page is not None:
-        print(f"report: {page}", file=sys.stderr)
+        wrote(page)
     elif args.report is not None:
         print("no report: fewer than two hangs recorded", file=sys.stderr)
     if est is not None:
         for w in est.warnings:
-            print(f"cadcog: warning: {w}", file=sys.stderr)
+            warn(w)
     if result.inertia is not None:
         for w in result.inertia.warnings:
-            print(f"cadcog: warning: inertia: {w}", file=sys.stderr)
+            warn(f"inertia: {w}")
     return 0

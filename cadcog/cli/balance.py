@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._output import print_json
 from cadcog.cli._table import text_table
 from cadcog.cli._types import check_positive, positive_triple
 from cadcog.core.units import UNIT_CHOICES
@@ -124,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
         inertia_confidence=args.inertia_confidence,
     )
     if args.json:
-        print(result.to_json())
+        print_json(result.to_dict())
     else:
         print_balance(result)
     return 0 if result.feasible else EXIT_INFEASIBLE

@@ -6,8 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._output import print_json
 from cadcog.core.errors import CadcogError
-from cadcog.core.jsontext import dumps_json
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.uncertainty.error_budget import error_budget
@@ -47,7 +47,7 @@ def _accelerometer(args: argparse.Namespace, rig: Any, model: ErrorModel) -> int
     # A target no set reaches: said, exit 1 (valid input, as a requirement that fails).
     status = 1 if args.target_mm is not None and budget.meets is None else 0
     if args.json:
-        print(dumps_json(budget.to_dict()), end="")
+        print_json(budget.to_dict())
         return status
     print(f"predicted CoG error of rig {rig.name!r}, read by {model.summary()}\n")
     a = budget.all_hangs
@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
         raise CadcogError("--target-mm: for an accelerometer's rig (cadcog plan --target-mm)")
     budget = error_budget(Scenario.from_rig(rig), model)
     if args.json:
-        print(dumps_json(budget.to_dict()), end="")
+        print_json(budget.to_dict())
         return 0
     a, b = budget.pair
     print(

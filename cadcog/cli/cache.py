@@ -6,7 +6,7 @@ import argparse
 from typing import Any
 
 from cadcog.cad import cachestore
-from cadcog.core.jsontext import dumps_json
+from cadcog.cli._output import print_json
 
 
 def add_parser(sub: Any) -> None:
@@ -47,7 +47,7 @@ def run(args: argparse.Namespace) -> int:
     if cleared is not None:
         data["cleared_entries"], data["cleared_bytes"] = cleared
     if args.json:
-        print(dumps_json(data), end="")
+        print_json(data)
         return 0
     how = "the default" if chosen_by == "default" else f"from {chosen_by}"
     print(f"cache folder: {folder} ({how})")

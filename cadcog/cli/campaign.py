@@ -8,9 +8,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._output import print_json, warn, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import is_stream, refuse_overwriting_inputs
-from cadcog.core.jsontext import dumps_json
 from cadcog.runs.campaign import CampaignRun, check_points, run_campaign, with_overrides
 
 
@@ -87,13 +87,13 @@ def _written(args: argparse.Namespace, run: CampaignRun) -> int:
     stderr when the CSV itself went to stdout)."""
     out = sys.stderr if is_stream(args.out) else sys.stdout
     if not is_stream(args.out):
-        print(f"report: {args.out}", file=sys.stderr)
+        wrote(args.out)
     if run.swings is not None:
-        print(f"report: {run.swings}", file=sys.stderr)
+        wrote(run.swings)
     for w in run.warnings:
-        print(f"warning: {w}", file=sys.stderr)
+        warn(w)
     if args.json:
-        print(dumps_json(run.to_dict()), end="", file=out)
+        print_json(run.to_dict(), out)
     else:
         print(f"wrote {run.n_samples} samples of {run.n_hangs} hangs to {args.out}", file=out)
         if run.swings is not None:

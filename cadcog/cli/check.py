@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._output import print_json, wrote
 from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
 from cadcog.core.paramfile import TableReader, read_toml
 
@@ -64,11 +64,11 @@ def run(args: argparse.Namespace) -> int:
             tmp.write_text(
                 junit_xml(check.name, results, time.perf_counter() - started), encoding="utf-8"
             )
-        print(f"report: {args.junit}", file=sys.stderr)
+        wrote(args.junit)
     if written is not None:
-        print(f"report: {written}", file=sys.stderr)
+        wrote(written)
     if args.json:
-        print(check.to_json())
+        print_json(check.to_dict())
     else:
         width = max((len(r.title) for r in results), default=20)
         print(f"{check.name}: {len(results)} requirement(s), model {check.model}")

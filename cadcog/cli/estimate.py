@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from cadcog.cli._output import print_json, warn
 from cadcog.cli._table import text_table
 from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core import tolerances
@@ -178,13 +178,13 @@ def _options(args: argparse.Namespace) -> dict[str, Any]:
 def _emit(result: CogEstimate, as_json: bool) -> int:
     """Print an estimate (JSON or table, with the CAD comparison if any); warnings to stderr."""
     if as_json:
-        print(result.to_json())
+        print_json(result.to_dict())
     else:
         print_estimate(result)
         if result.cad is not None:
             print_cad_comparison(result.cad)
     for w in result.warnings:
-        print(f"cadcog: warning: {w}", file=sys.stderr)
+        warn(w)
     return 0
 
 

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from cadcog.cli._output import print_json, warn
 from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core.errors import CadcogError
 from cadcog.core.fittest import TEST_LEVEL, FitTest
@@ -71,11 +71,11 @@ def run(args: argparse.Namespace) -> int:
         mass_sigma_kg=args.mass_sigma_kg,
     )
     if args.json:
-        print(result.to_json())
+        print_json(result.to_dict())
     else:
         print_inertia(result)
     for w in result.warnings:
-        print(f"cadcog: warning: {w}", file=sys.stderr)
+        warn(w)
     return 0
 
 

@@ -11,12 +11,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from cadcog.cad.massresults import Refusal
+from cadcog.cli._output import print_json, wrote
 from cadcog.cli._types import check_positive, positive_triple
 from cadcog.cli.massprops_text import print_configurations, print_report
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import note_input
 from cadcog.core.gcpause import gc_paused
-from cadcog.core.jsontext import dumps_json, write_json
 from cadcog.core.units import UNIT_CHOICES
 from cadcog.mass.inertia import PRODUCT_CONVENTIONS
 from cadcog.mass.materials import LIBRARY
@@ -360,13 +360,13 @@ def emit(
         from cadcog.reports.massprops_report import write_mass_report
 
         page = write_mass_report(report, model, args.report, cache_files=_model_files(args))
-        print(f"report: {page}", file=sys.stderr)
+        wrote(page)
     if args.csv is not None:
         from cadcog.reports.budget_csv import write_budget_csv
 
-        print(f"report: {write_budget_csv(report, args.csv)}", file=sys.stderr)
+        wrote(write_budget_csv(report, args.csv))
     if args.json:
-        write_json(report.to_dict(), sys.stdout)
+        print_json(report.to_dict())
     else:
         print_report(report, args.depth, args.products, args.collapse_below_percent / 100.0)
         print_configurations(report)
@@ -405,11 +405,11 @@ def emit_refusal(
         page = write_mass_report(
             report, model, args.report, refusal=refusal, cache_files=_model_files(args)
         )
-        print(f"report: {page}", file=sys.stderr)
+        wrote(page)
     if report is not None and args.csv is not None:
         from cadcog.reports.budget_csv import write_budget_csv
 
-        print(f"report: {write_budget_csv(report, args.csv)}", file=sys.stderr)
+        wrote(write_budget_csv(report, args.csv))
     if args.json:
         data = {"refused": refused, **(report.to_dict() if report is not None else {})}
-        print(dumps_json(data), end="")
+        print_json(data)

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
-from cadcog.core.jsontext import dumps_json
+from cadcog.cli._output import print_json, wrote
 from cadcog.rig.file import default_rig_path, load_rig
 
 
@@ -74,9 +73,9 @@ def run_build(args: argparse.Namespace) -> int:
     from cadcog.cad.build import build_parts
 
     result = build_parts(rig, args.out)
-    print(f"report: {result.out_dir}", file=sys.stderr)
+    wrote(result.out_dir)
     if args.json:
-        print(dumps_json(result.ground_truth), end="")
+        print_json(result.ground_truth)
         return 0
     print(f"rig {rig.name!r} from {rig.source}")
     print_ground_truth(result.ground_truth)
@@ -111,14 +110,15 @@ def run_cubesat(args: argparse.Namespace) -> int:
         if spec.deployables:
             (stage / names[2]).write_text(configurations_toml(spec), "utf-8")
     step, mats = args.out / f"{spec.name}.step", args.out / f"{spec.name}_materials.toml"
-    print(f"report: {step}\nreport: {mats}", file=sys.stderr)
+    wrote(step)
+    wrote(mats)
     if spec.deployables:
-        print(f"report: {args.out / names[2]}", file=sys.stderr)
+        wrote(args.out / names[2])
     if args.json:
         out = {"step": str(step), "materials": str(mats), "n_solids": len(materials)}
         if spec.deployables:
             out["configurations"] = str(args.out / names[2])
-        print(dumps_json(out), end="")
+        print_json(out)
         return 0
     written = (
         f"{step} ({len(materials)} solids), {mats}"

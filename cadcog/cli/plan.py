@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._output import print_json, warn
 from cadcog.core import numformat
 from cadcog.core.errors import CadcogError
-from cadcog.core.jsontext import dumps_json
 
 
 def add_parser(sub: Any) -> None:
@@ -93,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
     # requirement that fails); valid input, so not 2
     status = 1 if args.goal == "inertia" and inertia is None else 0
     if args.json:
-        print(dumps_json(plan.to_dict()).rstrip("\n"))
+        print_json(plan.to_dict())
         return status
     m = setup.mass
     cog = ", ".join(f"{c:.3f}" for c in m.cog_mm)
@@ -102,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
         f"ME {numformat.mass(setup.me_mass_kg)} (m_ME/m = {setup.me_mass_kg / m.mass_kg:.4g})"
     )
     for w in plan.warnings:
-        print(f"warning: {w}", file=sys.stderr)
+        warn(w)
     bad = [c for c in plan.checks if not c.usable]
     print(
         f"{len(plan.checks) - len(bad)} of {len(plan.checks)} candidates keep the "
@@ -169,7 +168,7 @@ def _accelerometer_plan(args: argparse.Namespace, setup: Any) -> int:
     if args.json:
         out = budget.to_dict()
         out["checks"] = [{"id": c.id, "usable": c.usable, "reason": c.reason} for c in checks]
-        print(dumps_json(out).rstrip("\n"))
+        print_json(out)
         return status
     bad = [c for c in checks if not c.usable]
     print(f"{setup.name}: {len(checks) - len(bad)} of {len(checks)} candidates usable")

@@ -9,9 +9,9 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.cli._output import print_json, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import not_a_regular_file
-from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 
 
@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
     sigma = np.sqrt(np.diag(est.cov_mm2))
     truth = np.array(result.ground_truth["bodies"]["proof_mass"]["cog_mm"])
     kind = "virtual" if result.campaign_is_virtual else "measured"
-    print(f"report: {result.report}", file=sys.stderr)
+    wrote(result.report)
     if args.json:
         summary = {
             "rig": rig.name,
@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
             "cog_mm": est.cog_mm.tolist(),
             "cog_sigma_mm": sigma.tolist(),
         }
-        print(dumps_json(summary), end="")
+        print_json(summary)
         return 0
     print(f"rig {rig.name!r}: CAD proof-mass CoG {np.round(truth, 3).tolist()} mm")
     print(f"simulated pair error: median {sim.fits.q50_mm:.2f} mm, 95 % {sim.fits.q95_mm:.2f} mm")

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
 
-from cadcog.core.jsontext import dumps_json
+from cadcog.cli._output import print_json, wrote
 from cadcog.core.units import UNIT_CHOICES
 
 
@@ -51,10 +50,10 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.runs.setup_init import run_setup_init
 
     draft = run_setup_init(Path(args.model), out=args.out, units=args.units, force=args.force)
-    print(f"report: {draft.setup}", file=sys.stderr)
-    print(f"report: {draft.materials}", file=sys.stderr)
+    wrote(draft.setup)
+    wrote(draft.materials)
     if args.json:
-        print(dumps_json(draft.to_dict()), end="")
+        print_json(draft.to_dict())
         return 0
     points = (
         f"{draft.n_points} candidate points on the model"

@@ -8,9 +8,9 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._output import print_json, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
-from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
 from cadcog.runs.simulate import simulate_rig
@@ -146,9 +146,9 @@ def run(args: argparse.Namespace) -> int:
                 tmp,
                 f"{rig.name}: {report.fits.n} trials, {len(report.groups)} groups",
             )
-        print(f"report: {args.plot}", file=sys.stderr)
+        wrote(args.plot)
     if args.json:
-        print(dumps_json(report.to_dict()), end="")
+        print_json(report.to_dict())
     else:
         print_report(report)
     return 0

@@ -3,16 +3,15 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from cadcog.cli._output import print_json, warn, wrote
 from cadcog.cli._table import text_table
 from cadcog.cli._types import check_positive
 from cadcog.core.errors import CadcogError
-from cadcog.core.jsontext import dumps_json
 from cadcog.spacecraft.update import INCONSISTENT_NOTE, REJECTED_NOTE, unmodelled_from_region
 
 if TYPE_CHECKING:
@@ -125,13 +124,13 @@ def run(args: argparse.Namespace) -> int:
         from cadcog.reports.update_report import write_update_report
 
         page = write_update_report(result, setup, estimate, args.readings, args.report)
-        print(f"report: {page}", file=sys.stderr)
+        wrote(page)
     if args.json:
-        print(dumps_json(result.to_dict()), end="")
+        print_json(result.to_dict())
     else:
         print_update(result)
     for w in estimate.warnings:
-        print(f"cadcog: warning: {w}", file=sys.stderr)
+        warn(w)
     return 0 if result.consistent else EXIT_GAP
 
 

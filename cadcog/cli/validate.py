@@ -6,8 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._output import print_json
 from cadcog.core.errors import CadcogError
-from cadcog.core.jsontext import dumps_json
 from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.runs.validate import validate_readings
 from cadcog.validation.verification import DEFAULT_WINDOWS_MM, CampaignValidation
@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
         level=args.level,
     )
     if args.json:
-        print(dumps_json(result.to_dict()), end="")
+        print_json(result.to_dict())
     else:
         print_validation(result)
     return 0

@@ -25,7 +25,10 @@ def test_a_point_the_plan_says_cannot_work_is_simulated_with_a_warning(tmp_path,
     captured = capsys.readouterr()
     warnings = json.loads(captured.out)["warnings"]
     assert len(warnings) == 1 and warnings[0].startswith("+x_-30_30: cannot work")
-    assert "inclinometer's plane" in warnings[0] and f"warning: {warnings[0]}" in captured.err
+    assert (
+        "inclinometer's plane" in warnings[0]
+        and f"cadcog: warning: {warnings[0]}\n" in captured.err
+    )
     assert main(["campaign", "--setup", setup, "--points=+x_30_90,-x_-30_90", "--out",
                  str(out), "--json"]) == 0  # fmt: skip
     assert "warnings" not in json.loads(capsys.readouterr().out)
