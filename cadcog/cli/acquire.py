@@ -9,10 +9,10 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.cli._options import add_json, add_rig, rig_or_setup
 from cadcog.cli._output import print_json, warn, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs
-from cadcog.rig.file import default_rig_path, load_rig
 
 FAULTS = ("none", "slip", "never-settle", "stall", "foreign")
 
@@ -35,7 +35,7 @@ def add_parser(sub: Any) -> None:
         "accelerometer's recording, a new file written only when given (each hang from 2 s "
         "after its release to the end of its undisturbed decay)",
     )
-    p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
+    add_rig(p)
     p.add_argument("--setup", type=Path, help="spacecraft set-up file instead of a rig")
     p.add_argument(
         "--points",
@@ -64,7 +64,7 @@ def add_parser(sub: Any) -> None:
         help="write the test record (hangs, link, CoG, CAD comparison) as an HTML page to DIR "
         "(a device run with an inclinometer: not yet from --log or an accelerometer's recording)",
     )
-    p.add_argument("--json", action="store_true", help="print the run's summary as JSON")
+    add_json(p, "print the run's summary as JSON")
     p.set_defaults(func=run, also_written=_also_written)
 
 
@@ -195,13 +195,8 @@ def _target(args: argparse.Namespace) -> Any:
     def say(text: str) -> None:
         print(text, file=sys.stderr)
 
-    if args.setup is not None:
-        if args.rig is not None:
-            raise CadcogError("give --rig or --setup, not both")
-        from cadcog.spacecraft.setup import load_setup
-
-        return acquire_target(setup=load_setup(args.setup), points=ids, say=say)
-    return acquire_target(rig=load_rig(args.rig or default_rig_path()), points=ids, say=say)
+    rig, setup = rig_or_setup(args)
+    return acquire_target(rig=rig, setup=setup, points=ids, say=say)
 
 
 def _check_numbers(args: argparse.Namespace) -> None:

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._options import add_json, add_overlap_modes, overlap_mode
 from cadcog.cli._output import print_json
 from cadcog.cli._table import text_table
 from cadcog.cli._types import check_positive, positive_triple
@@ -79,18 +80,12 @@ def add_parser(sub: Any) -> None:
         type=float,
         help="least probability that the inertia objectives hold (default: --confidence)",
     )
-    group = p.add_mutually_exclusive_group()
-    group.add_argument(
-        "--allow-overlap",
-        action="store_true",
-        help="count a MODEL's overlapping solids as they are (as massprops)",
+    add_overlap_modes(
+        p,
+        allow_help="count a MODEL's overlapping solids as they are (as massprops)",
+        resolve_help="cut each common volume out of the less dense solid of a MODEL (as massprops)",
     )
-    group.add_argument(
-        "--resolve-overlaps",
-        action="store_true",
-        help="cut each common volume out of the less dense solid of a MODEL (as massprops)",
-    )
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.set_defaults(func=run)
 
 
@@ -119,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
         mass_sigma_kg=args.mass_sigma_kg,
         workers=available_workers(),
         configurations=args.configurations,
-        overlaps="allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check",
+        overlaps=overlap_mode(args),
         max_product_kg_mm2=args.max_product_kg_mm2,
         max_axis_angle_deg=args.max_axis_angle_deg,
         inertia_confidence=args.inertia_confidence,

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
 
+from cadcog.cli._options import add_json, add_rig, rig_of
 from cadcog.cli._output import print_json
 from cadcog.core.errors import CadcogError
 from cadcog.method.errormodel import ErrorModel
-from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.uncertainty.error_budget import error_budget
 from cadcog.uncertainty.montecarlo import Scenario
 
@@ -25,14 +24,14 @@ def add_parser(sub: Any) -> None:
         "best set of each size, with and without the sensor's self-calibration (docs/bench.md "
         "section 8).",
     )
-    p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
+    add_rig(p)
     p.add_argument(
         "--target-mm",
         type=float,
         help="an accelerometer's rig: the smallest set of hangs whose predicted 95 %% error is "
         "within this (exit 1 when none is)",
     )
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.set_defaults(func=run)
 
 
@@ -86,7 +85,7 @@ def print_accel_sizes(budget: Any, target_mm: float | None) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    rig = load_rig(args.rig or default_rig_path())
+    rig = rig_of(args)
     model = ErrorModel.from_rig(rig)
     if rig.inclinometer.accelerometer:
         return _accelerometer(args, rig, model)

@@ -6,6 +6,7 @@ import argparse
 from typing import Any
 
 from cadcog.cad import cachestore
+from cadcog.cli._options import add_json
 from cadcog.cli._output import print_json
 
 
@@ -28,7 +29,7 @@ def add_parser(sub: Any) -> None:
         help="delete every entry (only cadcog's entry files; the folder and anything else in "
         "it stay)",
     )
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.set_defaults(func=run)
 
 

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._options import add_json, add_rig, refuse_rig_and_setup, rig_of
 from cadcog.cli._output import print_json, warn, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import is_stream, refuse_overwriting_inputs
@@ -24,7 +25,7 @@ def add_parser(sub: Any) -> None:
         "hang, the wire's offset (one wire), the sensor's shared errors (one sensor) and the "
         "ME's CoG once per campaign. See docs/validation.md.",
     )
-    p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
+    add_rig(p)
     p.add_argument("--seed", type=int, default=0, help="seed (default 0)")
     p.add_argument(
         "--samples", type=int, help="raw samples per hang (default: the error model's, 10)"
@@ -47,13 +48,12 @@ def add_parser(sub: Any) -> None:
         help="also write each hang's swing from release (a swing CSV for cadcog inertia), "
         "from the linear model with the CAD's inertia",
     )
-    p.add_argument("--json", action="store_true", help="print what was written as one JSON object")
+    add_json(p, "print what was written as one JSON object")
     p.set_defaults(func=run, also_written=lambda a: [a.swings])
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.rig is not None and args.setup is not None:
-        raise CadcogError("give either --rig or --setup, not both (a set-up names its rig)")
+    refuse_rig_and_setup(args)
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})  # early
     if args.seed < 0:
         raise CadcogError("--seed must be non-negative")
@@ -75,9 +75,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         if args.points is not None:
             raise CadcogError("--points goes with --setup")
-        from cadcog.rig.file import default_rig_path, load_rig
 
-        rig = load_rig(args.rig or default_rig_path())
+        rig = rig_of(args)
         run = run_campaign(args.out, rig=rig, seed=args.seed, swings=args.swings, **options)
     return _written(args, run)
 

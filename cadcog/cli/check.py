@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._options import add_json
 from cadcog.cli._output import print_json, wrote
 from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
 from cadcog.core.paramfile import TableReader, read_toml
@@ -24,7 +25,7 @@ def add_parser(sub: Any) -> None:
         "fails, 2 on bad input. See docs/ci.md.",
     )
     p.add_argument("requirements", type=Path, help="requirements file (TOML)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.add_argument("--junit", type=Path, metavar="FILE", help="also write JUnit XML for CI")
     p.add_argument(
         "--strict",

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.cli._options import add_json, add_rig
 from cadcog.cli._output import print_json, warn
 from cadcog.cli._table import text_table
 from cadcog.cli._types import weighing_sigma_kg
@@ -40,11 +41,7 @@ def add_parser(sub: Any) -> None:
         "points, and remove the measurement equipment (eq. 10). See docs/estimate.md.",
     )
     p.add_argument("readings", type=Path, help="readings CSV (point_id,x_mm,y_mm,z_mm,...)")
-    p.add_argument(
-        "--rig",
-        type=Path,
-        help="rig file: object mass, ME mass and CoG (and its uncertainty), inclinometer set-up",
-    )
+    add_rig(p, "rig file: object mass, ME mass and CoG (and its uncertainty), inclinometer set-up")
     p.add_argument(
         "--setup",
         type=Path,
@@ -103,7 +100,7 @@ def add_parser(sub: Any) -> None:
         action="store_true",
         help="estimate the wire offset scale λ with the CoG (3 or more hangs) and report it",
     )
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.set_defaults(func=run)
 
 

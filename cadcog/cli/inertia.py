@@ -8,9 +8,9 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.cli._options import add_json, add_rig, rig_or_setup
 from cadcog.cli._output import print_json, warn
-from cadcog.cli._types import weighing_sigma_kg
-from cadcog.core.errors import CadcogError
+from cadcog.cli._types import check_positive, weighing_sigma_kg
 from cadcog.core.fittest import TEST_LEVEL, FitTest
 from cadcog.core.plusminus import mass_pm, pm
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
@@ -28,7 +28,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--readings", type=Path, required=True, help="readings CSV of the same hangs (settled)"
     )
-    p.add_argument("--rig", type=Path, help="rig file (the object is its proof mass)")
+    add_rig(p, "rig file (the object is its proof mass)")
     p.add_argument("--setup", type=Path, help="spacecraft set-up file")
     p.add_argument(
         "--weighed-mass-kg",
@@ -41,27 +41,17 @@ def add_parser(sub: Any) -> None:
         help="1-σ of the weighing, with --weighed-mass-kg "
         f"(default {DEFAULT_WEIGHING_SIGMA_KG:g} kg)",
     )
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from cadcog.rig.file import default_rig_path, load_rig
     from cadcog.runs.inertia import inertia_from_files
 
-    if args.rig is not None and args.setup is not None:
-        raise CadcogError("give either --rig or --setup, not both")
-    for name in ("weighed_mass_kg", "mass_sigma_kg"):
-        value = getattr(args, name)
-        if value is not None and not (np.isfinite(value) and value > 0):
-            raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
+    check_positive("weighed_mass_kg", args.weighed_mass_kg)
+    check_positive("mass_sigma_kg", args.mass_sigma_kg)
     args.mass_sigma_kg = weighing_sigma_kg(args.weighed_mass_kg, args.mass_sigma_kg)
-    if args.setup is not None:
-        from cadcog.spacecraft.setup import load_setup
-
-        rig, setup = None, load_setup(args.setup)
-    else:
-        rig, setup = load_rig(args.rig or default_rig_path()), None
+    rig, setup = rig_or_setup(args)
     result = inertia_from_files(
         args.swings,
         args.readings,

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from cadcog.cad.massresults import Refusal
+from cadcog.cli._options import add_json, add_overlap_modes, overlap_mode
 from cadcog.cli._output import print_json, wrote
 from cadcog.cli._types import check_positive, positive_triple
 from cadcog.cli.massprops_text import print_configurations, print_report
@@ -24,7 +25,7 @@ from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
 from cadcog.spacecraft.mass_summary import MassReport, build_mass_report, parse_point
 
 if TYPE_CHECKING:
-    from cadcog.cad.stepmass import ModelMassProperties, OverlapPolicy
+    from cadcog.cad.stepmass import ModelMassProperties
     from cadcog.cad.stepmodel import StepModel
     from cadcog.spacecraft.configurations import Configuration
 
@@ -85,17 +86,11 @@ def _add_counting_options(p: Any) -> None:
         help="leave out bodies or assemblies matching this glob pattern or path (repeatable); "
         "applies before every check",
     )
-    o = p.add_mutually_exclusive_group()
-    o.add_argument(
-        "--allow-overlap",
-        action="store_true",
-        help="count every solid as it is, whatever the overlap",
-    )
-    o.add_argument(
-        "--resolve-overlaps",
-        action="store_true",
-        help="cut each common volume out of the less dense solid of its pair (the denser keeps "
-        "it; on equal densities the one earlier in the file)",
+    o = add_overlap_modes(
+        p,
+        allow_help="count every solid as it is, whatever the overlap",
+        resolve_help="cut each common volume out of the less dense solid of its pair (the denser "
+        "keeps it; on equal densities the one earlier in the file)",
     )
     o.add_argument(
         "--skip-overlaps",
@@ -176,7 +171,7 @@ def _add_output_options(p: Any) -> None:
     p.add_argument(
         "--workers", type=int, help="processes for integration and overlap checks (default: CPUs)"
     )
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
 
 
 #: Steps from which a phase reports on a stderr that is not a terminal (a log, CI).
@@ -249,11 +244,7 @@ def _run(args: argparse.Namespace) -> int:
         from cadcog.spacecraft.configurations import load_configurations
 
         configs = load_configurations(args.configurations)
-    policy: OverlapPolicy = (
-        "allow" if args.allow_overlap else "resolve" if args.resolve_overlaps else "check"
-    )
-    if args.skip_overlaps:
-        policy = "skip"
+    policy = overlap_mode(args)
     read: list[StepModel] = []
 
     def model() -> StepModel:

@@ -6,8 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._options import add_json, rig_of
 from cadcog.cli._output import print_json, wrote
-from cadcog.rig.file import default_rig_path, load_rig
 
 
 def add_parser(sub: Any) -> None:
@@ -28,7 +28,7 @@ def add_parser(sub: Any) -> None:
     build.add_argument(
         "--out", type=Path, default=Path("build"), help="output directory (default: build/)"
     )
-    build.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(build)
     build.set_defaults(func=run_build)
     cubesat = parts_sub.add_parser(
         "cubesat",
@@ -43,7 +43,7 @@ def add_parser(sub: Any) -> None:
         default=Path("build/cubesat"),
         help="output directory (default build/cubesat)",
     )
-    cubesat.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(cubesat)
     cubesat.set_defaults(func=run_cubesat)
 
 
@@ -68,7 +68,7 @@ def print_ground_truth(truth: dict[str, Any]) -> None:
 
 
 def run_build(args: argparse.Namespace) -> int:
-    rig = load_rig(args.rig if args.rig is not None else default_rig_path())
+    rig = rig_of(args)
     # Imported here: build123d takes seconds to import and only this command needs it.
     from cadcog.cad.build import build_parts
 

@@ -7,6 +7,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._options import add_json
 from cadcog.cli._output import print_json, warn
 from cadcog.core import numformat
 from cadcog.core.errors import CadcogError
@@ -60,7 +61,7 @@ def add_parser(sub: Any) -> None:
         action="store_true",
         help="plan the inertia with the CAD's mass uncertainty instead of a 1 g weighing",
     )
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.set_defaults(func=run)
 
 

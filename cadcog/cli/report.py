@@ -9,10 +9,10 @@ from typing import Any
 
 import numpy as np
 
+from cadcog.cli._options import add_json, add_rig, rig_of
 from cadcog.cli._output import print_json, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import not_a_regular_file
-from cadcog.rig.file import default_rig_path, load_rig
 
 
 def add_parser(sub: Any) -> None:
@@ -23,22 +23,18 @@ def add_parser(sub: Any) -> None:
         "campaign (yours with --campaign, else a virtual one), validation and the compensated "
         "estimate, written as a self-contained HTML page. See docs/validation.md.",
     )
-    p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
+    add_rig(p)
     p.add_argument("--campaign", type=Path, help="measured readings CSV (default: virtual)")
     p.add_argument("--seed", type=int, default=0, help="seed of the simulations (default 0)")
     p.add_argument("--out", type=Path, required=True, help="output directory")
-    p.add_argument(
-        "--json",
-        action="store_true",
-        help="print the summary as one JSON object (report path included)",
-    )
+    add_json(p, "print the summary as one JSON object (report path included)")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from cadcog.reports.rig_report import build_report
 
-    rig = load_rig(args.rig or default_rig_path())
+    rig = rig_of(args)
     if args.seed < 0:
         raise CadcogError("--seed must be non-negative")
     if args.campaign is not None and not args.campaign.is_file():

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._options import add_json
 from cadcog.cli._output import print_json, wrote
 from cadcog.core.units import UNIT_CHOICES
 
@@ -40,9 +41,7 @@ def add_parser(sub: Any) -> None:
         help="the file's true length unit, when its declared unit is wrong",
     )
     init.add_argument("--force", action="store_true", help="replace existing files")
-    init.add_argument(
-        "--json", action="store_true", help="print what was drafted as one JSON object"
-    )
+    add_json(init, "print what was drafted as one JSON object")
     p.set_defaults(func=run)
 
 

@@ -8,10 +8,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._options import add_json, add_rig, rig_of
 from cadcog.cli._output import print_json, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
-from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
 from cadcog.runs.simulate import simulate_rig
 from cadcog.uncertainty.random_points import SimulationReport
@@ -25,7 +25,7 @@ def add_parser(sub: Any) -> None:
         "the rig's error model, estimate as cadcog estimate does, compensate and compare with "
         "the CAD ground truth. See docs/montecarlo.md.",
     )
-    p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
+    add_rig(p)
     p.add_argument(
         "--points",
         type=int,
@@ -80,7 +80,7 @@ def add_parser(sub: Any) -> None:
         "--wire-model", choices=WIRE_MODELS, help="wire offset model (overrides the rig)"
     )
     p.add_argument("--workers", type=int, default=1, help="processes (default 1)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.add_argument(
         "--plot", type=Path, help="write a histogram of |e| with fitted PDFs (PNG, SVG, PDF)"
     )
@@ -99,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
                 f"{', '.join(PLOT_SUFFIXES)} (the suffix sets the format)"
             )
         refuse_overwriting_inputs(args.plot, {"--rig": args.rig})
-    rig = load_rig(args.rig or default_rig_path())
+    rig = rig_of(args)
     if args.points == 1:
         raise CadcogError("--points 1: give 0 (the rig's own points) or at least 2")
     if args.paper and args.self_calibrate_wire:

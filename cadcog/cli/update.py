@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from cadcog.cli._options import add_json
 from cadcog.cli._output import print_json, warn, wrote
 from cadcog.cli._table import text_table
 from cadcog.cli._types import check_positive
@@ -85,7 +86,7 @@ def add_parser(sub: Any) -> None:
         "and constrains the same item masses",
     )
     p.add_argument("--report", type=Path, metavar="DIR", help="write an HTML report to DIR")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.set_defaults(func=run)
 
 

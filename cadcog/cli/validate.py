@@ -6,9 +6,9 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from cadcog.cli._options import add_json, add_rig, rig_of
 from cadcog.cli._output import print_json
 from cadcog.core.errors import CadcogError
-from cadcog.rig.file import default_rig_path, load_rig
 from cadcog.runs.validate import validate_readings
 from cadcog.validation.verification import DEFAULT_WINDOWS_MM, CampaignValidation
 
@@ -36,7 +36,7 @@ def add_parser(sub: Any) -> None:
         "campaign-level p-value of stated size. See docs/validation.md.",
     )
     p.add_argument("campaign", type=Path, help="readings CSV of the campaign (3 or more points)")
-    p.add_argument("--rig", type=Path, help="rig file (default: the paper's rig)")
+    add_rig(p)
     p.add_argument(
         "--windows",
         type=_windows,
@@ -56,14 +56,14 @@ def add_parser(sub: Any) -> None:
         help="false-alarm rate of the campaign verdict (default 0.05)",
     )
     p.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default 0)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(p)
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     if args.campaigns < 20 or args.seed < 0 or not 0 < args.level < 1:
         raise CadcogError("--campaigns must be ≥ 20, --seed ≥ 0 and --level in (0, 1)")
-    rig = load_rig(args.rig or default_rig_path())
+    rig = rig_of(args)
     result = validate_readings(
         rig,
         args.campaign,
