@@ -114,3 +114,16 @@ def test_a_wrong_correlation_with_the_cad_mass_would_be_seen(sign):
         chi2.append(d @ np.linalg.solve(comp.cov_mm2 + jac @ prior.prior_cov @ jac.T, d))
     # 3 dof over 2000 draws: the mean's σ is √(6/2000) = 0.055; five of them above 3.
     assert np.mean(chi2) > 3.0 + 5 * np.sqrt(6 / DRAWS), np.mean(chi2)
+
+
+def test_cubesat_envelope_with_uncertainty(cubesat_setup):
+    from cadcog.spacecraft.compare import compare_with_cad
+
+    centre = cubesat_setup.geometric_center_mm
+    cov = np.eye(3) * 1.0
+    inside = compare_with_cad(cubesat_setup, centre + np.array([19.0, 0.0, 0.0]), cov)["cubesat"]
+    assert inside["within"] and not inside["within_at_95"]  # 19 mm + 1.96 σ > 20 mm
+    outside = compare_with_cad(cubesat_setup, centre + np.array([0.0, 21.0, 0.0]), cov)["cubesat"]
+    assert not outside["within"]
+    clear = compare_with_cad(cubesat_setup, centre + np.array([0.0, 0.0, 60.0]), cov)["cubesat"]
+    assert clear["within"] and clear["within_at_95"]

@@ -1,5 +1,6 @@
-"""``plan`` with a sensor's shared figures: which reversal would help, and by how much, said by
-the joint fit's covariance and checked against the Monte Carlo of the same set."""
+"""``cadcog/spacecraft/plan.py``: a candidate the inclinometer cannot read says why; with a
+sensor's shared figures, which reversal would help, and by how much, said by the joint fit's
+covariance and checked against the Monte Carlo of the same set."""
 
 from __future__ import annotations
 
@@ -63,3 +64,19 @@ def test_the_advices_sigma_is_the_monte_carlos_spread(mems_setup):
     assert advice is not None
     # 20 000 campaigns: the RMS is known to ~1 %; the two agree to 0.3 % on this set.
     assert 0.95 * rms <= advice.sigma_mm <= 1.1 * rms, (advice.sigma_mm, rms)
+
+
+def test_candidate_out_of_range_says_why(cubesat_setup):
+    from cadcog.spacecraft.plan import plan_test
+    from cadcog.spacecraft.setup import Candidate
+
+    far = Candidate(
+        "edge",
+        np.array([50.0, 0.0, cubesat_setup.assembly_cog_mm[2] + 5.0]),
+        np.array([1.0, 0.0, 0.0]),
+    )
+    plan = plan_test(
+        replace(cubesat_setup, candidates=(far, *cubesat_setup.candidates[:3])), trials=200
+    )
+    check = plan.checks[0]
+    assert not check.usable and "X = " in check.reason and "beyond the ±60° range" in check.reason
