@@ -11,6 +11,7 @@ import numpy as np
 
 from cadcog.cli._options import add_json, add_rig, rig_or_setup
 from cadcog.cli._output import print_json, warn, wrote
+from cadcog.cli._types import check_positive
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs
 
@@ -209,11 +210,7 @@ def _check_numbers(args: argparse.Namespace) -> None:
         "timeout_s",
         "time_scale",
     ):
-        value = getattr(args, name)
-        if not (np.isfinite(value) and value > 0):
-            raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
-    if args.max_redo < 0 or args.seed < 0 or args.baud <= 0:
-        raise CadcogError("--max-redo and --seed must be non-negative, --baud positive")
+        check_positive(name, getattr(args, name))
 
 
 class _Live:
@@ -385,8 +382,7 @@ def run(args: argparse.Namespace) -> int:
     _check_numbers(args)
     if args.log is not None:
         return _run_log(args)
-    if args.duration_s is not None and not (np.isfinite(args.duration_s) and args.duration_s > 0):
-        raise CadcogError(f"--duration-s must be positive, got {args.duration_s}")
+    check_positive("duration_s", args.duration_s)
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
     if args.swings is not None:
         refuse_overwriting_inputs(

@@ -55,8 +55,6 @@ def add_parser(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     refuse_rig_and_setup(args)
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})  # early
-    if args.seed < 0:
-        raise CadcogError("--seed must be non-negative")
     options = {"samples": args.samples, "noise_deg": args.noise_deg}
     if args.setup is not None:
         from cadcog.method.errormodel import ErrorModel

@@ -11,7 +11,7 @@ import numpy as np
 from cadcog.cli._options import add_json, add_rig
 from cadcog.cli._output import print_json, warn
 from cadcog.cli._table import text_table
-from cadcog.cli._types import weighing_sigma_kg
+from cadcog.cli._types import check_positive, weighing_sigma_kg
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 from cadcog.core.plusminus import mass_pm
@@ -126,11 +126,9 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, Rig | None]:
         return None, None
     if any(v is None for v in direct):
         raise CadcogError("--object-mass-kg, --me-mass-kg and --me-cog-mm go together")
-    if not args.object_mass_kg > 0 or not args.me_mass_kg >= 0:
-        raise CadcogError("--object-mass-kg must be positive and --me-mass-kg non-negative")
+    # their ranges (a positive object mass, the ME's ≥ 0, a σ ≥ 0) are core.bounds', checked
+    # with every option before any command runs
     sigma = 0.0 if args.me_cog_sigma_mm is None else args.me_cog_sigma_mm
-    if not sigma >= 0:
-        raise CadcogError("--me-cog-sigma-mm must be non-negative")
     me = MEData(
         args.object_mass_kg,
         args.me_mass_kg,
@@ -142,15 +140,8 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, Rig | None]:
 
 
 def run(args: argparse.Namespace) -> int:
-    for name in (
-        "angle_sigma_deg",
-        "point_sigma_mm",
-        "weighed_mass_kg",
-        "mass_sigma_kg",
-    ):
-        value = getattr(args, name)
-        if value is not None and not (np.isfinite(value) and value > 0):
-            raise CadcogError(f"--{name.replace('_', '-')} must be positive, got {value}")
+    for name in ("angle_sigma_deg", "point_sigma_mm", "weighed_mass_kg", "mass_sigma_kg"):
+        check_positive(name, getattr(args, name))
     args.mass_sigma_kg = weighing_sigma_kg(args.weighed_mass_kg, args.mass_sigma_kg)
     if args.setup is not None:
         return run_setup(args)

@@ -231,8 +231,6 @@ def _run(args: argparse.Namespace) -> int:
             f"--collapse-below-percent: expected a number from 0 to under 100, got "
             f"{args.collapse_below_percent:g}"
         )
-    if args.workers is not None and args.workers < 1:
-        raise CadcogError("--workers must be at least 1")
     _check_numbers(args)
     if args.csv is not None:  # before the CAD and any output: a clash writes nothing
         if args.csv.is_dir():

@@ -35,8 +35,6 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.reports.rig_report import build_report
 
     rig = rig_of(args)
-    if args.seed < 0:
-        raise CadcogError("--seed must be non-negative")
     if args.campaign is not None and not args.campaign.is_file():
         raise CadcogError(f"{args.campaign}: {not_a_regular_file(args.campaign)}")
     try:

@@ -104,8 +104,6 @@ def run(args: argparse.Namespace) -> int:
         raise CadcogError("--points 1: give 0 (the rig's own points) or at least 2")
     if args.paper and args.self_calibrate_wire:
         raise CadcogError("--paper and --self-calibrate-wire exclude each other")
-    if args.samples is not None and args.samples < 1:
-        raise CadcogError("--samples must be at least 1")
     if args.self_calibrate_wire and (args.group_size < 3 or not args.wire_correction):
         raise CadcogError("--self-calibrate-wire needs --group-size 3 or more and the correction")
     bar = None

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -21,6 +21,9 @@ from cadcog.method.gls import LineErrors
 from cadcog.method.plumblines import JointEstimate
 from cadcog.method.wire import wire_shape_factor
 from cadcog.rig.parameters import MEVolume, Rig, SwingOptions
+
+if TYPE_CHECKING:
+    from cadcog.spacecraft.setup import Setup
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -308,7 +311,7 @@ def context_for_rig(rig: Rig, swing: SwingOptions | None = None) -> InertiaConte
     )
 
 
-def context_for_setup(setup: Any, cad_cov_kg2_mm4: FloatArray) -> InertiaContext:
+def context_for_setup(setup: Setup, cad_cov_kg2_mm4: FloatArray) -> InertiaContext:
     """A spacecraft set-up: its CAD with the stated uncertainty ``cad_cov_kg2_mm4``."""
     rig = setup.rig
     sw = setup.swing

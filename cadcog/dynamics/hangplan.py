@@ -22,7 +22,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import combinations
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -36,6 +36,10 @@ from cadcog.dynamics.modalfit import UNRESOLVED_BINS
 from cadcog.dynamics.result import principal_with_sigma
 from cadcog.dynamics.tensorfit import compensate, direct_jacobian, entries, nuisances, tensor
 from cadcog.mass.properties import combine
+
+if TYPE_CHECKING:
+    from cadcog.spacecraft.plan import Plan
+    from cadcog.spacecraft.setup import Setup
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -394,7 +398,7 @@ def _entry(points: list[str], merit: float, pr: Any) -> dict[str, Any]:
 
 
 def plan_inertia_for_setup(
-    setup: Any, cog_plan: Any, *, weighed: bool = True, max_set: int = 8, both: bool = False
+    setup: Setup, cog_plan: Plan, *, weighed: bool = True, max_set: int = 8, both: bool = False
 ) -> InertiaPlan:
     """``cadcog plan --for inertia|both``: the set-up's usable candidates (from the CoG plan's
     checks), the CoG covariance of the CoG plan's recommended set (isotropic, from its 95 %
