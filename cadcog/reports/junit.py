@@ -35,12 +35,15 @@ class Case(Protocol):
 
 #: Characters XML 1.0 cannot carry at all (control characters but tab, newline and return; the
 #: surrogates; U+FFFE, U+FFFF): shown as ``\\xNN`` / ``\\uNNNN`` instead of making the file
-#: not well-formed (a body name from a STEP file or a baseline can hold any of them).
-_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+#: not well-formed (a body name from a STEP file or a baseline can hold any of them). A
+#: carriage return too: every XML reader turns it into a newline (end-of-line handling), so it
+#: is shown as ``\\r`` rather than read back as another character.
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0d\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
 
 
 def xml_text(text: str) -> str:
-    """``text`` with the characters XML 1.0 forbids written as Python escapes.
+    """``text`` with the characters XML 1.0 forbids, and the carriage return, written as Python
+    escapes.
 
     Examples
     --------
