@@ -47,24 +47,27 @@ def campaign_at(path: Path) -> None:
         assert main(argv) == 0
 
 
+def _edited(text: str, old: str, new: str) -> str:
+    """``text`` with its first ``old`` replaced (which must be there: an edit that no longer
+    applies would test the unedited file)."""
+    assert old in text, old
+    return text.replace(old, new, 1)
+
+
 def rig_with(old: str, new: str) -> str:
-    assert old in RIG, old
-    return RIG.replace(old, new, 1)
+    return _edited(RIG, old, new)
 
 
 def spec_with(old: str, new: str) -> str:
-    assert old in SPEC, old
-    return SPEC.replace(old, new, 1)
+    return _edited(SPEC, old, new)
 
 
 def setup_with(old: str, new: str) -> str:
-    assert old in SETUP, old
-    return SETUP.replace(old, new, 1)
+    return _edited(SETUP, old, new)
 
 
 def requirements_with(old: str, new: str) -> str:
-    assert old in REQUIREMENTS, old
-    return REQUIREMENTS.replace(old, new, 1)
+    return _edited(REQUIREMENTS, old, new)
 
 
 def box_step(path: Path) -> None:
