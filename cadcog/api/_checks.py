@@ -160,14 +160,13 @@ def _given(function: str, **values: object) -> None:
 
 
 def _weighing(function: str, weighed_mass_kg: object, mass_sigma_kg: object) -> None:
-    """A weighing's two arguments, as the commands check them: numbers within their bounds,
-    positive, and a σ other than the default only with a weighed mass (the command refuses
-    ``--mass-sigma-kg`` alone; it would be ignored)."""
+    """A weighing's two arguments, as the commands check them: numbers within their bounds
+    (both more than zero), and a σ other than the default only with a weighed mass (the
+    command refuses ``--mass-sigma-kg`` alone; it would be ignored)."""
     from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
 
     _given(function, mass_sigma_kg=mass_sigma_kg)
     _numbers(function, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
-    _positive(function, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)  # type: ignore[arg-type]
     if weighed_mass_kg is None and mass_sigma_kg != DEFAULT_WEIGHING_SIGMA_KG:
         raise _fail(function, "mass_sigma_kg", mass_sigma_kg, "goes with weighed_mass_kg (its 1 σ)")
 
@@ -179,13 +178,6 @@ def _point_ids(function: str, points: Sequence[str] | None) -> None:
         isinstance(points, str) or not all(isinstance(p, str) for p in points)
     ):
         raise _fail(function, "points", points, "expected a sequence of point ids (str)")
-
-
-def _positive(function: str, **values: float | None) -> None:
-    """Masses and σ that must be > 0 (the bounds allow 0)."""
-    for name, value in values.items():
-        if value is not None and not value > 0:
-            raise _fail(function, name, value, "expected a positive number")
 
 
 def _path(function: str, name: str, value: object) -> Path:

@@ -14,7 +14,6 @@ from cadcog.api._checks import (
     _given,
     _numbers,
     _path,
-    _positive,
     _public,
     _weighing,
 )
@@ -247,8 +246,6 @@ def update(
         unmodelled_mass_kg=unmodelled_mass_kg,
         unmodelled_sigma_kg=unmodelled_sigma_kg,
     )
-    _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
-    _positive(f, unmodelled_sigma_kg=unmodelled_sigma_kg)
     region = None
     if unmodelled_region_mm is not None:
         region = (

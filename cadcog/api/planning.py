@@ -12,7 +12,6 @@ from cadcog.api._checks import (
     _given,
     _numbers,
     _path,
-    _positive,
     _public,
 )
 from cadcog.api.model import _setup
@@ -187,7 +186,6 @@ def balance(
         max_axis_angle_deg=max_axis_angle_deg,
         inertia_confidence=inertia_confidence,
     )
-    _positive(f, weighed_mass_kg=weighed_mass_kg, mass_sigma_kg=mass_sigma_kg)
     check_choice(f, "overlaps", overlaps, ("check", "allow", "resolve"))
     if not MIN_CONFIDENCE <= confidence <= MAX_CONFIDENCE:
         raise _fail(

@@ -26,21 +26,6 @@ def positive_triple(text: str) -> tuple[float, float, float]:
     return values[0], values[1], values[2]
 
 
-def check_positive(name: str, value: float | None, *, zero: bool = False) -> None:
-    """An option's value (``name`` its ``dest``) positive (or ``≥ 0`` with ``zero``) when given.
-
-    Raises
-    ------
-    CadcogError
-        Naming the option: ``--weighed-mass-kg must be a positive number, got 0.0``.
-    """
-    if value is None:
-        return
-    if not math.isfinite(value) or value < 0 or (value == 0 and not zero):
-        kind = "a number ≥ 0" if zero else "a positive number"
-        raise CadcogError(f"--{name.replace('_', '-')} must be {kind}, got {value}")
-
-
 def weighing_sigma_kg(weighed_mass_kg: float | None, mass_sigma_kg: float | None) -> float:
     """The weighing's 1 σ a command takes: ``--mass-sigma-kg`` only with ``--weighed-mass-kg``
     (alone it would be ignored), else the default

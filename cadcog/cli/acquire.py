@@ -11,7 +11,6 @@ import numpy as np
 
 from cadcog.cli._options import add_json, add_rig, rig_or_setup
 from cadcog.cli._output import print_json, warn, wrote
-from cadcog.cli._types import check_positive
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs
 
@@ -200,19 +199,6 @@ def _target(args: argparse.Namespace) -> Any:
     return acquire_target(rig=rig, setup=setup, points=ids, say=say)
 
 
-def _check_numbers(args: argparse.Namespace) -> None:
-    for name in (
-        "average_s",
-        "settle_threshold_deg",
-        "settle_window_s",
-        "settle_hold_s",
-        "max_settle_s",
-        "timeout_s",
-        "time_scale",
-    ):
-        check_positive(name, getattr(args, name))
-
-
 class _Live:
     """The live line on a terminal (stderr); silent when stderr is not a terminal."""
 
@@ -379,10 +365,8 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.bench.session import ConsoleOperator, SessionQuit
     from cadcog.runs.acquire import Recording, Simulation, check_report_folder, run_acquire
 
-    _check_numbers(args)
     if args.log is not None:
         return _run_log(args)
-    check_positive("duration_s", args.duration_s)
     refuse_overwriting_inputs(args.out, {"--rig": args.rig, "--setup": args.setup})
     if args.swings is not None:
         refuse_overwriting_inputs(

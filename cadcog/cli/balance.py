@@ -9,7 +9,7 @@ from typing import Any
 from cadcog.cli._options import add_json, add_overlap_modes, overlap_mode
 from cadcog.cli._output import print_json
 from cadcog.cli._table import text_table
-from cadcog.cli._types import check_positive, positive_triple
+from cadcog.cli._types import positive_triple
 from cadcog.core.units import UNIT_CHOICES
 from cadcog.spacecraft.envelope import CDS_COG_LIMITS_MM
 from cadcog.spacecraft.items import DEFAULT_WEIGHING_SIGMA_KG
@@ -94,8 +94,6 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.core.parallel import available_workers
     from cadcog.runs.balance import run_balance
 
-    check_positive("weighed_mass_kg", args.weighed_mass_kg)
-    check_positive("mass_sigma_kg", args.mass_sigma_kg)
     if args.model is not None and args.setup is not None:
         raise CadcogError("give a MODEL or --setup, not both (a set-up names its model)")
     if args.setup is not None and (args.materials is not None or args.units is not None):

@@ -8,10 +8,10 @@ from typing import Any
 
 import numpy as np
 
-from cadcog.cli._options import add_json, add_rig
+from cadcog.cli._options import add_json, add_rig, refuse_rig_and_setup
 from cadcog.cli._output import print_json, warn
 from cadcog.cli._table import text_table
-from cadcog.cli._types import check_positive, weighing_sigma_kg
+from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
 from cadcog.core.plusminus import mass_pm
@@ -140,8 +140,6 @@ def _me_data(args: argparse.Namespace) -> tuple[MEData | None, Rig | None]:
 
 
 def run(args: argparse.Namespace) -> int:
-    for name in ("angle_sigma_deg", "point_sigma_mm", "weighed_mass_kg", "mass_sigma_kg"):
-        check_positive(name, getattr(args, name))
     args.mass_sigma_kg = weighing_sigma_kg(args.weighed_mass_kg, args.mass_sigma_kg)
     if args.setup is not None:
         return run_setup(args)
@@ -243,10 +241,21 @@ def print_estimate(result: CogEstimate) -> None:
 
 def run_setup(args: argparse.Namespace) -> int:
     """``--setup``: a spacecraft's compensated CoG compared with its CAD."""
-    direct = (args.object_mass_kg, args.me_mass_kg, args.me_cog_mm, args.me_cog_sigma_mm)
-    if args.rig is not None or any(v is not None for v in direct):
+    refuse_rig_and_setup(args)
+    given = [
+        option
+        for option, value in (
+            ("--object-mass-kg", args.object_mass_kg),
+            ("--me-mass-kg", args.me_mass_kg),
+            ("--me-cog-mm", args.me_cog_mm),
+            ("--me-cog-sigma-mm", args.me_cog_sigma_mm),
+        )
+        if value is not None
+    ]
+    if given:
         raise CadcogError(
-            "--setup already gives the masses and the ME: drop --rig/--*-mass-kg/--me-cog-*"
+            f"--setup already gives the masses and the ME: drop {', '.join(given)} (a weighing "
+            "goes with --weighed-mass-kg)"
         )
     from cadcog.spacecraft.setup import load_setup
 

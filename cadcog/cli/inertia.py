@@ -10,7 +10,7 @@ import numpy as np
 
 from cadcog.cli._options import add_json, add_rig, rig_or_setup
 from cadcog.cli._output import print_json, warn
-from cadcog.cli._types import check_positive, weighing_sigma_kg
+from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core.fittest import TEST_LEVEL, FitTest
 from cadcog.core.plusminus import mass_pm, pm
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
@@ -48,8 +48,6 @@ def add_parser(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     from cadcog.runs.inertia import inertia_from_files
 
-    check_positive("weighed_mass_kg", args.weighed_mass_kg)
-    check_positive("mass_sigma_kg", args.mass_sigma_kg)
     args.mass_sigma_kg = weighing_sigma_kg(args.weighed_mass_kg, args.mass_sigma_kg)
     rig, setup = rig_or_setup(args)
     result = inertia_from_files(

@@ -13,7 +13,7 @@ import numpy as np
 from cadcog.cad.massresults import Refusal
 from cadcog.cli._options import add_json, add_overlap_modes, overlap_mode
 from cadcog.cli._output import print_json, wrote
-from cadcog.cli._types import check_positive, positive_triple
+from cadcog.cli._types import positive_triple
 from cadcog.cli.massprops_text import print_configurations, print_report
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import note_input
@@ -213,11 +213,6 @@ def _progress() -> Callable[[str, int], Callable[[int], None]] | None:
     return factory
 
 
-def _check_numbers(args: argparse.Namespace) -> None:
-    for name in ("density_kg_m3", "total_mass_kg"):
-        check_positive(name, getattr(args, name))
-
-
 def run(args: argparse.Namespace) -> int:
     with gc_paused():  # a bounded computation keeping ~10⁶ objects alive (core/gcpause.py)
         return _run(args)
@@ -231,7 +226,6 @@ def _run(args: argparse.Namespace) -> int:
             f"--collapse-below-percent: expected a number from 0 to under 100, got "
             f"{args.collapse_below_percent:g}"
         )
-    _check_numbers(args)
     if args.csv is not None:  # before the CAD and any output: a clash writes nothing
         if args.csv.is_dir():
             raise CadcogError(f"--csv {args.csv}: is a directory, expected a file name")

@@ -11,7 +11,6 @@ import numpy as np
 from cadcog.cli._options import add_json
 from cadcog.cli._output import print_json, warn, wrote
 from cadcog.cli._table import text_table
-from cadcog.cli._types import check_positive
 from cadcog.core.errors import CadcogError
 from cadcog.spacecraft.update import INCONSISTENT_NOTE, REJECTED_NOTE, unmodelled_from_region
 
@@ -94,10 +93,6 @@ def run(args: argparse.Namespace) -> int:
     from cadcog.runs.update import update_from_files
     from cadcog.spacecraft.setup import load_setup
 
-    check_positive("weighed_mass_kg", args.weighed_mass_kg)
-    check_positive("mass_sigma_kg", args.mass_sigma_kg)
-    check_positive("unmodelled_mass_kg", args.unmodelled_mass_kg, zero=True)
-    check_positive("unmodelled_sigma_kg", args.unmodelled_sigma_kg)
     if args.unmodelled_region_mm is not None and args.unmodelled_sigma_kg is None:
         raise CadcogError("--unmodelled-region-mm needs --unmodelled-sigma-kg (its prior 1 σ)")
     if args.unmodelled_region_mm is None and args.unmodelled_sigma_kg is not None:

@@ -26,12 +26,14 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class Bound:
-    """A closed range ``[lo, hi]`` and why; ``integer`` says the value counts something."""
+    """A closed range ``[lo, hi]`` and why; ``integer`` says the value counts something;
+    ``above`` makes the range ``(lo, hi]`` (a σ or a duration that must be more than 0)."""
 
     lo: float
     hi: float
     why: str
     integer: bool = False
+    above: bool = False
 
     def message(self, value: float) -> str | None:
         """None when ``value`` is inside, else what was expected."""
@@ -39,6 +41,8 @@ class Bound:
         def fmt(x: float) -> str:
             return f"{int(x)}" if self.integer else f"{x:g}"
 
+        if self.above and value <= self.lo:
+            return f"expected more than {fmt(self.lo)} ({self.why})"
         if value < self.lo:
             return f"expected at least {fmt(self.lo)} ({self.why})"
         if value > self.hi:
@@ -110,10 +114,33 @@ NAMED_BOUNDS: dict[str, Bound] = {
     "me_inertia_rel": Bound(0.0, 1.0, "the ME's inertia uncertainty, a fraction (0.3)"),
     "total_mass_kg": Bound(1e-6, MASS_MAX_KG, "a weighed total from 1 mg to 10 t"),
     "object_mass_kg": Bound(1e-6, MASS_MAX_KG, "the object's mass, from 1 mg to 10 t"),
+    "weighed_mass_kg": Bound(1e-6, MASS_MAX_KG, "a weighed mass, from 1 mg to 10 t"),
+    # Spreads and durations a command divides by or waits on: more than zero (the name rule
+    # for spreads allows zero, which these cannot use).
+    "mass_sigma_kg": Bound(0.0, MASS_MAX_KG, "a weighing's 1 σ", above=True),
+    "unmodelled_sigma_kg": Bound(0.0, MASS_MAX_KG, "the unmodelled mass's prior 1 σ", above=True),
+    "angle_sigma_deg": Bound(
+        0.0, 360.0, "a reading's 1 σ, given instead of the model's", above=True
+    ),
+    "point_sigma_mm": Bound(
+        0.0, LENGTH_MAX_MM, "a point's 1 σ, given instead of the model's", above=True
+    ),
+    "settle_threshold_deg": Bound(
+        0.0, 360.0, "the swing below which a hang has settled", above=True
+    ),
+    "average_s": Bound(0.0, 86_400.0, "seconds averaged once settled", above=True),
+    "settle_window_s": Bound(0.0, 86_400.0, "the window a swing is measured over", above=True),
+    "settle_hold_s": Bound(0.0, 86_400.0, "how long a swing stays settled", above=True),
+    "max_settle_s": Bound(0.0, 86_400.0, "the longest wait for a hang to settle", above=True),
+    "timeout_s": Bound(
+        0.0, 86_400.0, "seconds without a sample before the link is lost", above=True
+    ),
+    "duration_s": Bound(0.0, 86_400.0, "how long a recording runs", above=True),
 }
 
 
-#: Names holding one of these words are spreads: never negative, whatever their unit.
+#: Names holding one of these words are spreads: never negative, whatever their unit (unless
+#: the name has a bound of its own in :data:`NAMED_BOUNDS`).
 NONNEGATIVE_WORDS = ("sigma", "noise", "uncertainty", "tolerance", "accuracy")
 
 
@@ -135,7 +162,7 @@ def check(name: str, value: float) -> str | None:
     if not math.isfinite(value):
         return "expected a finite number"
     key = name.lstrip("-").replace("-", "_")
-    if value < 0 and any(w in key for w in NONNEGATIVE_WORDS):
+    if key not in NAMED_BOUNDS and value < 0 and any(w in key for w in NONNEGATIVE_WORDS):
         return "expected a number >= 0 (a standard deviation, noise or uncertainty)"
     bound = bound_for(name)
     return None if bound is None else bound.message(value)
@@ -151,5 +178,6 @@ def markdown_table() -> str:
     for suffix, b in sorted(UNIT_BOUNDS.items(), key=lambda kv: -len(kv[0])):
         rows.append(f"| `*{suffix}` | {fmt(b, b.lo)} … {fmt(b, b.hi)} | {b.why} |")
     for name, b in NAMED_BOUNDS.items():
-        rows.append(f"| `{name}` | {fmt(b, b.lo)} … {fmt(b, b.hi)} | {b.why} |")
+        low = f"more than {fmt(b, b.lo)}, up to" if b.above else f"{fmt(b, b.lo)} …"
+        rows.append(f"| `{name}` | {low} {fmt(b, b.hi)} | {b.why} |")
     return "\n".join(rows) + "\n"

@@ -59,9 +59,8 @@ def named_by(source: object | None, *, values: bool = True) -> Iterator[None]:
     :class:`DegenerateGeometryError` as itself (the data do not determine the answer), and
     with ``values`` a ValueError (options and data the computation cannot combine) as a
     :class:`CadcogError` (without, it passes as it is: its message names its file already).
-    Any other :class:`CadcogError` (a :class:`ReadingsError`, a :class:`ParameterFileError`:
-    both ValueErrors too) passes as it is: it names its own file and line. With ``source``
-    None every error passes as it is.
+    An error whose message begins with ``source`` (a :class:`ReadingsError` naming its file and
+    line) passes as it is, not named twice. With ``source`` None every error passes as it is.
 
     Examples
     --------
@@ -77,11 +76,9 @@ def named_by(source: object | None, *, values: bool = True) -> Iterator[None]:
         if source is None:
             raise
         raise type(exc)(f"{source}: {exc}") from None
-    except CadcogError:  # a readings or parameter file's own error names its file and line
-        raise
     except ValueError as exc:
-        if not values or source is None:
-            raise
+        if not values or source is None or str(exc).startswith(str(source)):
+            raise  # (an error that names ``source`` already is not named twice)
         raise CadcogError(f"{source}: {exc}") from None
 
 

@@ -95,7 +95,7 @@ BAD_CALLS = [
     ),
     (
         lambda: cadcog.update("r.csv", "s.toml", 0.0),
-        r"update\(weighed_mass_kg=0\.0\): expected a positive number",
+        r"update\(weighed_mass_kg=0\.0\): expected at least 1e-06 \(a weighed mass",
     ),
     (
         lambda: cadcog.update("r.csv", "s.toml", 2.5, unmodelled_region_mm=[0, 0, 0, 1]),

@@ -115,7 +115,7 @@ def test_a_report_that_cannot_be_written_is_refused_before_the_run(tmp_path, cap
 def test_bad_options_are_refused(tmp_path, capsys):
     out = str(tmp_path / "r.csv")
     assert main(["acquire", "--simulate", "--out", out, "--average-s", "0"]) == 2
-    assert "--average-s must be a positive number, got 0.0" in capsys.readouterr().err
+    assert "--average-s 0.0: expected more than 0" in capsys.readouterr().err
     assert main(["acquire", "--simulate", "--out", out, "--points", "S1,S9"]) == 2
     assert "unknown point(s) S9" in capsys.readouterr().err
     # A reversal: of a known point only, and it does not count as a second point.

@@ -161,7 +161,7 @@ def test_inconsistent_options(tmp_path, capsys, paper_rig):
 def test_sigma_options_are_checked_with_setup_too(tmp_path, capsys):
     csv = write_csv(tmp_path / "r.csv", ["S1,0,0,100,10,5,true", "S2,100,0,0,-30,0,false"])
     assert main(["estimate", str(csv), "--setup", "unused.toml", "--point-sigma-mm", "0"]) == 2
-    assert "--point-sigma-mm must be a positive number" in capsys.readouterr().err
+    assert "--point-sigma-mm 0.0: expected more than 0" in capsys.readouterr().err
 
 
 def test_self_calibrated_wire_scale_is_found_and_reported(tmp_path, capsys, paper_rig):

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from cadcog.cli._types import check_positive, positive_triple, weighing_sigma_kg
+from cadcog.cli._types import positive_triple, weighing_sigma_kg
 from cadcog.core.errors import CadcogError
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
 
@@ -31,17 +31,6 @@ def test_a_triple_is_three_positive_finite_numbers_or_refused_quoting_the_text(v
 def test_malformed_triples_are_refused(text):
     with pytest.raises(argparse.ArgumentTypeError, match=repr(text).replace("(", r"\(")):
         positive_triple(text)
-
-
-@given(st.one_of(st.none(), NUMBER), st.booleans())
-def test_positive_or_at_least_zero_when_given(value, zero):
-    ok = value is None or (math.isfinite(value) and (value > 0 or (zero and value == 0)))
-    if ok:
-        check_positive("mass_sigma_kg", value, zero=zero)
-        return
-    kind = "a number ≥ 0" if zero else "a positive number"
-    with pytest.raises(CadcogError, match=f"^--mass-sigma-kg must be {kind}, got"):
-        check_positive("mass_sigma_kg", value, zero=zero)
 
 
 def test_the_weighings_sigma_goes_with_a_weighing():

@@ -154,9 +154,9 @@ WITH_REGION = ["--weighed-mass-kg", "2.6", "--unmodelled-region-mm=-50,-50,-170,
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--weighed-mass-kg", "-2"], "--weighed-mass-kg -2.0: expected at least 0"),
+        (["--weighed-mass-kg", "-2"], "--weighed-mass-kg -2.0: expected at least 1e-06"),
         (["--weighed-mass-kg", "nan"], "--weighed-mass-kg nan: expected a finite number"),
-        (["--weighed-mass-kg", "0"], "--weighed-mass-kg must be a positive number"),
+        (["--weighed-mass-kg", "0"], "--weighed-mass-kg 0.0: expected at least 1e-06"),
         (
             ["--weighed-mass-kg", "2.6", "--unmodelled-region-mm=0,0,0,1,1,1"],
             "--unmodelled-region-mm needs --unmodelled-sigma-kg",
@@ -167,7 +167,7 @@ WITH_REGION = ["--weighed-mass-kg", "2.6", "--unmodelled-region-mm=-50,-50,-170,
         ),
         (
             ["--weighed-mass-kg", "2.6", "--mass-sigma-kg", "0"],
-            "--mass-sigma-kg must be a positive number",
+            "--mass-sigma-kg 0.0: expected more than 0 (a weighing's 1 σ)",
         ),
         # an unmodelled mass is part of the weighed spacecraft (a 100 kg prior was "found")
         (

@@ -30,7 +30,10 @@ def test_the_docs_table_is_generated_from_the_module():
         ("inertia_kg_mm2", -5.0, None),  # products of inertia are negative
         ("sensitivity_v_per_deg", 500.0, "V per degree"),  # not an angle
         ("--noise-deg", -0.1, "expected a number >= 0"),  # a spread, whatever its unit
-        ("mass_sigma_kg", -1e-9, "expected a number >= 0"),
+        ("cog_sigma_mm", -1e-9, "expected a number >= 0"),
+        ("mass_sigma_kg", 0.0, "expected more than 0 (a weighing's 1 σ)"),  # its own bound
+        ("mass_sigma_kg", -1.0, "expected more than 0 (a weighing's 1 σ)"),  # ... over the rule
+        ("mass_sigma_kg", 1e-12, None),
         ("adc_bits", 33, "at most 32"),
         ("seed", -1, "at least 0"),
         ("mass_kg", float("nan"), "expected a finite number"),

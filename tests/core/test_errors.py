@@ -12,7 +12,6 @@ from cadcog.core.errors import (
     QUOTE_MAX_CHARS,
     CadcogError,
     DegenerateGeometryError,
-    ParameterFileError,
     ReadingsError,
     capped,
     named_by,
@@ -60,12 +59,13 @@ def test_named_by_prefixes_the_source_once_and_keeps_the_kind():
             raise CadcogError("already named")
 
 
-def test_a_file_error_that_is_a_value_error_too_is_not_named_twice():
-    """A ReadingsError is a ValueError (for callers that catch those): it was prefixed again,
-    'r.csv: r.csv, line 3: ...', and lost its kind."""
+def test_an_error_naming_its_file_already_is_not_named_twice():
+    """A ReadingsError is a ValueError (for callers that catch those): one naming its file was
+    prefixed again, 'r.csv: r.csv, line 3: ...', and lost its kind. One that names only its
+    line is named (the estimator's refusals of a hang)."""
     with pytest.raises(ReadingsError, match=r"^r\.csv, line 3: bad$"):
         with named_by("r.csv"):
             raise ReadingsError("r.csv, line 3: bad")
-    with pytest.raises(ParameterFileError, match=r"^s\.toml: key 'x': expected 1$"):
+    with pytest.raises(CadcogError, match=r"^r\.csv: line 8: inside$"):
         with named_by("r.csv"):
-            raise ParameterFileError("s.toml", "x", "expected 1")
+            raise ReadingsError("line 8: inside")

@@ -242,7 +242,7 @@ CASES = [
     Case(
         "update-mass-zero",
         ["update", "r.csv", "--setup", "s.toml", "--weighed-mass-kg", "0"],
-        r"--weighed-mass-kg must be a positive number",
+        r"--weighed-mass-kg 0\.0: expected at least 1e-06 \(a weighed mass",
         {"r.csv": HEADER + GOOD_ROWS, "s.toml": SETUP},
     ),
     Case(

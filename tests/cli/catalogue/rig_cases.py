@@ -241,6 +241,18 @@ CASES = [
         {"s.toml": SETUP},
     ),
     Case(
+        "estimate-rig-and-setup",
+        ["estimate", "r.csv", "--setup", "s.toml", "--rig", str(PARTS / "paper_rig.toml")],
+        r"give either --rig or --setup, not both \(a set-up names its rig\)",
+        {"s.toml": SETUP, "r.csv": RIG_READINGS},
+    ),
+    Case(
+        "estimate-setup-and-me-mass",
+        ["estimate", "r.csv", "--setup", "s.toml", "--me-mass-kg", "0.2"],
+        r"--setup already gives the masses and the ME: drop --me-mass-kg \(a weighing goes",
+        {"s.toml": SETUP, "r.csv": RIG_READINGS},
+    ),
+    Case(
         "estimate-min-angle-above-every-pair",
         ["estimate", "r.csv", "--rig", str(PARTS / "paper_rig.toml"), "--min-angle-deg", "90"],
         r"r\.csv: every pair .* less than the --min-angle-deg of 90° \(largest .*\): lower it",
