@@ -19,9 +19,10 @@ Paths are relative to the file that names them.
 from __future__ import annotations
 
 import tempfile
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from cadcog.cad import cache
 from cadcog.cad.massresults import AllExcludedError, ModelMassProperties
@@ -167,3 +168,44 @@ def named_model(path: Path) -> tuple[StepModel, Path, str | None]:
     source, units = named_model_file(path)
     model, _ = _read(TableReader(read_toml(path), path), source, None)
     return model, source, units
+
+
+def solids_holding_points(
+    points_mm: Sequence[Sequence[float]],
+    *,
+    kind: str,
+    step: Path | None = None,
+    setup: Path | None = None,
+    units: str | None = None,
+) -> list[str | None]:
+    """For each point (mm, model axes), the solid of the model holding it, or None
+    (:func:`cadcog.cad.pointclass.solids_holding`): the model a STEP file (``step``, with its
+    ``units`` override) or a set-up (``setup``, the model it names) holds. Kept in the cache by
+    content (:func:`cadcog.cad.cache.cached_data`: the files, the points, ``kind``), so that
+    only the first check of an unchanged model reads its CAD."""
+    if (step is None) == (setup is None):
+        raise ValueError("give a STEP file or a set-up")
+    settings: dict[str, Any] = {
+        "kind": kind,
+        "points": [[float(v) for v in p] for p in points_mm],
+        "units": units,
+    }
+    files = [step] if step is not None else [setup, named_model_file(setup)[0]]  # type: ignore[arg-type]
+
+    def compute() -> dict[str, Any]:
+        from cadcog.cad.pointclass import solids_holding
+        from cadcog.cad.stepmass import unit_scale
+
+        if step is not None:
+            from cadcog.cad.stepread import read_step
+
+            model, override = read_step(step), units
+        else:
+            assert setup is not None
+            model, _, override = named_model(setup)
+        scale, _, _ = unit_scale(model, override)
+        solids = [(b.path, b.shape) for b in model.solids]
+        return {"inside": solids_holding(solids, settings["points"], scale_to_mm=scale)}
+
+    data, _ = cache.cached_data(settings, [f for f in files if f is not None], compute)
+    return list(data["inside"])

@@ -384,38 +384,16 @@ def _refuse_inside(
     spec: BallastSpec, model: Path | None, setup: Path | None, units: str | None
 ) -> None:
     """Refuse a ballast location inside a solid of the model (cached by content)."""
-    from cadcog.cad import cache
+    from cadcog.cad.modelfile import solids_holding_points
 
-    files = [model] if model is not None else [setup]
-    settings: dict[str, Any] = {
-        "kind": "ballast locations",
-        "points": [np.asarray(p.position_mm).tolist() for p in spec.points],
-        "units": units,
-    }
-
-    def compute() -> dict[str, Any]:
-        from cadcog.cad.pointclass import solids_holding
-        from cadcog.cad.stepmass import unit_scale
-
-        if model is not None:
-            from cadcog.cad.stepread import read_step
-
-            step, override = read_step(model), units
-        else:
-            from cadcog.cad.modelfile import named_model
-
-            assert setup is not None
-            step, _, override = named_model(setup)
-        scale, _, _ = unit_scale(step, override)
-        solids = [(b.path, b.shape) for b in step.solids]
-        return {"inside": solids_holding(solids, settings["points"], scale_to_mm=scale)}
-
-    if setup is not None:  # the set-up names its model: both files are the key
-        from cadcog.cad.modelfile import named_model_file
-
-        files.append(named_model_file(setup)[0])
-    data, _ = cache.cached_data(settings, [f for f in files if f is not None], compute)
-    for i, (point, inside) in enumerate(zip(spec.points, data["inside"], strict=True)):
+    inside_of = solids_holding_points(
+        [np.asarray(p.position_mm).tolist() for p in spec.points],
+        kind="ballast locations",
+        step=model,
+        setup=setup,
+        units=units,
+    )
+    for i, (point, inside) in enumerate(zip(spec.points, inside_of, strict=True)):
         if inside is not None:
             raise ParameterFileError(
                 Path(spec.source),

@@ -162,8 +162,9 @@ ME_HEAVY_RATIO = 0.5
 def _warnings(setup: Setup, model: ErrorModel) -> tuple[str, ...]:
     ratio = setup.me_mass_kg / setup.mass.mass_kg
     if not ratio > ME_HEAVY_RATIO:
-        return ()
+        return setup.notes
     return (
+        *setup.notes,
         f"the measurement equipment ({setup.me_mass_kg:.3f} kg) weighs {ratio:.2f}× the object "
         f"({setup.mass.mass_kg:.3f} kg): the compensation multiplies every error of the hung "
         f"assembly's CoG by {1 + ratio:.2f}, and the ME's own CoG uncertainty "

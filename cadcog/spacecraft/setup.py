@@ -45,6 +45,7 @@ from cadcog.spacecraft.items import (
     items_from_bodies,
     linear_prior,
 )
+from cadcog.spacecraft.setup_draft import form_factor_mismatch
 from cadcog.uncertainty.montecarlo import Scenario
 
 if TYPE_CHECKING:
@@ -81,6 +82,9 @@ class Setup:
     cog_limits_mm: FloatArray | None
     bodies: tuple[Any, ...]  # cadcog.cad.stepmass.BodyResult: mass, CoG, uncertainty item
     swing: SwingOptions = field(default_factory=SwingOptions)  # [swing], else the rig's
+    #: What the file says that its model contradicts without making it unusable (a
+    #: ``form_factor`` whose envelope the model's box is not): said by every command using it.
+    notes: tuple[str, ...] = ()
 
     def __repr__(self) -> str:
         return one_line_repr(self)
@@ -199,8 +203,9 @@ def estimate_for_setup(
         min_angle_deg=min_angle_deg,
     )
     warning = _outside_warning(setup, estimate.cog_mm, estimate.cov_mm2)
-    if warning:
-        estimate = replace(estimate, warnings=(*estimate.warnings, warning))
+    said = (*setup.notes, warning) if warning else setup.notes
+    if said:
+        estimate = replace(estimate, warnings=(*estimate.warnings, *said))
     if not compare:
         return estimate
     cad = compare_with_cad(setup, estimate.cog_mm, estimate.cov_mm2, estimate.compensation)
@@ -316,6 +321,8 @@ def load_setup(path: str | Path) -> Setup:
     elif form is not None:
         limits = np.array(CDS_COG_LIMITS_MM[form])
     lo, hi = massprops.bbox_mm
+    mismatch = form_factor_mismatch(form, hi - lo)  # the set-up's axes are the model's
+    notes = () if mismatch is None else (f"{p}: key 'form_factor': {mismatch}",)
 
     rig, volumes = _measurement_equipment(root.table("measurement_equipment"), base, lo, hi)
     cands = _candidates(root.table("candidates"), lo, hi)
@@ -327,6 +334,7 @@ def load_setup(path: str | Path) -> Setup:
     root.finish()
     if len(cands) < 2:
         raise CadcogError(f"{p}: fewer than two candidate suspension points")
+    _refuse_points_in_solids(p, cands, lo, hi)
     return Setup(
         name,
         p,
@@ -339,6 +347,7 @@ def load_setup(path: str | Path) -> Setup:
         limits,
         tuple(massprops.bodies),
         swing,
+        notes,
     )
 
 
@@ -420,6 +429,42 @@ def _listed_point(
     if twin is not None:
         raise t.error("position_mm", f"{pid!r} is the point of candidate {twin.id!r}")
     return Candidate(pid, pos, normal, listed=True)
+
+
+def _refuse_points_in_solids(
+    path: Path, cands: Sequence[Candidate], lo: FloatArray, hi: FloatArray
+) -> None:
+    """A listed point inside the model's box (a ``face`` given) must not be inside one of its
+    solids: a wire is fixed on a face (the model read once, then kept in the cache; a set-up
+    whose points all lie on its box reads no CAD here).
+
+    Raises
+    ------
+    ParameterFileError
+        Naming the point's key, its id and the solid.
+    """
+    tol = tolerances.SUSPENSION_ON_FACE_MM
+    listed = [c for c in cands if c.listed]
+    inner = [
+        (i, c)
+        for i, c in enumerate(listed)
+        if np.all(c.position_mm > lo + tol) and np.all(c.position_mm < hi - tol)
+    ]
+    if not inner:
+        return
+    from cadcog.cad.modelfile import solids_holding_points
+
+    holders = solids_holding_points(
+        [c.position_mm.tolist() for _, c in inner], kind="suspension points", setup=path
+    )
+    for (i, c), solid in zip(inner, holders, strict=True):
+        if solid is not None:
+            raise ParameterFileError(
+                path,
+                f"candidates.points[{i}].position_mm",
+                f"{c.id!r} at {c.position_mm.tolist()} mm lies inside the solid {solid!r}: a "
+                "suspension point is on a face of the model, where a wire can be fixed",
+            )
 
 
 def _sensor_problem(

@@ -470,8 +470,9 @@ def draft_setup(
     form_line = (
         f'form_factor = "{form}"              # guessed from the bounding box: check it'
         if form
-        else '# form_factor = "3U"            # no CubeSat envelope matched the bounding box '
-        f"({' × '.join(_fmt(v) for v in ext)} mm)"
+        else "# no form_factor: the bounding box "
+        f"({' × '.join(_fmt(v) for v in ext)} mm) matches no CubeSat envelope (1U ... 12U, "
+        "z the long axis); give cog_limits_mm = [X, Y, Z] for an envelope of your own"
     )
     if me_base_mm is None:
         base = [_fmt(centre[0]), _fmt(centre[1]), _fmt(hi[2])]
