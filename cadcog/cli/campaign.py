@@ -41,7 +41,12 @@ def add_parser(sub: Any) -> None:
         help="simulate a spacecraft's test instead: its set-up file (needs --points)",
     )
     p.add_argument("--points", help="with --setup: comma-separated candidate ids to hang from")
-    p.add_argument("--out", type=Path, required=True, help="CSV file to write")
+    p.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        help="CSV file to write (an existing one is replaced only if a virtual campaign wrote it)",
+    )
     p.add_argument(
         "--swings",
         type=Path,

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from cadcog.core.errors import CadcogError
-from cadcog.core.fileio import refuse_overwriting_inputs, staged_files
+from cadcog.core.fileio import is_stream, refuse_overwriting_inputs, staged_files
 from cadcog.core.results import JsonResult
 from cadcog.method.errormodel import ErrorModel
 from cadcog.rig.parameters import Rig
@@ -99,6 +99,46 @@ def check_points(points: Sequence[str] | None) -> list[str]:
     return ids
 
 
+#: The first line of every readings file ``campaign`` writes (and the only kind it replaces).
+VIRTUAL_CAMPAIGN_MARK = "# cadcog virtual campaign"
+
+
+def _is_virtual_campaign(path: Path) -> bool:
+    """Whether ``path`` is a readings file ``campaign`` wrote (its first line says so)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            return fh.readline(200).startswith(VIRTUAL_CAMPAIGN_MARK)
+    except OSError:
+        return False
+
+
+def _refuse_replacing_measurements(out: Path, swings: Path | None) -> None:
+    """A virtual campaign replaces only a virtual campaign: an existing ``out`` that is not
+    one (a test day's readings) is refused, and an existing ``swings`` unless it goes with a
+    virtual campaign at ``out`` (a swing file carries no mark of its own). Streams (``-``, a
+    FIFO, a device) are written into as ever.
+
+    Raises
+    ------
+    CadcogError
+        Naming the option and the file.
+    """
+    virtual = False
+    if not is_stream(out) and Path(out).exists() and Path(out).is_file():
+        virtual = _is_virtual_campaign(Path(out))
+        if not virtual:
+            raise CadcogError(
+                f"--out {out}: exists and is not a virtual campaign (its first line is not "
+                f"{VIRTUAL_CAMPAIGN_MARK!r}): a test's readings are not replaced; give another "
+                "--out, or remove the file"
+            )
+    if swings is not None and not is_stream(swings) and Path(swings).is_file() and not virtual:
+        raise CadcogError(
+            f"--swings {swings}: exists, and --out is not the virtual campaign it goes with: a "
+            "test's swings are not replaced; give another --swings, or remove the file"
+        )
+
+
 def run_campaign(
     out: Path,
     *,
@@ -128,6 +168,7 @@ def run_campaign(
         "--setup": None if setup is None else setup.source,
     }
     refuse_overwriting_inputs(out, inputs)
+    _refuse_replacing_measurements(out, swings)
     if swings is not None:
         refuse_overwriting_inputs(swings, inputs)
         if str(swings) not in ("", "-") and Path(swings).resolve() == Path(out).resolve():

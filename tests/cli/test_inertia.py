@@ -75,7 +75,7 @@ def test_options_are_checked(campaign, capsys):
     assert (
         main(["inertia", str(swings), "--readings", str(readings), "--weighed-mass-kg", "-1"]) == 2
     )
-    assert "--weighed-mass-kg -1.0: expected at least 0" in capsys.readouterr().err
+    assert "--weighed-mass-kg -1.0: expected at least 1e-06" in capsys.readouterr().err
     assert main(["campaign", "--out", str(readings), "--swings", str(readings)]) == 2
     assert "same file" in capsys.readouterr().err
 

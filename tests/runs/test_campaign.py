@@ -86,3 +86,21 @@ def test_neither_or_both_of_rig_and_set_up_and_points_without_a_set_up_are_refus
     with pytest.raises(CadcogError, match="--seed must be non-negative"):
         run_campaign(out, rig=rig, seed=-1)
     assert not out.exists()
+
+
+def test_a_virtual_campaign_replaces_only_a_virtual_campaign(rig, tmp_path):
+    """A test day's readings are not replaced by a simulation (new-user trial: `campaign --out`
+    over a measured file replaced it); a previous virtual campaign and its swings are."""
+    out, swings = tmp_path / "c.csv", tmp_path / "s.csv"
+    run_campaign(out, rig=rig, seed=1, swings=swings)
+    first = out.read_bytes(), swings.read_bytes()
+    run_campaign(out, rig=rig, seed=2, swings=swings)  # its own: replaced, both
+    assert out.read_bytes() != first[0] and swings.read_bytes() != first[1]
+    measured = tmp_path / "day.csv"
+    measured.write_text(out.read_text(encoding="utf-8").split("\n", 1)[1], encoding="utf-8")
+    before = measured.read_bytes()
+    with pytest.raises(CadcogError, match=r"^--out .*day\.csv: exists and is not a virtual"):
+        run_campaign(measured, rig=rig, seed=3)
+    with pytest.raises(CadcogError, match=r"^--swings .*s\.csv: exists, and --out is not"):
+        run_campaign(tmp_path / "new.csv", rig=rig, seed=3, swings=swings)
+    assert measured.read_bytes() == before and not (tmp_path / "new.csv").exists()

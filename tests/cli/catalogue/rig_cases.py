@@ -235,6 +235,18 @@ CASES = [
         {"r.csv": RIG_READINGS},
     ),
     Case(
+        "campaign-onto-measured-readings",
+        ["campaign", "--out", "r.csv"],
+        r"--out r\.csv: exists and is not a virtual campaign .*a test's readings are not replaced",
+        {"r.csv": RIG_READINGS},
+    ),
+    Case(
+        "campaign-onto-swings-of-another",
+        ["campaign", "--out", "new.csv", "--swings", "s.csv"],
+        r"--swings s\.csv: exists, and --out is not the virtual campaign it goes with",
+        {"s.csv": "point_id,t_s,inc_x_deg,inc_y_deg\nS1,0.0,1.0,2.0\n"},
+    ),
+    Case(
         "campaign-rig-and-setup",
         ["campaign", "--setup", "s.toml", "--rig", str(PARTS / "paper_rig.toml"), "--out", "c.csv"],
         r"give either --rig or --setup, not both",
