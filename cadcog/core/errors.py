@@ -73,12 +73,12 @@ def named_by(source: object | None, *, values: bool = True) -> Iterator[None]:
     try:
         yield
     except DegenerateGeometryError as exc:
-        if source is None:
-            raise
+        if source is None or str(exc).startswith(str(source)):
+            raise  # (an error that names ``source`` already is not named twice)
         raise type(exc)(f"{source}: {exc}") from None
     except ValueError as exc:
         if not values or source is None or str(exc).startswith(str(source)):
-            raise  # (an error that names ``source`` already is not named twice)
+            raise
         raise CadcogError(f"{source}: {exc}") from None
 
 

@@ -10,13 +10,11 @@ arguments, in their own words, then call it.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from cadcog.core.errors import CadcogError, DegenerateGeometryError
+from cadcog.core.errors import CadcogError, DegenerateGeometryError, named_by
 from cadcog.method.readings import read_readings
 from cadcog.spacecraft.setup import Setup, update_for_setup
 
@@ -63,7 +61,7 @@ def update_from_files(
         named in the message: the swing CSV for its own errors, else the readings CSV.
     """
     _check_unmodelled(unmodelled, weighed_mass_kg)
-    with _naming(readings):
+    with named_by(readings):
         suspensions = read_readings(readings, setup.rig.inclinometer)
     inertia = None
     notes: list[str] = []
@@ -71,7 +69,7 @@ def update_from_files(
         from cadcog.dynamics.measure import inertia_observation
 
         try:
-            with _naming(swings):
+            with named_by(swings):
                 inertia = inertia_observation(
                     setup,
                     swings,
@@ -80,8 +78,8 @@ def update_from_files(
                     mass_sigma_kg=float(mass_sigma_kg),
                 )
         except DegenerateGeometryError as exc:  # the swings measure no tensor: update without
-            notes.append(f"the swings of {swings} were not used, they give no inertia: {exc}")
-    with _naming(readings):
+            notes.append(f"the swings were not used, they give no inertia: {exc}")  # names them
+    with named_by(readings):
         result, estimate = update_for_setup(
             setup,
             suspensions,
@@ -114,14 +112,3 @@ def _check_unmodelled(unmodelled: UnmodelledPrior | None, weighed_mass_kg: float
                 f"{option} {value:g}: more than the weighed {weighed_mass_kg:g} kg spacecraft "
                 "it is part of (is it in kg?)"
             )
-
-
-@contextmanager
-def _naming(path: Path) -> Iterator[None]:
-    """A ValueError about the data as the one-line error naming ``path``."""
-    try:
-        yield
-    except CadcogError:
-        raise
-    except ValueError as exc:
-        raise CadcogError(f"{path}: {exc}") from None

@@ -69,3 +69,6 @@ def test_an_error_naming_its_file_already_is_not_named_twice():
     with pytest.raises(CadcogError, match=r"^r\.csv: line 8: inside$"):
         with named_by("r.csv"):
             raise ReadingsError("line 8: inside")
+    with pytest.raises(DegenerateGeometryError, match=r"^s\.csv: no tensor$"):
+        with named_by("s.csv"):
+            raise DegenerateGeometryError("s.csv: no tensor")

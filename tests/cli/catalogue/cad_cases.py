@@ -9,6 +9,7 @@ from tests.cli.catalogue.files import (
     PARTS,
     REQUIREMENTS,
     RIG,
+    RIG_READINGS,
     SETUP,
     Case,
     box_step,
@@ -239,6 +240,12 @@ CASES = [
         },
     ),
     # --- update ----------------------------------------------------------------------------------
+    Case(
+        "update-another-objects-readings",
+        ["update", "r.csv", "--setup", "s.toml", "--weighed-mass-kg", "2.6"],
+        r"^cadcog: error: r\.csv: line 3: suspension S1 .* are these the readings of this set-up",
+        {"r.csv": RIG_READINGS, "s.toml": SETUP},
+    ),
     Case(
         "update-mass-zero",
         ["update", "r.csv", "--setup", "s.toml", "--weighed-mass-kg", "0"],
