@@ -329,6 +329,23 @@ def read_step(path: str | Path) -> StepModel:
     )
 
 
+def _not_step(p: Path) -> str | None:
+    """Why a file OCCT could not read is no STEP file at all, when its first line says so
+    (a STEP file begins ``ISO-10303-21;``), else None."""
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(200).lstrip(b"\xef\xbb\xbf \t\r\n")
+    except OSError:
+        return None
+    if head.startswith(b"ISO-10303-21"):
+        return None
+    first = head.split(b"\n", 1)[0][:60].decode("utf-8", "replace").strip()
+    return (
+        f"not a STEP file: a STEP file begins 'ISO-10303-21;', this one begins {first!r} (a "
+        "parameter file goes to the commands that take one: plan, estimate --setup, check...)"
+    )
+
+
 def _transfer(p: Path) -> tuple[TDocStd_Document, tuple[str, ...]]:
     """Read ``p`` into an XCAF document (names and materials kept), and its declared length
     units; a file OCCT cannot read or transfer is refused, naming it."""
@@ -349,7 +366,7 @@ def _transfer(p: Path) -> tuple[TDocStd_Document, tuple[str, ...]]:
             raise CadcogError(f"{p}: cannot read as STEP ({exc})") from None
     if status != IFSelect_ReturnStatus.IFSelect_RetDone:
         reason = _occt_reason(said.getvalue()) or f"reader status {status.name}"
-        raise CadcogError(f"{p}: cannot read as STEP ({reason})")
+        raise CadcogError(f"{p}: {_not_step(p) or f'cannot read as STEP ({reason})'}")
     lengths = Sequence_TCollection_AsciiString()
     reader.ChangeReader().FileUnits(
         lengths, Sequence_TCollection_AsciiString(), Sequence_TCollection_AsciiString()

@@ -26,6 +26,30 @@ from cadcog.core.fileio import note_input
 MAX_TOML_BYTES = 10_000_000
 
 
+def _not_toml(data: bytes) -> str | None:
+    """What a file that is not TOML is instead, when its first line says so (a STEP model, a
+    readings or swing CSV given where a parameter file goes), else None.
+
+    Examples
+    --------
+    >>> _not_toml(b"ISO-10303-21;\\nHEADER;")
+    'a STEP model, not a TOML parameter file (cadcog setup init MODEL drafts a set-up from one)'
+    >>> _not_toml(b"name = = 1") is None
+    True
+    """
+    head = data[:4096].lstrip(b"\xef\xbb\xbf \t\r\n")
+    if head.startswith(b"ISO-10303-21"):
+        return (
+            "a STEP model, not a TOML parameter file (cadcog setup init MODEL drafts a set-up "
+            "from one)"
+        )
+    lines = (line.strip() for line in head.split(b"\n"))
+    first = next((line for line in lines if line and not line.startswith(b"#")), b"")
+    if first.startswith(b"point_id,"):  # a CSV's header, after its comments
+        return "a readings or swing CSV, not a TOML parameter file"
+    return None
+
+
 def read_toml(path: str | Path) -> dict[str, Any]:
     """Parse a TOML file, turning I/O and syntax errors into :class:`ParameterFileError`."""
     p = Path(path)
@@ -53,7 +77,7 @@ def read_toml(path: str | Path) -> dict[str, Any]:
     try:
         parsed = tomllib.loads(data.decode("utf-8-sig"))
     except tomllib.TOMLDecodeError as exc:
-        raise ParameterFileError(p, "", f"invalid TOML: {exc}") from None
+        raise ParameterFileError(p, "", _not_toml(data) or f"invalid TOML: {exc}") from None
     except UnicodeDecodeError as exc:
         raise ParameterFileError(p, "", f"not UTF-8 text: {exc}") from None
     except RecursionError:

@@ -56,6 +56,24 @@ CASES = [
         {"m.step": box_step},
     ),
     Case(
+        "massprops-of-a-set-up",
+        ["massprops", "s.toml"],
+        r"s\.toml: not a STEP file: a STEP file begins 'ISO-10303-21;', this one begins '\[name",
+        {"s.toml": '[name]\nx = 1\n'},
+    ),
+    Case(
+        "plan-of-a-step-model",
+        ["plan", "m.step"],
+        r"m\.step: a STEP model, not a TOML parameter file \(cadcog setup init MODEL drafts",
+        {"m.step": box_step},
+    ),
+    Case(
+        "plan-of-a-readings-csv",
+        ["plan", "r.csv"],
+        r"r\.csv: a readings or swing CSV, not a TOML parameter file",
+        {"r.csv": "# a comment\n#\n" + HEADER + GOOD_ROWS},
+    ),
+    Case(
         "massprops-units",
         ["massprops", "m.step", "--units", "furlong"],
         r"massprops: argument --units: invalid choice: 'furlong'",
