@@ -53,7 +53,11 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
     elif t.has("model_step"):
         source = base / t.string("model_step")
     else:
-        raise t.error("model", "missing: give model (a cadcog CubeSat spec) or model_step")
+        raise t.error(
+            "model",
+            "missing: give model (a cadcog CubeSat spec) or model_step"
+            + t.misspelt("model", "model_step"),
+        )
     materials_path = base / t.string("materials") if t.has("materials") else None
     units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
     exclude = t.strings("exclude") if t.has("exclude") else []
@@ -153,7 +157,11 @@ def named_model_file(path: Path) -> tuple[Path, str | None]:
 
     t = TableReader(read_toml(path), path)
     if not (t.has("model") or t.has("model_step")):
-        raise t.error("model", "missing: give model (a cadcog CubeSat spec) or model_step")
+        raise t.error(
+            "model",
+            "missing: give model (a cadcog CubeSat spec) or model_step"
+            + t.misspelt("model", "model_step"),
+        )
     source = path.parent / (t.string("model") if t.has("model") else t.string("model_step"))
     units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
     return source, units

@@ -235,12 +235,20 @@ class TableReader:
     def is_array(self, name: str) -> bool:
         return isinstance(self._data.get(name), list)
 
+    def misspelt(self, *names: str) -> str:
+        """`` (the table has 'model_stp': a misspelling?)`` when a key of the table is close to
+        one of ``names`` (none of them present), else ''."""
+        others = [str(k) for k in self._data if k not in names]
+        for name in names:
+            written = difflib.get_close_matches(name, others, n=1)
+            if written:
+                return f" (the table has {written[0]!r}: a misspelling?)"
+        return ""
+
     def _get(self, name: str) -> Any:
         self._used.add(name)
         if name not in self._data:
-            written = difflib.get_close_matches(name, [str(k) for k in self._data], n=1)
-            hint = f" (the table has {written[0]!r}: a misspelling?)" if written else ""
-            raise self.error(name, f"missing required key{hint}")
+            raise self.error(name, f"missing required key{self.misspelt(name)}")
         return self._data[name]
 
     def number(

@@ -62,6 +62,12 @@ CASES = [
         {"s.toml": '[name]\nx = 1\n'},
     ),
     Case(
+        "setup-model-key-misspelt",
+        ["plan", "s.toml"],
+        r"s\.toml: key 'model': missing: .* \(the table has 'model_stp': a misspelling\?\)",
+        {"s.toml": setup_with("model = ", "model_stp = ")},
+    ),
+    Case(
         "plan-of-a-step-model",
         ["plan", "m.step"],
         r"m\.step: a STEP model, not a TOML parameter file \(cadcog setup init MODEL drafts",
