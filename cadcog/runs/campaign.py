@@ -194,6 +194,15 @@ def run_campaign(
         ids = check_points(points)
         by_id = {c.id: c for c in setup.candidates}
         unknown = [i for i in ids if i not in by_id]
+        from cadcog.bench.target import REVERSAL_SUFFIX
+
+        turned = [i for i in unknown if i.endswith(REVERSAL_SUFFIX) and i[:-1] in by_id]
+        if turned:
+            raise CadcogError(
+                f"--points: {', '.join(turned)}: a reversal (the sensor turned on its mount) is "
+                "hung at the bench (cadcog acquire); a virtual campaign hangs each candidate "
+                "once, as its error model reads it"
+            )
         if unknown:
             raise CadcogError(
                 f"--points: unknown candidate(s) {', '.join(unknown)} in {setup.source}"

@@ -104,3 +104,12 @@ def test_a_virtual_campaign_replaces_only_a_virtual_campaign(rig, tmp_path):
     with pytest.raises(CadcogError, match=r"^--swings .*s\.csv: exists, and --out is not"):
         run_campaign(tmp_path / "new.csv", rig=rig, seed=3, swings=swings)
     assert measured.read_bytes() == before and not (tmp_path / "new.csv").exists()
+
+
+def test_a_reversal_is_not_simulated_and_says_where_it_is_hung(cubesat_setup, tmp_path):
+    with pytest.raises(
+        CadcogError, match=r"^--points: \+x_30_90~: a reversal .*\(cadcog acquire\)"
+    ):
+        run_campaign(tmp_path / "c.csv", setup=cubesat_setup, points=["-x_-30_90", "+x_30_90~"])
+    with pytest.raises(CadcogError, match=r"unknown candidate\(s\) nowhere~"):
+        run_campaign(tmp_path / "c.csv", setup=cubesat_setup, points=["-x_-30_90", "nowhere~"])
