@@ -13,6 +13,7 @@ from cadcog.cli._options import add_json, add_rig, rig_or_setup
 from cadcog.cli._output import print_json, warn, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs
+from cadcog.core.numformat import signed
 
 FAULTS = ("none", "slip", "never-settle", "stall", "foreign")
 
@@ -454,7 +455,7 @@ def _finish(args: argparse.Namespace, run: Any) -> int:
                 e = truth["error_mm"]
                 print(
                     "simulated truth: error ["
-                    + ", ".join(f"{v:+.3f}" for v in e)
+                    + ", ".join(f"{signed(v, 3)}" for v in e)
                     + f"] mm, Mahalanobis distance {truth['mahalanobis']:.2f}"
                 )
             if result.inertia is not None:

@@ -14,6 +14,7 @@ from cadcog.cli._table import text_table
 from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core import tolerances
 from cadcog.core.errors import CadcogError
+from cadcog.core.numformat import signed
 from cadcog.core.plusminus import mass_pm
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
 from cadcog.method.cogestimate import CogEstimate
@@ -268,17 +269,17 @@ def print_cad_comparison(cad: dict[str, Any]) -> None:
     d, s, m = cad["difference_mm"], cad["difference_sigma"], cad["measurement_sigma"]
     print(
         "measured − CAD: ["
-        + ", ".join(f"{v:+.3f}" for v in d)
+        + ", ".join(f"{signed(v, 3)}" for v in d)
         + "] mm = ["
-        + ", ".join(f"{v:+.1f}" for v in s)
+        + ", ".join(f"{signed(v, 1)}" for v in s)
         + "] σ of measurement and CAD combined (["
-        + ", ".join(f"{v:+.1f}" for v in m)
+        + ", ".join(f"{signed(v, 1)}" for v in m)
         + "] σ of the measurement alone)"
     )
     if "mass_difference_kg" in cad:
         print(
-            f"weighed − CAD mass: {cad['mass_difference_kg'] * 1e3:+.1f} g = "
-            f"{cad['mass_difference_sigma']:+.1f} σ (weighing and CAD combined)"
+            f"weighed − CAD mass: {signed(cad['mass_difference_kg'] * 1e3, 1)} g = "
+            f"{signed(cad['mass_difference_sigma'], 1)} σ (weighing and CAD combined)"
         )
     verdict = (
         "within the CAD's stated uncertainties"
@@ -296,7 +297,7 @@ def print_cad_comparison(cad: dict[str, Any]) -> None:
         verdict += ", but not with 95 % confidence"
     print(
         f"{cs['form_factor']} CoG offset from the geometric centre: ["
-        + ", ".join(f"{v:+.2f}" for v in cs["offset_mm"])
+        + ", ".join(f"{signed(v, 2)}" for v in cs["offset_mm"])
         + "] mm, limits ±["
         + ", ".join(f"{v:g}" for v in cs["limits_mm"])
         + f"] mm: {verdict} ({cs['source']})"

@@ -12,6 +12,7 @@ from cadcog.cli._options import add_json, add_rig, rig_or_setup
 from cadcog.cli._output import print_json, warn
 from cadcog.cli._types import weighing_sigma_kg
 from cadcog.core.fittest import TEST_LEVEL, FitTest
+from cadcog.core.numformat import signed
 from cadcog.core.plusminus import mass_pm, pm
 from cadcog.core.tolerances import DEFAULT_WEIGHING_SIGMA_KG
 
@@ -106,7 +107,7 @@ def print_inertia(result: Any) -> None:
     print("\nprincipal moments (kg·mm², ± 1 σ, 95 % ≈ ± 2 σ) and axes (model frame, ± 1 σ):")
     for k in range(3):
         rel = pr.moments_sigma_kg_mm2[k] / pr.moments_kg_mm2[k] * 100
-        axis = ", ".join(f"{a:+.4f}" for a in pr.axes[k])
+        axis = ", ".join(f"{signed(a, 4)}" for a in pr.axes[k])
         print(
             f"  I{k + 1} = {pm(pr.moments_kg_mm2[k], pr.moments_sigma_kg_mm2[k]):>16} "
             f"({rel:.2f} %)   axis [{axis}] "
@@ -126,7 +127,9 @@ def print_inertia(result: Any) -> None:
         d = np.asarray(cad["difference_kg_mm2"])
         z = np.asarray(cad["difference_sigma"])
         for i in range(3):
-            print("  " + "  ".join(f"{_g(d[i, j], 3):>9} ({z[i, j]:+.1f} σ)" for j in range(3)))
+            print(
+                "  " + "  ".join(f"{_g(d[i, j], 3):>9} ({signed(z[i, j], 1)} σ)" for j in range(3))
+            )
         print(
             f"  joint χ² = {cad['chi2']:.2f} with {cad['dof']} dof (p = {cad['p']:.3f}): "
             + (

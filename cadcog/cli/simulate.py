@@ -12,6 +12,7 @@ from cadcog.cli._options import add_json, add_rig, rig_of
 from cadcog.cli._output import print_json, wrote
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import refuse_overwriting_inputs, staged_file
+from cadcog.core.numformat import signed
 from cadcog.rig.parameters import INCLINOMETER_MODELS, WIRE_MODELS
 from cadcog.runs.simulate import simulate_rig
 from cadcog.uncertainty.random_points import SimulationReport
@@ -192,7 +193,7 @@ def print_report(report: SimulationReport) -> None:
     else:
         print(f"no group has lines at ≥ {sc['min_angle_deg']:g}°")
     axes = ", ".join(
-        f"{b:+.3f} ± {sd:.3f}" for b, sd in zip(r.axis_mean_mm, r.axis_std_mm, strict=True)
+        f"{signed(b, 3)} ± {sd:.3f}" for b, sd in zip(r.axis_mean_mm, r.axis_std_mm, strict=True)
     )
     print(f"per-axis bias ± std (x, y, z): {axes} mm")
     print("\nmoment fits (KS distance = their quality; the quantiles above are the result):")

@@ -92,6 +92,18 @@ def fixed(value: float, decimals: int) -> str:
     return f"{round(float(value), decimals) + 0.0:.{decimals}f}"
 
 
+def signed(value: float, decimals: int) -> str:
+    """``value`` with its sign and a fixed number of decimals, never ``-0.0`` (a difference,
+    a number of σ).
+
+    Examples
+    --------
+    >>> signed(-0.04, 1), signed(0.04, 1), signed(-2.25, 2), signed(3, 0)
+    ('+0.0', '+0.0', '-2.25', '+3')
+    """
+    return f"{round(float(value), decimals) + 0.0:+.{decimals}f}"
+
+
 def vector(values: Iterable[float], decimals: int = 3) -> str:
     """``[x, y, z]`` with fixed decimals (coordinates in mm share a resolution).
 

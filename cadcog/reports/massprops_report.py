@@ -21,6 +21,7 @@ import numpy as np
 from cadcog.core import numformat as nf
 from cadcog.core.fileio import staged_output_dir
 from cadcog.core.jsontext import dumps_json
+from cadcog.core.numformat import signed
 from cadcog.core.version import __version__
 from cadcog.mass.inertia import PRODUCT_CONVENTIONS, TENSOR_CONVENTION, products_of_inertia
 from cadcog.mass.properties import radii_of_gyration_mm
@@ -416,7 +417,7 @@ def _envelope_section(report: MassReport) -> str:
             [
                 [
                     "xyz"[i],
-                    f"{env.offset_mm[i]:+.2f}",
+                    f"{signed(env.offset_mm[i], 2)}",
                     f"±{env.limits_mm[i]:g}",
                     f"{env.margin_mm[i]:.2f}",
                     "" if env.sigma_mm is None else f"{env.sigma_mm[i]:.2f}",

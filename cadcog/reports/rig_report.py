@@ -22,6 +22,7 @@ from cadcog.core import numformat as nf
 from cadcog.core.errors import ReadingsError, named_by
 from cadcog.core.fileio import staged_output_dir
 from cadcog.core.jsontext import dumps_json
+from cadcog.core.numformat import signed
 from cadcog.core.version import __version__
 from cadcog.method.bodybox import BodyBox
 from cadcog.method.cogestimate import CogEstimate
@@ -427,7 +428,7 @@ def _estimate_section(estimate: CogEstimate, pm_truth: FloatArray, figure: Path)
         ["object (ME removed)", *[f"{c:.3f}" for c in estimate.cog_mm]],
         ["1 σ", *[f"{c:.3f}" for c in sigma]],
         ["CAD truth", *[f"{c:.3f}" for c in pm_truth]],
-        ["estimate − truth", *[f"{c:+.3f}" for c in error]],
+        ["estimate − truth", *[f"{signed(c, 3)}" for c in error]],
     ]
     warnings = "".join(f"<li>{esc(w)}</li>" for w in estimate.warnings) or "<li>none</li>"
     return f"""<h2 id="estimate">Compensated estimate</h2>

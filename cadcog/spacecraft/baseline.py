@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from cadcog.core.errors import ParameterFileError
+from cadcog.core.numformat import signed
 from cadcog.core.results import JsonResult
 
 if TYPE_CHECKING:
@@ -56,11 +57,11 @@ class Change:
         parts = []
         dm = (self.mass_after_kg or 0.0) - (self.mass_before_kg or 0.0)
         if dm:
-            parts.append(f"{dm * 1e3:+.1f} g")
+            parts.append(f"{signed(dm * 1e3, 1)} g")
         if self.cog_before_mm is not None and self.cog_after_mm is not None:
             d = np.subtract(self.cog_after_mm, self.cog_before_mm)
             moved = [
-                f"{d[k]:+.2f} mm in {'xyz'[k]}"
+                f"{signed(d[k], 2)} mm in {'xyz'[k]}"
                 for k in range(3)
                 if abs(d[k]) > self.cog_tolerance_mm / math.sqrt(3)
             ]

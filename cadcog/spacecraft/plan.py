@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from cadcog.core import tolerances
+from cadcog.core import numformat, tolerances
 from cadcog.core.results import JsonResult
 from cadcog.method import gls, sym3
 from cadcog.method.errormodel import ErrorModel
@@ -165,9 +165,9 @@ def _warnings(setup: Setup, model: ErrorModel) -> tuple[str, ...]:
         return setup.notes
     return (
         *setup.notes,
-        f"the measurement equipment ({setup.me_mass_kg:.3f} kg) weighs {ratio:.2f}× the object "
-        f"({setup.mass.mass_kg:.3f} kg): the compensation multiplies every error of the hung "
-        f"assembly's CoG by {1 + ratio:.2f}, and the ME's own CoG uncertainty "
+        f"the measurement equipment ({numformat.mass(setup.me_mass_kg)}) weighs {ratio:.2f}× "
+        f"the object ({numformat.mass(setup.mass.mass_kg)}): the compensation multiplies every "
+        f"error of the hung assembly's CoG by {1 + ratio:.2f}, and the ME's own CoG uncertainty "
         f"({model.me_sigma_mm:.2g} mm per axis) adds {ratio * model.me_sigma_mm:.2g} mm; a "
         "lighter ME is the remedy",
     )

@@ -34,6 +34,7 @@ import numpy.typing as npt
 
 from cadcog.core import numformat as nf
 from cadcog.core.errors import CadcogError, ParameterFileError
+from cadcog.core.numformat import signed
 from cadcog.core.paramfile import TableReader
 from cadcog.core.results import JsonResult
 from cadcog.mass.inertia import Frame, principal_axes, products_of_inertia
@@ -212,7 +213,7 @@ def _cog_results(req: Requirements, report: MassReport) -> list[RequirementResul
     out: list[RequirementResult] = []
     env = report.envelope
     if env is not None:
-        offset = ", ".join(f"{v:+.2f}" for v in env.offset_mm)
+        offset = ", ".join(f"{signed(v, 2)}" for v in env.offset_mm)
         limits = ", ".join(f"±{v:g}" for v in env.limits_mm)
         label = env.form_factor or "custom"
         out.append(
@@ -341,7 +342,7 @@ def _inertia_results(req: Requirements, report: MassReport) -> list[RequirementR
                 f"{worst_p:.3f} kg·mm²",
                 f"≤ {req.max_product_kg_mm2:g} kg·mm²",
                 worst_p <= req.max_product_kg_mm2,
-                ", ".join(f"P{k} {v:+.3f}" for k, v in p.items())
+                ", ".join(f"P{k} {signed(v, 3)}" for k, v in p.items())
                 + " kg·mm² (Pxy = +∫xy dm; the limit is on the magnitude, sign-free)",
             )
         )
