@@ -135,10 +135,11 @@ def print_inertia(report: MassReport, products: str) -> None:
     pa = report.principal
     print(f"principal moments ({unit[0]}) and axes (model components):")
     angles = pa.angles_from_frame_deg()
-    for i in range(3):
+    for i, unique in enumerate(pa.unique()):
+        where = f"{angles[i]:.1f}° from a model axis" if unique else "not unique: see below"
         print(
             f"  {nf.in_unit(pa.moments_kg_mm2[i], unit):>10}  {nf.vector(pa.axes[i], 4)}  "
-            f"({angles[i]:.1f}° from a model axis)"
+            f"({where})"
         )
     if pa.degeneracy_note():
         print(f"  ({pa.degeneracy_note()})")

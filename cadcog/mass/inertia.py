@@ -77,6 +77,23 @@ class PrincipalAxes:
         equal = int(np.count_nonzero(d <= DEGENERATE_RELATIVE * scale))
         return 0 if equal == 0 else equal + 1
 
+    def unique(self) -> tuple[bool, bool, bool]:
+        """Whether each axis is determined: False for the axes of equal moments.
+
+        Examples
+        --------
+        >>> principal_axes(np.diag([1.0, 1.0, 2.0])).unique(), principal_axes(np.eye(3)).unique()
+        ((False, False, True), (False, False, False))
+        """
+        d = np.diff(self.moments_kg_mm2)
+        scale = max(float(np.max(np.abs(self.moments_kg_mm2))), np.finfo(float).tiny)
+        equal = d <= DEGENERATE_RELATIVE * scale  # moments sorted: only neighbours can be equal
+        out = [True, True, True]
+        for k in (0, 1):
+            if equal[k]:
+                out[k] = out[k + 1] = False
+        return out[0], out[1], out[2]
+
     def degeneracy_note(self) -> str:
         """What equal moments mean for the axes, or "" when all three differ."""
         if self.n_equal == 3:

@@ -292,3 +292,16 @@ def test_a_form_factor_the_box_does_not_match_is_a_note(tmp_path, capsys):
     assert not [n for n in json.loads(capsys.readouterr().out)["notes"] if "form factor" in n]
     assert main(["massprops", str(step), "--form-factor", "1p", "--json"]) == 0
     assert not [n for n in json.loads(capsys.readouterr().out)["notes"] if "form factor" in n]
+
+
+def test_the_axes_of_equal_moments_are_said_to_be_not_unique(tmp_path, capsys):
+    """A cube's three moments are equal, a 10 × 10 × 30 box's two: their axes got an angle
+    from a model axis as if determined (new-user trial)."""
+    for size, unique in (((10.0, 10.0, 10.0), 0), ((10.0, 10.0, 30.0), 1)):
+        top = Assembly("sat")
+        top.add(Part("box", [(size, (0.0, 0.0, 0.0))]))
+        path = write_step(top, tmp_path / f"b{unique}.step")
+        assert main(["massprops", str(path), "--density-kg-m3", "2700"]) == 0
+        out = capsys.readouterr().out
+        assert out.count("(not unique: see below)") == 3 - unique
+        assert out.count("° from a model axis)") == unique
