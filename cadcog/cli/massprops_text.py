@@ -138,8 +138,7 @@ def print_inertia(report: MassReport, products: str) -> None:
     for i, unique in enumerate(pa.unique()):
         where = f"{angles[i]:.1f}° from a model axis" if unique else "not unique: see below"
         print(
-            f"  {nf.in_unit(pa.moments_kg_mm2[i], unit):>10}  {nf.vector(pa.axes[i], 4)}  "
-            f"({where})"
+            f"  {nf.in_unit(pa.moments_kg_mm2[i], unit):>10}  {nf.vector(pa.axes[i], 4)}  ({where})"
         )
     if pa.degeneracy_note():
         print(f"  ({pa.degeneracy_note()})")

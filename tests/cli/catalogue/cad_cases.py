@@ -59,7 +59,7 @@ CASES = [
         "massprops-of-a-set-up",
         ["massprops", "s.toml"],
         r"s\.toml: not a STEP file: a STEP file begins 'ISO-10303-21;', this one begins '\[name",
-        {"s.toml": '[name]\nx = 1\n'},
+        {"s.toml": "[name]\nx = 1\n"},
     ),
     Case(
         "setup-model-key-misspelt",
