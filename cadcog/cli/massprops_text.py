@@ -11,6 +11,7 @@ import numpy as np
 
 from cadcog.cli._table import text_table
 from cadcog.core import numformat as nf
+from cadcog.core import tolerances
 from cadcog.mass.inertia import products_of_inertia
 from cadcog.mass.properties import radii_of_gyration_mm
 from cadcog.spacecraft.mass_budget import budget_rows
@@ -126,9 +127,13 @@ def print_inertia(report: MassReport, products: str) -> None:
         f"Izz {nf.in_unit(j[2, 2], unit)}"
     )
     symbol = "P" if products == "positive" else "I"
+    # a product below the integration's round-off of the tensor is 0 (a symmetric body's
+    # printed as 7.858e-17; the JSON keeps every digit)
+    floor = tolerances.ROUNDOFF_RELATIVE * float(np.max(np.abs(j)))
+    q = {k: 0.0 if abs(v) < floor else v for k, v in p.items() if k in ("xy", "xz", "yz")}
     print(
-        f"  {symbol}xy {nf.in_unit(p['xy'], unit)}  {symbol}xz {nf.in_unit(p['xz'], unit)}  "
-        f"{symbol}yz {nf.in_unit(p['yz'], unit)}  ({PRODUCT_LABELS[products]}; --products)"
+        f"  {symbol}xy {nf.in_unit(q['xy'], unit)}  {symbol}xz {nf.in_unit(q['xz'], unit)}  "
+        f"{symbol}yz {nf.in_unit(q['yz'], unit)}  ({PRODUCT_LABELS[products]}; --products)"
     )
     k = radii_of_gyration_mm(t.mass_kg, j)
     print(f"  radii of gyration kx {nf.sig(k[0])}  ky {nf.sig(k[1])}  kz {nf.sig(k[2])} mm")

@@ -305,3 +305,4 @@ def test_the_axes_of_equal_moments_are_said_to_be_not_unique(tmp_path, capsys):
         out = capsys.readouterr().out
         assert out.count("(not unique: see below)") == 3 - unique
         assert out.count("° from a model axis)") == unique
+        assert "Pxy 0  Pxz 0  Pyz 0  (" in out  # products below round-off are 0, not 7.9e-17
