@@ -88,6 +88,7 @@ def assign_densities(
     missing: list[str] = []
     placeholder: dict[str, list[Body]] = {}  # placeholder STEP material → bodies that used it
     defaulted: dict[str, list[Body]] = {}  # ... → bodies the catch-all rule gave a density
+    overridden: dict[tuple[str, str], list[Body]] = {}  # (rule, STEP material) → bodies
     lo_d, hi_d = DENSITY_RANGE_KG_M3
     # One material stamped on every solid is the exporter's default (Fusion 360's 'Steel'):
     # a catch-all rule replaces it, as it replaces a placeholder.
@@ -101,6 +102,8 @@ def assign_densities(
         xm = b.step.material
         if outcome == "defaulted" and xm is not None:
             defaulted.setdefault(xm.name, []).append(b)
+        elif outcome == "overridden" and xm is not None:
+            overridden.setdefault((b.source, xm.name), []).append(b)
         elif outcome == "placeholder" and xm is not None:
             placeholder.setdefault(xm.name, []).append(b)
         elif outcome == "missing":
@@ -109,6 +112,15 @@ def assign_densities(
             missing.append(b.step.path)
     notes += _placeholder_notes(placeholder)
     _defaulted_lines(defaulted, stamped_default, notes, info)
+    if info is not None:
+        info += [
+            f"{len(group)} solid(s) with their own STEP material {name!r} "
+            f"({group[0].step.material.density_kg_m3:g} kg/m³) took {rule} instead (a named "
+            f'rule overrides the STEP\'s material; a catch-all "*" does not): '
+            f"{_listed([g.step.path for g in group])}"
+            for (rule, name), group in sorted(overridden.items())
+            if group[0].step.material is not None
+        ]
     notes += _stamp_notes(solids, materials is not None)
     if bad_xcaf:
         notes.append(
@@ -143,6 +155,7 @@ def _assign_solid(
     own material is a placeholder or a stamped default, or the file says rules come first),
     else uniform, else the STEP's own material. Returns what the caller must note:
     ``"defaulted"`` (a catch-all rule replaced the STEP's placeholder or stamp),
+    ``"overridden"`` (a named rule replaced the STEP's own material, of another density),
     ``"placeholder"`` (the STEP's placeholder kept), ``"missing"`` (no density), or None."""
     lo_d, hi_d = DENSITY_RANGE_KG_M3
     found = materials.assign(b.step.rule_names) if materials is not None else None
@@ -159,7 +172,11 @@ def _assign_solid(
     if found is not None:
         b.material, b.density_kg_m3 = found.material, found.density_kg_m3
         b.source = f"materials rule {found.rule!r} ({origin})"
-        return "defaulted" if stub and default_only and xm is not None else None
+        if stub and default_only and xm is not None:
+            return "defaulted"
+        if usable and not stub and xm is not None and xm.density_kg_m3 != found.density_kg_m3:
+            return "overridden"
+        return None
     if uniform:
         b.material, b.density_kg_m3 = "uniform", 1000.0
         b.source = "uniform (scaled to --total-mass-kg)"
