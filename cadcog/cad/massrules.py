@@ -174,8 +174,9 @@ def _assign_solid(
         b.source = f"materials rule {found.rule!r} ({origin})"
         if stub and default_only and xm is not None:
             return "defaulted"
-        if usable and not stub and xm is not None and xm.density_kg_m3 != found.density_kg_m3:
-            return "overridden"
+        named = found.rule != "*"  # a catch-all is a default (or --density-kg-m3, asked for)
+        if named and usable and not stub and xm is not None:
+            return "overridden" if xm.density_kg_m3 != found.density_kg_m3 else None
         return None
     if uniform:
         b.material, b.density_kg_m3 = "uniform", 1000.0

@@ -52,3 +52,11 @@ def test_a_catch_all_rule_leaves_the_steps_materials_and_says_nothing(two_materi
 def test_a_rule_of_the_same_density_as_the_step_is_not_an_override(two_materials):
     result = model_mass_properties(two_materials, MaterialMap((("*pin*", 7850.0),), source="m"))
     assert not any("took materials rule" in i for i in result.info)
+
+
+def test_one_density_for_every_solid_is_asked_for_and_not_reported(two_materials):
+    """``--density-kg-m3`` (a catch-all that overrides the STEP's materials) is what the user
+    asked for: no info line per solid."""
+    result = model_mass_properties(two_materials, MaterialMap.uniform(1000.0))
+    assert {b.density_kg_m3 for b in result.bodies} == {1000.0}
+    assert not any("took materials rule" in i for i in result.info)
