@@ -175,6 +175,14 @@ def balance(
     from cadcog.runs.balance import MAX_CONFIDENCE, MIN_CONFIDENCE, run_balance
 
     f = "balance"
+    if isinstance(ballast, (str, Path)) and Path(ballast).suffix.lower() in (".step", ".stp"):
+        raise _fail(  # the command's order (MODEL --ballast FILE) is not the function's
+            f,
+            "ballast",
+            ballast,
+            "a STEP model; the ballast file (TOML) comes first: "
+            "balance(ballast, model, materials) or balance(ballast, setup=...)",
+        )
     _given(f, confidence=confidence)
     _numbers(
         f,

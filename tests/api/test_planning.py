@@ -30,3 +30,16 @@ def test_balance_takes_a_setup_as_plan_estimate_and_update_do(tmp_path) -> None:
     )
     assert by_object.to_json() == by_file.to_json()
     assert by_file.feasible and by_file.total_ballast_kg > 0  # the CoG 12 mm up: ballast below
+
+
+def test_balance_given_the_commands_order_names_the_step_as_the_ballast(tmp_path) -> None:
+    """``balance(model, materials, ballast)``, the command line's order: the STEP was read as
+    the ballast file ('invalid TOML'; new-user trial). Refused first, naming the argument."""
+    import pytest
+
+    from cadcog.core.errors import CadcogError
+
+    step = tmp_path / "sat.STEP"
+    step.write_text("ISO-10303-21;\n", encoding="utf-8")
+    with pytest.raises(CadcogError, match=r"^balance\(ballast=.*\): a STEP model; the ballast"):
+        cadcog.balance(step, tmp_path / "m.toml", tmp_path / "b.toml")
