@@ -181,7 +181,7 @@ def _inertia_section(result: SessionResult) -> str:
             f"I{k + 1}",
             num(pr.moments_kg_mm2[k], 1),
             f"{pr.moments_sigma_kg_mm2[k]:.3g} ({rel[k]:.2f} %)",
-            ", ".join(f"{signed(a, 4)}" for a in pr.axes[k]),
+            ", ".join(signed(a, 4) for a in pr.axes[k]),
             f"{pr.axes_sigma_deg[k]:.2g}" if pr.axes_sigma_deg[k] < 90 else "undetermined",
         ]
         for k in range(3)

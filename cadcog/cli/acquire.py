@@ -455,7 +455,7 @@ def _finish(args: argparse.Namespace, run: Any) -> int:
                 e = truth["error_mm"]
                 print(
                     "simulated truth: error ["
-                    + ", ".join(f"{signed(v, 3)}" for v in e)
+                    + ", ".join(signed(v, 3) for v in e)
                     + f"] mm, Mahalanobis distance {truth['mahalanobis']:.2f}"
                 )
             if result.inertia is not None:

@@ -269,11 +269,11 @@ def print_cad_comparison(cad: dict[str, Any]) -> None:
     d, s, m = cad["difference_mm"], cad["difference_sigma"], cad["measurement_sigma"]
     print(
         "measured − CAD: ["
-        + ", ".join(f"{signed(v, 3)}" for v in d)
+        + ", ".join(signed(v, 3) for v in d)
         + "] mm = ["
-        + ", ".join(f"{signed(v, 1)}" for v in s)
+        + ", ".join(signed(v, 1) for v in s)
         + "] σ of measurement and CAD combined (["
-        + ", ".join(f"{signed(v, 1)}" for v in m)
+        + ", ".join(signed(v, 1) for v in m)
         + "] σ of the measurement alone)"
     )
     if "mass_difference_kg" in cad:
@@ -297,7 +297,7 @@ def print_cad_comparison(cad: dict[str, Any]) -> None:
         verdict += ", but not with 95 % confidence"
     print(
         f"{cs['form_factor']} CoG offset from the geometric centre: ["
-        + ", ".join(f"{signed(v, 2)}" for v in cs["offset_mm"])
+        + ", ".join(signed(v, 2) for v in cs["offset_mm"])
         + "] mm, limits ±["
         + ", ".join(f"{v:g}" for v in cs["limits_mm"])
         + f"] mm: {verdict} ({cs['source']})"

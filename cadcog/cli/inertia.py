@@ -107,7 +107,7 @@ def print_inertia(result: Any) -> None:
     print("\nprincipal moments (kg·mm², ± 1 σ, 95 % ≈ ± 2 σ) and axes (model frame, ± 1 σ):")
     for k in range(3):
         rel = pr.moments_sigma_kg_mm2[k] / pr.moments_kg_mm2[k] * 100
-        axis = ", ".join(f"{signed(a, 4)}" for a in pr.axes[k])
+        axis = ", ".join(signed(a, 4) for a in pr.axes[k])
         print(
             f"  I{k + 1} = {pm(pr.moments_kg_mm2[k], pr.moments_sigma_kg_mm2[k]):>16} "
             f"({rel:.2f} %)   axis [{axis}] "

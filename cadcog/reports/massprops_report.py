@@ -417,7 +417,7 @@ def _envelope_section(report: MassReport) -> str:
             [
                 [
                     "xyz"[i],
-                    f"{signed(env.offset_mm[i], 2)}",
+                    signed(env.offset_mm[i], 2),
                     f"±{env.limits_mm[i]:g}",
                     f"{env.margin_mm[i]:.2f}",
                     "" if env.sigma_mm is None else f"{env.sigma_mm[i]:.2f}",

@@ -428,7 +428,7 @@ def _estimate_section(estimate: CogEstimate, pm_truth: FloatArray, figure: Path)
         ["object (ME removed)", *[f"{c:.3f}" for c in estimate.cog_mm]],
         ["1 σ", *[f"{c:.3f}" for c in sigma]],
         ["CAD truth", *[f"{c:.3f}" for c in pm_truth]],
-        ["estimate − truth", *[f"{signed(c, 3)}" for c in error]],
+        ["estimate − truth", *[signed(c, 3) for c in error]],
     ]
     warnings = "".join(f"<li>{esc(w)}</li>" for w in estimate.warnings) or "<li>none</li>"
     return f"""<h2 id="estimate">Compensated estimate</h2>

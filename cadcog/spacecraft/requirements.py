@@ -213,7 +213,7 @@ def _cog_results(req: Requirements, report: MassReport) -> list[RequirementResul
     out: list[RequirementResult] = []
     env = report.envelope
     if env is not None:
-        offset = ", ".join(f"{signed(v, 2)}" for v in env.offset_mm)
+        offset = ", ".join(signed(v, 2) for v in env.offset_mm)
         limits = ", ".join(f"±{v:g}" for v in env.limits_mm)
         label = env.form_factor or "custom"
         out.append(
