@@ -80,10 +80,11 @@ def moved_overlaps(
         common = common_volume(shapes[i], shapes[j])
         if common is None:
             continue
+        cube = scale_to_mm**3  # the shapes are in file units; contact is judged in mm³
         for k in (i, j):
             if k not in volumes:
-                volumes[k] = volume_properties(shapes[k]).volume_mm3
-        if is_overlap(common.volume_mm3, volumes[i], volumes[j]):
+                volumes[k] = volume_properties(shapes[k]).volume_mm3 * cube
+        if is_overlap(common.volume_mm3 * cube, volumes[i], volumes[j]):
             a, b = (i, j) if pi is not None else (j, i)
-            out.append((names[a], names[b], common.volume_mm3 * scale_to_mm**3))
+            out.append((names[a], names[b], common.volume_mm3 * cube))
     return sorted(out)
