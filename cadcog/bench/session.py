@@ -31,6 +31,7 @@ from cadcog.bench.readingsfile import (
 from cadcog.bench.recorder import DeviceUnits, HangData, Recorder
 from cadcog.bench.swinglog import SwingLog, default_swing_path
 from cadcog.bench.target import (
+    REVERSAL_SUFFIX,
     BenchTarget,
     PlannedHang,
     estimate_hangs,
@@ -237,6 +238,13 @@ def run_session(
     return result
 
 
+def _known_points(target: BenchTarget) -> set[str]:
+    """Every point id of the target's object: its rig's points, or its set-up's candidates."""
+    if target.setup is not None:
+        return {c.id for c in target.setup.candidates}
+    return {p.id for p in target.rig.suspension_points}
+
+
 def _resumed(
     blocks: list[HangBlock],
     target: BenchTarget,
@@ -246,9 +254,19 @@ def _resumed(
 ) -> list[Suspension]:
     """The hangs an earlier run recorded in ``out``, each where the plan puts its point."""
     planned = {h.id: h for h in target.hangs}
+    known = _known_points(target)
     suspensions: list[Suspension] = []
     for b in blocks:
         h = planned.get(b.point_id)
+        if (
+            h is None
+            and b.point_id not in known
+            and b.point_id.rstrip(REVERSAL_SUFFIX) not in known
+        ):
+            raise CadcogError(
+                f"{out}, line {b.line}: {b.point_id} is none of {target.name}'s points: the "
+                "file was recorded with another rig or set-up (give that one, or another --out)"
+            )
         if h is not None and not np.allclose(b.position_mm, h.position_mm, atol=1e-3):
             raise CadcogError(
                 f"{out}, line {b.line}: {b.point_id} was recorded at {list(b.position_mm)} mm, "

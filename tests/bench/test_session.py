@@ -312,3 +312,20 @@ def test_a_reversal_is_guided_recorded_and_read_back(paper_rig, tmp_path):
     # Resumed: the recorded hangs come back with their flag.
     resumed = _run(target, out, device)
     assert resumed.resumed == ["S1", "S2", "S3", "S3~"]
+
+
+def test_a_file_of_another_objects_hangs_is_not_resumed(paper_target, tmp_path):
+    """A finished 3U run resumed without its --setup (the paper rig by default) appended the
+    rig's six hangs to the 3U's, then estimated a CoG 48 mm off (new-user trial). A hang of
+    none of the target's points is refused before anything is recorded."""
+    from cadcog.core.errors import CadcogError
+
+    out = tmp_path / "readings.csv"
+    device = SimulatedDevice(paper_target, DeviceSpec(), FAST, seed=3)
+    _run(paper_target, out, device)
+    text = out.read_text(encoding="utf-8")
+    text = text.replace("\nS2,", "\n+x_30_90,").replace("# hang S2 ", "# hang +x_30_90 ")
+    out.write_text(text, encoding="utf-8")
+    with pytest.raises(CadcogError, match=r"\+x_30_90 is none of paper_rig's points: the file"):
+        _run(paper_target, out, device)
+    assert out.read_text(encoding="utf-8") == text
