@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core import tolerances
-from cadcog.core.errors import DegenerateGeometryError
+from cadcog.core.errors import CadcogError, DegenerateGeometryError
 from cadcog.core.units import STANDARD_GRAVITY_M_S2, deg_to_rad
 from cadcog.method import gls, sharedfit, sym3
 from cadcog.method.bodybox import BodyBox
@@ -549,6 +549,34 @@ def _wire_scale(
     return WireScale(scale_mm, float(np.sqrt(max(var_mm2, 0.0))), False, wire.scale_mm)
 
 
+def foreign_hangs(rig: Rig, suspensions: Sequence[Suspension]) -> list[str]:
+    """The ids of the hangs made from none of the rig's suspension points (their wire exits):
+    readings of another object, or of another rig."""
+    exits = [rig.wire_exit_mm(p) for p in rig.suspension_points]
+    return [s.id for s in suspensions if not any(same_point(s.position_mm, e) for e in exits)]
+
+
+def refuse_foreign_hangs(rig: Rig, suspensions: Sequence[Suspension], source: object) -> None:
+    """Refuse readings with hangs from none of the rig's points, where the result compares them
+    with the rig's own CAD (a validation, a rig report).
+
+    Raises
+    ------
+    CadcogError
+        Naming ``source``, the hangs and what to give instead.
+    """
+    foreign = foreign_hangs(rig, suspensions)
+    if foreign:
+        shown = ", ".join(foreign[:8]) + (
+            f" and {len(foreign) - 8} more" if len(foreign) > 8 else ""
+        )
+        raise CadcogError(
+            f"{source}: hang(s) {shown} are from none of rig {rig.name}'s suspension points: "
+            "these readings are another object's (a spacecraft's take cadcog estimate --setup; "
+            "another rig's, its --rig)"
+        )
+
+
 def estimate_for_rig(
     rig: Rig,
     suspensions: Sequence[Suspension],
@@ -581,15 +609,14 @@ def estimate_for_rig(
         point_sigma_mm=point_sigma_mm,
         min_angle_deg=min_angle_deg,
     )
-    exits = [rig.wire_exit_mm(p) for p in rig.suspension_points]
-    foreign = [s.id for s in suspensions if not any(same_point(s.position_mm, e) for e in exits)]
+    foreign = foreign_hangs(rig, suspensions)
     if not foreign:
         return result
     return replace(
         result,
         warnings=(
             *result.warnings,
-            f"suspension(s) {', '.join(foreign)} hang from none of rig {rig.name!r}'s "
+            f"suspension(s) {', '.join(foreign)} hang from none of rig {rig.name}'s "
             "suspension points (their wire exits): is this the rig these readings were taken "
             "on? (a spacecraft's readings take --setup)",
         ),

@@ -27,7 +27,7 @@ from cadcog.core.version import __version__
 from cadcog.method.bodybox import BodyBox
 from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.errormodel import ErrorModel
-from cadcog.method.estimate import estimate_for_rig
+from cadcog.method.estimate import estimate_for_rig, refuse_foreign_hangs
 from cadcog.method.readings import Suspension, read_readings
 from cadcog.reports.html import CSS, img_tag, table, vec
 from cadcog.rig.parameters import Rig
@@ -68,6 +68,7 @@ def _measured(rig: Rig, campaign_csv: Path) -> list[Suspension]:
             f"{campaign_csv}: {exc}; `cadcog report` runs a rig's chain (its --rig, the "
             "paper's by default): a spacecraft's readings go to `cadcog estimate --setup`"
         ) from None
+    refuse_foreign_hangs(rig, suspensions, campaign_csv)  # compared with this rig's truth
     return suspensions
 
 

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from cadcog.core.errors import CadcogError
+from cadcog.method.estimate import refuse_foreign_hangs
 from cadcog.method.readings import read_readings
 from cadcog.rig.parameters import Rig
 from cadcog.validation.verification import CampaignValidation, validate_campaign
@@ -60,6 +61,7 @@ def validate_readings(
         validation refuses its data; the message names the file.
     """
     suspensions = read_readings(readings, rig.inclinometer)
+    refuse_foreign_hangs(rig, suspensions, readings)
     if len(suspensions) < MIN_POINTS:
         raise CadcogError(
             f"{readings}: validation needs {MIN_POINTS} or more suspension points, got "

@@ -360,6 +360,19 @@ CASES = [
     Case("campaign-out-is-dir", ["campaign", "--out", "d"], r"d: is a directory", {"d/keep": "x"}),
     # --- validate, report ----------------------------------------------------------------------
     Case(
+        "validate-another-objects-readings",
+        ["validate", "r.csv"],
+        r"r\.csv: hang\(s\) S3 are from none of rig paper_rig's suspension points: these "
+        "readings are another object's",
+        {"r.csv": readings_with("S3,60,60,-4,", "S3,60,60,-30,")},
+    ),
+    Case(
+        "report-another-objects-campaign",
+        ["report", "--campaign", "r.csv", "--out", "rep"],
+        r"r\.csv: hang\(s\) S3 are from none of rig paper_rig's suspension points",
+        {"r.csv": readings_with("S3,60,60,-4,", "S3,60,60,-30,")},
+    ),
+    Case(
         "validate-bad-csv",
         ["validate", "c.csv"],
         r"c\.csv, line 2: column z_mm: expected a number, got 'zz'",
