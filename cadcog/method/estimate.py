@@ -14,12 +14,13 @@ import numpy as np
 import numpy.typing as npt
 
 from cadcog.core import tolerances
-from cadcog.core.errors import CadcogError, DegenerateGeometryError
+from cadcog.core.errors import DegenerateGeometryError
 from cadcog.core.units import STANDARD_GRAVITY_M_S2, deg_to_rad
 from cadcog.method import gls, sharedfit, sym3
 from cadcog.method.bodybox import BodyBox
 from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.errormodel import ErrorModel
+from cadcog.method.foreignhangs import foreign_hangs
 from cadcog.method.medata import MEData
 from cadcog.method.plumblines import (
     Compensation,
@@ -32,7 +33,7 @@ from cadcog.method.plumblines import (
     pair_diagnostics,
 )
 from cadcog.method.readings import Suspension, suspension_verticals
-from cadcog.rig.geometry import FloatArray, axes_beyond_range, same_point
+from cadcog.rig.geometry import FloatArray, axes_beyond_range
 from cadcog.rig.inclinometer import InclinometerConfig
 from cadcog.rig.parameters import Rig
 
@@ -547,34 +548,6 @@ def _wire_scale(
             warnings.append(f"wire scale poorly determined: λ = {scale_mm:.2f} ± {sigma:.2f} mm")
         return WireScale(scale_mm, sigma, True, wire.scale_mm)
     return WireScale(scale_mm, float(np.sqrt(max(var_mm2, 0.0))), False, wire.scale_mm)
-
-
-def foreign_hangs(rig: Rig, suspensions: Sequence[Suspension]) -> list[str]:
-    """The ids of the hangs made from none of the rig's suspension points (their wire exits):
-    readings of another object, or of another rig."""
-    exits = [rig.wire_exit_mm(p) for p in rig.suspension_points]
-    return [s.id for s in suspensions if not any(same_point(s.position_mm, e) for e in exits)]
-
-
-def refuse_foreign_hangs(rig: Rig, suspensions: Sequence[Suspension], source: object) -> None:
-    """Refuse readings with hangs from none of the rig's points, where the result compares them
-    with the rig's own CAD (a validation, a rig report).
-
-    Raises
-    ------
-    CadcogError
-        Naming ``source``, the hangs and what to give instead.
-    """
-    foreign = foreign_hangs(rig, suspensions)
-    if foreign:
-        shown = ", ".join(foreign[:8]) + (
-            f" and {len(foreign) - 8} more" if len(foreign) > 8 else ""
-        )
-        raise CadcogError(
-            f"{source}: hang(s) {shown} are from none of rig {rig.name}'s suspension points: "
-            "these readings are another object's (a spacecraft's take cadcog estimate --setup; "
-            "another rig's, its --rig)"
-        )
 
 
 def estimate_for_rig(

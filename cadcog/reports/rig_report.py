@@ -27,7 +27,8 @@ from cadcog.core.version import __version__
 from cadcog.method.bodybox import BodyBox
 from cadcog.method.cogestimate import CogEstimate
 from cadcog.method.errormodel import ErrorModel
-from cadcog.method.estimate import estimate_for_rig, refuse_foreign_hangs
+from cadcog.method.estimate import estimate_for_rig
+from cadcog.method.foreignhangs import refuse_foreign_hangs
 from cadcog.method.readings import Suspension, read_readings
 from cadcog.reports.html import CSS, img_tag, table, vec
 from cadcog.rig.parameters import Rig

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from cadcog.core.errors import CadcogError
-from cadcog.method.estimate import refuse_foreign_hangs
+from cadcog.method.foreignhangs import refuse_foreign_hangs
 from cadcog.method.readings import read_readings
 from cadcog.rig.parameters import Rig
 from cadcog.validation.verification import CampaignValidation, validate_campaign
