@@ -10,6 +10,7 @@ naming the file and the key.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from importlib import resources
 from itertools import combinations
 from pathlib import Path
@@ -82,7 +83,7 @@ def load_rig(path: str | Path) -> Rig:
         mass_kg=pm_t.number("mass_kg", positive=True),
         material=pm_t.string("material"),
     )
-    _check_density(pm_t, proof_mass)
+    _check_density(pm_t, proof_mass.mass_kg, proof_mass.size_mm, solid=True)
     pm_t.finish()
 
     holes_t = root.table("holes")
@@ -131,6 +132,8 @@ def load_rig(path: str | Path) -> Rig:
 
     _check_unique(point_tables, [p.id for p in points], "id")
     _check_unique(volume_tables, [v.name for v in volumes], "name")
+    for t, v in zip(volume_tables, volumes, strict=True):
+        _check_density(t, v.mass_kg, v.size_mm, solid=False)
     for t, v in zip(volume_tables, volumes, strict=True):
         if v.name in RESERVED_BODY_NAMES:
             raise t.error("name", f"{v.name!r} is reserved; choose another name")
@@ -362,17 +365,33 @@ def _overlap_depth(lo1: np.ndarray, hi1: np.ndarray, lo2: np.ndarray, hi2: np.nd
     return float(np.min(np.minimum(hi1, hi2) - np.maximum(lo1, lo2)))
 
 
-def _check_density(table: TableReader, proof_mass: ProofMass) -> None:
-    """The proof mass is a homogeneous block: its mass over its box's volume is a solid's
-    density (the ``_kg_m3`` bound: 0.1 g in the paper's block is 0.09 kg/m³, a unit slip
-    that would put the CoG metres away)."""
-    density = density_kg_mm3_to_kg_m3(proof_mass.mass_kg / float(np.prod(proof_mass.size_mm)))
-    problem = bounds.check("density_kg_m3", density)
+#: A box denser than this many times the densest solid has a length in metres, not mm.
+METRES_DENSITY_FACTOR = 1000.0
+
+
+def _check_density(
+    table: TableReader, mass_kg: float, size_mm: Sequence[float], *, solid: bool
+) -> None:
+    """A box's mass over its volume is a density: the proof mass's (a homogeneous block) within
+    the ``_kg_m3`` bound (0.1 g in the paper's block is 0.09 kg/m³, a unit slip that would put
+    the CoG metres away); an ME volume's (a part's envelope, mostly air) at most the densest
+    solid's (25 g typed as 25 kg made a 450 000 kg/m³ Arduino and an ME 150× the object)."""
+    density = density_kg_mm3_to_kg_m3(mass_kg / float(np.prod(size_mm)))
+    bound = bounds.bound_for("density_kg_m3")
+    assert bound is not None
+    problem = bounds.check("density_kg_m3", density) if solid else None
+    if density > bound.hi:
+        unit = (
+            "are its size_mm in metres?"
+            if density > METRES_DENSITY_FACTOR * bound.hi
+            else "is its mass_kg in grams?"
+        )
+        problem = f"denser than any solid ({bound.hi:g} kg/m³): {unit}"
     if problem is not None:
         raise table.error(
             "mass_kg",
-            f"{proof_mass.mass_kg:g} kg in a {' × '.join(f'{v:g}' for v in proof_mass.size_mm)} "
-            f"mm block is {density:.3g} kg/m³: {problem}",
+            f"{mass_kg:g} kg in a {' × '.join(f'{v:g}' for v in size_mm)} mm box is "
+            f"{density:.3g} kg/m³: {problem}",
         )
 
 

@@ -30,6 +30,19 @@ CASES = [
         {"r.toml": rig_with("adc_bits = 10 ", "adc_bits = 2000 ")},
     ),
     Case(
+        "rig-me-mass-in-grams",
+        ["budget", "--rig", "r.toml"],
+        r"r\.toml: key 'measurement_equipment\.volumes\[0\]\.mass_kg': 25 kg in a 68\.6 × "
+        r"53\.4 × 15 mm box is 4\.55e\+05 kg/m³: denser than any solid .* is its mass_kg in grams",
+        {"r.toml": rig_with("mass_kg = 0.025 ", "mass_kg = 25 ")},
+    ),
+    Case(
+        "rig-size-in-metres",
+        ["budget", "--rig", "r.toml"],
+        r"r\.toml: key 'proof_mass\.mass_kg': .* are its size_mm in metres\?",
+        {"r.toml": rig_with("size_mm = [200.0, 75.0, 78.0]", "size_mm = [0.2, 0.075, 0.078]")},
+    ),
+    Case(
         "rig-size-1e300",
         ["parts", "build", "r.toml", "--out", "out"],
         r"r\.toml: key 'proof_mass\.size_mm': element 0: expected at most 20000",
