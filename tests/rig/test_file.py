@@ -84,7 +84,12 @@ CASES: list[tuple[str, Mutation, str, str]] = [
     # 0.1 g, 1e-300 kg and 9 t in the paper's 1.17 L block: no solid is that light or heavy
     ("mass of a foam", _set("proof_mass.mass_kg", 1e-4), "proof_mass.mass_kg", "0.0855 kg/m³"),
     ("mass of nothing", _set("proof_mass.mass_kg", 1e-300), "proof_mass.mass_kg", "at least 10"),
-    ("mass of a star", _set("proof_mass.mass_kg", 9000.0), "proof_mass.mass_kg", "denser than any solid (25000 kg/m³)"),
+    (
+        "mass of a star",
+        _set("proof_mass.mass_kg", 9000.0),
+        "proof_mass.mass_kg",
+        "denser than any solid",
+    ),
     (
         "zero size",
         _set("proof_mass.size_mm", [200.0, 0.0, 78.0]),
