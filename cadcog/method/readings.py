@@ -455,9 +455,9 @@ def _accelerometer_header(header: list[str], cfg: InclinometerConfig, line: int,
     if not cfg.accelerometer:
         raise fail(
             line,
-            f"columns {', '.join(ACC_COLUMNS)} are an accelerometer's readings, but the rig or "
-            "set-up (the paper's rig when none is given) declares an angle-reading "
-            "inclinometer: give --rig or --setup with the one whose [inclinometer] declares "
+            f"columns {', '.join(ACC_COLUMNS)} are an accelerometer's readings, but the "
+            "[inclinometer] they are read with (the set-up's or rig's given; with neither, the "
+            "paper rig's) reads angles: give the --rig or --setup whose [inclinometer] declares "
             'device = "accelerometer" (docs/bench.md §8)',
         )
     clash = [c for c in (*DEG_COLUMNS, *COUNT_COLUMNS, FACE_COLUMN) if c in header]

@@ -324,7 +324,9 @@ def load_setup(path: str | Path) -> Setup:
     mismatch = form_factor_mismatch(form, hi - lo)  # the set-up's axes are the model's
     notes = () if mismatch is None else (f"{p}: key 'form_factor': {mismatch}",)
 
-    rig, volumes = _measurement_equipment(root.table("measurement_equipment"), base, lo, hi)
+    rig, volumes, me_base = _measurement_equipment(
+        root.table("measurement_equipment"), base, lo, hi
+    )
     cands = _candidates(root.table("candidates"), lo, hi)
     swing = swing_options(root.table("swing")) if root.has("swing") else rig.swing
     if swing.sensor_position_mm is not None:
@@ -334,7 +336,7 @@ def load_setup(path: str | Path) -> Setup:
     root.finish()
     if len(cands) < 2:
         raise CadcogError(f"{p}: fewer than two candidate suspension points")
-    _refuse_points_in_solids(p, cands, lo, hi)
+    _refuse_points_in_solids(p, cands, me_base, lo, hi)
     return Setup(
         name,
         p,
@@ -353,9 +355,10 @@ def load_setup(path: str | Path) -> Setup:
 
 def _measurement_equipment(
     me_t: TableReader, base: Path, lo: FloatArray, hi: FloatArray
-) -> tuple[Rig, tuple[MEVolume, ...]]:
+) -> tuple[Rig, tuple[MEVolume, ...], FloatArray]:
     """``[measurement_equipment]``: the rig whose ME carries the spacecraft (the paper's by
-    default) and its volumes moved so that its base centre is at ``base_center_mm``."""
+    default), its volumes moved so that its base centre is at ``base_center_mm``, and that
+    base centre."""
     rig = load_rig(base / me_t.string("rig")) if me_t.has("rig") else load_rig(default_rig_path())
     target = np.array(me_t.vector("base_center_mm"))
     if (problem := me_base_problem(target, lo, hi)) is not None:
@@ -366,7 +369,7 @@ def _measurement_equipment(
     volumes = tuple(
         replace(v, center_mm=_triple(np.asarray(v.center_mm) + shift)) for v in rig.me_volumes
     )
-    return rig, volumes
+    return rig, volumes, target
 
 
 def _candidates(cand_t: TableReader, lo: FloatArray, hi: FloatArray) -> list[Candidate]:
@@ -432,38 +435,43 @@ def _listed_point(
 
 
 def _refuse_points_in_solids(
-    path: Path, cands: Sequence[Candidate], lo: FloatArray, hi: FloatArray
+    path: Path, cands: Sequence[Candidate], me_base: FloatArray, lo: FloatArray, hi: FloatArray
 ) -> None:
-    """A listed point inside the model's box (a ``face`` given) must not be inside one of its
-    solids: a wire is fixed on a face (the model read once, then kept in the cache; a set-up
-    whose points all lie on its box reads no CAD here).
+    """A listed point inside the model's box (a ``face`` given), and the ME's base, must not be
+    inside one of its solids: a wire is fixed on a face, the ME sits on one (the model read
+    once, then kept in the cache; a set-up whose points all lie on its box reads no CAD here).
 
     Raises
     ------
     ParameterFileError
-        Naming the point's key, its id and the solid.
+        Naming the key, the point and the solid.
     """
     tol = tolerances.SUSPENSION_ON_FACE_MM
+
+    def inner(x: FloatArray) -> bool:
+        return bool(np.all(x > lo + tol) and np.all(x < hi - tol))
+
     listed = [c for c in cands if c.listed]
-    inner = [
-        (i, c)
+    point_why = "a suspension point is on a face of the model, where a wire can be fixed"
+    keyed = [
+        (f"candidates.points[{i}].position_mm", f"{c.id!r} at", c.position_mm, point_why)
         for i, c in enumerate(listed)
-        if np.all(c.position_mm > lo + tol) and np.all(c.position_mm < hi - tol)
+        if inner(c.position_mm)
     ]
-    if not inner:
+    if inner(me_base):
+        base_why = "the measurement equipment sits on a face of the model (mm, model axes)"
+        keyed.append(("measurement_equipment.base_center_mm", "the base", me_base, base_why))
+    if not keyed:
         return
     from cadcog.cad.modelfile import solids_holding_points
 
     holders = solids_holding_points(
-        [c.position_mm.tolist() for _, c in inner], kind="suspension points", setup=path
+        [x.tolist() for _, _, x, _ in keyed], kind="suspension points", setup=path
     )
-    for (i, c), solid in zip(inner, holders, strict=True):
+    for (key, what, x, why), solid in zip(keyed, holders, strict=True):
         if solid is not None:
             raise ParameterFileError(
-                path,
-                f"candidates.points[{i}].position_mm",
-                f"{c.id!r} at {c.position_mm.tolist()} mm lies inside the solid {solid!r}: a "
-                "suspension point is on a face of the model, where a wire can be fixed",
+                path, key, f"{what} {x.tolist()} mm lies inside the solid {solid!r}: {why}"
             )
 
 

@@ -87,3 +87,21 @@ def test_a_suspension_point_inside_a_solid_is_refused_naming_it(tmp_path, capsys
     from cadcog.spacecraft.setup import load_setup
 
     assert "IN" in {c.id for c in load_setup(outside).candidates}
+
+
+def test_an_me_base_inside_a_solid_is_refused(tmp_path, capsys):
+    """base_center_mm typed in metres (0.17025 for 170.25) put the ME inside the 3U, and the
+    CoG came out 11.6 mm off with exit 0 (second new-user trial)."""
+    text = SETUP.read_text(encoding="utf-8").replace(
+        "base_center_mm = [0.0, 0.0, 170.25]", "base_center_mm = [0.0, 0.0, 0.17025]"
+    )
+    text = text.replace(
+        'model = "cubesat_3u.toml"', f'model = "{SETUP.parent / "cubesat_3u.toml"}"'
+    )
+    text = text.replace('rig = "paper_rig.toml"', f'rig = "{SETUP.parent / "paper_rig.toml"}"')
+    metres = tmp_path / "metres.toml"
+    metres.write_text(text, encoding="utf-8")
+    assert main(["plan", str(metres)]) == 2
+    err = capsys.readouterr().err
+    assert "key 'measurement_equipment.base_center_mm': the base [0.0, 0.0, 0.17025] mm" in err
+    assert "lies inside the solid 'cubesat_3u/payload_and_bus/adcs_unit'" in err
