@@ -158,7 +158,10 @@ def print_balance(r: Any) -> None:
             print(f"note: {note}")
         return
     if not r.feasible:
-        print("no ballast within the file's limits meets the envelope at this confidence:")
+        print(
+            "no ballast within the file's limits meets the envelope at this confidence"
+            + (":" if r.shortfall else "")
+        )
         for s in r.shortfall:
             where = f" ({s['configuration']})" if "configuration" in s else ""
             print(

@@ -126,6 +126,7 @@ def run_balance(
             state, _tensor_prior(bodies, state), spec, centre, limits, confidence, objectives
         )
     notes += _ballast_notes(result, state, measured=readings is not None)
+    notes += _unit_notes(spec, state)
     return replace(result, notes=(*result.notes, *notes), envelope_source=source)
 
 
@@ -241,6 +242,26 @@ def _ballast_notes(result: BalanceResult, state: UncertainMass, measured: bool) 
         notes.append(
             f"the ballast ({result.total_ballast_kg:.3g} kg) outweighs the spacecraft "
             f"({state.mass_kg:.3g} kg): move mass inside it instead"
+        )
+    return notes
+
+
+def _unit_notes(spec: BallastSpec, state: UncertainMass) -> list[str]:
+    """A piece, or a location's limit, heavier than the spacecraft itself: kilograms typed
+    for grams, most likely (a 5 kg piece for a 2.6 kg CubeSat found no ballast, silently)."""
+    notes = []
+    if spec.sizes_kg and spec.sizes_kg[0] > state.mass_kg:
+        notes.append(
+            f"the smallest piece ({spec.sizes_kg[0]:g} kg) weighs more than the spacecraft "
+            f"({state.mass_kg:.4g} kg): is sizes_kg in grams? (the file is in kg)"
+        )
+    heavy = [
+        p.id for p in spec.points if p.max_mass_kg is not None and p.max_mass_kg > state.mass_kg
+    ]
+    if heavy:
+        notes.append(
+            f"location(s) {', '.join(heavy[:8])} take more than the spacecraft weighs "
+            f"({state.mass_kg:.4g} kg): is max_mass_kg in grams? (the file is in kg)"
         )
     return notes
 
