@@ -31,6 +31,7 @@ from cadcog.method.estimate import estimate_for_rig
 from cadcog.method.foreignhangs import refuse_foreign_hangs
 from cadcog.method.readings import Suspension, read_readings
 from cadcog.reports.html import CSS, img_tag, table, vec
+from cadcog.rig.inclinometer import require_angle_sensor
 from cadcog.rig.parameters import Rig
 from cadcog.uncertainty.error_budget import Budget, error_budget
 from cadcog.uncertainty.montecarlo import Scenario
@@ -85,6 +86,8 @@ def build_report(
     from cadcog.reports import plots
 
     out = Path(out_dir)
+    # its Monte Carlo and validation model an inclinometer: said before any CAD is built
+    require_angle_sensor(rig.inclinometer.device, "cadcog report")
     measured = None if campaign_csv is None else _measured(rig, campaign_csv)
     with staged_output_dir(out) as stage:
         truth = rig_parts(rig, stage / PARTS_DIR, log)

@@ -164,3 +164,18 @@ def test_a_report_on_cached_parts_imports_no_cad_kernel(paper_rig, tmp_path):
     assert (tmp_path / "r" / "parts" / "ground_truth.json").read_bytes() == (
         tmp_path / "parts" / "ground_truth.json"
     ).read_bytes()
+
+
+def test_an_accelerometers_rig_is_refused_before_any_cad_is_built(tmp_path, capsys):
+    """The report's Monte Carlo models an inclinometer: it printed 'building the CAD parts'
+    and 'error budget' before refusing (second new-user trial). One line, nothing written."""
+    from support.rigtools import paper_rig_dict, write_rig
+
+    data = paper_rig_dict()
+    data["inclinometer"] = {"device": "accelerometer", "axes": ["+x", "+y", "+z"], "offset_g": 0.02,
+                            "scale_error_rel": 0.01, "mounting_misalignment_deg": 1.0}  # fmt: skip
+    rig = write_rig(tmp_path / "phone_rig.toml", data)
+    assert main(["report", "--rig", str(rig), "--out", str(tmp_path / "rep")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("cadcog: error: cadcog report models a dual-axis inclinometer")
+    assert err.count("\n") == 1 and not (tmp_path / "rep").exists()
