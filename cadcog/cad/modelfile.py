@@ -48,16 +48,8 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
     run on unchanged files reads it back instead of building and integrating the model.
     """
     total = t.number("total_mass_kg", positive=True) if t.has("total_mass_kg") else None
-    if t.has("model"):
-        source = base / t.string("model")
-    elif t.has("model_step"):
-        source = base / t.string("model_step")
-    else:
-        raise t.error(
-            "model",
-            "missing: give model (a cadcog CubeSat spec) or model_step"
-            + t.misspelt("model", "model_step"),
-        )
+    model_key = _model_key(t)
+    source = base / t.string(model_key)
     materials_path = base / t.string("materials") if t.has("materials") else None
     units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
     exclude = t.strings("exclude") if t.has("exclude") else []
@@ -65,14 +57,13 @@ def load_model(t: TableReader, base: Path, *, strict: bool = False) -> ModelMass
     if t.has("overlaps"):
         value = t.string("overlaps", choices=("check", "allow", "resolve", "skip"))
         overlaps = value if value in ("allow", "resolve", "skip") else "check"  # type: ignore[assignment]
-    for key, path in (("model" if t.has("model") else "model_step", source),
-                      ("materials", materials_path)):  # fmt: skip
+    for key, path in ((model_key, source), ("materials", materials_path)):
         if path is not None and not path.exists():
             raise t.error(key, f"{path}: file not found (a path is read from the folder of "
                                "the file that names it)")  # fmt: skip
     files = [source] if materials_path is None else [source, materials_path]
     settings = cache.model_settings(
-        "model" if t.has("model") else "model_step",
+        model_key,
         total_mass_kg=total,
         units=units,
         exclude=exclude,
@@ -150,19 +141,31 @@ def _read(
     return model, materials
 
 
+def _model_key(t: TableReader) -> str:
+    """Which key names the model: ``model`` (a cadcog CubeSat spec), else ``model_step``.
+
+    Raises
+    ------
+    ParameterFileError
+        Neither given (naming a misspelt key the table has).
+    """
+    for key in ("model", "model_step"):
+        if t.has(key):
+            return key
+    raise t.error(
+        "model",
+        "missing: give model (a cadcog CubeSat spec) or model_step"
+        + t.misspelt("model", "model_step"),
+    )
+
+
 def named_model_file(path: Path) -> tuple[Path, str | None]:
     """The model file a set-up or requirements file names (``model`` or ``model_step``,
     relative to it) and its ``units`` override, the keys checked (reads no CAD)."""
     from cadcog.core.paramfile import read_toml
 
     t = TableReader(read_toml(path), path)
-    if not (t.has("model") or t.has("model_step")):
-        raise t.error(
-            "model",
-            "missing: give model (a cadcog CubeSat spec) or model_step"
-            + t.misspelt("model", "model_step"),
-        )
-    source = path.parent / (t.string("model") if t.has("model") else t.string("model_step"))
+    source = path.parent / t.string(_model_key(t))
     units = t.string("units", choices=UNIT_CHOICES) if t.has("units") else None
     return source, units
 

@@ -62,6 +62,7 @@ from cadcog.cad.stepmodel import (
 from cadcog.core.errors import CadcogError
 from cadcog.core.fileio import not_a_regular_file, note_input
 from cadcog.core.heartbeat import heartbeat
+from cadcog.core.paramfile import STEP_MAGIC, file_head
 from cadcog.core.units import LENGTH_UNIT_MM, density_kg_m3_from_step
 
 #: Instance names that exporters generate rather than users give: OCCT's label entries
@@ -334,10 +335,10 @@ def _not_step(p: Path) -> str | None:
     (a STEP file begins ``ISO-10303-21;``), else None."""
     try:
         with open(p, "rb") as fh:
-            head = fh.read(200).lstrip(b"\xef\xbb\xbf \t\r\n")
+            head = file_head(fh.read(200))
     except OSError:
         return None
-    if head.startswith(b"ISO-10303-21"):
+    if head.startswith(STEP_MAGIC):
         return None
     first = head.split(b"\n", 1)[0][:60].decode("utf-8", "replace").strip()
     return (

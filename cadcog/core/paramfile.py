@@ -26,6 +26,22 @@ from cadcog.core.fileio import note_input
 MAX_TOML_BYTES = 10_000_000
 
 
+#: The first bytes of every STEP file (ISO 10303-21), after :func:`file_head`'s trimming.
+STEP_MAGIC = b"ISO-10303-21"
+
+
+def file_head(data: bytes) -> bytes:
+    """The start of a file's bytes without a UTF-8 byte-order mark and leading blanks: what
+    tells which kind of file it is.
+
+    Examples
+    --------
+    >>> file_head(b"\\xef\\xbb\\xbf\\n ISO-10303-21;").startswith(STEP_MAGIC)
+    True
+    """
+    return data.lstrip(b"\xef\xbb\xbf \t\r\n")
+
+
 def _not_toml(data: bytes) -> str | None:
     """What a file that is not TOML is instead, when its first line says so (a STEP model, a
     readings or swing CSV given where a parameter file goes), else None.
@@ -37,8 +53,8 @@ def _not_toml(data: bytes) -> str | None:
     >>> _not_toml(b"name = = 1") is None
     True
     """
-    head = data[:4096].lstrip(b"\xef\xbb\xbf \t\r\n")
-    if head.startswith(b"ISO-10303-21"):
+    head = file_head(data[:4096])
+    if head.startswith(STEP_MAGIC):
         return (
             "a STEP model, not a TOML parameter file (cadcog setup init MODEL drafts a set-up "
             "from one)"

@@ -72,10 +72,15 @@ class PrincipalAxes:
         >>> principal_axes(np.eye(3)).n_equal, principal_axes(np.diag([1.0, 1, 2])).n_equal
         (3, 2)
         """
+        equal = int(np.count_nonzero(self._equal_neighbours()))
+        return 0 if equal == 0 else equal + 1
+
+    def _equal_neighbours(self) -> npt.NDArray[np.bool_]:
+        """Whether moments 1 and 2, and 2 and 3, are equal (to :data:`DEGENERATE_RELATIVE` of
+        the largest): the moments are sorted, so only neighbours can be."""
         d = np.diff(self.moments_kg_mm2)
         scale = max(float(np.max(np.abs(self.moments_kg_mm2))), np.finfo(float).tiny)
-        equal = int(np.count_nonzero(d <= DEGENERATE_RELATIVE * scale))
-        return 0 if equal == 0 else equal + 1
+        return np.asarray(d <= DEGENERATE_RELATIVE * scale)
 
     def unique(self) -> tuple[bool, bool, bool]:
         """Whether each axis is determined: False for the axes of equal moments.
@@ -85,9 +90,7 @@ class PrincipalAxes:
         >>> principal_axes(np.diag([1.0, 1.0, 2.0])).unique(), principal_axes(np.eye(3)).unique()
         ((False, False, True), (False, False, False))
         """
-        d = np.diff(self.moments_kg_mm2)
-        scale = max(float(np.max(np.abs(self.moments_kg_mm2))), np.finfo(float).tiny)
-        equal = d <= DEGENERATE_RELATIVE * scale  # moments sorted: only neighbours can be equal
+        equal = self._equal_neighbours()
         out = [True, True, True]
         for k in (0, 1):
             if equal[k]:

@@ -36,7 +36,7 @@ from cadcog.rig.parameters import Rig
 from cadcog.uncertainty.error_budget import Budget, error_budget
 from cadcog.uncertainty.montecarlo import Scenario
 from cadcog.uncertainty.random_points import SimulationReport, SimulationSettings, run_simulation
-from cadcog.validation.campaign import virtual_campaign, write_campaign
+from cadcog.validation.campaign import VIRTUAL_CAMPAIGN, virtual_campaign, write_campaign
 from cadcog.validation.verification import CampaignValidation, validate_campaign
 
 FloatArray = npt.NDArray[np.float64]
@@ -102,7 +102,7 @@ def build_report(
             write_campaign(
                 campaign_csv,
                 virtual_campaign(rig, seed),
-                f"cadcog virtual campaign, rig {rig.name}, seed {seed}",
+                f"{VIRTUAL_CAMPAIGN}, rig {rig.name}, seed {seed}",
             )
             measured = read_readings(campaign_csv, rig.inclinometer)
         suspensions = measured

@@ -134,7 +134,6 @@ def load_rig(path: str | Path) -> Rig:
     _check_unique(volume_tables, [v.name for v in volumes], "name")
     for t, v in zip(volume_tables, volumes, strict=True):
         _check_density(t, v.mass_kg, v.size_mm, solid=False)
-    for t, v in zip(volume_tables, volumes, strict=True):
         if v.name in RESERVED_BODY_NAMES:
             raise t.error("name", f"{v.name!r} is reserved; choose another name")
     _check_holes(holes_t, point_tables, proof_mass, holes, points)

@@ -25,7 +25,12 @@ from cadcog.runs import check_distinct_ids
 from cadcog.spacecraft.plan import check_candidate
 from cadcog.spacecraft.setup import Setup
 from cadcog.uncertainty.montecarlo import Scenario
-from cadcog.validation.campaign import campaign_suspensions, campaign_text, simulated_campaign
+from cadcog.validation.campaign import (
+    VIRTUAL_CAMPAIGN,
+    campaign_suspensions,
+    campaign_text,
+    simulated_campaign,
+)
 
 
 @dataclass(frozen=True, repr=False)  # JsonResult's one-line repr
@@ -99,8 +104,9 @@ def check_points(points: Sequence[str] | None) -> list[str]:
     return ids
 
 
-#: The first line of every readings file ``campaign`` writes (and the only kind it replaces).
-VIRTUAL_CAMPAIGN_MARK = "# cadcog virtual campaign"
+#: The first line of every readings file ``campaign`` writes (and the only kind it replaces):
+#: its comment, as :func:`~cadcog.validation.campaign.campaign_text` writes it.
+VIRTUAL_CAMPAIGN_MARK = f"# {VIRTUAL_CAMPAIGN}"
 
 
 def _is_virtual_campaign(path: Path) -> bool:
@@ -184,7 +190,7 @@ def run_campaign(
         model = with_overrides(ErrorModel.from_rig(rig), samples=samples, noise_deg=noise_deg)
         rows, truth = simulated_campaign(Scenario.from_rig(rig), model, rig.inclinometer, seed)
         comment = (
-            f"cadcog virtual campaign: rig {rig.name}, seed {seed}, "
+            f"{VIRTUAL_CAMPAIGN}: rig {rig.name}, seed {seed}, "
             f"{model.samples} samples per hang; {model.summary()}"
         )
         inclinometer = rig.inclinometer
@@ -216,7 +222,7 @@ def run_campaign(
         )
         scenario = setup.scenario(tuple(by_id[i] for i in ids))
         rows, truth = simulated_campaign(scenario, model, setup.rig.inclinometer, seed)
-        comment = f"cadcog virtual campaign: setup {setup.name}, seed {seed}; {model.summary()}"
+        comment = f"{VIRTUAL_CAMPAIGN}: setup {setup.name}, seed {seed}; {model.summary()}"
         inclinometer = setup.rig.inclinometer
         n_hangs = len(ids)
     swing_text = None

@@ -34,6 +34,10 @@ from cadcog.rig.parameters import Rig
 from cadcog.uncertainty.montecarlo import Scenario, draw_perturbations
 from cadcog.uncertainty.trials import true_pivots, verticals
 
+#: The first words of a virtual campaign's comment line (``campaign`` replaces only a file that
+#: begins with them).
+VIRTUAL_CAMPAIGN = "cadcog virtual campaign"
+
 #: The header of a virtual campaign: raw counts, as the bench records them.
 HEADER = ",".join(header_columns(COUNT_COLUMNS))
 
